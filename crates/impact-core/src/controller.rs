@@ -1,0 +1,128 @@
+//! The time loop. It owns the schedule (land exactly on output times, never exceed the
+//! stable step) and the stability guard (stop a run whose state is non-finite or whose
+//! energy grows far past the work done by the loads).
+//!
+//! Between two outputs the loop takes `n = ceil((t_out - t)/Δt_stable)` equal steps of
+//! `(t_out - t)/n`, so an output time that is a whole number of stable steps is reached
+//! with exactly the stable step (needed for the Courant-1 exactness of DGMPM and FEM).
+use crate::method::{Blowup, Method};
+
+/// Stability guard settings.
+#[derive(Debug, Clone, Copy)]
+pub struct Guard {
+    /// Check the state every this many steps (and at every output).
+    pub check_every: usize,
+    /// Stop when `energy > growth · (work + initial energy) + floor`.
+    pub growth: f64,
+}
+
+impl Default for Guard {
+    fn default() -> Self {
+        Self {
+            check_every: 10,
+            growth: 10.0,
+        }
+    }
+}
+
+/// What a run did.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RunStats {
+    /// Steps taken.
+    pub steps: usize,
+    /// Wall time of the stepping alone (s), outputs excluded.
+    pub wall_s: f64,
+}
+
+/// Why a run stopped early.
+#[derive(Debug)]
+pub enum RunError<E> {
+    /// The guard stopped the run.
+    Blowup(Blowup),
+    /// The output callback failed.
+    Output(E),
+}
+
+impl<E: std::fmt::Display> std::fmt::Display for RunError<E> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RunError::Blowup(b) => write!(f, "{b}"),
+            RunError::Output(e) => write!(f, "output failed: {e}"),
+        }
+    }
+}
+
+impl<E: std::fmt::Debug + std::fmt::Display> std::error::Error for RunError<E> {}
+
+/// Run `method` from `t = 0` through every output time. `on_output(method, index, t,
+/// step)` is called at each output time; `on_progress(t)` after each step.
+pub fn run<const D: usize, M, E>(
+    method: &mut M,
+    output_times: &[f64],
+    guard: Guard,
+    mut on_output: impl FnMut(&M, usize, f64, usize) -> Result<(), E>,
+    mut on_progress: impl FnMut(f64),
+) -> Result<RunStats, RunError<E>>
+where
+    M: Method<D> + ?Sized,
+{
+    let dt_stable = method.stable_dt();
+    let name = method.config().kind.name();
+    let initial_energy = method.energy();
+    let mut t = 0.0;
+    let mut steps = 0usize;
+    let mut wall = 0.0;
+    let check = |m: &M, step: usize, t: f64| -> Result<(), Blowup> {
+        if let Err(bad) = m.check_finite() {
+            return Err(Blowup {
+                method: name.to_string(),
+                step,
+                time: t,
+                place: bad.place.iter().copied().collect(),
+                reason: bad.reason,
+            });
+        }
+        let energy = m.energy();
+        let work = m.external_work().abs();
+        let bound = guard.growth * (work + initial_energy) + f64::MIN_POSITIVE;
+        if !(energy <= bound) {
+            return Err(Blowup {
+                method: name.to_string(),
+                step,
+                time: t,
+                place: m.hottest_place().iter().copied().collect(),
+                reason: format!(
+                    "energy {energy:.3e} J exceeds {:.0}× (work done {work:.3e} J + initial {initial_energy:.3e} J)",
+                    guard.growth
+                ),
+            });
+        }
+        Ok(())
+    };
+    for (index, &t_out) in output_times.iter().enumerate() {
+        let span = t_out - t;
+        if span > 0.0 {
+            let n = ((span / dt_stable) * (1.0 - 1e-12)).ceil().max(1.0) as usize;
+            let dt = span / n as f64;
+            let start = std::time::Instant::now();
+            for k in 0..n {
+                let t0 = t + k as f64 * dt;
+                method.step(t0, dt);
+                steps += 1;
+                let t1 = if k + 1 == n { t_out } else { t0 + dt };
+                if steps % guard.check_every.max(1) == 0 {
+                    check(method, steps, t1).map_err(RunError::Blowup)?;
+                }
+                on_progress(t1);
+            }
+            wall += start.elapsed().as_secs_f64();
+            t = t_out;
+        }
+        check(method, steps, t).map_err(RunError::Blowup)?;
+        on_output(method, index, t, steps).map_err(RunError::Output)?;
+    }
+    Ok(RunStats {
+        steps,
+        wall_s: wall,
+    })
+}

@@ -1,0 +1,242 @@
+//! Exact solutions.
+//!
+//! [`BarExact`]: the elastic bar `0 < X < L` of §5.1, at rest, loaded at `X = 0` by a step
+//! pressure `p` from `t = 0` (traction `σ(0,t) = -p`), free at `X = L`. By d'Alembert
+//! with images (Wang 2011, ch. 2), with `c = sqrt(E/ρ)`, `Z = ρ c` and `H` the Heaviside
+//! step, every right-going wave carries `Δσ = -p`, `Δv = p/Z` and every left-going wave
+//! (reflected from the free end) `Δσ = +p`, `Δv = p/Z`:
+//!
+//! `σ(X,t) = -p Σ_k H(ct - 2kL - X) + p Σ_k H(ct - 2(k+1)L + X)`,
+//! `v(X,t) = p/Z [Σ_k H(ct - 2kL - X) + Σ_k H(ct - 2(k+1)L + X)]`, `k = 0, 1, ...`
+//!
+//! Cell averages integrate each Heaviside exactly, and the displacement
+//! `u = ∫ v dt` uses `∫_0^t H(cs - a) ds = max(0, t - a/c)`.
+
+/// Exact solution of the loaded bar (see the module doc).
+#[derive(Debug, Clone, Copy)]
+pub struct BarExact {
+    /// Bar length `L`.
+    pub length: f64,
+    /// Wave speed `c`.
+    pub speed: f64,
+    /// Impedance `Z = ρ c`.
+    pub impedance: f64,
+    /// Pressure `p` at `X = 0` (positive in compression).
+    pub pressure: f64,
+}
+
+/// A discontinuity of the exact solution at time `t`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Front {
+    /// Position.
+    pub position: f64,
+    /// `+1` if the front moves towards larger `X` (the undisturbed side is at larger `X`).
+    pub direction: f64,
+    /// Value just ahead of the front (not yet reached).
+    pub ahead: f64,
+    /// Value just behind the front.
+    pub behind: f64,
+    /// Interval in which this front is the only discontinuity.
+    pub window: (f64, f64),
+}
+
+impl BarExact {
+    /// Build from bar length, density, modulus and pressure.
+    pub fn new(length: f64, density: f64, young: f64, pressure: f64) -> Self {
+        let speed = (young / density).sqrt();
+        Self {
+            length,
+            speed,
+            impedance: density * speed,
+            pressure,
+        }
+    }
+
+    /// Call `f(arrival, sign_sigma)` for each wave with its "distance travelled" `a(X)`
+    /// offset: right-going waves `a = 2kL + X`, left-going `a = 2(k+1)L - X`.
+    fn waves(&self, t: f64, mut f: impl FnMut(f64, f64, f64)) {
+        // f(offset, slope dX, sigma sign): wave reaches X when c t >= offset + slope X
+        let travelled = self.speed * t;
+        let mut k = 0usize;
+        loop {
+            let right = 2.0 * k as f64 * self.length;
+            let left = 2.0 * (k + 1) as f64 * self.length;
+            if right > travelled {
+                break;
+            }
+            f(right, 1.0, -1.0);
+            if left - self.length <= travelled {
+                f(left, -1.0, 1.0);
+            }
+            k += 1;
+        }
+    }
+
+    /// Point value of `σ(X,t)`.
+    pub fn stress(&self, x: f64, t: f64) -> f64 {
+        let ct = self.speed * t;
+        let mut s = 0.0;
+        self.waves(t, |off, slope, sign| {
+            if ct - off - slope * x > 0.0 {
+                s += sign * self.pressure;
+            }
+        });
+        s
+    }
+
+    /// Point value of `v(X,t)`.
+    pub fn velocity(&self, x: f64, t: f64) -> f64 {
+        let ct = self.speed * t;
+        let mut v = 0.0;
+        self.waves(t, |off, slope, _| {
+            if ct - off - slope * x > 0.0 {
+                v += self.pressure / self.impedance;
+            }
+        });
+        v
+    }
+
+    /// Fraction of `[x0, x1]` where `ct - off - slope X > 0`.
+    fn covered(ct: f64, off: f64, slope: f64, x0: f64, x1: f64) -> f64 {
+        // the set is X < ct - off for slope +1, X > off - ct for slope -1
+        let len = x1 - x0;
+        if slope > 0.0 {
+            ((ct - off - x0) / len).clamp(0.0, 1.0)
+        } else {
+            ((x1 - (off - ct)) / len).clamp(0.0, 1.0)
+        }
+    }
+
+    /// Average of `σ` over `[x0, x1]` at time `t`.
+    pub fn stress_average(&self, x0: f64, x1: f64, t: f64) -> f64 {
+        let ct = self.speed * t;
+        let mut s = 0.0;
+        self.waves(t, |off, slope, sign| {
+            s += sign * self.pressure * Self::covered(ct, off, slope, x0, x1);
+        });
+        s
+    }
+
+    /// Average of `v` over `[x0, x1]` at time `t`.
+    pub fn velocity_average(&self, x0: f64, x1: f64, t: f64) -> f64 {
+        let ct = self.speed * t;
+        let mut v = 0.0;
+        self.waves(t, |off, slope, _| {
+            v += self.pressure / self.impedance * Self::covered(ct, off, slope, x0, x1);
+        });
+        v
+    }
+
+    /// Displacement `u(X,t) = ∫_0^t v(X,s) ds`.
+    pub fn displacement(&self, x: f64, t: f64) -> f64 {
+        let mut u = 0.0;
+        self.waves(t, |off, slope, _| {
+            let arrival = (off + slope * x) / self.speed;
+            u += self.pressure / self.impedance * (t - arrival).max(0.0);
+        });
+        u
+    }
+
+    /// Work done by the load, `W = p · u(0,t)` (unit cross-section).
+    pub fn work(&self, t: f64) -> f64 {
+        self.pressure * self.displacement(0.0, t)
+    }
+
+    /// Kinetic plus strain energy; equals [`Self::work`] (no dissipation).
+    pub fn energy(&self, t: f64) -> f64 {
+        self.work(t)
+    }
+
+    /// The most recent discontinuity inside the bar at `t` (the leading front), with the
+    /// stress on both sides and the interval where it is the only one.
+    pub fn leading_front(&self, t: f64) -> Option<Front> {
+        let ct = self.speed * t;
+        let l = self.length;
+        if ct <= 0.0 {
+            return None;
+        }
+        // number of full bar transits completed
+        let transits = (ct / l).floor();
+        let r = ct - transits * l;
+        if r <= 0.0 || r >= l {
+            return None;
+        }
+        let (position, direction) = if transits as usize % 2 == 0 {
+            (r, 1.0)
+        } else {
+            (l - r, -1.0)
+        };
+        let eps = 1e-9 * l;
+        let ahead = self.stress(position + direction * eps, t);
+        let behind = self.stress(position - direction * eps, t);
+        Some(Front {
+            position,
+            direction,
+            ahead,
+            behind,
+            window: (0.0, l),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn bar() -> BarExact {
+        BarExact::new(6.0, 7800.0, 2e11, 1e9)
+    }
+
+    #[test]
+    fn first_transit_is_a_step() {
+        let b = bar();
+        let t = 3.0 / b.speed;
+        assert_eq!(b.stress(2.9, t), -1e9);
+        assert_eq!(b.stress(3.1, t), 0.0);
+        assert_relative_eq!(b.velocity(1.0, t), 1e9 / b.impedance);
+        assert_relative_eq!(b.stress_average(2.9, 3.1, t), -0.5e9, max_relative = 1e-12);
+    }
+
+    #[test]
+    fn free_end_reflection_cancels_stress_and_doubles_velocity() {
+        let b = bar();
+        let t = 8.0 / b.speed; // front reflected, now at X = 4
+        assert_eq!(b.stress(5.0, t), 0.0);
+        assert_eq!(b.stress(3.0, t), -1e9);
+        assert_relative_eq!(b.velocity(5.0, t), 2e9 / b.impedance);
+        let f = b.leading_front(t).unwrap();
+        assert_relative_eq!(f.position, 4.0, max_relative = 1e-12);
+        assert_eq!((f.direction, f.ahead, f.behind), (-1.0, -1e9, 0.0));
+    }
+
+    #[test]
+    fn loaded_end_reflection_keeps_traction() {
+        let b = bar();
+        let t = 14.0 / b.speed; // after reflecting from X = 0 again, front at X = 2
+        assert_relative_eq!(b.stress(0.0 + 1e-9, t), -1e9);
+        assert_relative_eq!(b.stress(1.0, t), -1e9);
+        assert_eq!(b.stress(3.0, t), 0.0);
+        assert_relative_eq!(b.velocity(1.0, t), 3e9 / b.impedance);
+    }
+
+    #[test]
+    fn energy_balance_of_exact_solution() {
+        // kinetic + strain energy integrated from point values equals p·u(0,t)
+        let b = bar();
+        let rho = 7800.0;
+        let young = 2e11;
+        for &t in &[0.4e-3, 1.0e-3, 1.9e-3, 3.3e-3] {
+            let n = 60_000;
+            let dx = b.length / n as f64;
+            let mut e = 0.0;
+            for i in 0..n {
+                let x = (i as f64 + 0.5) * dx;
+                let s = b.stress(x, t);
+                let v = b.velocity(x, t);
+                e += dx * (0.5 * rho * v * v + 0.5 * s * s / young);
+            }
+            assert_relative_eq!(e, b.work(t), max_relative = 1e-3);
+        }
+    }
+}

@@ -1,0 +1,33 @@
+//! Shared core of `impact`: grid, material points (struct of arrays), materials, scenes,
+//! boundary conditions and loads, exact solutions, metrics, the [`Method`] trait and the
+//! time loop ([`controller`]).
+//!
+//! The spatial dimension is a const generic `D` (1 or 2); tensors are full `D×D`
+//! nalgebra matrices. In 1D the body is a bar of unit cross-section in uniaxial stress
+//! (modulus `E`); in 2D it is in plane strain (moduli `λ`, `μ`).
+//!
+//! Sign conventions: tension positive; a `pressure` load is positive in compression.
+
+pub mod controller;
+pub mod error;
+pub mod exact;
+pub mod grid;
+pub mod material;
+pub mod method;
+pub mod metrics;
+pub mod points;
+pub mod problem;
+pub mod reference;
+pub mod scene;
+
+pub use error::{CoreError, SceneError};
+pub use grid::Grid;
+pub use material::{Lame, LinearElastic, YoungPoisson};
+pub use method::{Blowup, Method, MethodKind, Samples};
+pub use problem::{Boundary, Problem};
+pub use scene::Scene;
+
+/// Vector of dimension `D`.
+pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;
+/// Full `D×D` tensor.
+pub type Tensor<const D: usize> = nalgebra::SMatrix<f64, D, D>;

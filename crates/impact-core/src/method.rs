@@ -1,0 +1,90 @@
+//! The [`Method`] trait shared by DGMPM, MPM and FEM, and the sampled fields they return.
+pub use crate::problem::{Integrator, MethodConfig, MethodKind, PointUpdate, StressUpdate};
+use crate::{Tensor, Vector};
+use thiserror::Error;
+
+/// Fields sampled where a method stores them (material points for DGMPM and MPM,
+/// element centres for FEM), at their reference (material) positions.
+#[derive(Debug, Clone, Default)]
+pub struct Samples<const D: usize> {
+    /// Reference position `X` of each sample.
+    pub reference: Vec<Vector<D>>,
+    /// Current position `x` of each sample.
+    pub position: Vec<Vector<D>>,
+    /// Half-size of the region each sample stands for (in the reference configuration).
+    pub half_size: Vec<Vector<D>>,
+    /// Cauchy stress.
+    pub stress: Vec<Tensor<D>>,
+    /// Velocity.
+    pub velocity: Vec<Vector<D>>,
+}
+
+impl<const D: usize> Samples<D> {
+    /// Empty all arrays, keeping their capacity.
+    pub fn clear(&mut self) {
+        self.reference.clear();
+        self.position.clear();
+        self.half_size.clear();
+        self.stress.clear();
+        self.velocity.clear();
+    }
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.stress.len()
+    }
+    /// Whether there is no sample.
+    pub fn is_empty(&self) -> bool {
+        self.stress.is_empty()
+    }
+}
+
+/// A run stopped by the stability guard: which method, when and where.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("{method} blew up at step {step}, t = {time:.6e} s, near x = {place:?}: {reason}")]
+pub struct Blowup {
+    /// Method name.
+    pub method: String,
+    /// Step at which the guard fired.
+    pub step: usize,
+    /// Time at which the guard fired (s).
+    pub time: f64,
+    /// Reference position of the offending value.
+    pub place: Vec<f64>,
+    /// What was seen.
+    pub reason: String,
+}
+
+/// Where a method's state first fails a check.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BadState<const D: usize> {
+    /// Reference position of the offending point, node or element.
+    pub place: Vector<D>,
+    /// What is wrong.
+    pub reason: String,
+}
+
+/// One numerical method on one problem. `step` advances the method's own state; the
+/// controller ([`crate::controller`]) owns the loop, the schedule and the guard.
+pub trait Method<const D: usize>: Send {
+    /// The configuration this run was built with.
+    fn config(&self) -> &MethodConfig;
+    /// Largest stable time step for the configured Courant number:
+    /// `Δt = courant · Δx_min / c_p`.
+    fn stable_dt(&self) -> f64;
+    /// Advance from `t` to `t + dt`. Must not allocate.
+    fn step(&mut self, t: f64, dt: f64);
+    /// Sample stress and velocity where the method stores them.
+    fn sample_into(&self, out: &mut Samples<D>);
+    /// Kinetic plus strain energy of the discrete state (J).
+    fn energy(&self) -> f64;
+    /// Work done by the loads since `t = 0` (J), as the method delivered it.
+    fn external_work(&self) -> f64;
+    /// First non-finite value of the state, if any.
+    fn check_finite(&self) -> Result<(), BadState<D>>;
+    /// Reference position of the largest velocity (where a blow-up is growing).
+    fn hottest_place(&self) -> Vector<D>;
+    /// Number of cells (or elements) of the discretisation.
+    fn cells(&self) -> usize;
+    /// Number of degrees of freedom updated per step (for throughput figures).
+    fn updates_per_step(&self) -> usize;
+}

@@ -1,0 +1,270 @@
+//! A validated scene turned into typed data for dimension `D`: grid, material, boundary
+//! conditions (one per side of each axis) and the output schedule.
+use crate::error::{CoreError, SceneError};
+use crate::scene::{points_per_axis, EdgeSpec, Scene};
+use crate::{Grid, LinearElastic, Vector};
+
+/// Condition on one side of the box. Loads are step functions of time (applied from
+/// `t = 0` on), as in the paper's scenes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Boundary {
+    /// Traction-free.
+    Free,
+    /// Normal pressure `p` (Pa, positive in compression): traction `t = -p n`.
+    Pressure {
+        /// Pressure magnitude.
+        value: f64,
+        /// Loaded segment along the edge (2D); outside it the edge is free.
+        segment: Option<(f64, f64)>,
+    },
+    /// Normal velocity `v_d` into the body (m/s); the tangential traction is zero.
+    Velocity {
+        /// Velocity magnitude, positive into the body.
+        value: f64,
+        /// Segment along the edge (2D); outside it the edge is free.
+        segment: Option<(f64, f64)>,
+    },
+    /// Zero normal velocity and zero shear traction (a mirror plane).
+    Symmetry,
+}
+
+impl Boundary {
+    /// Whether the condition acts at the tangential coordinate `s` along the edge.
+    pub fn acts_at(segment: Option<(f64, f64)>, s: f64) -> bool {
+        match segment {
+            None => true,
+            Some((a, b)) => s >= a - 1e-12 && s <= b + 1e-12,
+        }
+    }
+}
+
+/// Which method a configuration belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum MethodKind {
+    /// Discontinuous Galerkin material point method.
+    Dgmpm,
+    /// USL material point method.
+    Mpm,
+    /// Explicit finite elements.
+    Fem,
+}
+
+impl MethodKind {
+    /// Lower-case name used in tables, files and flags.
+    pub fn name(self) -> &'static str {
+        match self {
+            MethodKind::Dgmpm => "dgmpm",
+            MethodKind::Mpm => "mpm",
+            MethodKind::Fem => "fem",
+        }
+    }
+    /// Parse a lower-case name.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "dgmpm" => Some(Self::Dgmpm),
+            "mpm" => Some(Self::Mpm),
+            "fem" => Some(Self::Fem),
+            _ => None,
+        }
+    }
+    /// All three, in table order.
+    pub const ALL: [MethodKind; 3] = [MethodKind::Dgmpm, MethodKind::Mpm, MethodKind::Fem];
+}
+
+/// Time integrator of DGMPM's semi-discrete system (paper §3.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Integrator {
+    /// Forward Euler.
+    Euler,
+    /// Two-stage Runge-Kutta (Heun / SSP-RK2).
+    Rk2,
+}
+
+impl Integrator {
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::Euler => "euler",
+            Integrator::Rk2 => "rk2",
+        }
+    }
+}
+
+/// How DGMPM points are updated after the nodal solve (the paper leaves it open).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PointUpdate {
+    /// `q_α = Σ_i S_iα q_i^{n+1}`: points take the interpolated new nodal field (default).
+    Nodal,
+    /// `q_α += Σ_i S_iα (q_i^{n+1} - q_i^n)`: points add the interpolated increment.
+    Increment,
+}
+
+/// MPM stress update order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StressUpdate {
+    /// Update stress last, from the updated nodal velocity (Sulsky 1995).
+    Usl,
+    /// Update stress first, from the nodal velocity mapped at the start of the step.
+    Usf,
+}
+
+/// Options of one method run. Each method reads the fields that apply to it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MethodConfig {
+    /// Which method.
+    pub kind: MethodKind,
+    /// Courant number `c_p Δt / Δx_min`.
+    pub courant: f64,
+    /// Material points per cell (DGMPM, MPM).
+    pub points_per_cell: usize,
+    /// Time integrator (DGMPM).
+    pub integrator: Integrator,
+    /// Point update (DGMPM).
+    pub update: PointUpdate,
+    /// Stress update (MPM).
+    pub stress_update: StressUpdate,
+}
+
+impl MethodConfig {
+    /// Short label of the integrator column: DGMPM's integrator, `usl`/`usf` for MPM,
+    /// `central` for FEM.
+    pub fn integrator_label(&self) -> &'static str {
+        match self.kind {
+            MethodKind::Dgmpm => self.integrator.name(),
+            MethodKind::Mpm => match self.stress_update {
+                StressUpdate::Usl => "usl",
+                StressUpdate::Usf => "usf",
+            },
+            MethodKind::Fem => "central",
+        }
+    }
+}
+
+/// A scene in typed form for dimension `D`.
+#[derive(Debug, Clone)]
+pub struct Problem<const D: usize> {
+    /// Scene name.
+    pub name: String,
+    /// The body `[0, length]` and its grid.
+    pub grid: Grid<D>,
+    /// Material.
+    pub material: LinearElastic,
+    /// `boundaries[l][0]` at the low side of axis `l`, `[l][1]` at the high side.
+    pub boundaries: [[Boundary; 2]; D],
+    /// Points per cell from the scene.
+    pub points_per_cell: usize,
+    /// Output times (s).
+    pub output_times: Vec<f64>,
+    /// End time (s).
+    pub t_end: f64,
+}
+
+impl<const D: usize> Problem<D> {
+    /// Build from a validated scene. `scene.dim` must equal `D`.
+    pub fn from_scene(scene: &Scene) -> Result<Self, CoreError> {
+        scene.validate()?;
+        if scene.dim != D {
+            return Err(
+                SceneError::new("dim", scene.dim, format!("{D} for this build path")).into(),
+            );
+        }
+        let d = &scene.domain;
+        let spacing = Vector::<D>::from_fn(|l, _| d.length[l] / d.cells[l] as f64);
+        let mut cells = [0usize; D];
+        cells.copy_from_slice(&d.cells);
+        let grid = Grid {
+            origin: Vector::<D>::zeros(),
+            spacing,
+            cells,
+        };
+        let m = &scene.material;
+        let material = LinearElastic::new(m.young, m.poisson, m.density);
+        let b = &scene.boundary;
+        let sides = [[&b.left, &b.right], [&b.bottom, &b.top]];
+        let mut boundaries = [[Boundary::Free; 2]; D];
+        for (l, pair) in boundaries.iter_mut().enumerate() {
+            for (side, bc) in pair.iter_mut().enumerate() {
+                *bc = sides[l][side].as_ref().map_or(Boundary::Free, to_boundary);
+            }
+        }
+        let transit = grid.min_spacing() / material.p_wave_speed::<D>();
+        let output_times: Vec<f64> = match (&scene.time.output_times, &scene.time.output_transits) {
+            (Some(t), _) => t.clone(),
+            (None, Some(n)) => n.iter().map(|n| n * transit).collect(),
+            (None, None) => unreachable!("internal: validated scene has output times"),
+        };
+        let last = *output_times.last().expect("internal: validated non-empty");
+        let t_end = scene.time.t_end.unwrap_or(last);
+        let mut problem = Self {
+            name: scene.name.clone(),
+            grid,
+            material,
+            boundaries,
+            points_per_cell: d.points_per_cell,
+            output_times,
+            t_end,
+        };
+        problem.set_schedule(None, scene.time.t_end)?;
+        Ok(problem)
+    }
+
+    /// Replace the output times and/or the end time. With only `t_end`, outputs after it
+    /// are dropped and `t_end` becomes the last output.
+    pub fn set_schedule(
+        &mut self,
+        output_times: Option<Vec<f64>>,
+        t_end: Option<f64>,
+    ) -> Result<(), SceneError> {
+        if let Some(times) = output_times {
+            crate::scene::check_output_times("--output-times", &times)?;
+            self.output_times = times;
+            self.t_end = *self
+                .output_times
+                .last()
+                .expect("internal: checked non-empty");
+        }
+        if let Some(t_end) = t_end {
+            if !(t_end.is_finite() && t_end > 0.0) {
+                return Err(SceneError::new(
+                    "t_end",
+                    t_end,
+                    "a positive finite time in s",
+                ));
+            }
+            self.output_times.retain(|&t| t < t_end * (1.0 - 1e-12));
+            self.output_times.push(t_end);
+            self.t_end = t_end;
+        }
+        Ok(())
+    }
+
+    /// Time for a P wave to cross the smallest cell, `Δx/c_p`.
+    pub fn cell_transit_time(&self) -> f64 {
+        self.grid.min_spacing() / self.material.p_wave_speed::<D>()
+    }
+
+    /// Points per axis of the configured points per cell.
+    pub fn points_per_axis(&self, ppc: usize) -> Result<usize, SceneError> {
+        crate::scene::check_points_per_cell(D, ppc)?;
+        Ok(points_per_axis(D, ppc).expect("internal: checked power"))
+    }
+}
+
+fn to_boundary(e: &EdgeSpec) -> Boundary {
+    let segment = match (e.from, e.to) {
+        (None, None) => None,
+        (a, b) => Some((a.unwrap_or(f64::NEG_INFINITY), b.unwrap_or(f64::INFINITY))),
+    };
+    match e.kind.as_str() {
+        "pressure" => Boundary::Pressure {
+            value: e.value.unwrap_or_default(),
+            segment,
+        },
+        "velocity" => Boundary::Velocity {
+            value: e.value.unwrap_or_default(),
+            segment,
+        },
+        "symmetry" => Boundary::Symmetry,
+        _ => Boundary::Free,
+    }
+}

@@ -1,0 +1,372 @@
+//! Explicit finite elements: multilinear elements on the body's regular mesh (2-node bars
+//! in 1D, 4-node quadrilaterals with 2×2 Gauss points in 2D), row-sum lumped mass and
+//! central differences.
+//!
+//! Central differences with the standard half-step start (Belytschko et al., *Nonlinear
+//! Finite Elements*, Box 6.1):
+//! `a^n = M⁻¹ (f_ext - f_int(u^n))`, `v^{n+1/2} = v^{n-1/2} + Δt_avg a^n` (first step:
+//! `v^{1/2} = v^0 + Δt/2 a^0`), `u^{n+1} = u^n + Δt v^{n+1/2}`, with
+//! `f_int,a = Σ_g w_g V_e σ_g ∇N_a(ξ_g)`, `σ_g = C : sym(Σ_b u_b ⊗ ∇N_b(ξ_g))`.
+//!
+//! One step, one phase per function: [`FemSolver::velocity_update`],
+//! [`FemSolver::displacement_update`], [`FemSolver::internal_forces_into`] (which already
+//! prepares `a^{n+1}` for the next step, so the full-step velocity
+//! `v^{n+1} = v^{n+1/2} + Δt/2 a^{n+1}` is available for output and energy).
+//!
+//! Loads: a pressure is the consistent nodal force of the loaded edge (in 1D `p A` on the
+//! end node); a prescribed velocity is imposed on the nodes of its edge segment (the
+//! paper's plate: nodes with `y ≤ 1 m`); a symmetry edge zeroes the normal velocity.
+use impact_core::method::{BadState, Method, MethodConfig, Samples};
+use impact_core::problem::Boundary;
+use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
+
+const MAX_NODES: usize = 8;
+
+/// Nodal state of the FEM.
+#[derive(Debug, Clone)]
+pub struct FemState<const D: usize> {
+    /// Displacement `u^n`.
+    pub displacement: Vec<Vector<D>>,
+    /// Mid-step velocity `v^{n-1/2}`.
+    pub velocity_half: Vec<Vector<D>>,
+    /// Acceleration `a^n` (of the current displacement).
+    pub acceleration: Vec<Vector<D>>,
+    /// Last step size (0 before the first step: half-step start).
+    pub last_dt: f64,
+    /// Work done by the loads.
+    pub work: f64,
+}
+
+/// Configuration and buffers of the explicit FEM.
+#[derive(Debug, Clone)]
+pub struct FemSolver<const D: usize> {
+    config: MethodConfig,
+    grid: Grid<D>,
+    material: LinearElastic,
+    mass: Vec<f64>,
+    external: Vec<Vector<D>>,
+    /// `(node, axis, velocity)` prescribed.
+    constraints: Vec<(usize, usize, f64)>,
+    /// Per node: 1 for a free component, 0 for a prescribed one.
+    free_mask: Vec<Vector<D>>,
+    force: Vec<Vector<D>>,
+    /// `∇N_a` at the Gauss points of an element (the mesh is regular): `gauss × 2^D`.
+    gauss_gradient: Vec<Vector<D>>,
+    gauss_weight: f64,
+    /// `∇N_a` at the element centre.
+    centre_gradient: [Vector<D>; MAX_NODES],
+}
+
+/// Explicit FEM as a [`Method`].
+#[derive(Debug, Clone)]
+pub struct Fem<const D: usize> {
+    /// Configuration and buffers.
+    pub solver: FemSolver<D>,
+    /// Nodal state.
+    pub state: FemState<D>,
+}
+
+fn sym<const D: usize>(a: &Vector<D>, b: &Vector<D>) -> Tensor<D> {
+    let outer = a * b.transpose();
+    (outer + outer.transpose()) * 0.5
+}
+
+impl<const D: usize> Fem<D> {
+    /// Build the FEM for `problem`.
+    pub fn new(problem: &Problem<D>, config: MethodConfig) -> Result<Self, CoreError> {
+        impact_core::scene::check_courant("courant", config.courant)?;
+        let grid = problem.grid.clone();
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let nodes = grid.vertex_count();
+        let mut mass = vec![0.0; nodes];
+        let element_mass = problem.material.density * grid.cell_volume();
+        for c in 0..grid.cell_count() {
+            for a in 0..npc {
+                mass[grid.vertex_of(c, a)] += element_mass / npc as f64;
+            }
+        }
+        // Gauss points ξ = ½ ± 1/(2√3) per axis
+        let g = 0.5 / 3f64.sqrt();
+        let gauss_count = npc;
+        let mut gauss_gradient = vec![Vector::<D>::zeros(); gauss_count * npc];
+        let mut values = [0.0; MAX_NODES];
+        for q in 0..gauss_count {
+            let xi = Vector::<D>::from_fn(|l, _| if (q >> l) & 1 == 1 { 0.5 + g } else { 0.5 - g });
+            grid.shape(
+                &xi,
+                &mut values[..npc],
+                &mut gauss_gradient[q * npc..(q + 1) * npc],
+            );
+        }
+        let mut centre_gradient = [Vector::<D>::zeros(); MAX_NODES];
+        grid.shape(
+            &Vector::<D>::from_element(0.5),
+            &mut values[..npc],
+            &mut centre_gradient[..npc],
+        );
+        // external nodal forces and constraints on boundary nodes
+        let mut external = vec![Vector::<D>::zeros(); nodes];
+        let mut constraints = Vec::new();
+        let counts = grid.vertex_counts();
+        for v in 0..nodes {
+            let x = grid.vertex_position(v);
+            let mut rest = v;
+            let mut idx = [0usize; D];
+            for k in 0..D {
+                idx[k] = rest % counts[k];
+                rest /= counts[k];
+            }
+            for l in 0..D {
+                for side in 0..2 {
+                    if idx[l] != side * grid.cells[l] {
+                        continue;
+                    }
+                    let sign = if side == 0 { -1.0 } else { 1.0 };
+                    let s = if D > 1 { x[(l + 1) % D] } else { 0.0 };
+                    // tributary length of the node along the edge (1 in 1D)
+                    let tributary: f64 = (0..D)
+                        .filter(|&k| k != l)
+                        .map(|k| {
+                            let h = grid.spacing[k];
+                            if idx[k] == 0 || idx[k] == grid.cells[k] {
+                                0.5 * h
+                            } else {
+                                h
+                            }
+                        })
+                        .product();
+                    match problem.boundaries[l][side] {
+                        Boundary::Free => {}
+                        Boundary::Pressure { value, segment } => {
+                            if Boundary::acts_at(segment, s) {
+                                external[v][l] += -sign * value * tributary;
+                            }
+                        }
+                        Boundary::Velocity { value, segment } => {
+                            if Boundary::acts_at(segment, s) {
+                                constraints.push((v, l, -sign * value));
+                            }
+                        }
+                        Boundary::Symmetry => constraints.push((v, l, 0.0)),
+                    }
+                }
+            }
+        }
+        let mut free_mask = vec![Vector::<D>::from_element(1.0); nodes];
+        for &(node, axis, _) in &constraints {
+            free_mask[node][axis] = 0.0;
+        }
+        let mut solver = FemSolver {
+            free_mask,
+            config,
+            grid,
+            material: problem.material,
+            mass,
+            external,
+            constraints,
+            force: vec![Vector::<D>::zeros(); nodes],
+            gauss_gradient,
+            gauss_weight: 1.0 / gauss_count as f64,
+            centre_gradient,
+        };
+        let mut state = FemState {
+            displacement: vec![Vector::<D>::zeros(); nodes],
+            velocity_half: vec![Vector::<D>::zeros(); nodes],
+            acceleration: vec![Vector::<D>::zeros(); nodes],
+            last_dt: 0.0,
+            work: 0.0,
+        };
+        solver.internal_forces_into(&state.displacement);
+        solver.acceleration_into(&mut state.acceleration);
+        Ok(Self { solver, state })
+    }
+}
+
+impl<const D: usize> FemSolver<D> {
+    /// `f_int(u)` into the force buffer (module doc).
+    pub fn internal_forces_into(&mut self, displacement: &[Vector<D>]) {
+        let npc = Grid::<D>::NODES_PER_CELL;
+        self.force
+            .iter_mut()
+            .for_each(|f| *f = Vector::<D>::zeros());
+        let volume = self.grid.cell_volume() * self.gauss_weight;
+        for c in 0..self.grid.cell_count() {
+            let mut nodes = [0usize; MAX_NODES];
+            for (a, n) in nodes.iter_mut().enumerate().take(npc) {
+                *n = self.grid.vertex_of(c, a);
+            }
+            for q in 0..npc {
+                let g = &self.gauss_gradient[q * npc..(q + 1) * npc];
+                let mut strain = Tensor::<D>::zeros();
+                for a in 0..npc {
+                    strain += sym(&displacement[nodes[a]], &g[a]);
+                }
+                let stress = self.material.stress(&strain);
+                for a in 0..npc {
+                    self.force[nodes[a]] += (stress * g[a]) * volume;
+                }
+            }
+        }
+    }
+
+    /// `a = M⁻¹ (f_ext - f_int)` from the force buffer.
+    fn acceleration_into(&self, acceleration: &mut [Vector<D>]) {
+        for (i, a) in acceleration.iter_mut().enumerate() {
+            *a = (self.external[i] - self.force[i]) / self.mass[i];
+        }
+    }
+
+    /// `v^{n+1/2} = v^{n-1/2} + Δt_avg a^n`, then the prescribed velocities. Returns the
+    /// work of the constraint reactions over the step.
+    pub fn velocity_update(&self, state: &mut FemState<D>, dt: f64) -> f64 {
+        let dt_avg = 0.5 * (state.last_dt + dt);
+        for (v, a) in state.velocity_half.iter_mut().zip(&state.acceleration) {
+            *v += a * dt_avg;
+        }
+        let mut work = 0.0;
+        for &(node, axis, value) in &self.constraints {
+            let reaction = self.mass[node] * (value - state.velocity_half[node][axis]) / dt_avg;
+            state.velocity_half[node][axis] = value;
+            work += dt * reaction * value;
+        }
+        work
+    }
+
+    /// `u^{n+1} = u^n + Δt v^{n+1/2}`; returns the work of the external forces,
+    /// `Δt f_ext · v^{n+1/2}`.
+    pub fn displacement_update(&self, state: &mut FemState<D>, dt: f64) -> f64 {
+        let mut work = 0.0;
+        for i in 0..state.displacement.len() {
+            state.displacement[i] += state.velocity_half[i] * dt;
+            work += dt * self.external[i].dot(&state.velocity_half[i]);
+        }
+        work
+    }
+
+    /// One step (module doc).
+    pub fn step(&mut self, state: &mut FemState<D>, dt: f64) {
+        state.work += self.velocity_update(state, dt);
+        state.work += self.displacement_update(state, dt);
+        self.internal_forces_into(&state.displacement);
+        self.acceleration_into(&mut state.acceleration);
+        state.last_dt = dt;
+    }
+
+    /// Full-step velocity `v^{n} = v^{n-1/2} + Δt/2 a^n` of node `i`.
+    #[inline]
+    fn full_velocity(&self, state: &FemState<D>, i: usize) -> Vector<D> {
+        // prescribed components of v^{n-1/2} already hold their value; the mask zeroes
+        // their acceleration
+        state.velocity_half[i]
+            + state.acceleration[i].component_mul(&self.free_mask[i]) * (0.5 * state.last_dt)
+    }
+
+    /// Stress at the centre of element `c`.
+    fn centre_stress(&self, state: &FemState<D>, c: usize) -> Tensor<D> {
+        let mut strain = Tensor::<D>::zeros();
+        for a in 0..Grid::<D>::NODES_PER_CELL {
+            strain += sym(
+                &state.displacement[self.grid.vertex_of(c, a)],
+                &self.centre_gradient[a],
+            );
+        }
+        self.material.stress(&strain)
+    }
+
+    /// The mesh.
+    pub fn grid(&self) -> &Grid<D> {
+        &self.grid
+    }
+}
+
+impl<const D: usize> Fem<D> {
+    /// Full-step nodal velocities (for output).
+    pub fn nodal_velocities(&self) -> Vec<Vector<D>> {
+        (0..self.state.displacement.len())
+            .map(|i| self.solver.full_velocity(&self.state, i))
+            .collect()
+    }
+}
+
+impl<const D: usize> Method<D> for Fem<D> {
+    fn config(&self) -> &MethodConfig {
+        &self.solver.config
+    }
+    fn stable_dt(&self) -> f64 {
+        self.solver.config.courant * self.solver.grid.min_spacing()
+            / self.solver.material.p_wave_speed::<D>()
+    }
+    fn step(&mut self, _t: f64, dt: f64) {
+        self.solver.step(&mut self.state, dt);
+    }
+    fn sample_into(&self, out: &mut Samples<D>) {
+        out.clear();
+        let grid = &self.solver.grid;
+        let npc = Grid::<D>::NODES_PER_CELL;
+        for c in 0..grid.cell_count() {
+            let centre = grid.cell_centre(c);
+            let mut u = Vector::<D>::zeros();
+            let mut v = Vector::<D>::zeros();
+            for a in 0..npc {
+                let i = grid.vertex_of(c, a);
+                u += self.state.displacement[i] / npc as f64;
+                v += self.solver.full_velocity(&self.state, i) / npc as f64;
+            }
+            out.reference.push(centre);
+            out.position.push(centre + u);
+            out.half_size.push(grid.spacing * 0.5);
+            out.stress.push(self.solver.centre_stress(&self.state, c));
+            out.velocity.push(v);
+        }
+    }
+    fn energy(&self) -> f64 {
+        let s = &self.solver;
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let mut kinetic = 0.0;
+        for i in 0..s.mass.len() {
+            kinetic += 0.5 * s.mass[i] * s.full_velocity(&self.state, i).norm_squared();
+        }
+        let volume = s.grid.cell_volume() * s.gauss_weight;
+        let mut strain_energy = 0.0;
+        for c in 0..s.grid.cell_count() {
+            for q in 0..npc {
+                let g = &s.gauss_gradient[q * npc..(q + 1) * npc];
+                let mut strain = Tensor::<D>::zeros();
+                for a in 0..npc {
+                    strain += sym(&self.state.displacement[s.grid.vertex_of(c, a)], &g[a]);
+                }
+                strain_energy += volume * s.material.energy_density(&s.material.stress(&strain));
+            }
+        }
+        kinetic + strain_energy
+    }
+    fn external_work(&self) -> f64 {
+        self.state.work
+    }
+    fn check_finite(&self) -> Result<(), BadState<D>> {
+        for i in 0..self.state.displacement.len() {
+            let ok = self.state.displacement[i].iter().all(|x| x.is_finite())
+                && self.state.velocity_half[i].iter().all(|x| x.is_finite());
+            if !ok {
+                return Err(BadState {
+                    place: self.solver.grid.vertex_position(i),
+                    reason: "non-finite displacement or velocity at a node".into(),
+                });
+            }
+        }
+        Ok(())
+    }
+    fn hottest_place(&self) -> Vector<D> {
+        let v = &self.state.velocity_half;
+        let i = (0..v.len())
+            .max_by(|&a, &b| v[a].norm().total_cmp(&v[b].norm()))
+            .unwrap_or(0);
+        self.solver.grid.vertex_position(i)
+    }
+    fn cells(&self) -> usize {
+        self.solver.grid.cell_count()
+    }
+    fn updates_per_step(&self) -> usize {
+        self.solver.grid.cell_count()
+    }
+}

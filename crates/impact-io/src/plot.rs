@@ -1,0 +1,139 @@
+//! PNG line plots drawn with plotters (bitmap backend, DejaVu Sans embedded: no system
+//! libraries or fonts needed).
+use crate::IoError;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::Once;
+
+static FONT: Once = Once::new();
+
+fn register_font() {
+    FONT.call_once(|| {
+        // the embedded font is valid TrueType; a failure would only lose the labels
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            plotters::style::FontStyle::Normal,
+            dejavu::sans::regular(),
+        );
+    });
+}
+
+/// One curve of a panel.
+#[derive(Debug, Clone)]
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// `(x, y)` points.
+    pub points: Vec<(f64, f64)>,
+    /// Colour index (0 exact/black, 1.. methods).
+    pub colour: usize,
+    /// Draw as a stepwise dashed reference.
+    pub reference: bool,
+}
+
+/// One panel: a title and its curves.
+#[derive(Debug, Clone)]
+pub struct Panel {
+    /// Panel title.
+    pub title: String,
+    /// Curves.
+    pub series: Vec<Series>,
+}
+
+fn colour(i: usize) -> RGBColor {
+    const PALETTE: [RGBColor; 6] = [
+        RGBColor(0, 0, 0),
+        RGBColor(31, 119, 180),
+        RGBColor(214, 39, 40),
+        RGBColor(44, 160, 44),
+        RGBColor(148, 103, 189),
+        RGBColor(255, 127, 14),
+    ];
+    PALETTE[i % PALETTE.len()]
+}
+
+/// Draw `panels` stacked vertically into a PNG at `path` (written atomically).
+pub fn line_panels(
+    path: &Path,
+    panels: &[Panel],
+    x_label: &str,
+    y_label: &str,
+) -> Result<(), IoError> {
+    register_font();
+    let err = |e: String| IoError::Plot {
+        path: path.to_path_buf(),
+        message: e,
+    };
+    let tmp = crate::temporary_path(path).with_extension("tmp.png");
+    let height = 330 * panels.len().max(1) as u32;
+    {
+        let root = BitMapBackend::new(&tmp, (1000, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
+        let areas = root.split_evenly((panels.len().max(1), 1));
+        for (panel, area) in panels.iter().zip(areas.iter()) {
+            let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+            for s in &panel.series {
+                for &(x, y) in &s.points {
+                    if x.is_finite() && y.is_finite() {
+                        x0 = x0.min(x);
+                        x1 = x1.max(x);
+                        y0 = y0.min(y);
+                        y1 = y1.max(y);
+                    }
+                }
+            }
+            if x0 > x1 {
+                (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
+            }
+            let pad = 0.08 * (y1 - y0).max(1e-30);
+            let mut chart = ChartBuilder::on(area)
+                .caption(&panel.title, ("sans-serif", 20))
+                .margin(10)
+                .x_label_area_size(40)
+                .y_label_area_size(80)
+                .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))
+                .map_err(|e| err(e.to_string()))?;
+            chart
+                .configure_mesh()
+                .x_desc(x_label)
+                .y_desc(y_label)
+                .y_label_formatter(&|v| format!("{v:.2e}"))
+                .draw()
+                .map_err(|e| err(e.to_string()))?;
+            for s in &panel.series {
+                let c = colour(s.colour);
+                let style = if s.reference {
+                    c.stroke_width(2)
+                } else {
+                    c.stroke_width(1)
+                };
+                chart
+                    .draw_series(LineSeries::new(s.points.iter().copied(), style))
+                    .map_err(|e| err(e.to_string()))?
+                    .label(s.label.clone())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+                if !s.reference {
+                    chart
+                        .draw_series(
+                            s.points
+                                .iter()
+                                .map(|&(x, y)| Circle::new((x, y), 2, c.filled())),
+                        )
+                        .map_err(|e| err(e.to_string()))?;
+                }
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::LowerRight)
+                .draw()
+                .map_err(|e| err(e.to_string()))?;
+        }
+        root.present().map_err(|e| err(e.to_string()))?;
+    }
+    std::fs::rename(&tmp, path).map_err(|source| IoError::File {
+        path: path.to_path_buf(),
+        source,
+    })
+}

@@ -1,0 +1,516 @@
+//! Update-stress-last material point method (Sulsky, Zhou & Schreyer 1995) with linear
+//! (1D) / bilinear (2D) shape functions on a fixed background grid.
+//!
+//! One step, one phase per function:
+//! 1. [`MpmSolver::particles_to_grid`]: nodal mass `m_i = Σ_p N_ip m_p`, momentum
+//!    `p_i = Σ_p N_ip m_p v_p`, internal force `f_i = -Σ_p V_p σ_p ∇N_ip`, external
+//!    force from the loads (a pressure `p` on a loaded end is the nodal force
+//!    `f_i = N_i(x_s) p A` at the body's surface `x_s`).
+//! 2. [`MpmSolver::grid_update`]: `p_i += Δt f_i`; prescribed velocities are imposed on
+//!    their nodes; symmetry edges zero the normal component.
+//! 3. [`MpmSolver::grid_to_particles`]: `v_p += Δt Σ_i N_ip f_i/m_i` (FLIP) and
+//!    `x_p += Δt Σ_i N_ip p_i/m_i`.
+//! 4. [`MpmSolver::remap_momentum`]: the nodal momentum is mapped again from the updated
+//!    point velocities, `p_i = Σ_p N_ip m_p v_p^{n+1}` (Sulsky, Zhou & Schreyer 1995;
+//!    called MUSL by later authors), and the prescribed velocities are imposed again.
+//! 5. [`MpmSolver::update_stress`]: USL: with that nodal velocity `v_i = p_i/m_i`,
+//!    `ε̇_p = sym(Σ_i v_i ⊗ ∇N_ip)`, `σ_p += Δt C:ε̇_p`, `V_p *= 1 + Δt tr ε̇_p`.
+//!    USF ([`StressUpdate::Usf`]) does the same before step 1's force, from the nodal
+//!    velocity mapped at the start of the step.
+//!
+//! Choices where the paper is silent: the remap of phase 4 is kept (it is in Sulsky's
+//! algorithm): without it, a node whose only point is about to leave its support gets a
+//! vanishing mass, `p_i/m_i` diverges and the strain rate blows up (seen in the bar at
+//! Courant 0.5 when the loaded end crosses its first node); the background grid is the body's grid extended by
+//! [`PADDING`] cells on every side so points may move; nodes with no mass are skipped; the
+//! loads act at the body's surface as tracked by the boundary points (not at a fixed node),
+//! spread over the nodes of the surface's cell that carry mass (renormalised shape
+//! functions), so the whole load reaches the body when the surface cell's outer node has
+//! lost its points.
+use impact_core::method::{BadState, Method, MethodConfig, Samples, StressUpdate};
+use impact_core::points::MaterialPoints;
+use impact_core::problem::Boundary;
+use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
+
+/// Cells added on every side of the body's grid for the background grid.
+pub const PADDING: usize = 4;
+const MAX_NODES: usize = 8;
+
+/// The MPM state: points and the work done on them by the loads.
+#[derive(Debug, Clone)]
+pub struct MpmState<const D: usize> {
+    /// Material points.
+    pub points: MaterialPoints<D>,
+    /// Work done by the loads since `t = 0`.
+    pub work: f64,
+}
+
+/// A load acting on a surface point of the body.
+#[derive(Debug, Clone, Copy)]
+struct SurfaceLoad<const D: usize> {
+    point: usize,
+    /// Offset from the point to the surface (reference configuration).
+    offset: Vector<D>,
+    /// Force (pressure × area), constant in time.
+    force: Vector<D>,
+}
+
+/// A prescribed normal velocity on the nodes and points near an edge.
+#[derive(Debug, Clone, Copy)]
+struct VelocityEdge {
+    axis: usize,
+    /// Nodes with this index along `axis` (background-grid numbering).
+    node_layer: usize,
+    value: f64,
+    segment: Option<(f64, f64)>,
+    /// Whether it is a symmetry edge (zero normal velocity, points untouched).
+    symmetry: bool,
+}
+
+/// Configuration and buffers of USL MPM.
+#[derive(Debug, Clone)]
+pub struct MpmSolver<const D: usize> {
+    config: MethodConfig,
+    body: Grid<D>,
+    grid: Grid<D>,
+    material: LinearElastic,
+    loads: Vec<SurfaceLoad<D>>,
+    velocity_edges: Vec<VelocityEdge>,
+    node_mass: Vec<f64>,
+    node_momentum: Vec<Vector<D>>,
+    node_force: Vec<Vector<D>>,
+    /// Per point: its cell in the background grid, shape values and gradients.
+    point_cell: Vec<usize>,
+    shape: Vec<f64>,
+    shape_gradient: Vec<Vector<D>>,
+}
+
+/// USL MPM as a [`Method`].
+#[derive(Debug, Clone)]
+pub struct Mpm<const D: usize> {
+    /// Configuration and buffers.
+    pub solver: MpmSolver<D>,
+    /// Points.
+    pub state: MpmState<D>,
+}
+
+fn sym<const D: usize>(a: &Vector<D>, b: &Vector<D>) -> Tensor<D> {
+    let outer = a * b.transpose();
+    (outer + outer.transpose()) * 0.5
+}
+
+impl<const D: usize> Mpm<D> {
+    /// Build MPM for `problem`.
+    pub fn new(problem: &Problem<D>, config: MethodConfig) -> Result<Self, CoreError> {
+        let per_axis = problem.points_per_axis(config.points_per_cell)?;
+        impact_core::scene::check_courant("courant", config.courant)?;
+        let body = problem.grid.clone();
+        let points = MaterialPoints::regular(&body, per_axis, problem.material.density);
+        let mut cells = body.cells;
+        for c in cells.iter_mut() {
+            *c += 2 * PADDING;
+        }
+        let grid = Grid {
+            origin: body.origin - body.spacing * PADDING as f64,
+            spacing: body.spacing,
+            cells,
+        };
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let mut loads = Vec::new();
+        let mut velocity_edges = Vec::new();
+        let upper = body.upper();
+        for l in 0..D {
+            for side in 0..2 {
+                let sign = if side == 0 { -1.0 } else { 1.0 };
+                let edge = if side == 0 { body.origin[l] } else { upper[l] };
+                let outward = Vector::<D>::from_fn(|k, _| if k == l { sign } else { 0.0 });
+                let node_layer = PADDING + side * body.cells[l];
+                match problem.boundaries[l][side] {
+                    Boundary::Free => {}
+                    Boundary::Pressure { value, segment } => {
+                        // points whose domain touches the edge carry its load
+                        for p in 0..points.len() {
+                            let x = points.reference[p];
+                            let h = points.half_size[p];
+                            if ((x[l] + sign * h[l]) - edge).abs() > 1e-9 * body.spacing[l] {
+                                continue;
+                            }
+                            let s = if D > 1 { x[(l + 1) % D] } else { 0.0 };
+                            if !Boundary::acts_at(segment, s) {
+                                continue;
+                            }
+                            let area: f64 =
+                                (0..D).filter(|&k| k != l).map(|k| 2.0 * h[k]).product();
+                            let mut offset = Vector::<D>::zeros();
+                            offset[l] = sign * h[l];
+                            loads.push(SurfaceLoad {
+                                point: p,
+                                offset,
+                                force: outward * (-value * area),
+                            });
+                        }
+                    }
+                    Boundary::Velocity { value, segment } => velocity_edges.push(VelocityEdge {
+                        axis: l,
+                        node_layer,
+                        value: -sign * value,
+                        segment,
+                        symmetry: false,
+                    }),
+                    Boundary::Symmetry => velocity_edges.push(VelocityEdge {
+                        axis: l,
+                        node_layer,
+                        value: 0.0,
+                        segment: None,
+                        symmetry: true,
+                    }),
+                }
+            }
+        }
+        let nodes = grid.vertex_count();
+        let np = points.len();
+        let mut mpm = Self {
+            solver: MpmSolver {
+                config,
+                body,
+                material: problem.material,
+                loads,
+                velocity_edges,
+                node_mass: vec![0.0; nodes],
+                node_momentum: vec![Vector::<D>::zeros(); nodes],
+                node_force: vec![Vector::<D>::zeros(); nodes],
+                point_cell: vec![0; np],
+                shape: vec![0.0; np * npc],
+                shape_gradient: vec![Vector::<D>::zeros(); np * npc],
+                grid,
+            },
+            state: MpmState { points, work: 0.0 },
+        };
+        mpm.solver.impose_point_velocities(&mut mpm.state.points);
+        Ok(mpm)
+    }
+}
+
+impl<const D: usize> MpmSolver<D> {
+    /// Whether vertex `v` lies on velocity edge `e` (and inside its segment).
+    fn on_edge(&self, e: &VelocityEdge, v: usize) -> bool {
+        let counts = self.grid.vertex_counts();
+        let mut rest = v;
+        let mut idx = [0usize; D];
+        for k in 0..D {
+            idx[k] = rest % counts[k];
+            rest /= counts[k];
+        }
+        if idx[e.axis] != e.node_layer {
+            return false;
+        }
+        let s = if D > 1 {
+            self.grid.vertex_position(v)[(e.axis + 1) % D]
+        } else {
+            0.0
+        };
+        Boundary::acts_at(e.segment, s)
+    }
+
+    /// Points on a velocity edge take the prescribed normal velocity (as the paper does).
+    fn impose_point_velocities(&self, points: &mut MaterialPoints<D>) {
+        for e in self.velocity_edges.iter().filter(|e| !e.symmetry) {
+            let side_is_low = e.node_layer == PADDING;
+            let edge = if side_is_low {
+                self.body.origin[e.axis]
+            } else {
+                self.body.upper()[e.axis]
+            };
+            for p in 0..points.len() {
+                let x = points.reference[p];
+                let h = points.half_size[p];
+                let sign = if side_is_low { -1.0 } else { 1.0 };
+                if ((x[e.axis] + sign * h[e.axis]) - edge).abs() > 1e-9 * self.body.spacing[e.axis]
+                {
+                    continue;
+                }
+                let s = if D > 1 { x[(e.axis + 1) % D] } else { 0.0 };
+                if Boundary::acts_at(e.segment, s) {
+                    points.velocity[p][e.axis] = e.value;
+                }
+            }
+        }
+    }
+
+    /// Phase 1: shape functions at the current positions, then mass, momentum and forces
+    /// on the grid.
+    pub fn particles_to_grid(&mut self, points: &MaterialPoints<D>, with_internal: bool) {
+        let npc = Grid::<D>::NODES_PER_CELL;
+        self.node_mass.iter_mut().for_each(|m| *m = 0.0);
+        self.node_momentum
+            .iter_mut()
+            .for_each(|m| *m = Vector::<D>::zeros());
+        self.node_force
+            .iter_mut()
+            .for_each(|m| *m = Vector::<D>::zeros());
+        for p in 0..points.len() {
+            // points outside the padded grid were rejected by check_finite's place
+            let (c, xi) = self
+                .grid
+                .locate(&points.position[p])
+                .unwrap_or((self.point_cell[p], Vector::<D>::from_element(0.5)));
+            self.point_cell[p] = c;
+            let (s, g) = (
+                &mut self.shape[p * npc..(p + 1) * npc],
+                &mut self.shape_gradient[p * npc..(p + 1) * npc],
+            );
+            self.grid.shape(&xi, s, g);
+            for a in 0..npc {
+                let i = self.grid.vertex_of(c, a);
+                let w = s[a] * points.mass[p];
+                self.node_mass[i] += w;
+                self.node_momentum[i] += points.velocity[p] * w;
+                if with_internal {
+                    self.node_force[i] -= (points.stress[p] * g[a]) * points.volume[p];
+                }
+            }
+        }
+    }
+
+    /// Internal forces only (USF computes them after its stress update).
+    fn internal_forces(&mut self, points: &MaterialPoints<D>) {
+        let npc = Grid::<D>::NODES_PER_CELL;
+        for p in 0..points.len() {
+            let c = self.point_cell[p];
+            for a in 0..npc {
+                let i = self.grid.vertex_of(c, a);
+                self.node_force[i] -=
+                    (points.stress[p] * self.shape_gradient[p * npc + a]) * points.volume[p];
+            }
+        }
+    }
+
+    /// External surface loads as nodal forces at the current surface positions.
+    fn external_forces(&mut self, points: &MaterialPoints<D>) {
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let mut s = [0.0; MAX_NODES];
+        let mut g = [Vector::<D>::zeros(); MAX_NODES];
+        for k in 0..self.loads.len() {
+            let load = self.loads[k];
+            let x = points.position[load.point] + load.offset;
+            let Some((c, xi)) = self.grid.locate(&x) else {
+                continue;
+            };
+            self.grid.shape(&xi, &mut s[..npc], &mut g[..npc]);
+            // only nodes with mass can take the load: renormalise over them so the
+            // whole force reaches the body (momentum is conserved)
+            let mut total = 0.0;
+            for a in 0..npc {
+                if self.node_mass[self.grid.vertex_of(c, a)] > 0.0 {
+                    total += s[a];
+                }
+            }
+            if total <= 0.0 {
+                continue;
+            }
+            for a in 0..npc {
+                let i = self.grid.vertex_of(c, a);
+                if self.node_mass[i] > 0.0 {
+                    self.node_force[i] += load.force * (s[a] / total);
+                }
+            }
+        }
+    }
+
+    /// Power of the surface loads, `Σ F · v_p` with `v_p` the velocity of the loaded point.
+    fn load_power(&self, points: &MaterialPoints<D>) -> f64 {
+        self.loads
+            .iter()
+            .map(|l| l.force.dot(&points.velocity[l.point]))
+            .sum()
+    }
+
+    /// Phase 2: `p_i += Δt f_i`, then prescribed nodal velocities. Returns the work done
+    /// in the step by the velocity constraints, `Δt Σ r · v_d`.
+    pub fn grid_update(&mut self, dt: f64) -> f64 {
+        for i in 0..self.node_mass.len() {
+            if self.node_mass[i] > 0.0 {
+                self.node_momentum[i] += self.node_force[i] * dt;
+            }
+        }
+        let mut work = 0.0;
+        for k in 0..self.velocity_edges.len() {
+            let e = self.velocity_edges[k];
+            for v in 0..self.node_mass.len() {
+                if self.node_mass[v] > 0.0 && self.on_edge(&e, v) {
+                    let m = self.node_mass[v];
+                    let old = self.node_momentum[v][e.axis];
+                    self.node_momentum[v][e.axis] = e.value * m;
+                    // reaction force of the constraint, kept in the force for the FLIP update
+                    let reaction = (e.value * m - old) / dt;
+                    self.node_force[v][e.axis] += reaction;
+                    work += dt * reaction * e.value;
+                }
+            }
+        }
+        work
+    }
+
+    /// Phase 3: FLIP velocity update and position update from the nodal velocity.
+    pub fn grid_to_particles(&self, points: &mut MaterialPoints<D>, dt: f64) {
+        let npc = Grid::<D>::NODES_PER_CELL;
+        for p in 0..points.len() {
+            let c = self.point_cell[p];
+            let mut dv = Vector::<D>::zeros();
+            let mut v = Vector::<D>::zeros();
+            for a in 0..npc {
+                let i = self.grid.vertex_of(c, a);
+                let m = self.node_mass[i];
+                if m > 0.0 {
+                    let s = self.shape[p * npc + a];
+                    dv += self.node_force[i] * (s * dt / m);
+                    v += self.node_momentum[i] * (s / m);
+                }
+            }
+            points.velocity[p] += dv;
+            points.position[p] += v * dt;
+        }
+    }
+
+    /// Phase 4: nodal momentum mapped again from the updated point velocities (with the
+    /// shape functions of the start of the step), then the prescribed nodal velocities.
+    pub fn remap_momentum(&mut self, points: &MaterialPoints<D>) {
+        let npc = Grid::<D>::NODES_PER_CELL;
+        self.node_momentum
+            .iter_mut()
+            .for_each(|m| *m = Vector::<D>::zeros());
+        for p in 0..points.len() {
+            let c = self.point_cell[p];
+            for a in 0..npc {
+                let i = self.grid.vertex_of(c, a);
+                self.node_momentum[i] +=
+                    points.velocity[p] * (self.shape[p * npc + a] * points.mass[p]);
+            }
+        }
+        for k in 0..self.velocity_edges.len() {
+            let e = self.velocity_edges[k];
+            for v in 0..self.node_mass.len() {
+                if self.node_mass[v] > 0.0 && self.on_edge(&e, v) {
+                    self.node_momentum[v][e.axis] = e.value * self.node_mass[v];
+                }
+            }
+        }
+    }
+
+    /// Phase 5: stress and volume update from the nodal velocity.
+    pub fn update_stress(&self, points: &mut MaterialPoints<D>, dt: f64) {
+        let npc = Grid::<D>::NODES_PER_CELL;
+        for p in 0..points.len() {
+            let c = self.point_cell[p];
+            let mut l = Tensor::<D>::zeros();
+            for a in 0..npc {
+                let i = self.grid.vertex_of(c, a);
+                let m = self.node_mass[i];
+                if m > 0.0 {
+                    l += sym(
+                        &(self.node_momentum[i] / m),
+                        &self.shape_gradient[p * npc + a],
+                    );
+                }
+            }
+            points.stress[p] += self.material.stress(&l) * dt;
+            points.volume[p] *= 1.0 + dt * l.trace();
+        }
+    }
+
+    /// One step (module doc).
+    pub fn step(&mut self, state: &mut MpmState<D>, dt: f64) {
+        let usl = self.config.stress_update == StressUpdate::Usl;
+        self.particles_to_grid(&state.points, usl);
+        if !usl {
+            self.update_stress(&mut state.points, dt);
+            self.internal_forces(&state.points);
+        }
+        self.external_forces(&state.points);
+        let power_start = self.load_power(&state.points);
+        state.work += self.grid_update(dt);
+        self.grid_to_particles(&mut state.points, dt);
+        // trapezoidal work of the loads over the step
+        state.work += 0.5 * dt * (power_start + self.load_power(&state.points));
+        self.impose_point_velocities(&mut state.points);
+        if usl {
+            self.remap_momentum(&state.points);
+            self.update_stress(&mut state.points, dt);
+        }
+    }
+}
+
+impl<const D: usize> Method<D> for Mpm<D> {
+    fn config(&self) -> &MethodConfig {
+        &self.solver.config
+    }
+    fn stable_dt(&self) -> f64 {
+        self.solver.config.courant * self.solver.body.min_spacing()
+            / self.solver.material.p_wave_speed::<D>()
+    }
+    fn step(&mut self, _t: f64, dt: f64) {
+        self.solver.step(&mut self.state, dt);
+    }
+    fn sample_into(&self, out: &mut Samples<D>) {
+        let p = &self.state.points;
+        out.clear();
+        out.reference.extend_from_slice(&p.reference);
+        out.position.extend_from_slice(&p.position);
+        out.half_size.extend_from_slice(&p.half_size);
+        out.stress.extend_from_slice(&p.stress);
+        out.velocity.extend_from_slice(&p.velocity);
+    }
+    fn energy(&self) -> f64 {
+        let p = &self.state.points;
+        let m = &self.solver.material;
+        (0..p.len())
+            .map(|i| {
+                0.5 * p.mass[i] * p.velocity[i].norm_squared()
+                    + p.volume[i] * m.energy_density(&p.stress[i])
+            })
+            .sum()
+    }
+    fn external_work(&self) -> f64 {
+        self.state.work
+    }
+    fn check_finite(&self) -> Result<(), BadState<D>> {
+        let p = &self.state.points;
+        for i in 0..p.len() {
+            let finite = p.stress[i].iter().all(|x| x.is_finite())
+                && p.velocity[i].iter().all(|x| x.is_finite())
+                && p.position[i].iter().all(|x| x.is_finite());
+            if !finite {
+                return Err(BadState {
+                    place: p.reference[i],
+                    reason: "non-finite stress, velocity or position at a material point".into(),
+                });
+            }
+            if self.solver.grid.locate(&p.position[i]).is_none() {
+                return Err(BadState {
+                    place: p.reference[i],
+                    reason: format!(
+                        "material point left the background grid (x = {:?})",
+                        p.position[i].as_slice()
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+    fn hottest_place(&self) -> Vector<D> {
+        let p = &self.state.points;
+        let i = (0..p.len())
+            .max_by(|&a, &b| p.velocity[a].norm().total_cmp(&p.velocity[b].norm()))
+            .unwrap_or(0);
+        p.reference
+            .get(i)
+            .copied()
+            .unwrap_or_else(Vector::<D>::zeros)
+    }
+    fn cells(&self) -> usize {
+        self.solver.body.cell_count()
+    }
+    fn updates_per_step(&self) -> usize {
+        self.state.points.len()
+    }
+}

@@ -1,0 +1,130 @@
+//! `impact`: DGMPM, USL MPM and explicit FEM on the same stress-wave problems.
+//!
+//! This library holds what the CLI and the cross-method tests share: building a method
+//! from a scene ([`build`]), applying command-line overrides ([`Overrides`]) and running a
+//! scene through the controller with metrics and outputs ([`run::run_methods`]).
+pub mod output;
+pub mod run;
+
+use impact_core::method::{Integrator, MethodConfig, MethodKind, PointUpdate, StressUpdate};
+use impact_core::scene::{check_courant, check_points_per_cell, MethodSpec, Scene};
+use impact_core::{CoreError, Method, Problem, SceneError};
+
+/// Build a method for `problem` from its configuration.
+pub fn build<const D: usize>(
+    problem: &Problem<D>,
+    config: MethodConfig,
+) -> Result<Box<dyn Method<D>>, CoreError> {
+    Ok(match config.kind {
+        MethodKind::Dgmpm => Box::new(impact_dgmpm::Dgmpm::new(problem, config)?),
+        MethodKind::Mpm => Box::new(impact_mpm::Mpm::new(problem, config)?),
+        MethodKind::Fem => Box::new(impact_fem::Fem::new(problem, config)?),
+    })
+}
+
+/// The configuration of `kind` written in `scene`.
+pub fn scene_config(scene: &Scene, kind: MethodKind) -> MethodConfig {
+    let spec: &MethodSpec = match kind {
+        MethodKind::Dgmpm => &scene.dgmpm,
+        MethodKind::Mpm => &scene.mpm,
+        MethodKind::Fem => &scene.fem,
+    };
+    MethodConfig {
+        kind,
+        courant: spec.courant,
+        points_per_cell: scene.domain.points_per_cell,
+        integrator: match spec.integrator.as_deref() {
+            Some("rk2") => Integrator::Rk2,
+            _ => Integrator::Euler,
+        },
+        update: match spec.update.as_deref() {
+            Some("increment") => PointUpdate::Increment,
+            _ => PointUpdate::Nodal,
+        },
+        stress_update: match spec.stress_update.as_deref() {
+            Some("usf") => StressUpdate::Usf,
+            _ => StressUpdate::Usl,
+        },
+    }
+}
+
+/// Command-line overrides of a scene (each `None` keeps the scene's value).
+#[derive(Debug, Clone, Default)]
+pub struct Overrides {
+    /// Cells along x (other axes scaled to keep the cell shape).
+    pub cells: Option<usize>,
+    /// Courant number.
+    pub courant: Option<f64>,
+    /// Points per cell.
+    pub points_per_cell: Option<usize>,
+    /// DGMPM integrator.
+    pub integrator: Option<Integrator>,
+    /// DGMPM point update.
+    pub update: Option<PointUpdate>,
+    /// MPM stress update.
+    pub stress_update: Option<StressUpdate>,
+    /// End time (s).
+    pub t_end: Option<f64>,
+    /// Output times (s).
+    pub output_times: Option<Vec<f64>>,
+}
+
+impl Overrides {
+    /// Apply the scene-level overrides (cells) to `scene`, checking each value.
+    pub fn apply_to_scene(&self, scene: &mut Scene) -> Result<(), SceneError> {
+        if let Some(cells) = self.cells {
+            if cells == 0 || cells > 100_000_000 {
+                return Err(SceneError::new(
+                    "--cells",
+                    cells,
+                    "at least 1 cell (at most 1e8)",
+                ));
+            }
+            let ratio = cells as f64 / scene.domain.cells[0] as f64;
+            for (l, n) in scene.domain.cells.iter_mut().enumerate() {
+                *n = if l == 0 {
+                    cells
+                } else {
+                    ((*n as f64) * ratio).round().max(1.0) as usize
+                };
+            }
+        }
+        if let Some(ppc) = self.points_per_cell {
+            check_points_per_cell(scene.dim, ppc).map_err(|mut e| {
+                e.field = "--points-per-cell".into();
+                e
+            })?;
+            scene.domain.points_per_cell = ppc;
+        }
+        Ok(())
+    }
+
+    /// Apply the method-level overrides to `config`.
+    pub fn apply_to_config(&self, config: &mut MethodConfig) -> Result<(), SceneError> {
+        if let Some(c) = self.courant {
+            check_courant("--courant", c)?;
+            config.courant = c;
+        }
+        if let Some(ppc) = self.points_per_cell {
+            config.points_per_cell = ppc;
+        }
+        if let Some(i) = self.integrator {
+            config.integrator = i;
+        }
+        if let Some(u) = self.update {
+            config.update = u;
+        }
+        if let Some(s) = self.stress_update {
+            config.stress_update = s;
+        }
+        Ok(())
+    }
+
+    /// Apply the schedule overrides to `problem`.
+    pub fn apply_to_problem<const D: usize>(
+        &self,
+        problem: &mut Problem<D>,
+    ) -> Result<(), SceneError> {
+        problem.set_schedule(self.output_times.clone(), self.t_end)
+    }
+}

@@ -1,0 +1,421 @@
+//! `impact` command line: run a scene with DGMPM, MPM and FEM side by side, and check
+//! that DGMPM captures the wave front more sharply than MPM.
+use anyhow::{bail, Context, Result};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use impact::output::{stress_plot, FileWriter, Summary};
+use impact::run::{run_method, RunRecord, Silent};
+use impact::{scene_config, Overrides};
+use impact_core::method::{Integrator, MethodKind, PointUpdate, StressUpdate};
+use impact_core::reference::Reference;
+use impact_core::{Problem, Scene};
+use std::path::PathBuf;
+
+/// DGMPM vs MPM vs FEM for impact waves in solids.
+#[derive(Parser)]
+#[command(name = "impact", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scene with the selected methods; print the table and write out/<scene>/.
+    Run(RunArgs),
+    /// Exit 0 only if DGMPM's front width and overshoot are below MPM's at every output
+    /// time (each at the scene's Courant number; the method flags change DGMPM only).
+    Check(CheckArgs),
+    /// List the shipped scenes.
+    Scenes,
+}
+
+#[derive(Args, Clone)]
+struct SceneArgs {
+    /// A shipped scene name (`impact scenes`) or a path to a scene file (.toml).
+    scene: String,
+    /// Cells along x (other axes scaled to keep the cell shape).
+    #[arg(long)]
+    cells: Option<usize>,
+    /// Courant number c·Δt/Δx, in (0, 2].
+    #[arg(long)]
+    courant: Option<f64>,
+    /// Material points per cell (1D: 1..64; 2D: 1, 4, 9, ...).
+    #[arg(long)]
+    points_per_cell: Option<usize>,
+    /// DGMPM time integrator.
+    #[arg(long, value_enum)]
+    integrator: Option<IntegratorArg>,
+    /// DGMPM point update after the nodal solve.
+    #[arg(long, value_enum)]
+    update: Option<UpdateArg>,
+    /// MPM stress update.
+    #[arg(long, value_enum)]
+    stress_update: Option<StressUpdateArg>,
+    /// End time in seconds (outputs after it are dropped; it becomes the last output).
+    #[arg(long)]
+    t_end: Option<f64>,
+    /// Output times in seconds, comma-separated and increasing.
+    #[arg(long, value_delimiter = ',')]
+    output_times: Option<Vec<f64>>,
+}
+
+#[derive(Args)]
+struct RunArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Methods to run, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "dgmpm,mpm,fem")]
+    method: Vec<MethodArg>,
+    /// Output folder (default: out/<scene name>).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Args)]
+struct CheckArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum MethodArg {
+    Dgmpm,
+    Mpm,
+    Fem,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum IntegratorArg {
+    Euler,
+    Rk2,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum UpdateArg {
+    Nodal,
+    Increment,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum StressUpdateArg {
+    Usl,
+    Usf,
+}
+
+impl SceneArgs {
+    fn load(&self) -> Result<Scene> {
+        let looks_like_file = self.scene.ends_with(".toml") || self.scene.contains('/');
+        let mut scene = if looks_like_file {
+            Scene::from_file(std::path::Path::new(&self.scene))?
+        } else {
+            match Scene::builtin(&self.scene) {
+                Some(s) => s,
+                None => bail!(
+                    "unknown scene {:?}: give a shipped scene ({}) or a path to a .toml file",
+                    self.scene,
+                    impact_core::scene::BUILTIN.join(", ")
+                ),
+            }
+        };
+        self.overrides().apply_to_scene(&mut scene)?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    fn overrides(&self) -> Overrides {
+        Overrides {
+            cells: self.cells,
+            courant: self.courant,
+            points_per_cell: self.points_per_cell,
+            integrator: self.integrator.map(|i| match i {
+                IntegratorArg::Euler => Integrator::Euler,
+                IntegratorArg::Rk2 => Integrator::Rk2,
+            }),
+            update: self.update.map(|u| match u {
+                UpdateArg::Nodal => PointUpdate::Nodal,
+                UpdateArg::Increment => PointUpdate::Increment,
+            }),
+            stress_update: self.stress_update.map(|u| match u {
+                StressUpdateArg::Usl => StressUpdate::Usl,
+                StressUpdateArg::Usf => StressUpdate::Usf,
+            }),
+            t_end: self.t_end,
+            output_times: self.output_times.clone(),
+        }
+    }
+}
+
+fn fmt_opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or("-".to_string(), |x| format!("{x:.digits$}"))
+}
+
+fn print_header() {
+    println!(
+        "{:<6} {:>7} {:>4} {:>8} {:>6} {:>8} {:>10} {:>10} {:>10} {:>11} {:>10} {:>11}",
+        "method",
+        "courant",
+        "ppc",
+        "integr.",
+        "steps",
+        "wall_s",
+        "t_ms",
+        "L1_rel",
+        "Linf_rel",
+        "front_cells",
+        "overshoot%",
+        "energy_rel"
+    );
+}
+
+fn print_rows(r: &RunRecord) {
+    for t in &r.times {
+        println!(
+            "{:<6} {:>7.3} {:>4} {:>8} {:>6} {:>8.4} {:>10.4} {:>10.3e} {:>10.3e} {:>11} {:>10} {:>11.3e}",
+            r.method,
+            r.courant,
+            r.points_per_cell,
+            r.integrator,
+            r.steps,
+            r.wall_s,
+            t.t * 1e3,
+            t.l1_rel,
+            t.linf_rel,
+            fmt_opt(t.front_width_cells, 2),
+            fmt_opt(t.overshoot_pct, 2),
+            t.energy_rel
+        );
+    }
+    if let Some(e) = &r.error {
+        println!("{:<6} stopped: {e}", r.method);
+    }
+}
+
+fn run_command(args: &RunArgs) -> Result<()> {
+    let scene = args.scene.load()?;
+    match scene.dim {
+        1 => run_scene::<1>(&scene, args),
+        2 => run_scene::<2>(&scene, args),
+        d => bail!("dim = {d} is not supported (allowed: 1 or 2)"),
+    }
+}
+
+fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
+    let overrides = args.scene.overrides();
+    let mut problem = Problem::<D>::from_scene(scene)?;
+    overrides.apply_to_problem(&mut problem)?;
+    let reference = Reference::for_problem(&problem);
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out").join(&scene.name));
+    impact_io::create_dir(&dir)?;
+    let mut kinds: Vec<MethodKind> = Vec::new();
+    for m in &args.method {
+        let k = match m {
+            MethodArg::Dgmpm => MethodKind::Dgmpm,
+            MethodArg::Mpm => MethodKind::Mpm,
+            MethodArg::Fem => MethodKind::Fem,
+        };
+        if !kinds.contains(&k) {
+            kinds.push(k);
+        }
+    }
+    let mut summary = Summary {
+        scene: scene.name.clone(),
+        dim: D,
+        reference: match reference {
+            Some(_) => "exact solution (cell averages)".into(),
+            None => "none (errors not computed)".into(),
+        },
+        runs: Vec::new(),
+    };
+    let mut plots = Vec::new();
+    let mut failures = Vec::new();
+    println!(
+        "scene {} ({}D, {} cells, output times {:?} ms)",
+        scene.name,
+        D,
+        problem.grid.cell_count(),
+        problem
+            .output_times
+            .iter()
+            .map(|t| (t * 1e6).round() / 1e3)
+            .collect::<Vec<_>>()
+    );
+    let mut rows = Vec::new();
+    for kind in kinds {
+        let mut config = scene_config(scene, kind);
+        overrides.apply_to_config(&mut config)?;
+        let progress = (!args.quiet).then(|| {
+            let bar = indicatif::ProgressBar::new(1000);
+            bar.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "{prefix:>6} [{bar:40}] {percent:>3}% {elapsed_precise}",
+                )
+                .expect("internal: valid template")
+                .progress_chars("=> "),
+            );
+            bar.set_prefix(kind.name());
+            bar
+        });
+        let mut writer = FileWriter::<D>::new(
+            &dir,
+            kind.name(),
+            reference.as_ref(),
+            progress,
+            problem.t_end,
+        );
+        let (record, blowup) = run_method(&problem, config, reference.as_ref(), &mut writer)?;
+        writer.finish()?;
+        plots.push((
+            kind.name().to_string(),
+            std::mem::take(&mut writer.profiles),
+        ));
+        if let Some(b) = blowup {
+            failures.push(b.to_string());
+        }
+        rows.push(record.clone());
+        summary.runs.push(record);
+    }
+    print_header();
+    for r in &rows {
+        print_rows(r);
+    }
+    impact_io::write_json(&dir.join("summary.json"), &summary)?;
+    let length = problem.grid.upper()[0] - problem.grid.origin[0];
+    stress_plot(
+        &dir.join("stress.png"),
+        &scene.name,
+        &plots,
+        reference.as_ref(),
+        length,
+    )?;
+    println!("wrote {}", dir.display());
+    if !failures.is_empty() {
+        bail!(
+            "{} (frames written before the blow-up are kept in {})",
+            failures.join("; "),
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
+fn check_command(args: &CheckArgs) -> Result<bool> {
+    let scene = args.scene.load()?;
+    match scene.dim {
+        1 => check_scene::<1>(&scene, args),
+        2 => check_scene::<2>(&scene, args),
+        d => bail!("dim = {d} is not supported (allowed: 1 or 2)"),
+    }
+}
+
+fn check_scene<const D: usize>(scene: &Scene, args: &CheckArgs) -> Result<bool> {
+    let overrides = args.scene.overrides();
+    let mut problem = Problem::<D>::from_scene(scene)?;
+    overrides.apply_to_problem(&mut problem)?;
+    let reference = Reference::for_problem(&problem).with_context(|| {
+        format!(
+            "scene {} has no reference to measure fronts against",
+            scene.name
+        )
+    })?;
+    let mut dg = scene_config(scene, MethodKind::Dgmpm);
+    overrides.apply_to_config(&mut dg)?;
+    let mpm = scene_config(scene, MethodKind::Mpm);
+    let (dg_rec, dg_err) = run_method(&problem, dg, Some(&reference), &mut Silent)?;
+    let (mpm_rec, mpm_err) = run_method(&problem, mpm, Some(&reference), &mut Silent)?;
+    println!(
+        "check {}: DGMPM (courant {}, {} ppc, {}) vs MPM (courant {}, {} ppc, {})",
+        scene.name,
+        dg.courant,
+        dg.points_per_cell,
+        dg_rec.integrator,
+        mpm.courant,
+        mpm.points_per_cell,
+        mpm_rec.integrator
+    );
+    println!(
+        "{:>10} {:>13} {:>13} {:>13} {:>13}  verdict",
+        "t_ms", "dgmpm_front", "mpm_front", "dgmpm_over%", "mpm_over%"
+    );
+    let mut ok = dg_err.is_none() && mpm_err.is_none();
+    let worse = |v: Option<f64>| v.unwrap_or(f64::INFINITY);
+    let n = dg_rec.times.len().max(mpm_rec.times.len());
+    let mut compared = 0;
+    for k in 0..n {
+        let (d, m) = (dg_rec.times.get(k), mpm_rec.times.get(k));
+        let t = d.or(m).map(|x| x.t).unwrap_or(0.0);
+        let (dw, mw) = (
+            d.and_then(|x| x.front_width_cells),
+            m.and_then(|x| x.front_width_cells),
+        );
+        let (dov, mov) = (
+            d.and_then(|x| x.overshoot_pct),
+            m.and_then(|x| x.overshoot_pct),
+        );
+        let verdict = if d.is_none() || m.is_none() {
+            ok = false;
+            "FAIL (run stopped)"
+        } else if reference.front(t).is_none() {
+            "skip (no front)"
+        } else {
+            compared += 1;
+            if worse(dw) < worse(mw) && worse(dov) < worse(mov) {
+                "pass"
+            } else {
+                ok = false;
+                "FAIL"
+            }
+        };
+        println!(
+            "{:>10.4} {:>13} {:>13} {:>13} {:>13}  {verdict}",
+            t * 1e3,
+            fmt_opt(dw, 3),
+            fmt_opt(mw, 3),
+            fmt_opt(dov, 3),
+            fmt_opt(mov, 3)
+        );
+    }
+    for e in [dg_err, mpm_err].into_iter().flatten() {
+        println!("stopped: {e}");
+    }
+    if compared == 0 {
+        println!("no output time has a front to compare");
+        ok = false;
+    }
+    println!(
+        "{}",
+        if ok {
+            "PASS: DGMPM front sharper than MPM at every output time"
+        } else {
+            "FAIL"
+        }
+    );
+    Ok(ok)
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Run(a) => run_command(a).map(|_| true),
+        Command::Check(a) => check_command(a),
+        Command::Scenes => {
+            for name in impact_core::scene::BUILTIN {
+                println!("{name}");
+            }
+            Ok(true)
+        }
+    };
+    match result {
+        Ok(true) => {}
+        Ok(false) => std::process::exit(1),
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::exit(2);
+        }
+    }
+}
