@@ -1,1 +1,37 @@
-fn main() {}
+//! One step of each method on the paper's bar at 150 and 150,000 cells.
+//!
+//! `cargo bench --bench step`; throughput is in cells (elements) per second, i.e.
+//! cell-updates per second.
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use impact_core::method::MethodKind;
+use impact_core::{Problem, Scene};
+use std::time::Duration;
+
+fn step(c: &mut Criterion) {
+    let mut group = c.benchmark_group("bar_step");
+    group.measurement_time(Duration::from_secs(3));
+    group.warm_up_time(Duration::from_secs(1));
+    group.sample_size(30);
+    for cells in [150usize, 150_000] {
+        let mut scene = Scene::builtin("bar").expect("shipped scene");
+        scene.domain.cells = vec![cells];
+        let problem = Problem::<1>::from_scene(&scene).expect("valid scene");
+        for kind in MethodKind::ALL {
+            let config = impact::scene_config(&scene, kind);
+            let mut method = impact::build(&problem, config).expect("valid method");
+            let dt = method.stable_dt();
+            group.throughput(Throughput::Elements(cells as u64));
+            let mut t = 0.0;
+            group.bench_with_input(BenchmarkId::new(kind.name(), cells), &cells, |b, _| {
+                b.iter(|| {
+                    method.step(t, dt);
+                    t += dt;
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, step);
+criterion_main!(benches);

@@ -6,7 +6,9 @@
 pub mod output;
 pub mod run;
 
-use impact_core::method::{Integrator, MethodConfig, MethodKind, PointUpdate, StressUpdate};
+use impact_core::method::{
+    Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, StressUpdate,
+};
 use impact_core::scene::{check_courant, check_points_per_cell, MethodSpec, Scene};
 use impact_core::{CoreError, Method, Problem, SceneError};
 
@@ -43,7 +45,12 @@ pub fn scene_config(scene: &Scene, kind: MethodKind) -> MethodConfig {
         },
         stress_update: match spec.stress_update.as_deref() {
             Some("usf") => StressUpdate::Usf,
+            Some("musl") => StressUpdate::Musl,
             _ => StressUpdate::Usl,
+        },
+        frame: match spec.frame.as_deref() {
+            Some("updated-lagrangian") => MpmFrame::UpdatedLagrangian,
+            _ => MpmFrame::TotalLagrangian,
         },
     }
 }
@@ -63,6 +70,8 @@ pub struct Overrides {
     pub update: Option<PointUpdate>,
     /// MPM stress update.
     pub stress_update: Option<StressUpdate>,
+    /// MPM frame.
+    pub frame: Option<MpmFrame>,
     /// End time (s).
     pub t_end: Option<f64>,
     /// Output times (s).
@@ -70,7 +79,8 @@ pub struct Overrides {
 }
 
 impl Overrides {
-    /// Apply the scene-level overrides (cells) to `scene`, checking each value.
+    /// Apply the scene-level overrides (cells) to `scene`, checking each value (points per
+    /// cell is checked against the scene's dimension but applied per method).
     pub fn apply_to_scene(&self, scene: &mut Scene) -> Result<(), SceneError> {
         if let Some(cells) = self.cells {
             if cells == 0 || cells > 100_000_000 {
@@ -90,11 +100,11 @@ impl Overrides {
             }
         }
         if let Some(ppc) = self.points_per_cell {
+            // checked here against the scene's dimension; applied per method
             check_points_per_cell(scene.dim, ppc).map_err(|mut e| {
                 e.field = "--points-per-cell".into();
                 e
             })?;
-            scene.domain.points_per_cell = ppc;
         }
         Ok(())
     }
@@ -116,6 +126,9 @@ impl Overrides {
         }
         if let Some(s) = self.stress_update {
             config.stress_update = s;
+        }
+        if let Some(f) = self.frame {
+            config.frame = f;
         }
         Ok(())
     }

@@ -5,7 +5,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use impact::output::{stress_plot, FileWriter, Summary};
 use impact::run::{run_method, RunRecord, Silent};
 use impact::{scene_config, Overrides};
-use impact_core::method::{Integrator, MethodKind, PointUpdate, StressUpdate};
+use impact_core::method::{Integrator, MethodKind, MpmFrame, PointUpdate, StressUpdate};
 use impact_core::reference::Reference;
 use impact_core::{Problem, Scene};
 use std::path::PathBuf;
@@ -37,7 +37,7 @@ struct SceneArgs {
     #[arg(long)]
     cells: Option<usize>,
     /// Courant number c·Δt/Δx, in (0, 2].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     courant: Option<f64>,
     /// Material points per cell (1D: 1..64; 2D: 1, 4, 9, ...).
     #[arg(long)]
@@ -51,11 +51,14 @@ struct SceneArgs {
     /// MPM stress update.
     #[arg(long, value_enum)]
     stress_update: Option<StressUpdateArg>,
+    /// MPM frame: shape functions at reference (total) or current (updated) positions.
+    #[arg(long, value_enum)]
+    frame: Option<FrameArg>,
     /// End time in seconds (outputs after it are dropped; it becomes the last output).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     t_end: Option<f64>,
     /// Output times in seconds, comma-separated and increasing.
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     output_times: Option<Vec<f64>>,
 }
 
@@ -100,8 +103,15 @@ enum UpdateArg {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
+enum FrameArg {
+    TotalLagrangian,
+    UpdatedLagrangian,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
 enum StressUpdateArg {
     Usl,
+    Musl,
     Usf,
 }
 
@@ -140,7 +150,12 @@ impl SceneArgs {
             }),
             stress_update: self.stress_update.map(|u| match u {
                 StressUpdateArg::Usl => StressUpdate::Usl,
+                StressUpdateArg::Musl => StressUpdate::Musl,
                 StressUpdateArg::Usf => StressUpdate::Usf,
+            }),
+            frame: self.frame.map(|f| match f {
+                FrameArg::TotalLagrangian => MpmFrame::TotalLagrangian,
+                FrameArg::UpdatedLagrangian => MpmFrame::UpdatedLagrangian,
             }),
             t_end: self.t_end,
             output_times: self.output_times.clone(),

@@ -24,6 +24,9 @@ pub struct Summary {
     pub runs: Vec<RunRecord>,
 }
 
+/// Profiles of one method: `(t, [(x, σ_xx)])` per output time.
+pub type Profiles = Vec<(f64, Vec<(f64, f64)>)>;
+
 /// Writes files at output times and keeps the profiles for the plot.
 pub struct FileWriter<'a, const D: usize> {
     dir: PathBuf,
@@ -31,7 +34,7 @@ pub struct FileWriter<'a, const D: usize> {
     reference: Option<&'a Reference>,
     samples: Samples<D>,
     /// `(t, x, σ_xx)` kept for the plot.
-    pub profiles: Vec<(f64, Vec<(f64, f64)>)>,
+    pub profiles: Profiles,
     pvd: Vec<(f64, String)>,
     progress: Option<indicatif::ProgressBar>,
     t_end: f64,
@@ -155,7 +158,7 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
             }
             stress.extend_from_slice(&full);
         }
-        let reference: Vec<f64> = s.reference.iter().flat_map(|x| pad3(x)).collect();
+        let reference: Vec<f64> = s.reference.iter().flat_map(pad3).collect();
         let connectivity: Vec<usize> = (0..n).collect();
         let file = format!("{}_t{}.vtu", self.method, index);
         write_vtu(
@@ -195,7 +198,7 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
 pub fn stress_plot(
     path: &Path,
     scene: &str,
-    writers: &[(String, Vec<(f64, Vec<(f64, f64)>)>)],
+    writers: &[(String, Profiles)],
     reference: Option<&Reference>,
     length: f64,
 ) -> anyhow::Result<()> {

@@ -85,7 +85,9 @@ where
         let energy = m.energy();
         let work = m.external_work().abs();
         let bound = guard.growth * (work + initial_energy) + f64::MIN_POSITIVE;
-        if !(energy <= bound) {
+        // a NaN energy is not within the bound either
+        let within = energy <= bound;
+        if !within {
             return Err(Blowup {
                 method: name.to_string(),
                 step,
@@ -110,7 +112,7 @@ where
                 method.step(t0, dt);
                 steps += 1;
                 let t1 = if k + 1 == n { t_out } else { t0 + dt };
-                if steps % guard.check_every.max(1) == 0 {
+                if steps.is_multiple_of(guard.check_every.max(1)) {
                     check(method, steps, t1).map_err(RunError::Blowup)?;
                 }
                 on_progress(t1);

@@ -161,7 +161,7 @@ impl BarExact {
         if r <= 0.0 || r >= l {
             return None;
         }
-        let (position, direction) = if transits as usize % 2 == 0 {
+        let (position, direction) = if (transits as usize).is_multiple_of(2) {
             (r, 1.0)
         } else {
             (l - r, -1.0)

@@ -1,5 +1,7 @@
 //! The [`Method`] trait shared by DGMPM, MPM and FEM, and the sampled fields they return.
-pub use crate::problem::{Integrator, MethodConfig, MethodKind, PointUpdate, StressUpdate};
+pub use crate::problem::{
+    Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, StressUpdate,
+};
 use crate::{Tensor, Vector};
 use thiserror::Error;
 

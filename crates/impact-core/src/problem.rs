@@ -102,10 +102,24 @@ pub enum PointUpdate {
 /// MPM stress update order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StressUpdate {
-    /// Update stress last, from the updated nodal velocity (Sulsky 1995).
+    /// Update stress last, from the grid-updated nodal velocity `v_i + Δt f_i/m_i`.
     Usl,
+    /// Update stress last, from the nodal velocity mapped again from the updated point
+    /// velocities (the remap of Sulsky, Zhou & Schreyer 1995; "MUSL").
+    Musl,
     /// Update stress first, from the nodal velocity mapped at the start of the step.
     Usf,
+}
+
+/// Frame in which MPM evaluates its shape functions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MpmFrame {
+    /// Shape functions at the points' reference positions, reference volumes: the grid is
+    /// the reference configuration (the paper's "total Lagrangian formulation", §5.3).
+    TotalLagrangian,
+    /// Shape functions at the current positions, volumes updated: points move through the
+    /// grid (Sulsky, Zhou & Schreyer 1995).
+    UpdatedLagrangian,
 }
 
 /// Options of one method run. Each method reads the fields that apply to it.
@@ -123,6 +137,8 @@ pub struct MethodConfig {
     pub update: PointUpdate,
     /// Stress update (MPM).
     pub stress_update: StressUpdate,
+    /// Frame (MPM).
+    pub frame: MpmFrame,
 }
 
 impl MethodConfig {
@@ -133,6 +149,7 @@ impl MethodConfig {
             MethodKind::Dgmpm => self.integrator.name(),
             MethodKind::Mpm => match self.stress_update {
                 StressUpdate::Usl => "usl",
+                StressUpdate::Musl => "musl",
                 StressUpdate::Usf => "usf",
             },
             MethodKind::Fem => "central",

@@ -144,9 +144,12 @@ pub struct MethodSpec {
     /// Point update after the nodal solve (DGMPM): `nodal` or `increment`.
     #[serde(default)]
     pub update: Option<String>,
-    /// Stress update (MPM): `usl` or `usf`.
+    /// Stress update (MPM): `usl`, `musl` or `usf`.
     #[serde(default)]
     pub stress_update: Option<String>,
+    /// Frame (MPM): `total-lagrangian` or `updated-lagrangian`.
+    #[serde(default)]
+    pub frame: Option<String>,
 }
 
 impl MethodSpec {
@@ -156,6 +159,7 @@ impl MethodSpec {
             integrator: None,
             update: None,
             stress_update: None,
+            frame: None,
         }
     }
     /// Paper default for DGMPM: Courant 1.
@@ -336,12 +340,21 @@ impl Scene {
                     ));
                 }
             }
+            if let Some(f) = &spec.frame {
+                if name != "mpm" || !(f == "total-lagrangian" || f == "updated-lagrangian") {
+                    return Err(SceneError::new(
+                        format!("{name}.frame"),
+                        format!("{f:?}"),
+                        "\"total-lagrangian\" or \"updated-lagrangian\" (MPM only)",
+                    ));
+                }
+            }
             if let Some(u) = &spec.stress_update {
-                if name != "mpm" || !(u == "usl" || u == "usf") {
+                if name != "mpm" || !(u == "usl" || u == "musl" || u == "usf") {
                     return Err(SceneError::new(
                         format!("{name}.stress_update"),
                         format!("{u:?}"),
-                        "\"usl\" or \"usf\" (MPM only)",
+                        "\"usl\", \"musl\" or \"usf\" (MPM only)",
                     ));
                 }
             }

@@ -33,6 +33,9 @@
 //! - Every cell must hold points (the paper's scenes fill their grid); points are stored
 //!   cell by cell, `points_per_cell` each.
 //! - Rayon parallelises over cells and faces (disjoint writes) from 4,096 cells on.
+
+// Index loops over tensor axes and local nodes read best as written in the formulas.
+#![allow(clippy::needless_range_loop)]
 pub mod riemann;
 
 use impact_core::method::{BadState, Method, MethodConfig, Samples};
@@ -327,16 +330,17 @@ impl<const D: usize> DgmpmSolver<D> {
         // boundary faces: interior state on the left, ghost on the right, normal outward
         for l in 0..D {
             let area = grid.cell_volume() / grid.spacing[l];
-            let faces = self.face_traction[l].len();
-            for f in 0..faces {
-                let idx = Self::face_multi_index(grid, l, f);
-                let side = if idx[l] == 0 {
-                    0
-                } else if idx[l] == grid.cells[l] {
-                    1
-                } else {
-                    continue;
-                };
+            // faces of axis l per layer normal to l
+            let layer: usize = (0..D).filter(|&k| k != l).map(|k| grid.cells[k]).product();
+            for (transverse, side) in (0..layer).flat_map(|t| [(t, 0), (t, 1)]) {
+                let mut idx = [0usize; D];
+                let mut rest = transverse;
+                for k in (0..D).filter(|&k| k != l) {
+                    idx[k] = rest % grid.cells[k];
+                    rest /= grid.cells[k];
+                }
+                idx[l] = side * grid.cells[l];
+                let f = Self::face_index(grid, l, idx);
                 let mut cell = idx;
                 if side == 1 {
                     cell[l] -= 1;
@@ -443,25 +447,17 @@ impl<const D: usize> DgmpmSolver<D> {
     /// stage `(½, ½)`.
     pub fn nodal_update(&mut self, dt: f64, start_weight: f64) {
         let b = 1.0 - start_weight;
-        let update = |(((s, v), (rs, rv)), (s0, v0)): (
-            ((&mut Tensor<D>, &mut Vector<D>), (&Tensor<D>, &Vector<D>)),
-            (&Tensor<D>, &Vector<D>),
-        )| {
+        for i in 0..self.node_stress.len() {
+            let s = self.node_stress[i] + self.rate_stress[i] * dt;
+            let v = self.node_velocity[i] + self.rate_velocity[i] * dt;
             if start_weight == 0.0 {
-                *s += rs * dt;
-                *v += rv * dt;
+                self.node_stress[i] = s;
+                self.node_velocity[i] = v;
             } else {
-                *s = s0 * start_weight + (*s + rs * dt) * b;
-                *v = v0 * start_weight + (*v + rv * dt) * b;
+                self.node_stress[i] = self.start_stress[i] * start_weight + s * b;
+                self.node_velocity[i] = self.start_velocity[i] * start_weight + v * b;
             }
-        };
-        let it = self
-            .node_stress
-            .iter_mut()
-            .zip(self.node_velocity.iter_mut())
-            .zip(self.rate_stress.iter().zip(self.rate_velocity.iter()))
-            .zip(self.start_stress.iter().zip(self.start_velocity.iter()));
-        it.for_each(update);
+        }
     }
 
     /// Phase 5: points take the new nodal field ([`PointUpdate::Nodal`]) or add its

@@ -1,7 +1,9 @@
 //! Paper §5.1 claim: with one point per cell at the centre, Courant 1 and forward Euler,
 //! DGMPM is the exact upwind shift: every point equals the exact cell average.
 use impact_core::exact::BarExact;
-use impact_core::method::{Integrator, MethodConfig, MethodKind, PointUpdate, StressUpdate};
+use impact_core::method::{
+    Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, StressUpdate,
+};
 use impact_core::{Method, Problem, Scene};
 use impact_dgmpm::Dgmpm;
 
@@ -13,6 +15,7 @@ fn config(courant: f64, ppc: usize, integrator: Integrator) -> MethodConfig {
         integrator,
         update: PointUpdate::Nodal,
         stress_update: StressUpdate::Usl,
+        frame: MpmFrame::TotalLagrangian,
     }
 }
 

@@ -16,6 +16,9 @@
 //! Loads: a pressure is the consistent nodal force of the loaded edge (in 1D `p A` on the
 //! end node); a prescribed velocity is imposed on the nodes of its edge segment (the
 //! paper's plate: nodes with `y ≤ 1 m`); a symmetry edge zeroes the normal velocity.
+
+// Index loops over tensor axes and local nodes read best as written in the formulas.
+#![allow(clippy::needless_range_loop)]
 use impact_core::method::{BadState, Method, MethodConfig, Samples};
 use impact_core::problem::Boundary;
 use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};

@@ -3,31 +3,45 @@
 //!
 //! One step, one phase per function:
 //! 1. [`MpmSolver::particles_to_grid`]: nodal mass `m_i = Σ_p N_ip m_p`, momentum
-//!    `p_i = Σ_p N_ip m_p v_p`, internal force `f_i = -Σ_p V_p σ_p ∇N_ip`, external
-//!    force from the loads (a pressure `p` on a loaded end is the nodal force
-//!    `f_i = N_i(x_s) p A` at the body's surface `x_s`).
+//!    `p_i = Σ_p N_ip m_p v_p`, internal force `f_i = -Σ_p V_p σ_p ∇N_ip`; external forces
+//!    (a pressure `p` on a loaded edge is the nodal force `f_i = N_i(x_s) p A` at the
+//!    body's surface `x_s`).
 //! 2. [`MpmSolver::grid_update`]: `p_i += Δt f_i`; prescribed velocities are imposed on
 //!    their nodes; symmetry edges zero the normal component.
 //! 3. [`MpmSolver::grid_to_particles`]: `v_p += Δt Σ_i N_ip f_i/m_i` (FLIP) and
 //!    `x_p += Δt Σ_i N_ip p_i/m_i`.
-//! 4. [`MpmSolver::remap_momentum`]: the nodal momentum is mapped again from the updated
-//!    point velocities, `p_i = Σ_p N_ip m_p v_p^{n+1}` (Sulsky, Zhou & Schreyer 1995;
-//!    called MUSL by later authors), and the prescribed velocities are imposed again.
-//! 5. [`MpmSolver::update_stress`]: USL: with that nodal velocity `v_i = p_i/m_i`,
-//!    `ε̇_p = sym(Σ_i v_i ⊗ ∇N_ip)`, `σ_p += Δt C:ε̇_p`, `V_p *= 1 + Δt tr ε̇_p`.
-//!    USF ([`StressUpdate::Usf`]) does the same before step 1's force, from the nodal
-//!    velocity mapped at the start of the step.
+//! 4. MUSL only ([`MpmSolver::remap_momentum`]): `p_i = Σ_p N_ip m_p v_p^{n+1}` again.
+//! 5. [`MpmSolver::update_stress`]: with the nodal velocity `v_i = p_i/m_i`,
+//!    `ε̇_p = sym(Σ_i v_i ⊗ ∇N_ip)`, `σ_p += Δt C:ε̇_p` (and `V_p *= 1 + Δt tr ε̇_p` in the
+//!    updated Lagrangian frame).
 //!
-//! Choices where the paper is silent: the remap of phase 4 is kept (it is in Sulsky's
-//! algorithm): without it, a node whose only point is about to leave its support gets a
-//! vanishing mass, `p_i/m_i` diverges and the strain rate blows up (seen in the bar at
-//! Courant 0.5 when the loaded end crosses its first node); the background grid is the body's grid extended by
-//! [`PADDING`] cells on every side so points may move; nodes with no mass are skipped; the
-//! loads act at the body's surface as tracked by the boundary points (not at a fixed node),
-//! spread over the nodes of the surface's cell that carry mass (renormalised shape
-//! functions), so the whole load reaches the body when the surface cell's outer node has
-//! lost its points.
-use impact_core::method::{BadState, Method, MethodConfig, Samples, StressUpdate};
+//! Variants ([`StressUpdate`]): `Usl` (default) takes the grid-updated velocity
+//! `v_i + Δt f_i/m_i` for the strain rate; `Musl` remaps it from the updated point
+//! velocities first (phase 4; damps, and is stable past Courant 1 here); `Usf` updates
+//! the stress before the internal force, from the velocity mapped at the start of the step.
+//!
+//! Frame ([`MpmFrame`]): the default is the total Lagrangian form the paper uses for its
+//! comparisons (§5.3: "MPM, DGMPM (both in total Lagrangian formulation)"): shape
+//! functions at the points' reference positions and reference volumes, so the grid is the
+//! reference configuration, as for DGMPM and FEM. Positions are still integrated
+//! (`x_p += Δt v`) for output. The updated Lagrangian form (points move through the
+//! grid) is the option: with linear shape functions it suffers cell-crossing errors that do
+//! not shrink under refinement (measured on the bar: L1 error 0.10 at 300 cells, 0.22 at
+//! 1200) and, with plain USL, a vanishing nodal mass when a node's last point leaves it.
+//!
+//! With these defaults (TL, USL, 1 point per cell) the bar is stable at the paper's
+//! Courant 0.5 and blows up at 0.8 and above, as the paper reports ("the MPM is unstable
+//! with α = 1").
+//!
+//! Other choices where the paper is silent: the background grid is the body's grid
+//! extended by [`PADDING`] cells on every side so points may move in the updated frame;
+//! nodes with no mass are skipped; a surface load is spread over the nodes of the
+//! surface's cell that carry mass (renormalised shape functions), so the whole load
+//! reaches the body when the outer node of that cell has lost its points.
+
+// Index loops over tensor axes and local nodes read best as written in the formulas.
+#![allow(clippy::needless_range_loop)]
+use impact_core::method::{BadState, Method, MethodConfig, MpmFrame, Samples, StressUpdate};
 use impact_core::points::MaterialPoints;
 use impact_core::problem::Boundary;
 use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
@@ -83,6 +97,8 @@ pub struct MpmSolver<const D: usize> {
     point_cell: Vec<usize>,
     shape: Vec<f64>,
     shape_gradient: Vec<Vector<D>>,
+    /// Whether the shape functions at the reference positions are cached (total Lagrangian).
+    shapes_ready: bool,
 }
 
 /// USL MPM as a [`Method`].
@@ -182,6 +198,7 @@ impl<const D: usize> Mpm<D> {
                 point_cell: vec![0; np],
                 shape: vec![0.0; np * npc],
                 shape_gradient: vec![Vector::<D>::zeros(); np * npc],
+                shapes_ready: false,
                 grid,
             },
             state: MpmState { points, work: 0.0 },
@@ -248,18 +265,31 @@ impl<const D: usize> MpmSolver<D> {
         self.node_force
             .iter_mut()
             .for_each(|m| *m = Vector::<D>::zeros());
+        let moving = self.config.frame == MpmFrame::UpdatedLagrangian;
         for p in 0..points.len() {
-            // points outside the padded grid were rejected by check_finite's place
-            let (c, xi) = self
-                .grid
-                .locate(&points.position[p])
-                .unwrap_or((self.point_cell[p], Vector::<D>::from_element(0.5)));
-            self.point_cell[p] = c;
+            if moving || !self.shapes_ready {
+                let x = if moving {
+                    &points.position[p]
+                } else {
+                    &points.reference[p]
+                };
+                // a point outside the padded grid is reported by check_finite
+                let (c, xi) = self
+                    .grid
+                    .locate(x)
+                    .unwrap_or((self.point_cell[p], Vector::<D>::from_element(0.5)));
+                self.point_cell[p] = c;
+                self.grid.shape(
+                    &xi,
+                    &mut self.shape[p * npc..(p + 1) * npc],
+                    &mut self.shape_gradient[p * npc..(p + 1) * npc],
+                );
+            }
+            let c = self.point_cell[p];
             let (s, g) = (
-                &mut self.shape[p * npc..(p + 1) * npc],
-                &mut self.shape_gradient[p * npc..(p + 1) * npc],
+                &self.shape[p * npc..(p + 1) * npc],
+                &self.shape_gradient[p * npc..(p + 1) * npc],
             );
-            self.grid.shape(&xi, s, g);
             for a in 0..npc {
                 let i = self.grid.vertex_of(c, a);
                 let w = s[a] * points.mass[p];
@@ -292,7 +322,10 @@ impl<const D: usize> MpmSolver<D> {
         let mut g = [Vector::<D>::zeros(); MAX_NODES];
         for k in 0..self.loads.len() {
             let load = self.loads[k];
-            let x = points.position[load.point] + load.offset;
+            let x = match self.config.frame {
+                MpmFrame::TotalLagrangian => points.reference[load.point],
+                MpmFrame::UpdatedLagrangian => points.position[load.point],
+            } + load.offset;
             let Some((c, xi)) = self.grid.locate(&x) else {
                 continue;
             };
@@ -414,14 +447,17 @@ impl<const D: usize> MpmSolver<D> {
                 }
             }
             points.stress[p] += self.material.stress(&l) * dt;
-            points.volume[p] *= 1.0 + dt * l.trace();
+            if self.config.frame == MpmFrame::UpdatedLagrangian {
+                points.volume[p] *= 1.0 + dt * l.trace();
+            }
         }
     }
 
     /// One step (module doc).
     pub fn step(&mut self, state: &mut MpmState<D>, dt: f64) {
-        let usl = self.config.stress_update == StressUpdate::Usl;
+        let usl = self.config.stress_update != StressUpdate::Usf;
         self.particles_to_grid(&state.points, usl);
+        self.shapes_ready = true;
         if !usl {
             self.update_stress(&mut state.points, dt);
             self.internal_forces(&state.points);
@@ -433,8 +469,10 @@ impl<const D: usize> MpmSolver<D> {
         // trapezoidal work of the loads over the step
         state.work += 0.5 * dt * (power_start + self.load_power(&state.points));
         self.impose_point_velocities(&mut state.points);
-        if usl {
+        if self.config.stress_update == StressUpdate::Musl {
             self.remap_momentum(&state.points);
+        }
+        if usl {
             self.update_stress(&mut state.points, dt);
         }
     }
@@ -485,7 +523,8 @@ impl<const D: usize> Method<D> for Mpm<D> {
                     reason: "non-finite stress, velocity or position at a material point".into(),
                 });
             }
-            if self.solver.grid.locate(&p.position[i]).is_none() {
+            let moving = self.solver.config.frame == MpmFrame::UpdatedLagrangian;
+            if moving && self.solver.grid.locate(&p.position[i]).is_none() {
                 return Err(BadState {
                     place: p.reference[i],
                     reason: format!(

@@ -1,0 +1,248 @@
+//! The `impact` binary as a user runs it: outputs, overrides, the CI gate, blow-ups.
+mod common;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn impact(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_impact"))
+        .args(args)
+        .output()
+        .expect("run impact")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("impact-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn run_bar_writes_every_output_and_the_table() {
+    let out = tmp("run");
+    let o = impact(&["run", "bar", "--quiet", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    // one row per method and output time
+    for m in ["dgmpm", "mpm", "fem"] {
+        assert_eq!(
+            stdout.lines().filter(|l| l.starts_with(m)).count(),
+            3,
+            "{stdout}"
+        );
+    }
+    let s = json(&out.join("summary.json"));
+    assert_eq!(s["scene"], "bar");
+    assert_eq!(s["dim"], 1);
+    let runs = s["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 3);
+    for r in runs {
+        for key in [
+            "method",
+            "courant",
+            "points_per_cell",
+            "integrator",
+            "cells",
+            "steps",
+            "wall_s",
+            "times",
+        ] {
+            assert!(!r[key].is_null(), "missing {key}");
+        }
+        let times = r["times"].as_array().unwrap();
+        assert_eq!(times.len(), 3);
+        for t in times {
+            for key in [
+                "t",
+                "l1_rel",
+                "linf_rel",
+                "front_width_cells",
+                "overshoot_pct",
+                "energy_rel",
+            ] {
+                assert!(t[key].is_number(), "{key} in {t}");
+            }
+        }
+    }
+    // DGMPM is exact: the summary says so
+    assert!(runs[0]["times"][2]["l1_rel"].as_f64().unwrap() < 1e-12);
+    for m in ["dgmpm", "mpm", "fem"] {
+        for k in 0..3 {
+            let csv = std::fs::read_to_string(out.join(format!("{m}_t{k}.csv"))).unwrap();
+            assert!(csv
+                .starts_with("x,x_current,stress_xx,velocity_x,exact_stress_xx,exact_velocity_x"));
+            assert_eq!(csv.lines().count(), 151);
+            let vtu = std::fs::read_to_string(out.join(format!("{m}_t{k}.vtu"))).unwrap();
+            assert!(vtu.contains("NumberOfPoints=\"150\"") && vtu.contains("Name=\"stress\""));
+        }
+        assert!(out.join(format!("{m}.pvd")).exists());
+    }
+    let png = std::fs::read(out.join("stress.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    // nothing half-written left behind
+    for entry in std::fs::read_dir(&out).unwrap() {
+        let name = entry.unwrap().file_name().into_string().unwrap();
+        assert!(!name.contains(".tmp"), "{name}");
+    }
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn scene_file_and_flags_override() {
+    let out = tmp("file");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bar.toml");
+    let o = impact(&[
+        "run",
+        scene,
+        "--quiet",
+        "--method",
+        "dgmpm,fem",
+        "--cells",
+        "300",
+        "--courant",
+        "0.8",
+        "--points-per-cell",
+        "2",
+        "--integrator",
+        "rk2",
+        "--output-times",
+        "1e-4,2e-4",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let s = json(&out.join("summary.json"));
+    let runs = s["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 2);
+    assert_eq!(runs[0]["method"], "dgmpm");
+    assert_eq!(runs[0]["cells"], 300);
+    assert_eq!(runs[0]["courant"], 0.8);
+    assert_eq!(runs[0]["points_per_cell"], 2);
+    assert_eq!(runs[0]["integrator"], "rk2");
+    assert_eq!(runs[1]["method"], "fem");
+    let t = runs[0]["times"].as_array().unwrap();
+    assert_eq!(t.len(), 2);
+    assert!((t[1]["t"].as_f64().unwrap() - 2e-4).abs() < 1e-15);
+    // --t-end alone truncates the default schedule and ends there
+    let o = impact(&[
+        "run",
+        "bar",
+        "--quiet",
+        "--method",
+        "dgmpm",
+        "--t-end",
+        "6e-4",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let s = json(&out.join("summary.json"));
+    let t = s["runs"][0]["times"].as_array().unwrap();
+    assert_eq!(t.len(), 2, "0.395 ms kept, 0.79 ms dropped, 0.6 ms added");
+    assert!((t[1]["t"].as_f64().unwrap() - 6e-4).abs() < 1e-15);
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn check_bar_passes() {
+    let o = impact(&["check", "bar"]);
+    let out = text(&o);
+    assert!(o.status.success(), "{out}");
+    assert_eq!(
+        out.lines()
+            .filter(|l| l.trim_end().ends_with("pass"))
+            .count(),
+        3,
+        "{out}"
+    );
+    assert!(out.contains("PASS"));
+}
+
+/// With DGMPM forced to a smeared setting the gate prints the same figures as the
+/// in-process metrics and exits according to its verdict.
+#[test]
+fn check_prints_the_figures_of_a_smeared_dgmpm() {
+    use impact_core::method::{Integrator, MethodKind};
+    let o = impact(&[
+        "check",
+        "bar",
+        "--points-per-cell",
+        "4",
+        "--integrator",
+        "rk2",
+        "--courant",
+        "0.3",
+    ]);
+    let out = text(&o);
+    let (scene, problem, reference) = common::bar(150, None);
+    let (dg, _) = common::run(
+        &problem,
+        common::dgmpm(&scene, 0.3, 4, Integrator::Rk2),
+        &reference,
+    );
+    let (mpm, _) = common::run(
+        &problem,
+        impact::scene_config(&scene, MethodKind::Mpm),
+        &reference,
+    );
+    let rows: Vec<Vec<String>> = out
+        .lines()
+        .filter(|l| l.trim_start().starts_with("0.") || l.trim_start().starts_with("1."))
+        .map(|l| l.split_whitespace().map(String::from).collect())
+        .collect();
+    assert_eq!(rows.len(), 3, "{out}");
+    let mut all_pass = true;
+    for (k, row) in rows.iter().enumerate() {
+        let parse = |i: usize| row[i].parse::<f64>().unwrap();
+        assert!((parse(1) - dg.times[k].front_width_cells.unwrap()).abs() < 1e-3);
+        assert!((parse(2) - mpm.times[k].front_width_cells.unwrap()).abs() < 1e-3);
+        assert!((parse(3) - dg.times[k].overshoot_pct.unwrap()).abs() < 1e-3);
+        assert!((parse(4) - mpm.times[k].overshoot_pct.unwrap()).abs() < 1e-3);
+        all_pass &= row[5] == "pass";
+    }
+    assert!(!all_pass, "a smeared DGMPM front is wider than MPM's");
+    assert_eq!(o.status.code(), Some(1), "{out}");
+}
+
+/// MPM at Courant 1: stopped with method, step, time and place; the frames written before
+/// are kept, the summary records the error, and no NaN is written.
+#[test]
+fn mpm_blow_up_stops_cleanly_and_keeps_frames() {
+    let out = tmp("blowup");
+    let o = impact(&[
+        "run",
+        "bar",
+        "--quiet",
+        "--method",
+        "mpm",
+        "--courant",
+        "1",
+        "--output-times",
+        "2e-5,4e-4,8e-4",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let all = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{all}");
+    assert!(
+        all.contains("mpm blew up at step") && all.contains("t = ") && all.contains("near x = "),
+        "{all}"
+    );
+    let s = json(&out.join("summary.json"));
+    assert!(s["runs"][0]["error"].as_str().unwrap().contains("blew up"));
+    let csv = std::fs::read_to_string(out.join("mpm_t0.csv")).unwrap();
+    assert!(!csv.to_lowercase().contains("nan") && !csv.contains("inf"));
+    assert!(!out.join("mpm_t1.csv").exists());
+    std::fs::remove_dir_all(&out).unwrap();
+}

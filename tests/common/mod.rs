@@ -1,0 +1,43 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+use impact::run::{run_method, RunRecord, Silent};
+use impact_core::method::{Integrator, MethodConfig, MethodKind};
+use impact_core::reference::Reference;
+use impact_core::{Blowup, Problem, Scene};
+
+/// The paper's bar with `cells` cells and output times in seconds.
+pub fn bar(cells: usize, times: Option<Vec<f64>>) -> (Scene, Problem<1>, Reference) {
+    let mut scene = Scene::builtin("bar").unwrap();
+    scene.domain.cells = vec![cells];
+    let mut problem = Problem::<1>::from_scene(&scene).unwrap();
+    if let Some(t) = times {
+        problem.set_schedule(Some(t), None).unwrap();
+    }
+    let reference = Reference::for_problem(&problem).unwrap();
+    (scene, problem, reference)
+}
+
+/// A configuration of `kind` from the scene, changed by `f`.
+pub fn config(scene: &Scene, kind: MethodKind, f: impl FnOnce(&mut MethodConfig)) -> MethodConfig {
+    let mut c = impact::scene_config(scene, kind);
+    f(&mut c);
+    c
+}
+
+/// Run and return the record and the blow-up, if any.
+pub fn run(
+    problem: &Problem<1>,
+    config: MethodConfig,
+    reference: &Reference,
+) -> (RunRecord, Option<Blowup>) {
+    run_method(problem, config, Some(reference), &mut Silent).unwrap()
+}
+
+/// DGMPM configuration shortcut.
+pub fn dgmpm(scene: &Scene, courant: f64, ppc: usize, integrator: Integrator) -> MethodConfig {
+    config(scene, MethodKind::Dgmpm, |c| {
+        c.courant = courant;
+        c.points_per_cell = ppc;
+        c.integrator = integrator;
+    })
+}
