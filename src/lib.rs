@@ -7,7 +7,7 @@ pub mod output;
 pub mod run;
 
 use impact_core::method::{
-    Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, StressUpdate,
+    Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, StressUpdate, TransverseFlux,
 };
 use impact_core::scene::{check_courant, check_points_per_cell, MethodSpec, Scene};
 use impact_core::{CoreError, Method, Problem, SceneError};
@@ -48,6 +48,10 @@ pub fn scene_config(scene: &Scene, kind: MethodKind) -> MethodConfig {
             Some("musl") => StressUpdate::Musl,
             _ => StressUpdate::Usl,
         },
+        flux: match spec.flux.as_deref() {
+            Some("dcu") => TransverseFlux::DonorCell,
+            _ => TransverseFlux::Ctu,
+        },
         frame: match spec.frame.as_deref() {
             Some("updated-lagrangian") => MpmFrame::UpdatedLagrangian,
             _ => MpmFrame::TotalLagrangian,
@@ -72,6 +76,8 @@ pub struct Overrides {
     pub stress_update: Option<StressUpdate>,
     /// MPM frame.
     pub frame: Option<MpmFrame>,
+    /// DGMPM transverse flux (2D).
+    pub flux: Option<TransverseFlux>,
     /// End time (s).
     pub t_end: Option<f64>,
     /// Output times (s).
@@ -82,6 +88,13 @@ impl Overrides {
     /// Apply the scene-level overrides (cells) to `scene`, checking each value (points per
     /// cell is checked against the scene's dimension but applied per method).
     pub fn apply_to_scene(&self, scene: &mut Scene) -> Result<(), SceneError> {
+        if self.flux.is_some() && scene.dim != 2 {
+            return Err(SceneError::new(
+                "--flux",
+                self.flux.map_or("", |f| f.name()),
+                "a transverse flux only in 2D scenes",
+            ));
+        }
         if let Some(cells) = self.cells {
             if cells == 0 || cells > 100_000_000 {
                 return Err(SceneError::new(
@@ -130,6 +143,9 @@ impl Overrides {
         if let Some(f) = self.frame {
             config.frame = f;
         }
+        if let Some(f) = self.flux {
+            config.flux = f;
+        }
         Ok(())
     }
 
@@ -140,4 +156,78 @@ impl Overrides {
     ) -> Result<(), SceneError> {
         problem.set_schedule(self.output_times.clone(), self.t_end)
     }
+}
+
+/// Refinement factor of the converged reference of scenes without an exact solution.
+pub const REFERENCE_REFINEMENT: usize = 4;
+
+/// The reference of `problem`: its exact solution when it has one; otherwise, in 2D, a
+/// converged solution: DGMPM (1 point per cell, CTU, forward Euler, Courant 1) on a grid
+/// [`REFERENCE_REFINEMENT`] times finer, at the same output times. `say` prints what is
+/// being computed.
+pub fn reference_for<const D: usize>(
+    problem: &Problem<D>,
+    say: bool,
+) -> anyhow::Result<Option<impact_core::reference::Reference>> {
+    use impact_core::reference::{Converged, Reference};
+    if let Some(r) = Reference::for_problem(problem) {
+        return Ok(Some(r));
+    }
+    if D != 2 {
+        return Ok(None);
+    }
+    let r = REFERENCE_REFINEMENT;
+    let mut fine = problem.clone();
+    for l in 0..D {
+        fine.grid.cells[l] *= r;
+        fine.grid.spacing[l] /= r as f64;
+    }
+    let config = MethodConfig {
+        kind: MethodKind::Dgmpm,
+        courant: 1.0,
+        points_per_cell: 1,
+        integrator: Integrator::Euler,
+        update: PointUpdate::Nodal,
+        stress_update: StressUpdate::Usl,
+        frame: MpmFrame::TotalLagrangian,
+        flux: TransverseFlux::Ctu,
+    };
+    let description = format!(
+        "converged reference: DGMPM (1 ppc, CTU, Euler, Courant 1) on a {}x{} grid ({}x finer)",
+        fine.grid.cells[0], fine.grid.cells[1], r
+    );
+    if say {
+        println!("computing the {description}");
+    }
+    let mut method = build(&fine, config)?;
+    let mut samples = impact_core::method::Samples::<D>::default();
+    let (mut stress_xx, mut velocity_x, mut work) = (Vec::new(), Vec::new(), Vec::new());
+    let cells = fine.grid.cells;
+    impact_core::controller::run::<D, dyn Method<D>, std::convert::Infallible>(
+        method.as_mut(),
+        &problem.output_times,
+        impact_core::controller::Guard::default(),
+        |m, _, _, _| {
+            m.sample_into(&mut samples);
+            // one point per cell, stored cell by cell: sample i is cell i
+            stress_xx.push(samples.stress.iter().map(|s| s[(0, 0)]).collect());
+            velocity_x.push(samples.velocity.iter().map(|v| v[0]).collect());
+            work.push(m.external_work());
+            Ok(())
+        },
+        |_| {},
+    )
+    .map_err(|e| anyhow::anyhow!("the reference run failed: {e}"))?;
+    Ok(Some(Reference::Converged(Box::new(Converged {
+        description,
+        cells: [cells[0], cells[1 % D]],
+        spacing: [fine.grid.spacing[0], fine.grid.spacing[1 % D]],
+        times: problem.output_times.clone(),
+        stress_xx,
+        velocity_x,
+        speed: problem.material.p_wave_speed::<D>(),
+        length: problem.grid.upper()[0] - problem.grid.origin[0],
+        coarse_dx: problem.grid.spacing[0],
+        work,
+    }))))
 }

@@ -2,11 +2,12 @@
 //! that DGMPM captures the wave front more sharply than MPM.
 use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use impact::output::{stress_plot, FileWriter, Summary};
+use impact::output::{stress_map, stress_plot, FileWriter, Summary};
 use impact::run::{run_method, RunRecord, Silent};
 use impact::{scene_config, Overrides};
-use impact_core::method::{Integrator, MethodKind, MpmFrame, PointUpdate, StressUpdate};
-use impact_core::reference::Reference;
+use impact_core::method::{
+    Integrator, MethodKind, MpmFrame, PointUpdate, StressUpdate, TransverseFlux,
+};
 use impact_core::{Problem, Scene};
 use std::path::PathBuf;
 
@@ -51,6 +52,9 @@ struct SceneArgs {
     /// MPM stress update.
     #[arg(long, value_enum)]
     stress_update: Option<StressUpdateArg>,
+    /// DGMPM transverse flux in 2D: donor-cell upwind or corner transport upwind.
+    #[arg(long, value_enum)]
+    flux: Option<FluxArg>,
     /// MPM frame: shape functions at reference (total) or current (updated) positions.
     #[arg(long, value_enum)]
     frame: Option<FrameArg>,
@@ -100,6 +104,12 @@ enum IntegratorArg {
 enum UpdateArg {
     Nodal,
     Increment,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum FluxArg {
+    Dcu,
+    Ctu,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -156,6 +166,10 @@ impl SceneArgs {
             frame: self.frame.map(|f| match f {
                 FrameArg::TotalLagrangian => MpmFrame::TotalLagrangian,
                 FrameArg::UpdatedLagrangian => MpmFrame::UpdatedLagrangian,
+            }),
+            flux: self.flux.map(|f| match f {
+                FluxArg::Dcu => TransverseFlux::DonorCell,
+                FluxArg::Ctu => TransverseFlux::Ctu,
             }),
             t_end: self.t_end,
             output_times: self.output_times.clone(),
@@ -221,7 +235,7 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
     let overrides = args.scene.overrides();
     let mut problem = Problem::<D>::from_scene(scene)?;
     overrides.apply_to_problem(&mut problem)?;
-    let reference = Reference::for_problem(&problem);
+    let reference = impact::reference_for(&problem, !args.quiet)?;
     let dir = args
         .out
         .clone()
@@ -241,13 +255,13 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
     let mut summary = Summary {
         scene: scene.name.clone(),
         dim: D,
-        reference: match reference {
-            Some(_) => "exact solution (cell averages)".into(),
-            None => "none (errors not computed)".into(),
-        },
+        reference: reference
+            .as_ref()
+            .map_or("none (errors not computed)".into(), |r| r.describe()),
         runs: Vec::new(),
     };
     let mut plots = Vec::new();
+    let mut maps: Vec<(String, impact::output::CellMap)> = Vec::new();
     let mut failures = Vec::new();
     println!(
         "scene {} ({}D, {} cells, output times {:?} ms)",
@@ -279,12 +293,14 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
         let mut writer = FileWriter::<D>::new(
             &dir,
             kind.name(),
+            &problem.grid,
             reference.as_ref(),
             progress,
             problem.t_end,
         );
         let (record, blowup) = run_method(&problem, config, reference.as_ref(), &mut writer)?;
         writer.finish()?;
+        maps.push((kind.name().to_string(), writer.last_map.take()));
         plots.push((
             kind.name().to_string(),
             std::mem::take(&mut writer.profiles),
@@ -301,13 +317,24 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
     }
     impact_io::write_json(&dir.join("summary.json"), &summary)?;
     let length = problem.grid.upper()[0] - problem.grid.origin[0];
+    let band = if D > 1 { problem.grid.spacing[1] } else { 0.0 };
     stress_plot(
         &dir.join("stress.png"),
         &scene.name,
         &plots,
         reference.as_ref(),
         length,
+        band,
     )?;
+    if D == 2 {
+        let g = &problem.grid;
+        let grid2 = impact_core::Grid::<2> {
+            origin: impact_core::Vector::<2>::new(g.origin[0], g.origin[1 % D]),
+            spacing: impact_core::Vector::<2>::new(g.spacing[0], g.spacing[1 % D]),
+            cells: [g.cells[0], g.cells[1 % D]],
+        };
+        stress_map(&dir.join("stress_map.png"), &grid2, &maps)?;
+    }
     println!("wrote {}", dir.display());
     if !failures.is_empty() {
         bail!(
@@ -332,7 +359,7 @@ fn check_scene<const D: usize>(scene: &Scene, args: &CheckArgs) -> Result<bool> 
     let overrides = args.scene.overrides();
     let mut problem = Problem::<D>::from_scene(scene)?;
     overrides.apply_to_problem(&mut problem)?;
-    let reference = Reference::for_problem(&problem).with_context(|| {
+    let reference = impact::reference_for(&problem, false)?.with_context(|| {
         format!(
             "scene {} has no reference to measure fronts against",
             scene.name

@@ -1,12 +1,14 @@
-//! Writing a run's files: per method and output time a CSV profile (with the exact
-//! solution as columns when there is one) and a `.vtu`; per method a `.pvd` collection;
-//! per run `summary.json` and the stress plot.
+//! Writing a run's files: per method and output time a CSV profile (σ_xx and v_x along x;
+//! the bottom row in 2D; with the reference as columns) and two `.vtu` files (the samples
+//! as vertices; the grid cells, or the FEM mesh, with their fields); per method a `.pvd`
+//! collection of each; per run `summary.json`, `stress.png` (profiles at up to three times)
+//! and, in 2D, `stress_map.png` (σ_xx colour map per method at the last output time).
 use crate::run::{Observer, RunRecord};
 use anyhow::Context;
 use impact_core::method::Samples;
-use impact_core::reference::{Reference, TimeMetrics};
-use impact_core::Method;
-use impact_io::plot::{line_panels, Panel, Series};
+use impact_core::reference::{bottom_row, Reference, TimeMetrics};
+use impact_core::{Grid, Method, Vector};
+use impact_io::plot::{colour_maps, line_panels, MapPanel, Panel, Series};
 use impact_io::vtu::{write_pvd, write_vtu, CellType, DataArray, UnstructuredGrid};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -27,15 +29,22 @@ pub struct Summary {
 /// Profiles of one method: `(t, [(x, σ_xx)])` per output time.
 pub type Profiles = Vec<(f64, Vec<(f64, f64)>)>;
 
-/// Writes files at output times and keeps the profiles for the plot.
+/// σ_xx per grid cell at the last output time, for the colour map.
+pub type CellMap = Option<(f64, Vec<f64>)>;
+
+/// Writes files at output times and keeps the profiles for the plots.
 pub struct FileWriter<'a, const D: usize> {
     dir: PathBuf,
     method: String,
+    grid: Grid<D>,
     reference: Option<&'a Reference>,
     samples: Samples<D>,
-    /// `(t, x, σ_xx)` kept for the plot.
+    /// Profiles kept for `stress.png`.
     pub profiles: Profiles,
+    /// Cell averages of σ_xx at the last output, for `stress_map.png`.
+    pub last_map: CellMap,
     pvd: Vec<(f64, String)>,
+    pvd_grid: Vec<(f64, String)>,
     progress: Option<indicatif::ProgressBar>,
     t_end: f64,
 }
@@ -45,6 +54,7 @@ impl<'a, const D: usize> FileWriter<'a, D> {
     pub fn new(
         dir: &Path,
         method: &str,
+        grid: &Grid<D>,
         reference: Option<&'a Reference>,
         progress: Option<indicatif::ProgressBar>,
         t_end: f64,
@@ -52,28 +62,35 @@ impl<'a, const D: usize> FileWriter<'a, D> {
         Self {
             dir: dir.to_path_buf(),
             method: method.to_string(),
+            grid: grid.clone(),
             reference,
             samples: Samples::default(),
             profiles: Vec::new(),
+            last_map: None,
             pvd: Vec::new(),
+            pvd_grid: Vec::new(),
             progress,
             t_end,
         }
     }
 
-    /// Write the `.pvd` of the frames written so far and finish the progress bar.
+    /// Write the `.pvd` collections of the frames written so far and finish the progress bar.
     pub fn finish(&mut self) -> anyhow::Result<()> {
         if let Some(p) = self.progress.take() {
             p.finish_and_clear();
         }
         if !self.pvd.is_empty() {
             write_pvd(&self.dir.join(format!("{}.pvd", self.method)), &self.pvd)?;
+            write_pvd(
+                &self.dir.join(format!("{}_grid.pvd", self.method)),
+                &self.pvd_grid,
+            )?;
         }
         Ok(())
     }
 }
 
-fn pad3<const D: usize>(v: &impact_core::Vector<D>) -> [f64; 3] {
+fn pad3<const D: usize>(v: &Vector<D>) -> [f64; 3] {
     let mut out = [0.0; 3];
     for l in 0..D.min(3) {
         out[l] = v[l];
@@ -81,29 +98,30 @@ fn pad3<const D: usize>(v: &impact_core::Vector<D>) -> [f64; 3] {
     out
 }
 
-impl<const D: usize> Observer<D> for FileWriter<'_, D> {
-    fn progress(&mut self, t: f64) {
-        if let Some(p) = &self.progress {
-            p.set_position((1000.0 * t / self.t_end) as u64);
+fn tensor9<const D: usize>(t: &impact_core::Tensor<D>) -> [f64; 9] {
+    let mut full = [0.0; 9];
+    for r in 0..D {
+        for c in 0..D {
+            full[3 * r + c] = t[(r, c)];
         }
     }
+    full
+}
 
-    fn output(
-        &mut self,
-        method: &dyn Method<D>,
-        index: usize,
-        t: f64,
-        _metrics: &TimeMetrics,
-    ) -> anyhow::Result<()> {
-        method.sample_into(&mut self.samples);
+/// Vertex order of a grid cell as VTK wants it (line: 0 1; quad: counter-clockwise).
+fn vtk_order(d: usize) -> (&'static [usize], CellType) {
+    match d {
+        1 => (&[0, 1], CellType::Line),
+        _ => (&[0, 1, 3, 2], CellType::Quad),
+    }
+}
+
+impl<const D: usize> FileWriter<'_, D> {
+    /// The bottom-row profile as CSV (with reference columns when there is one).
+    fn write_profile(&mut self, index: usize, t: f64) -> anyhow::Result<()> {
         let s = &self.samples;
-        let n = s.len();
-        // CSV profile sorted by x (bottom row in 2D: the samples with the smallest y)
-        let mut order: Vec<usize> = (0..n).collect();
-        if D > 1 {
-            let y_min = s.reference.iter().map(|x| x[1]).fold(f64::MAX, f64::min);
-            order.retain(|&i| s.reference[i][1] - s.half_size[i][1] <= y_min + 1e-12);
-        }
+        let bottom = bottom_row(s);
+        let mut order: Vec<usize> = (0..s.len()).filter(|&i| bottom[i]).collect();
         order.sort_by(|&a, &b| s.reference[a][0].total_cmp(&s.reference[b][0]));
         let col = |f: &dyn Fn(usize) -> f64| order.iter().map(|&i| f(i)).collect::<Vec<f64>>();
         let x = col(&|i| s.reference[i][0]);
@@ -111,54 +129,34 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         let sxx = col(&|i| s.stress[i][(0, 0)]);
         let vx = col(&|i| s.velocity[i][0]);
         let path = self.dir.join(format!("{}_t{}.csv", self.method, index));
-        match self.reference {
-            Some(r) => {
-                let exact: Vec<(f64, f64)> = order
-                    .iter()
-                    .map(|&i| {
-                        let (xi, h) = (s.reference[i][0], s.half_size[i][0]);
-                        r.averages(xi - h, xi + h, t)
-                    })
-                    .collect();
-                let es: Vec<f64> = exact.iter().map(|e| e.0).collect();
-                let ev: Vec<f64> = exact.iter().map(|e| e.1).collect();
-                impact_io::write_csv(
-                    &path,
-                    &[
-                        "x",
-                        "x_current",
-                        "stress_xx",
-                        "velocity_x",
-                        "exact_stress_xx",
-                        "exact_velocity_x",
-                    ],
-                    &[&x, &xc, &sxx, &vx, &es, &ev],
-                )?;
-            }
-            None => impact_io::write_csv(
-                &path,
-                &["x", "x_current", "stress_xx", "velocity_x"],
-                &[&x, &xc, &sxx, &vx],
-            )?,
+        let mut header = vec!["x", "x_current", "stress_xx", "velocity_x"];
+        let mut columns: Vec<Vec<f64>> = vec![x.clone(), xc, sxx.clone(), vx];
+        if let Some(r) = self.reference {
+            let exact: Vec<(f64, f64)> = order
+                .iter()
+                .map(|&i| {
+                    let (c, h) = (s.reference[i], s.half_size[i]);
+                    r.averages(&(c - h), &(c + h), t)
+                })
+                .collect();
+            header.extend(["reference_stress_xx", "reference_velocity_x"]);
+            columns.push(exact.iter().map(|e| e.0).collect());
+            columns.push(exact.iter().map(|e| e.1).collect());
         }
-        self.profiles
-            .push((t, x.iter().copied().zip(sxx.iter().copied()).collect()));
-        // VTU: the samples as vertices with their fields
-        let mut points = Vec::with_capacity(3 * n);
-        let mut stress = Vec::with_capacity(9 * n);
-        let mut velocity = Vec::with_capacity(3 * n);
-        for i in 0..n {
-            points.extend_from_slice(&pad3(&s.position[i]));
-            velocity.extend_from_slice(&pad3(&s.velocity[i]));
-            let mut full = [0.0; 9];
-            for r in 0..D {
-                for c in 0..D {
-                    full[3 * r + c] = s.stress[i][(r, c)];
-                }
-            }
-            stress.extend_from_slice(&full);
-        }
+        let refs: Vec<&[f64]> = columns.iter().map(|c| c.as_slice()).collect();
+        impact_io::write_csv(&path, &header, &refs)?;
+        self.profiles.push((t, x.into_iter().zip(sxx).collect()));
+        Ok(())
+    }
+
+    /// The samples as VTK vertices.
+    fn write_samples(&mut self, index: usize, t: f64) -> anyhow::Result<()> {
+        let s = &self.samples;
+        let n = s.len();
+        let points: Vec<f64> = s.position.iter().flat_map(pad3).collect();
         let reference: Vec<f64> = s.reference.iter().flat_map(pad3).collect();
+        let stress: Vec<f64> = s.stress.iter().flat_map(tensor9).collect();
+        let velocity: Vec<f64> = s.velocity.iter().flat_map(pad3).collect();
         let connectivity: Vec<usize> = (0..n).collect();
         let file = format!("{}_t{}.vtu", self.method, index);
         write_vtu(
@@ -192,22 +190,127 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         self.pvd.push((t, file));
         Ok(())
     }
+
+    /// The grid cells with the averages of their samples (DGMPM, MPM: the Eulerian grid),
+    /// or the FEM mesh with nodal velocity and element stress (deformed by `u`).
+    fn write_grid(&mut self, method: &dyn Method<D>, index: usize, t: f64) -> anyhow::Result<()> {
+        let g = &self.grid;
+        let s = &self.samples;
+        let cells = g.cell_count();
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let mut stress = vec![impact_core::Tensor::<D>::zeros(); cells];
+        let mut velocity = vec![Vector::<D>::zeros(); cells];
+        let mut count = vec![0usize; cells];
+        for i in 0..s.len() {
+            if let Some((c, _)) = g.locate(&s.reference[i]) {
+                stress[c] += s.stress[i];
+                velocity[c] += s.velocity[i];
+                count[c] += 1;
+            }
+        }
+        let mut map = vec![f64::NAN; cells];
+        for c in 0..cells {
+            if count[c] > 0 {
+                stress[c] /= count[c] as f64;
+                velocity[c] /= count[c] as f64;
+                map[c] = stress[c][(0, 0)];
+            }
+        }
+        self.last_map = Some((t, map));
+        let nodal = method.mesh_nodal_fields();
+        let mut points: Vec<f64> = Vec::with_capacity(3 * g.vertex_count());
+        for v in 0..g.vertex_count() {
+            let mut x = g.vertex_position(v);
+            if let Some((_, u)) = &nodal {
+                x += u[v];
+            }
+            points.extend_from_slice(&pad3(&x));
+        }
+        let (order, cell_type) = vtk_order(D);
+        let connectivity: Vec<usize> = (0..cells)
+            .flat_map(|c| order.iter().map(move |&a| (c, a)))
+            .map(|(c, a)| g.vertex_of(c, a))
+            .collect();
+        let cell_stress: Vec<f64> = stress.iter().flat_map(tensor9).collect();
+        let cell_velocity: Vec<f64> = velocity.iter().flat_map(pad3).collect();
+        let nodal_velocity: Vec<f64> = nodal
+            .as_ref()
+            .map(|(v, _)| v.iter().flat_map(pad3).collect())
+            .unwrap_or_default();
+        let mut point_data = Vec::new();
+        if !nodal_velocity.is_empty() {
+            point_data.push(DataArray {
+                name: "velocity",
+                components: 3,
+                values: &nodal_velocity,
+            });
+        }
+        let file = format!("{}_grid_t{}.vtu", self.method, index);
+        write_vtu(
+            &self.dir.join(&file),
+            &UnstructuredGrid {
+                points: &points,
+                connectivity: &connectivity,
+                nodes_per_cell: npc,
+                cell_type,
+                point_data,
+                cell_data: vec![
+                    DataArray {
+                        name: "stress",
+                        components: 9,
+                        values: &cell_stress,
+                    },
+                    DataArray {
+                        name: "velocity",
+                        components: 3,
+                        values: &cell_velocity,
+                    },
+                ],
+            },
+        )
+        .with_context(|| format!("writing {file}"))?;
+        self.pvd_grid.push((t, file));
+        Ok(())
+    }
 }
 
-/// The stress plot: one panel per output time, the exact solution and every method.
+impl<const D: usize> Observer<D> for FileWriter<'_, D> {
+    fn progress(&mut self, t: f64) {
+        if let Some(p) = &self.progress {
+            p.set_position((1000.0 * t / self.t_end) as u64);
+        }
+    }
+
+    fn output(
+        &mut self,
+        method: &dyn Method<D>,
+        index: usize,
+        t: f64,
+        _metrics: &TimeMetrics,
+    ) -> anyhow::Result<()> {
+        method.sample_into(&mut self.samples);
+        self.write_profile(index, t)?;
+        self.write_samples(index, t)?;
+        self.write_grid(method, index, t)?;
+        Ok(())
+    }
+}
+
+/// `stress.png`: one panel per output time (at most three), the reference and every
+/// method's σ_xx along x (the bottom row in 2D: the reference averaged over `band`).
 pub fn stress_plot(
     path: &Path,
     scene: &str,
     writers: &[(String, Profiles)],
     reference: Option<&Reference>,
     length: f64,
+    band: f64,
 ) -> anyhow::Result<()> {
     let times: Vec<f64> = writers
         .iter()
         .map(|w| w.1.iter().map(|p| p.0).collect::<Vec<_>>())
         .max_by_key(|t| t.len())
         .unwrap_or_default();
-    // at most three panels, like the paper's Fig. 3
     let picks: Vec<usize> = match times.len() {
         0..=3 => (0..times.len()).collect(),
         n => vec![0, n / 2, n - 1],
@@ -217,16 +320,23 @@ pub fn stress_plot(
         let t = times[k];
         let mut series = Vec::new();
         if let Some(r) = reference {
-            let n = 2000;
+            let n = 1000;
             let dx = length / n as f64;
-            let pts = (0..n)
+            let pts: Vec<(f64, f64)> = (0..n)
                 .map(|i| {
                     let x = (i as f64 + 0.5) * dx;
-                    (x, r.averages(x - 0.5 * dx, x + 0.5 * dx, t).0)
+                    let lo = Vector::<2>::new(x - 0.5 * dx, 0.0);
+                    let hi = Vector::<2>::new(x + 0.5 * dx, band);
+                    (x, r.averages(&lo, &hi, t).0)
                 })
+                .filter(|p| p.1.is_finite())
                 .collect();
+            let label = match r {
+                Reference::Bar(_) => "exact",
+                Reference::Converged(_) => "reference",
+            };
             series.push(Series {
-                label: "exact".into(),
+                label: label.into(),
                 points: pts,
                 colour: 0,
                 reference: true,
@@ -250,6 +360,36 @@ pub fn stress_plot(
             series,
         });
     }
-    line_panels(path, &panels, "x (m)", "stress_xx (Pa)")?;
+    let y_label = if band > 0.0 {
+        "stress_xx along the bottom (Pa)"
+    } else {
+        "stress_xx (Pa)"
+    };
+    line_panels(path, &panels, "x (m)", y_label)?;
+    Ok(())
+}
+
+/// `stress_map.png`: σ_xx per grid cell of each method at its last output time.
+pub fn stress_map(path: &Path, grid: &Grid<2>, maps: &[(String, CellMap)]) -> anyhow::Result<()> {
+    let upper = grid.upper();
+    let mut range: f64 = 0.0;
+    let mut panels = Vec::new();
+    for (name, map) in maps {
+        let Some((t, values)) = map else { continue };
+        range = values
+            .iter()
+            .filter(|v| v.is_finite())
+            .fold(range, |m, v| m.max(v.abs()));
+        panels.push(MapPanel {
+            title: format!("{name}: t = {:.4} ms", t * 1e3),
+            cells: grid.cells,
+            extent: [grid.origin[0], upper[0], grid.origin[1], upper[1]],
+            values: values.clone(),
+        });
+    }
+    if panels.is_empty() {
+        return Ok(());
+    }
+    colour_maps(path, &panels, range.max(1e-300), "stress_xx (Pa)")?;
     Ok(())
 }

@@ -76,6 +76,8 @@ pub fn run_method<const D: usize>(
                     linf_rel: f64::NAN,
                     front_width_cells: None,
                     overshoot_pct: None,
+                    front_position: None,
+                    front_exact: None,
                     energy_rel: impact_core::metrics::energy_rel(m.energy(), m.external_work()),
                 },
             };

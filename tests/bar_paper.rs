@@ -10,7 +10,9 @@ use impact_core::Method;
 #[test]
 fn dgmpm_single_point_courant_one_is_exact_at_default_output_times() {
     let (scene, problem, reference) = bar(150, None);
-    let impact_core::reference::Reference::Bar(exact) = reference;
+    let impact_core::reference::Reference::Bar(exact) = reference else {
+        panic!("the bar has an exact solution")
+    };
     let mut dg = impact::build(&problem, impact::scene_config(&scene, MethodKind::Dgmpm)).unwrap();
     let dx = problem.grid.spacing[0];
     let mut samples = Samples::<1>::default();
@@ -110,7 +112,9 @@ fn nodal_point_update_is_monotone_where_increment_overshoots() {
 #[test]
 fn fem_courant_one_reproduces_exact_nodal_displacements() {
     let (scene, problem, reference) = bar(150, None);
-    let impact_core::reference::Reference::Bar(exact) = reference;
+    let impact_core::reference::Reference::Bar(exact) = reference else {
+        panic!("the bar has an exact solution")
+    };
     let cfg = config(&scene, MethodKind::Fem, |c| c.courant = 1.0);
     let mut fem = impact_fem::Fem::new(&problem, cfg).unwrap();
     let dt = fem.stable_dt();

@@ -80,13 +80,17 @@ fn run_bar_writes_every_output_and_the_table() {
     for m in ["dgmpm", "mpm", "fem"] {
         for k in 0..3 {
             let csv = std::fs::read_to_string(out.join(format!("{m}_t{k}.csv"))).unwrap();
-            assert!(csv
-                .starts_with("x,x_current,stress_xx,velocity_x,exact_stress_xx,exact_velocity_x"));
+            assert!(csv.starts_with(
+                "x,x_current,stress_xx,velocity_x,reference_stress_xx,reference_velocity_x"
+            ));
             assert_eq!(csv.lines().count(), 151);
             let vtu = std::fs::read_to_string(out.join(format!("{m}_t{k}.vtu"))).unwrap();
             assert!(vtu.contains("NumberOfPoints=\"150\"") && vtu.contains("Name=\"stress\""));
         }
         assert!(out.join(format!("{m}.pvd")).exists());
+        assert!(out.join(format!("{m}_grid.pvd")).exists());
+        let grid = std::fs::read_to_string(out.join(format!("{m}_grid_t0.vtu"))).unwrap();
+        assert!(grid.contains("NumberOfCells=\"150\""));
     }
     let png = std::fs::read(out.join("stress.png")).unwrap();
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
@@ -245,4 +249,67 @@ fn mpm_blow_up_stops_cleanly_and_keeps_frames() {
     assert!(!csv.to_lowercase().contains("nan") && !csv.contains("inf"));
     assert!(!out.join("mpm_t1.csv").exists());
     std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn check_plate_passes() {
+    let o = impact(&["check", "plate"]);
+    let out = text(&o);
+    assert!(o.status.success(), "{out}");
+    assert_eq!(
+        out.lines()
+            .filter(|l| l.trim_end().ends_with("pass"))
+            .count(),
+        3,
+        "{out}"
+    );
+}
+
+/// The plate writes the bottom-row profiles, the samples, the grid cells / FEM mesh, the
+/// colour map, and states its converged reference.
+#[test]
+fn run_plate_writes_the_2d_outputs() {
+    let out = tmp("plate");
+    let o = impact(&["run", "plate", "--quiet", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    let s = json(&out.join("summary.json"));
+    assert_eq!(s["dim"], 2);
+    assert!(s["reference"].as_str().unwrap().contains("132x100"));
+    for m in ["dgmpm", "mpm", "fem"] {
+        let csv = std::fs::read_to_string(out.join(format!("{m}_t2.csv"))).unwrap();
+        assert_eq!(
+            csv.lines().count(),
+            34,
+            "33 cells along the bottom row + header"
+        );
+        let grid = std::fs::read_to_string(out.join(format!("{m}_grid_t2.vtu"))).unwrap();
+        assert!(grid.contains("NumberOfPoints=\"884\"") && grid.contains("NumberOfCells=\"825\""));
+        let times = s["runs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["method"] == m)
+            .unwrap()["times"]
+            .clone();
+        let t = &times[2];
+        assert!(
+            (t["front_position"].as_f64().unwrap() - t["front_exact"].as_f64().unwrap()).abs()
+                < 0.25
+        );
+    }
+    // the FEM mesh carries nodal velocities
+    let fem = std::fs::read_to_string(out.join("fem_grid_t2.vtu")).unwrap();
+    assert!(fem.contains("<PointData>\n        <DataArray type=\"Float64\" Name=\"velocity\""));
+    for png in ["stress.png", "stress_map.png"] {
+        let bytes = std::fs::read(out.join(png)).unwrap();
+        assert_eq!(&bytes[..4], b"\x89PNG");
+    }
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn flux_is_refused_in_1d() {
+    let o = impact(&["run", "bar", "--flux", "ctu"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("--flux") && text(&o).contains("only in 2D"));
 }

@@ -1,16 +1,28 @@
 //! Exact solutions.
 //!
-//! [`BarExact`]: the elastic bar `0 < X < L` of §5.1, at rest, loaded at `X = 0` by a step
-//! pressure `p` from `t = 0` (traction `σ(0,t) = -p`), free at `X = L`. By d'Alembert
-//! with images (Wang 2011, ch. 2), with `c = sqrt(E/ρ)`, `Z = ρ c` and `H` the Heaviside
-//! step, every right-going wave carries `Δσ = -p`, `Δv = p/Z` and every left-going wave
-//! (reflected from the free end) `Δσ = +p`, `Δv = p/Z`:
+//! [`BarExact`]: the elastic bar `0 < X < L` of §5.1, at rest, loaded at `X = 0` from
+//! `t = 0` by a step pressure `p` (traction `σ(0,t) = -p`) or a step velocity `v_d`, free
+//! at `X = L`. By d'Alembert with images (Wang 2011, ch. 2), with `c = sqrt(M/ρ)`
+//! (`M = E` for the bar, `λ + 2μ` for a plane wave in plane strain), `Z = ρ c` and `H` the
+//! Heaviside step, the solution is a sum of step waves. The first right-going wave carries
+//! `(Δσ, Δv) = (-p, p/Z)` (pressure) or `(-Z v_d, v_d)` (velocity); the free end reflects
+//! `(Δσ, Δv) → (-Δσ, Δv)`; the loaded end reflects `(Δσ, Δv) → (-Δσ, Δv)` under a
+//! pressure and `(Δσ, -Δv)` under a velocity. For the pressure load:
 //!
 //! `σ(X,t) = -p Σ_k H(ct - 2kL - X) + p Σ_k H(ct - 2(k+1)L + X)`,
 //! `v(X,t) = p/Z [Σ_k H(ct - 2kL - X) + Σ_k H(ct - 2(k+1)L + X)]`, `k = 0, 1, ...`
 //!
 //! Cell averages integrate each Heaviside exactly, and the displacement
 //! `u = ∫ v dt` uses `∫_0^t H(cs - a) ds = max(0, t - a/c)`.
+
+/// Load at `X = 0`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EndLoad {
+    /// Step pressure (positive in compression).
+    Pressure(f64),
+    /// Step velocity into the bar.
+    Velocity(f64),
+}
 
 /// Exact solution of the loaded bar (see the module doc).
 #[derive(Debug, Clone, Copy)]
@@ -21,8 +33,11 @@ pub struct BarExact {
     pub speed: f64,
     /// Impedance `Z = ρ c`.
     pub impedance: f64,
-    /// Pressure `p` at `X = 0` (positive in compression).
+    /// Magnitude of the stress jump of the first wave, `p` or `Z v_d` (compression
+    /// positive).
     pub pressure: f64,
+    /// The load.
+    pub load: EndLoad,
 }
 
 /// A discontinuity of the exact solution at time `t`.
@@ -43,19 +58,47 @@ pub struct Front {
 impl BarExact {
     /// Build from bar length, density, modulus and pressure.
     pub fn new(length: f64, density: f64, young: f64, pressure: f64) -> Self {
-        let speed = (young / density).sqrt();
+        Self::with_load(length, density, young, EndLoad::Pressure(pressure))
+    }
+
+    /// Build from length, density, longitudinal modulus `M` and the end load.
+    pub fn with_load(length: f64, density: f64, modulus: f64, load: EndLoad) -> Self {
+        let speed = (modulus / density).sqrt();
+        let impedance = density * speed;
+        let pressure = match load {
+            EndLoad::Pressure(p) => p,
+            EndLoad::Velocity(v) => impedance * v,
+        };
         Self {
             length,
             speed,
-            impedance: density * speed,
+            impedance,
             pressure,
+            load,
         }
     }
 
-    /// Call `f(arrival, sign_sigma)` for each wave with its "distance travelled" `a(X)`
-    /// offset: right-going waves `a = 2kL + X`, left-going `a = 2(k+1)L - X`.
-    fn waves(&self, t: f64, mut f: impl FnMut(f64, f64, f64)) {
-        // f(offset, slope dX, sigma sign): wave reaches X when c t >= offset + slope X
+    /// Signs `(s_σ, s_v)` of wave `n` (0, 1, 2, ... in order of creation: right, left,
+    /// right, ...) relative to `(-p, p/Z)`.
+    fn signs(&self, n: usize) -> (f64, f64) {
+        let (mut ss, mut sv) = (1.0, 1.0);
+        for k in 0..n {
+            if k % 2 == 0 {
+                ss = -ss; // free end
+            } else {
+                match self.load {
+                    EndLoad::Pressure(_) => ss = -ss,
+                    EndLoad::Velocity(_) => sv = -sv,
+                }
+            }
+        }
+        (ss, sv)
+    }
+
+    /// Call `f(offset, slope, s_σ, s_v)` for each wave that has started: it reaches `X`
+    /// when `c t > offset + slope X` (right-going `2kL + X`, left-going `2(k+1)L - X`) and
+    /// carries `(Δσ, Δv) = (-s_σ p, s_v p/Z)`.
+    fn waves(&self, t: f64, mut f: impl FnMut(f64, f64, f64, f64)) {
         let travelled = self.speed * t;
         let mut k = 0usize;
         loop {
@@ -64,9 +107,11 @@ impl BarExact {
             if right > travelled {
                 break;
             }
-            f(right, 1.0, -1.0);
+            let (ss, sv) = self.signs(2 * k);
+            f(right, 1.0, ss, sv);
             if left - self.length <= travelled {
-                f(left, -1.0, 1.0);
+                let (ss, sv) = self.signs(2 * k + 1);
+                f(left, -1.0, ss, sv);
             }
             k += 1;
         }
@@ -76,9 +121,9 @@ impl BarExact {
     pub fn stress(&self, x: f64, t: f64) -> f64 {
         let ct = self.speed * t;
         let mut s = 0.0;
-        self.waves(t, |off, slope, sign| {
+        self.waves(t, |off, slope, ss, _| {
             if ct - off - slope * x > 0.0 {
-                s += sign * self.pressure;
+                s -= ss * self.pressure;
             }
         });
         s
@@ -88,9 +133,9 @@ impl BarExact {
     pub fn velocity(&self, x: f64, t: f64) -> f64 {
         let ct = self.speed * t;
         let mut v = 0.0;
-        self.waves(t, |off, slope, _| {
+        self.waves(t, |off, slope, _, sv| {
             if ct - off - slope * x > 0.0 {
-                v += self.pressure / self.impedance;
+                v += sv * self.pressure / self.impedance;
             }
         });
         v
@@ -111,8 +156,8 @@ impl BarExact {
     pub fn stress_average(&self, x0: f64, x1: f64, t: f64) -> f64 {
         let ct = self.speed * t;
         let mut s = 0.0;
-        self.waves(t, |off, slope, sign| {
-            s += sign * self.pressure * Self::covered(ct, off, slope, x0, x1);
+        self.waves(t, |off, slope, ss, _| {
+            s -= ss * self.pressure * Self::covered(ct, off, slope, x0, x1);
         });
         s
     }
@@ -121,8 +166,8 @@ impl BarExact {
     pub fn velocity_average(&self, x0: f64, x1: f64, t: f64) -> f64 {
         let ct = self.speed * t;
         let mut v = 0.0;
-        self.waves(t, |off, slope, _| {
-            v += self.pressure / self.impedance * Self::covered(ct, off, slope, x0, x1);
+        self.waves(t, |off, slope, _, sv| {
+            v += sv * self.pressure / self.impedance * Self::covered(ct, off, slope, x0, x1);
         });
         v
     }
@@ -130,16 +175,33 @@ impl BarExact {
     /// Displacement `u(X,t) = ∫_0^t v(X,s) ds`.
     pub fn displacement(&self, x: f64, t: f64) -> f64 {
         let mut u = 0.0;
-        self.waves(t, |off, slope, _| {
+        self.waves(t, |off, slope, _, sv| {
             let arrival = (off + slope * x) / self.speed;
-            u += self.pressure / self.impedance * (t - arrival).max(0.0);
+            u += sv * self.pressure / self.impedance * (t - arrival).max(0.0);
         });
         u
     }
 
-    /// Work done by the load, `W = p · u(0,t)` (unit cross-section).
+    /// Work done by the load on a unit cross-section: `W = p u(0,t)` for a pressure; for a
+    /// velocity `W = ∫ -σ(0,s) v_d ds`, with `σ(0,·)` piecewise constant between the
+    /// returns of the wave.
     pub fn work(&self, t: f64) -> f64 {
-        self.pressure * self.displacement(0.0, t)
+        match self.load {
+            EndLoad::Pressure(p) => p * self.displacement(0.0, t),
+            EndLoad::Velocity(v) => {
+                // integrate -σ(0^+, s) v over [0, t] exactly: σ changes at s = 2kL/c
+                let period = 2.0 * self.length / self.speed;
+                let mut w = 0.0;
+                let mut s0 = 0.0;
+                while s0 < t {
+                    let s1 = (s0 + period).min(t);
+                    let mid = 0.5 * (s0 + s1);
+                    w += -self.stress(1e-12 * self.length, mid) * v * (s1 - s0);
+                    s0 = s1;
+                }
+                w
+            }
+        }
     }
 
     /// Kinetic plus strain energy; equals [`Self::work`] (no dissipation).
@@ -221,12 +283,37 @@ mod tests {
     }
 
     #[test]
+    fn velocity_load_reflects_into_tension_at_the_bonded_end() {
+        let b = BarExact::with_load(6.0, 7800.0, 2e11, EndLoad::Velocity(5.0));
+        let z = b.impedance;
+        let t = 3.0 / b.speed;
+        assert_relative_eq!(b.stress(1.0, t), -z * 5.0, max_relative = 1e-12);
+        assert_relative_eq!(b.velocity(1.0, t), 5.0, max_relative = 1e-12);
+        // after the free-end reflection: stress relieved, velocity doubled
+        let t = 9.0 / b.speed;
+        assert_eq!(b.stress(5.0, t), 0.0);
+        assert_relative_eq!(b.velocity(5.0, t), 10.0, max_relative = 1e-12);
+        // after the return to the bonded end: velocity back to v_d, tension Z v_d
+        let t = 15.0 / b.speed;
+        assert_relative_eq!(b.velocity(1.0, t), 5.0, max_relative = 1e-12);
+        assert_relative_eq!(b.stress(1.0, t), z * 5.0, max_relative = 1e-12);
+    }
+
+    #[test]
     fn energy_balance_of_exact_solution() {
         // kinetic + strain energy integrated from point values equals p·u(0,t)
-        let b = bar();
         let rho = 7800.0;
         let young = 2e11;
-        for &t in &[0.4e-3, 1.0e-3, 1.9e-3, 3.3e-3] {
+        for (b, &t) in [
+            bar(),
+            BarExact::with_load(6.0, 7800.0, 2e11, EndLoad::Velocity(5.0)),
+        ]
+        .iter()
+        .flat_map(|b| {
+            [0.4e-3, 1.0e-3, 1.9e-3, 3.3e-3]
+                .iter()
+                .map(move |t| (*b, t))
+        }) {
             let n = 60_000;
             let dx = b.length / n as f64;
             let mut e = 0.0;

@@ -1,6 +1,6 @@
 //! The [`Method`] trait shared by DGMPM, MPM and FEM, and the sampled fields they return.
 pub use crate::problem::{
-    Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, StressUpdate,
+    Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, StressUpdate, TransverseFlux,
 };
 use crate::{Tensor, Vector};
 use thiserror::Error;
@@ -81,6 +81,11 @@ pub trait Method<const D: usize>: Send {
     fn energy(&self) -> f64;
     /// Work done by the loads since `t = 0` (J), as the method delivered it.
     fn external_work(&self) -> f64;
+    /// Total momentum of the discrete state.
+    fn momentum(&self) -> Vector<D>;
+    /// Impulse delivered since `t = 0` by the loads and the prescribed velocities
+    /// (reactions included), as the method delivered it.
+    fn external_impulse(&self) -> Vector<D>;
     /// First non-finite value of the state, if any.
     fn check_finite(&self) -> Result<(), BadState<D>>;
     /// Reference position of the largest velocity (where a blow-up is growing).
@@ -89,4 +94,9 @@ pub trait Method<const D: usize>: Send {
     fn cells(&self) -> usize;
     /// Number of degrees of freedom updated per step (for throughput figures).
     fn updates_per_step(&self) -> usize;
+    /// Nodal velocities and displacements of a conforming mesh on the body's grid, for the
+    /// methods that have one (FEM); `None` for the point methods. Called at outputs only.
+    fn mesh_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {
+        None
+    }
 }

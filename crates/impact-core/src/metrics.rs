@@ -9,8 +9,9 @@
 //!   loaded side; the distance between the first
 //!   crossing of `φ = 0.1` and the next crossing of `φ = 0.9` (linear interpolation between
 //!   samples), in cell widths. A perfect step sampled at cell centres gives 0.8 cells;
-//! - overshoot: the largest excursion of `φ` above 1 or below 0 in that window, in % of the
-//!   jump.
+//! - overshoot: the largest excursion of `φ` beyond the envelope `[min(0, φ_exact),
+//!   max(1, φ_exact)]` in that window, in % of the jump: beyond the plateaus for a step, and
+//!   beyond the reference profile where the solution is not flat behind the front.
 //!
 //! The window keeps noise far from the front (MPM's cell-crossing noise, the trail of an
 //! earlier reflection) from being counted as front width; a profile smeared over more than
@@ -82,12 +83,8 @@ impl Profile {
         (num1 / den1, numi / deni)
     }
 
-    /// Front width (cells of size `dx`) and overshoot (%) around `front`.
-    pub fn front(&self, front: &Front, dx: f64) -> (Option<f64>, Option<f64>) {
-        let jump = front.behind - front.ahead;
-        if jump == 0.0 {
-            return (None, None);
-        }
+    /// Samples in the window around `front`, ordered from its undisturbed side.
+    fn window(&self, front: &Front, dx: f64) -> Vec<usize> {
         let lo = front.window.0.max(front.position - FRONT_WINDOW_CELLS * dx);
         let hi = front.window.1.min(front.position + FRONT_WINDOW_CELLS * dx);
         let mut order: Vec<usize> = (0..self.x.len())
@@ -97,11 +94,42 @@ impl Profile {
         if front.direction > 0.0 {
             order.reverse();
         }
+        order
+    }
+
+    /// First crossing of `φ = level` from the undisturbed side of `front` (linear
+    /// interpolation between samples), in the window around it.
+    pub fn crossing(&self, front: &Front, level: f64, dx: f64) -> Option<f64> {
+        let jump = front.behind - front.ahead;
+        if jump == 0.0 {
+            return None;
+        }
+        let order = self.window(front, dx);
         let phi = |i: usize| (self.value[i] - front.ahead) / jump;
+        order.windows(2).find_map(|w| {
+            let (pa, pb) = (phi(w[0]), phi(w[1]));
+            (pa < level && pb >= level).then(|| {
+                let s = (level - pa) / (pb - pa);
+                self.x[w[0]] + s * (self.x[w[1]] - self.x[w[0]])
+            })
+        })
+    }
+
+    /// Front width (cells of size `dx`) and overshoot (%) around `front`.
+    pub fn front(&self, front: &Front, dx: f64) -> (Option<f64>, Option<f64>) {
+        let jump = front.behind - front.ahead;
+        if jump == 0.0 {
+            return (None, None);
+        }
+        let order = self.window(front, dx);
+        let phi = |i: usize| (self.value[i] - front.ahead) / jump;
+        // excess beyond the envelope [min(0, φ_exact), max(1, φ_exact)]: the plateaus for
+        // a step, the reference profile where the solution is not flat behind the front
         let mut overshoot: f64 = 0.0;
         for &i in &order {
-            let p = phi(i);
-            overshoot = overshoot.max(p - 1.0).max(-p);
+            let (p, pe) = (phi(i), (self.exact[i] - front.ahead) / jump);
+            let pe = if pe.is_finite() { pe } else { 1.0 };
+            overshoot = overshoot.max(p - pe.max(1.0)).max(pe.min(0.0) - p);
         }
         let crossing = |from: usize, level: f64| -> Option<(usize, f64)> {
             for w in from..order.len().saturating_sub(1) {

@@ -111,6 +111,26 @@ pub enum StressUpdate {
     Usf,
 }
 
+/// DGMPM's treatment of waves crossing cells obliquely in 2D (LeVeque 2002, ch. 20-21).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TransverseFlux {
+    /// Donor-cell upwind: normal Godunov fluxes only.
+    DonorCell,
+    /// Corner transport upwind: the normal fluctuations are split by the transverse
+    /// Riemann solver and correct the transverse fluxes.
+    Ctu,
+}
+
+impl TransverseFlux {
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            TransverseFlux::DonorCell => "dcu",
+            TransverseFlux::Ctu => "ctu",
+        }
+    }
+}
+
 /// Frame in which MPM evaluates its shape functions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MpmFrame {
@@ -139,6 +159,8 @@ pub struct MethodConfig {
     pub stress_update: StressUpdate,
     /// Frame (MPM).
     pub frame: MpmFrame,
+    /// Transverse flux (DGMPM, 2D).
+    pub flux: TransverseFlux,
 }
 
 impl MethodConfig {

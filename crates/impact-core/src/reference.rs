@@ -3,17 +3,91 @@
 //! - `bar` (1D, pressure at the left end, free right end): the exact d'Alembert solution
 //!   [`BarExact`]; the profile is `σ_xx` sampled where each method stores it against the
 //!   exact average over the region each sample stands for.
-use crate::exact::{BarExact, Front};
+//! - plane wave (2D, velocity on the whole left edge, free right edge, symmetry top and
+//!   bottom): the same solution in uniaxial strain, `c_p = sqrt((λ+2μ)/ρ)`, with
+//!   `σ_yy = λ/(λ+2μ) σ_xx`; the profile is the bottom row of samples.
+//! - otherwise (the partial impact of §5.2): a converged numerical solution tabulated on a
+//!   finer grid ([`Converged`], computed by the caller, e.g. DGMPM on a refined grid). The
+//!   samples are compared with its averages over their regions; the front is at `c_p t`,
+//!   with the jump from 0 to the reference's average over the cell just behind the front.
+use crate::exact::{BarExact, EndLoad, Front};
 use crate::method::{Method, Samples};
 use crate::metrics::{energy_rel, Profile, ProfileMetrics};
 use crate::problem::{Boundary, Problem};
+use crate::Vector;
 use serde::Serialize;
 
 /// A scene's reference solution.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub enum Reference {
-    /// Exact solution of the loaded elastic bar.
+    /// Exact solution of the loaded elastic bar (1D) or plane wave (2D).
     Bar(BarExact),
+    /// A converged numerical solution on a finer grid.
+    Converged(Box<Converged>),
+}
+
+/// A converged numerical solution: `σ_xx` and `v_x` per cell of a fine regular grid at
+/// each output time, and the speed of the leading front.
+#[derive(Debug, Clone)]
+pub struct Converged {
+    /// What it is (printed in the output).
+    pub description: String,
+    /// Cells per axis of the fine grid (`[nx, ny]`; `ny = 1` in 1D).
+    pub cells: [usize; 2],
+    /// Fine cell size per axis.
+    pub spacing: [f64; 2],
+    /// Output times.
+    pub times: Vec<f64>,
+    /// `σ_xx` per fine cell (x fastest) per output time.
+    pub stress_xx: Vec<Vec<f64>>,
+    /// `v_x` per fine cell per output time.
+    pub velocity_x: Vec<Vec<f64>>,
+    /// Speed of the leading front (`c_p`).
+    pub speed: f64,
+    /// Length along x.
+    pub length: f64,
+    /// Cell size of the grid being measured along x (for the front's jump).
+    pub coarse_dx: f64,
+    /// Work done by the loads at each output time, per the reference run.
+    pub work: Vec<f64>,
+}
+
+impl Converged {
+    /// Average of `field` over the box `[lo, hi]` at output time `t` (overlap-weighted).
+    fn average(&self, field: &[Vec<f64>], lo: [f64; 2], hi: [f64; 2], t: f64) -> f64 {
+        let Some(k) = self
+            .times
+            .iter()
+            .position(|&s| (s - t).abs() <= 1e-9 * t.abs().max(1e-300))
+        else {
+            return f64::NAN;
+        };
+        let values = &field[k];
+        let range = |l: usize| {
+            let a = ((lo[l] / self.spacing[l]).floor().max(0.0)) as usize;
+            let b = ((hi[l] / self.spacing[l]).ceil() as usize).min(self.cells[l]);
+            a..b
+        };
+        let (mut sum, mut weight) = (0.0, 0.0);
+        for j in range(1) {
+            let wy = overlap(j, self.spacing[1], lo[1], hi[1]);
+            for i in range(0) {
+                let w = wy * overlap(i, self.spacing[0], lo[0], hi[0]);
+                sum += w * values[j * self.cells[0] + i];
+                weight += w;
+            }
+        }
+        if weight > 0.0 {
+            sum / weight
+        } else {
+            f64::NAN
+        }
+    }
+}
+
+fn overlap(i: usize, h: f64, lo: f64, hi: f64) -> f64 {
+    let (a, b) = (i as f64 * h, (i + 1) as f64 * h);
+    (b.min(hi) - a.max(lo)).max(0.0)
 }
 
 /// Metrics of one method at one output time (a row of the table and of `summary.json`).
@@ -29,6 +103,10 @@ pub struct TimeMetrics {
     pub front_width_cells: Option<f64>,
     /// Overshoot in % of the jump.
     pub overshoot_pct: Option<f64>,
+    /// Where the profile first reaches half of the jump (m), from the undisturbed side.
+    pub front_position: Option<f64>,
+    /// Position of the exact front (m).
+    pub front_exact: Option<f64>,
     /// `(E_h - W)/W` with `W` the exact work of the load (the method's own if no exact).
     pub energy_rel: f64,
 }
@@ -36,33 +114,53 @@ pub struct TimeMetrics {
 impl Reference {
     /// The reference of `problem`, if it has an exact solution.
     pub fn for_problem<const D: usize>(problem: &Problem<D>) -> Option<Self> {
-        if D != 1 {
-            return None;
-        }
-        match (problem.boundaries[0][0], problem.boundaries[0][1]) {
-            (
-                Boundary::Pressure {
-                    value,
-                    segment: None,
-                },
-                Boundary::Free,
-            ) => {
-                let m = problem.material;
-                Some(Reference::Bar(BarExact::new(
-                    problem.grid.upper()[0] - problem.grid.origin[0],
-                    m.density,
-                    m.elastic.young,
-                    value,
-                )))
+        let m = problem.material;
+        let length = problem.grid.upper()[0] - problem.grid.origin[0];
+        let b = &problem.boundaries;
+        let plane = (1..D).all(|k| b[k] == [Boundary::Symmetry; 2]);
+        let load = match b[0] {
+            [Boundary::Pressure {
+                value,
+                segment: None,
+            }, Boundary::Free]
+                if plane =>
+            {
+                EndLoad::Pressure(value)
             }
-            _ => None,
-        }
+            [Boundary::Velocity {
+                value,
+                segment: None,
+            }, Boundary::Free]
+                if plane =>
+            {
+                EndLoad::Velocity(value)
+            }
+            _ => return None,
+        };
+        Some(Reference::Bar(BarExact::with_load(
+            length,
+            m.density,
+            m.p_modulus::<D>(),
+            load,
+        )))
     }
 
-    /// Exact average of `σ_xx` and `v_x` over `[x0, x1]` at `t`.
-    pub fn averages(&self, x0: f64, x1: f64, t: f64) -> (f64, f64) {
+    /// Average of `σ_xx` and `v_x` over the box `[lo, hi]` (only x matters for the exact
+    /// solutions) at `t`.
+    pub fn averages<const D: usize>(&self, lo: &Vector<D>, hi: &Vector<D>, t: f64) -> (f64, f64) {
         match self {
-            Reference::Bar(b) => (b.stress_average(x0, x1, t), b.velocity_average(x0, x1, t)),
+            Reference::Bar(b) => (
+                b.stress_average(lo[0], hi[0], t),
+                b.velocity_average(lo[0], hi[0], t),
+            ),
+            Reference::Converged(c) => {
+                let lo2 = [lo[0], if D > 1 { lo[1] } else { 0.0 }];
+                let hi2 = [hi[0], if D > 1 { hi[1] } else { c.spacing[1] }];
+                (
+                    c.average(&c.stress_xx, lo2, hi2, t),
+                    c.average(&c.velocity_x, lo2, hi2, t),
+                )
+            }
         }
     }
 
@@ -70,13 +168,44 @@ impl Reference {
     pub fn front(&self, t: f64) -> Option<Front> {
         match self {
             Reference::Bar(b) => b.leading_front(t),
+            Reference::Converged(c) => {
+                let position = c.speed * t;
+                if !(position > 1.5 * c.coarse_dx && position < c.length) {
+                    return None;
+                }
+                // the reference along the bottom band, one coarse cell behind the front
+                let band = [c.spacing[1] * 0.0, c.spacing[1] * c.cells[1] as f64];
+                let lo = [position - 1.5 * c.coarse_dx, band[0]];
+                let hi = [position - 0.5 * c.coarse_dx, band[0] + c.coarse_dx];
+                let behind = c.average(&c.stress_xx, lo, hi, t);
+                behind.is_finite().then_some(Front {
+                    position,
+                    direction: 1.0,
+                    ahead: 0.0,
+                    behind,
+                    window: (0.0, c.length),
+                })
+            }
         }
     }
 
-    /// Work done by the loads up to `t`.
-    pub fn work(&self, t: f64) -> f64 {
+    /// Work done by the loads up to `t` (per unit thickness), if the reference knows it.
+    pub fn work(&self, t: f64) -> Option<f64> {
         match self {
-            Reference::Bar(b) => b.work(t),
+            Reference::Bar(b) => Some(b.work(t)),
+            Reference::Converged(c) => c
+                .times
+                .iter()
+                .position(|&s| (s - t).abs() <= 1e-9 * t)
+                .map(|k| c.work[k]),
+        }
+    }
+
+    /// What the errors are measured against.
+    pub fn describe(&self) -> String {
+        match self {
+            Reference::Bar(_) => "exact solution (averages over each sample's region)".into(),
+            Reference::Converged(c) => c.description.clone(),
         }
     }
 
@@ -84,6 +213,11 @@ impl Reference {
     pub fn scale(&self) -> f64 {
         match self {
             Reference::Bar(b) => b.pressure.abs(),
+            Reference::Converged(c) => c
+                .stress_xx
+                .iter()
+                .flatten()
+                .fold(0.0f64, |m, v| m.max(v.abs())),
         }
     }
 
@@ -91,16 +225,32 @@ impl Reference {
     /// averages over each sample's region.
     pub fn profile<const D: usize>(&self, samples: &Samples<D>, t: f64) -> Profile {
         let mut p = Profile::default();
+        let bottom = bottom_row(samples);
         for i in 0..samples.len() {
-            let x = samples.reference[i][0];
-            let h = samples.half_size[i][0];
-            p.x.push(x);
-            p.width.push(2.0 * h);
+            if !bottom[i] {
+                continue;
+            }
+            let (x, h) = (samples.reference[i], samples.half_size[i]);
+            p.x.push(x[0]);
+            p.width.push(2.0 * h[0]);
             p.value.push(samples.stress[i][(0, 0)]);
-            p.exact.push(self.averages(x - h, x + h, t).0);
+            p.exact.push(self.averages(&(x - h), &(x + h), t).0);
         }
         p.sort();
         p
+    }
+
+    /// Scale the exact profile lengths: in 2D the exact plane-wave work is per unit height.
+    fn work_scale<const D: usize>(samples: &Samples<D>) -> f64 {
+        if D == 1 {
+            return 1.0;
+        }
+        let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+        for i in 0..samples.len() {
+            lo = lo.min(samples.reference[i][1] - samples.half_size[i][1]);
+            hi = hi.max(samples.reference[i][1] + samples.half_size[i][1]);
+        }
+        hi - lo
     }
 
     /// All metrics of `method` at time `t` (`samples` is a reusable buffer).
@@ -120,13 +270,38 @@ impl Reference {
             front_width_cells,
             overshoot_pct,
         } = profile.metrics(front.as_ref(), dx, self.scale());
+        // the exact plane-wave work is per unit height; the converged one is the total
+        let work = match self {
+            Reference::Bar(_) => self.work(t).map(|w| w * Self::work_scale(samples)),
+            Reference::Converged(_) => self.work(t),
+        }
+        .unwrap_or(method.external_work());
         TimeMetrics {
             t,
             l1_rel,
             linf_rel,
             front_width_cells,
             overshoot_pct,
-            energy_rel: energy_rel(method.energy(), self.work(t)),
+            front_position: front.as_ref().and_then(|f| profile.crossing(f, 0.5, dx)),
+            front_exact: front.map(|f| f.position),
+            energy_rel: energy_rel(method.energy(), work),
         }
     }
+}
+
+/// Which samples form the bottom row (all of them in 1D): those whose region touches the
+/// lowest sample region's bottom.
+pub fn bottom_row<const D: usize>(samples: &Samples<D>) -> Vec<bool> {
+    if D == 1 {
+        return vec![true; samples.len()];
+    }
+    let low = (0..samples.len())
+        .map(|i| samples.reference[i][1] - samples.half_size[i][1])
+        .fold(f64::MAX, f64::min);
+    (0..samples.len())
+        .map(|i| {
+            samples.reference[i][1] - samples.half_size[i][1]
+                <= low + 1e-9 * samples.half_size[i][1].max(1e-300)
+        })
+        .collect()
 }

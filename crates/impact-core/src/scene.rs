@@ -150,6 +150,9 @@ pub struct MethodSpec {
     /// Frame (MPM): `total-lagrangian` or `updated-lagrangian`.
     #[serde(default)]
     pub frame: Option<String>,
+    /// Transverse flux (DGMPM, 2D): `dcu` or `ctu` (default `ctu` in 2D).
+    #[serde(default)]
+    pub flux: Option<String>,
 }
 
 impl MethodSpec {
@@ -160,6 +163,7 @@ impl MethodSpec {
             update: None,
             stress_update: None,
             frame: None,
+            flux: None,
         }
     }
     /// Paper default for DGMPM: Courant 1.
@@ -340,6 +344,15 @@ impl Scene {
                     ));
                 }
             }
+            if let Some(f) = &spec.flux {
+                if name != "dgmpm" || self.dim != 2 || !(f == "dcu" || f == "ctu") {
+                    return Err(SceneError::new(
+                        format!("{name}.flux"),
+                        format!("{f:?}"),
+                        "\"dcu\" or \"ctu\" (DGMPM in 2D only)",
+                    ));
+                }
+            }
             if let Some(f) = &spec.frame {
                 if name != "mpm" || !(f == "total-lagrangian" || f == "updated-lagrangian") {
                     return Err(SceneError::new(
@@ -473,12 +486,14 @@ fn check_edge(field: &str, edge: &EdgeSpec, dim: usize) -> Result<(), SceneError
 }
 
 /// Names of the scenes shipped with impact (files under `scenes/`).
-pub const BUILTIN: &[&str] = &["bar"];
+pub const BUILTIN: &[&str] = &["bar", "plate", "plate-wave"];
 
 /// TOML text of a shipped scene.
 pub fn builtin(name: &str) -> Option<&'static str> {
     match name {
         "bar" => Some(include_str!("../../../scenes/bar.toml")),
+        "plate" => Some(include_str!("../../../scenes/plate.toml")),
+        "plate-wave" => Some(include_str!("../../../scenes/plate-wave.toml")),
         _ => None,
     }
 }

@@ -11,7 +11,7 @@
 //! and the same for the tangential parts with `Z_s`. The Godunov flux `F_n(q*)`
 //! (paper eq. 7) only needs `v*` and `t*`: `F_n = -(C : sym(v* ⊗ n), t*)`.
 //! In 1D (the bar) there is only the P wave, with `Z = sqrt(ρ E)`.
-use impact_core::Vector;
+use impact_core::{Tensor, Vector};
 
 /// Traction and velocity of one side of a face.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -189,5 +189,350 @@ mod tests {
             0.0,
             epsilon = 1e-12
         );
+    }
+}
+
+/// A vector of conserved quantities `q = (σ, ρ v)` (paper eq. 7), or a flux or fluctuation
+/// in that space.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Conserved<const D: usize> {
+    /// Stress part.
+    pub stress: Tensor<D>,
+    /// Momentum part `ρ v`.
+    pub momentum: Vector<D>,
+}
+
+impl<const D: usize> Conserved<D> {
+    /// Zero.
+    pub fn zeros() -> Self {
+        Self {
+            stress: Tensor::<D>::zeros(),
+            momentum: Vector::<D>::zeros(),
+        }
+    }
+    /// `self + other * s`.
+    #[inline]
+    pub fn add_scaled(&self, other: &Self, s: f64) -> Self {
+        Self {
+            stress: self.stress + other.stress * s,
+            momentum: self.momentum + other.momentum * s,
+        }
+    }
+}
+
+/// A full state: stress and velocity.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FullState<const D: usize> {
+    /// Stress `σ`.
+    pub stress: Tensor<D>,
+    /// Velocity `v`.
+    pub velocity: Vector<D>,
+}
+
+impl<const D: usize> FullState<D> {
+    /// Traction and velocity on a face of normal `normal`.
+    #[inline]
+    pub fn on_face(&self, normal: &Vector<D>) -> FaceState<D> {
+        FaceState {
+            traction: self.stress * normal,
+            velocity: self.velocity,
+        }
+    }
+}
+
+/// Isotropic linear elasticity as the flux functions need it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Elastic {
+    /// `λ` (unused in 1D).
+    pub lambda: f64,
+    /// `μ` (in 1D the bar's `E/2`, so that `C(ε) = 2μ ε = E ε`).
+    pub mu: f64,
+    /// Density `ρ`.
+    pub density: f64,
+    /// Impedances.
+    pub z: Impedances,
+}
+
+impl Elastic {
+    /// `C : ε` (1D: `E ε`; 2D: `λ tr ε 1 + 2μ ε`).
+    #[inline]
+    pub fn stress<const D: usize>(&self, strain: &Tensor<D>) -> Tensor<D> {
+        let mut s = strain * (2.0 * self.mu);
+        if D > 1 {
+            s += Tensor::<D>::identity() * (self.lambda * strain.trace());
+        }
+        s
+    }
+}
+
+fn sym<const D: usize>(a: &Vector<D>, b: &Vector<D>) -> Tensor<D> {
+    let outer = a * b.transpose();
+    (outer + outer.transpose()) * 0.5
+}
+
+/// Normal flux `F_n(q) = -(C : sym(v ⊗ n), σ n)` of a face state given by its velocity and
+/// traction `σ n` (paper eq. 7 and 20).
+#[inline]
+pub fn normal_flux<const D: usize>(
+    face: &FaceState<D>,
+    normal: &Vector<D>,
+    m: &Elastic,
+) -> Conserved<D> {
+    Conserved {
+        stress: -m.stress(&sym(&face.velocity, normal)),
+        momentum: -face.traction,
+    }
+}
+
+/// Fluctuations of the face Riemann problem (LeVeque 2002, eq. 4.?): `A⁻Δq = F_n(q*) - F_n(q_L)`
+/// goes into the left cell, `A⁺Δq = F_n(q_R) - F_n(q*)` into the right cell.
+#[inline]
+pub fn fluctuations<const D: usize>(
+    left: &FaceState<D>,
+    right: &FaceState<D>,
+    star: &FaceState<D>,
+    normal: &Vector<D>,
+    m: &Elastic,
+) -> (Conserved<D>, Conserved<D>) {
+    let fl = normal_flux(left, normal, m);
+    let fr = normal_flux(right, normal, m);
+    let fs = normal_flux(star, normal, m);
+    (fs.add_scaled(&fl, -1.0), fr.add_scaled(&fs, -1.0))
+}
+
+/// Transverse Riemann solver (LeVeque 2002, §21.2): split `w` into the waves of the
+/// Jacobian `B` normal to `normal` and keep those moving along `+normal` (`B⁺w`) and
+/// along `-normal` (`B⁻w`). With `n` the normal, `t` a tangent, `m = ρ v`-part and
+/// `W` the stress part of `w`, the P- and S-wave strengths are
+/// `α_P± = ½ (m·n/ρ ∓ n·Wn/Z_p)`, `α_S± = ½ (m·t/ρ ∓ t·Wn/Z_s)`, with eigenvectors
+/// `r_P± = (∓(λ 1 + 2μ n⊗n)/c_p, ρ n)`, `r_S± = (∓μ (t⊗n + n⊗t)/c_s, ρ t)`, and
+/// `B⁺w = c_p α_P+ r_P+ + c_s α_S+ r_S+`, `B⁻w = -c_p α_P- r_P- - c_s α_S- r_S-`.
+/// The stationary wave (a jump of `σ_tt`) moves neither way.
+pub fn transverse_split<const D: usize>(
+    w: &Conserved<D>,
+    normal: &Vector<D>,
+    m: &Elastic,
+) -> (Conserved<D>, Conserved<D>) {
+    let n = normal;
+    let rho = m.density;
+    let (zp, zs) = (m.z.p, m.z.s);
+    let cp = zp / rho;
+    let wn = w.stress * n;
+    let p_sum = w.momentum.dot(n) / rho;
+    let p_diff = -n.dot(&wn) / zp;
+    let (ap, am) = (0.5 * (p_sum + p_diff), 0.5 * (p_sum - p_diff));
+    let pstress = (Tensor::<D>::identity() * m.lambda + n * n.transpose() * (2.0 * m.mu)) / cp;
+    let mut plus = Conserved {
+        stress: -pstress * (cp * ap),
+        momentum: n * (rho * cp * ap),
+    };
+    let mut minus = Conserved {
+        stress: -pstress * (cp * am),
+        momentum: n * (-rho * cp * am),
+    };
+    if D > 1 && zs > 0.0 {
+        let cs = zs / rho;
+        // tangential unit vectors: the component of wn and m normal to n
+        let mt = w.momentum - n * w.momentum.dot(n);
+        let tt = wn - n * wn.dot(n);
+        // S waves act on the tangential plane; in 2D it is one direction
+        let s_sum = mt / rho;
+        let s_diff = -tt / zs;
+        let (sp, sm) = ((s_sum + s_diff) * 0.5, (s_sum - s_diff) * 0.5);
+        // r_S±(a) = (∓μ(a⊗n + n⊗a)/c_s, ρ a) for a tangential amplitude vector a
+        let shear = |a: &Vector<D>| (a * n.transpose() + n * a.transpose()) * (m.mu / cs);
+        plus.stress -= shear(&sp) * cs;
+        plus.momentum += sp * (rho * cs);
+        minus.stress -= shear(&sm) * cs;
+        minus.momentum -= sm * (rho * cs);
+    }
+    (plus, minus)
+}
+
+/// Full-state ghost transform (the state of the mirror cell behind a boundary), in the
+/// normal/tangential basis of the outward normal `n`:
+/// traction `t_d`: `σ_nn' = 2 t_d·n - σ_nn`, `σ_nt' = 2 t_d·t - σ_nt`, `σ_tt' = σ_tt`, `v' = v`;
+/// normal velocity `v_d`: `v_n' = 2 v_d - v_n`, `v_t' = v_t`, `σ_nn' = σ_nn`,
+/// `σ_nt' = -σ_nt`, `σ_tt' = σ_tt`. On the face it agrees with [`ghost_state`].
+pub fn ghost_full<const D: usize>(
+    interior: &FullState<D>,
+    outward: &Vector<D>,
+    condition: GhostCondition<D>,
+) -> FullState<D> {
+    let n = outward;
+    let t_i = interior.stress * n;
+    let g = ghost_state(&interior.on_face(n), n, condition);
+    // replace the traction part of σ: σ' = σ + (Δt ⊗ n + n ⊗ Δt) - (Δt·n) n⊗n, Δt = t' - t
+    let dt = g.traction - t_i;
+    let stress =
+        interior.stress + dt * n.transpose() + n * dt.transpose() - n * n.transpose() * dt.dot(n);
+    FullState {
+        stress,
+        velocity: g.velocity,
+    }
+}
+
+/// Restrict a transverse flux correction on a boundary face (outward normal `n`) to what
+/// the edge's condition leaves free. A correction is of the form `(-C : sym(Δv ⊗ n), -Δt)`
+/// (the range of the normal Jacobian). Under a traction condition the traction is
+/// prescribed: `Δt = 0`. Under a normal-velocity condition the normal velocity and the
+/// shear traction are prescribed: the parts of the stress correction made by `Δv_n`
+/// (`nn` and `tt` components) and the tangential `Δt` vanish.
+pub fn constrain_correction<const D: usize>(
+    correction: &Conserved<D>,
+    n: &Vector<D>,
+    condition: GhostCondition<D>,
+) -> Conserved<D> {
+    match condition {
+        GhostCondition::Traction(_) => Conserved {
+            stress: correction.stress,
+            momentum: Vector::<D>::zeros(),
+        },
+        GhostCondition::NormalVelocity(_) => {
+            // keep only the shear (nt) part of the stress correction
+            let s = correction.stress;
+            let sn = s * n;
+            let nt = sn - n * n.dot(&sn);
+            Conserved {
+                stress: nt * n.transpose() + n * nt.transpose(),
+                momentum: n * n.dot(&correction.momentum),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod flux_tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn steel() -> Elastic {
+        let (e, nu, rho): (f64, f64, f64) = (2e11, 0.3, 7800.0);
+        let lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+        let mu = e / (2.0 * (1.0 + nu));
+        Elastic {
+            lambda,
+            mu,
+            density: rho,
+            z: Impedances {
+                p: (rho * (lambda + 2.0 * mu)).sqrt(),
+                s: (rho * mu).sqrt(),
+            },
+        }
+    }
+
+    fn sample() -> Conserved<2> {
+        Conserved {
+            stress: Tensor::<2>::new(3.0e8, -1.0e8, -1.0e8, 2.0e8),
+            momentum: Vector::<2>::new(4.0e4, -2.5e4),
+        }
+    }
+
+    /// `B⁺w + B⁻w = Bw`, the normal flux Jacobian applied to `w`.
+    #[test]
+    fn transverse_split_sums_to_the_jacobian() {
+        let m = steel();
+        let w = sample();
+        for n in [
+            Vector::<2>::new(1.0, 0.0),
+            Vector::<2>::new(0.0, 1.0),
+            Vector::<2>::new(0.6, -0.8),
+        ] {
+            let (plus, minus) = transverse_split(&w, &n, &m);
+            let bw = normal_flux(
+                &FaceState {
+                    traction: w.stress * n,
+                    velocity: w.momentum / m.density,
+                },
+                &n,
+                &m,
+            );
+            assert_relative_eq!(
+                plus.stress + minus.stress,
+                bw.stress,
+                max_relative = 1e-10,
+                epsilon = 1e-3
+            );
+            assert_relative_eq!(
+                plus.momentum + minus.momentum,
+                bw.momentum,
+                max_relative = 1e-10,
+                epsilon = 1e-3
+            );
+        }
+    }
+
+    /// A pure right-going P wave has no left-going part, and `B⁺ r = c_p r`.
+    #[test]
+    fn transverse_split_of_an_eigenvector() {
+        let m = steel();
+        let n = Vector::<2>::new(0.0, 1.0);
+        let cp = m.z.p / m.density;
+        let r = Conserved {
+            stress: -(Tensor::<2>::identity() * m.lambda + n * n.transpose() * (2.0 * m.mu)) / cp,
+            momentum: n * m.density,
+        };
+        let (plus, minus) = transverse_split(&r, &n, &m);
+        assert_relative_eq!(
+            minus.stress.norm() + minus.momentum.norm(),
+            0.0,
+            epsilon = 1e-6
+        );
+        assert_relative_eq!(plus.stress, r.stress * cp, max_relative = 1e-12);
+        assert_relative_eq!(plus.momentum, r.momentum * cp, max_relative = 1e-12);
+    }
+
+    /// Fluctuations add up to the flux difference, and vanish for equal states.
+    #[test]
+    fn fluctuations_add_up_to_the_flux_difference() {
+        let m = steel();
+        let n = Vector::<2>::new(1.0, 0.0);
+        let l = FaceState {
+            traction: Vector::<2>::new(-1e8, 2e7),
+            velocity: Vector::<2>::new(3.0, -1.0),
+        };
+        let r = FaceState {
+            traction: Vector::<2>::new(5e7, 0.0),
+            velocity: Vector::<2>::new(-1.0, 0.5),
+        };
+        let star = linear_elastic_star(&l, &r, &n, m.z);
+        let (am, ap) = fluctuations(&l, &r, &star, &n, &m);
+        let diff = normal_flux(&r, &n, &m).add_scaled(&normal_flux(&l, &n, &m), -1.0);
+        assert_relative_eq!(am.stress + ap.stress, diff.stress, max_relative = 1e-12);
+        assert_relative_eq!(
+            am.momentum + ap.momentum,
+            diff.momentum,
+            max_relative = 1e-12
+        );
+        let (am, ap) = fluctuations(&l, &l, &l, &n, &m);
+        assert_eq!((am.momentum.norm(), ap.stress.norm()), (0.0, 0.0));
+    }
+
+    /// The full ghost state's traction on the face is the face ghost state's.
+    #[test]
+    fn ghost_full_agrees_with_the_face_ghost() {
+        let inner = FullState {
+            stress: Tensor::<2>::new(1e8, 3e7, 3e7, -2e8),
+            velocity: Vector::<2>::new(2.0, -1.0),
+        };
+        for n in [Vector::<2>::new(-1.0, 0.0), Vector::<2>::new(0.0, 1.0)] {
+            for c in [
+                GhostCondition::Traction(Vector::<2>::new(5e7, 0.0)),
+                GhostCondition::NormalVelocity(-5.0),
+            ] {
+                let g = ghost_full(&inner, &n, c);
+                let face = ghost_state(&inner.on_face(&n), &n, c);
+                assert_relative_eq!(g.stress * n, face.traction, max_relative = 1e-12);
+                assert_relative_eq!(g.velocity, face.velocity, max_relative = 1e-12);
+                assert_eq!(g.stress, g.stress.transpose());
+                // the tangential normal stress is untouched
+                let t = Vector::<2>::new(n[1], -n[0]);
+                assert_relative_eq!(
+                    t.dot(&(g.stress * t)),
+                    t.dot(&(inner.stress * t)),
+                    max_relative = 1e-12
+                );
+            }
+        }
     }
 }

@@ -2,7 +2,7 @@
 //! DGMPM is the exact upwind shift: every point equals the exact cell average.
 use impact_core::exact::BarExact;
 use impact_core::method::{
-    Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, StressUpdate,
+    Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, StressUpdate, TransverseFlux,
 };
 use impact_core::{Method, Problem, Scene};
 use impact_dgmpm::Dgmpm;
@@ -16,6 +16,7 @@ fn config(courant: f64, ppc: usize, integrator: Integrator) -> MethodConfig {
         update: PointUpdate::Nodal,
         stress_update: StressUpdate::Usl,
         frame: MpmFrame::TotalLagrangian,
+        flux: TransverseFlux::Ctu,
     }
 }
 

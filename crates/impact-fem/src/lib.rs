@@ -38,6 +38,8 @@ pub struct FemState<const D: usize> {
     pub last_dt: f64,
     /// Work done by the loads.
     pub work: f64,
+    /// Impulse of the loads and reactions, consistent with `Σ m v^{n+1/2}`.
+    pub impulse: Vector<D>,
 }
 
 /// Configuration and buffers of the explicit FEM.
@@ -178,6 +180,7 @@ impl<const D: usize> Fem<D> {
             acceleration: vec![Vector::<D>::zeros(); nodes],
             last_dt: 0.0,
             work: 0.0,
+            impulse: Vector::<D>::zeros(),
         };
         solver.internal_forces_into(&state.displacement);
         solver.acceleration_into(&mut state.acceleration);
@@ -226,11 +229,15 @@ impl<const D: usize> FemSolver<D> {
         for (v, a) in state.velocity_half.iter_mut().zip(&state.acceleration) {
             *v += a * dt_avg;
         }
+        for f in &self.external {
+            state.impulse += f * dt_avg;
+        }
         let mut work = 0.0;
         for &(node, axis, value) in &self.constraints {
             let reaction = self.mass[node] * (value - state.velocity_half[node][axis]) / dt_avg;
             state.velocity_half[node][axis] = value;
             work += dt * reaction * value;
+            state.impulse[axis] += reaction * dt_avg;
         }
         work
     }
@@ -346,6 +353,16 @@ impl<const D: usize> Method<D> for Fem<D> {
     fn external_work(&self) -> f64 {
         self.state.work
     }
+    /// `Σ m_i v_i^{n-1/2}`: central differences conserve the mid-step momentum exactly.
+    fn momentum(&self) -> Vector<D> {
+        let s = &self.solver;
+        (0..s.mass.len()).fold(Vector::<D>::zeros(), |m, i| {
+            m + self.state.velocity_half[i] * s.mass[i]
+        })
+    }
+    fn external_impulse(&self) -> Vector<D> {
+        self.state.impulse
+    }
     fn check_finite(&self) -> Result<(), BadState<D>> {
         for i in 0..self.state.displacement.len() {
             let ok = self.state.displacement[i].iter().all(|x| x.is_finite())
@@ -371,5 +388,8 @@ impl<const D: usize> Method<D> for Fem<D> {
     }
     fn updates_per_step(&self) -> usize {
         self.solver.grid.cell_count()
+    }
+    fn mesh_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {
+        Some((self.nodal_velocities(), self.state.displacement.clone()))
     }
 }

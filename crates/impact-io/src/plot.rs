@@ -137,3 +137,97 @@ pub fn line_panels(
         source,
     })
 }
+
+/// One colour map: values per cell of a regular `nx × ny` grid covering `extent`.
+#[derive(Debug, Clone)]
+pub struct MapPanel {
+    /// Panel title.
+    pub title: String,
+    /// Cells along x and y.
+    pub cells: [usize; 2],
+    /// `[x0, x1, y0, y1]`.
+    pub extent: [f64; 4],
+    /// Values, x fastest (`NaN` = no data).
+    pub values: Vec<f64>,
+}
+
+/// Blue-white-red diverging colour for `s` in `[-1, 1]`.
+fn diverging(s: f64) -> RGBColor {
+    let s = s.clamp(-1.0, 1.0);
+    let (r, g, b) = if s < 0.0 {
+        let a = 1.0 + s;
+        (a, a, 1.0)
+    } else {
+        let a = 1.0 - s;
+        (1.0, a, a)
+    };
+    RGBColor((r * 255.0) as u8, (g * 255.0) as u8, (b * 255.0) as u8)
+}
+
+/// Draw colour maps side by side with a shared symmetric range `[-range, range]`
+/// (blue: compression, red: tension) into a PNG at `path` (written atomically).
+pub fn colour_maps(
+    path: &Path,
+    panels: &[MapPanel],
+    range: f64,
+    label: &str,
+) -> Result<(), IoError> {
+    register_font();
+    let err = |e: String| IoError::Plot {
+        path: path.to_path_buf(),
+        message: e,
+    };
+    let tmp = crate::temporary_path(path).with_extension("tmp.png");
+    let width = 420 * panels.len().max(1) as u32;
+    {
+        let root = BitMapBackend::new(&tmp, (width, 420)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
+        let (top, bottom) = root.split_vertically(380);
+        let areas = top.split_evenly((1, panels.len().max(1)));
+        for (panel, area) in panels.iter().zip(areas.iter()) {
+            let [x0, x1, y0, y1] = panel.extent;
+            let mut chart = ChartBuilder::on(area)
+                .caption(&panel.title, ("sans-serif", 18))
+                .margin(8)
+                .x_label_area_size(30)
+                .y_label_area_size(40)
+                .build_cartesian_2d(x0..x1, y0..y1)
+                .map_err(|e| err(e.to_string()))?;
+            chart
+                .configure_mesh()
+                .disable_mesh()
+                .draw()
+                .map_err(|e| err(e.to_string()))?;
+            let [nx, ny] = panel.cells;
+            let (dx, dy) = ((x1 - x0) / nx as f64, (y1 - y0) / ny as f64);
+            chart
+                .draw_series(
+                    (0..ny)
+                        .flat_map(|j| (0..nx).map(move |i| (i, j)))
+                        .filter_map(|(i, j)| {
+                            let v = panel.values[j * nx + i];
+                            v.is_finite().then(|| {
+                                let (xa, ya) = (x0 + i as f64 * dx, y0 + j as f64 * dy);
+                                Rectangle::new(
+                                    [(xa, ya), (xa + dx, ya + dy)],
+                                    diverging(v / range).filled(),
+                                )
+                            })
+                        }),
+                )
+                .map_err(|e| err(e.to_string()))?;
+        }
+        bottom
+            .draw(&Text::new(
+                format!("{label}: blue -{range:.3e} (compression) .. white 0 .. red +{range:.3e}"),
+                (20, 10),
+                ("sans-serif", 16),
+            ))
+            .map_err(|e| err(e.to_string()))?;
+        root.present().map_err(|e| err(e.to_string()))?;
+    }
+    std::fs::rename(&tmp, path).map_err(|source| IoError::File {
+        path: path.to_path_buf(),
+        source,
+    })
+}

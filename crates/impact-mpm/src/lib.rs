@@ -57,6 +57,8 @@ pub struct MpmState<const D: usize> {
     pub points: MaterialPoints<D>,
     /// Work done by the loads since `t = 0`.
     pub work: f64,
+    /// Impulse of the loads and of the prescribed velocities since `t = 0`.
+    pub impulse: Vector<D>,
 }
 
 /// A load acting on a surface point of the body.
@@ -201,9 +203,14 @@ impl<const D: usize> Mpm<D> {
                 shapes_ready: false,
                 grid,
             },
-            state: MpmState { points, work: 0.0 },
+            state: MpmState {
+                points,
+                work: 0.0,
+                impulse: Vector::<D>::zeros(),
+            },
         };
-        mpm.solver.impose_point_velocities(&mut mpm.state.points);
+        let kick = mpm.solver.impose_point_velocities(&mut mpm.state.points);
+        mpm.state.impulse += kick;
         Ok(mpm)
     }
 }
@@ -230,7 +237,9 @@ impl<const D: usize> MpmSolver<D> {
     }
 
     /// Points on a velocity edge take the prescribed normal velocity (as the paper does).
-    fn impose_point_velocities(&self, points: &mut MaterialPoints<D>) {
+    /// Returns the impulse this gives them, `Σ m_p Δv_p`.
+    fn impose_point_velocities(&self, points: &mut MaterialPoints<D>) -> Vector<D> {
+        let mut kick = Vector::<D>::zeros();
         for e in self.velocity_edges.iter().filter(|e| !e.symmetry) {
             let side_is_low = e.node_layer == PADDING;
             let edge = if side_is_low {
@@ -248,10 +257,12 @@ impl<const D: usize> MpmSolver<D> {
                 }
                 let s = if D > 1 { x[(e.axis + 1) % D] } else { 0.0 };
                 if Boundary::acts_at(e.segment, s) {
+                    kick[e.axis] += points.mass[p] * (e.value - points.velocity[p][e.axis]);
                     points.velocity[p][e.axis] = e.value;
                 }
             }
         }
+        kick
     }
 
     /// Phase 1: shape functions at the current positions, then mass, momentum and forces
@@ -359,8 +370,10 @@ impl<const D: usize> MpmSolver<D> {
     }
 
     /// Phase 2: `p_i += Δt f_i`, then prescribed nodal velocities. Returns the work done
-    /// in the step by the velocity constraints, `Δt Σ r · v_d`.
-    pub fn grid_update(&mut self, dt: f64) -> f64 {
+    /// in the step by the velocity constraints, `Δt Σ r · v_d`, and the impulse of the
+    /// external and reaction forces, `Δt Σ (f_ext + r)`.
+    pub fn grid_update(&mut self, dt: f64) -> (f64, Vector<D>) {
+        let mut impulse = Vector::<D>::zeros();
         for i in 0..self.node_mass.len() {
             if self.node_mass[i] > 0.0 {
                 self.node_momentum[i] += self.node_force[i] * dt;
@@ -378,10 +391,11 @@ impl<const D: usize> MpmSolver<D> {
                     let reaction = (e.value * m - old) / dt;
                     self.node_force[v][e.axis] += reaction;
                     work += dt * reaction * e.value;
+                    impulse[e.axis] += dt * reaction;
                 }
             }
         }
-        work
+        (work, impulse)
     }
 
     /// Phase 3: FLIP velocity update and position update from the nodal velocity.
@@ -464,11 +478,16 @@ impl<const D: usize> MpmSolver<D> {
         }
         self.external_forces(&state.points);
         let power_start = self.load_power(&state.points);
-        state.work += self.grid_update(dt);
+        for load in &self.loads {
+            state.impulse += load.force * dt;
+        }
+        let (work, impulse) = self.grid_update(dt);
+        state.work += work;
+        state.impulse += impulse;
         self.grid_to_particles(&mut state.points, dt);
         // trapezoidal work of the loads over the step
         state.work += 0.5 * dt * (power_start + self.load_power(&state.points));
-        self.impose_point_velocities(&mut state.points);
+        state.impulse += self.impose_point_velocities(&mut state.points);
         if self.config.stress_update == StressUpdate::Musl {
             self.remap_momentum(&state.points);
         }
@@ -510,6 +529,13 @@ impl<const D: usize> Method<D> for Mpm<D> {
     }
     fn external_work(&self) -> f64 {
         self.state.work
+    }
+    fn momentum(&self) -> Vector<D> {
+        let p = &self.state.points;
+        (0..p.len()).fold(Vector::<D>::zeros(), |m, i| m + p.velocity[i] * p.mass[i])
+    }
+    fn external_impulse(&self) -> Vector<D> {
+        self.state.impulse
     }
     fn check_finite(&self) -> Result<(), BadState<D>> {
         let p = &self.state.points;
