@@ -1,7 +1,8 @@
-//! One step of each method on the paper's bar at 150 and 150,000 cells.
+//! One step of each method on the paper's bar (150 and 150,000 cells) and plate (33×25
+//! and 1000×750 cells).
 //!
 //! `cargo bench --bench step`; throughput is in cells (elements) per second, i.e.
-//! cell-updates per second.
+//! cell-updates per second (points per second for MPM at one point per cell).
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use impact_core::method::MethodKind;
 use impact_core::{Problem, Scene};
@@ -33,5 +34,33 @@ fn step(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, step);
+fn plate_step(c: &mut Criterion) {
+    let mut group = c.benchmark_group("plate_step");
+    group.measurement_time(Duration::from_secs(4));
+    group.warm_up_time(Duration::from_secs(1));
+    group.sample_size(10);
+    for cells in [[33usize, 25], [1000, 750]] {
+        let mut scene = Scene::builtin("plate").expect("shipped scene");
+        scene.domain.cells = cells.to_vec();
+        let problem = Problem::<2>::from_scene(&scene).expect("valid scene");
+        let count = cells[0] * cells[1];
+        for kind in MethodKind::ALL {
+            let config = impact::scene_config(&scene, kind);
+            let mut method = impact::build(&problem, config).expect("valid method");
+            let dt = method.stable_dt();
+            group.throughput(Throughput::Elements(count as u64));
+            let mut t = 0.0;
+            let id = format!("{}x{}", cells[0], cells[1]);
+            group.bench_with_input(BenchmarkId::new(kind.name(), id), &count, |b, _| {
+                b.iter(|| {
+                    method.step(t, dt);
+                    t += dt;
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, step, plate_step);
 criterion_main!(benches);

@@ -1,7 +1,8 @@
 //! Writing a run's files: per method and output time a CSV profile (σ_xx and v_x along x;
 //! the bottom row in 2D; with the reference as columns) and two `.vtu` files (the samples
 //! as vertices; the grid cells, or the FEM mesh, with their fields); per method a `.pvd`
-//! collection of each; per run `summary.json`, `stress.png` (profiles at up to three times)
+//! collection of each; with the `hdf5` feature a `<method>.h5` + `.xdmf` time series of the
+//! samples; per run `summary.json`, `stress.png` (profiles at up to three times)
 //! and, in 2D, `stress_map.png` (σ_xx colour map per method at the last output time).
 use crate::run::{Observer, RunRecord};
 use anyhow::Context;
@@ -47,6 +48,9 @@ pub struct FileWriter<'a, const D: usize> {
     pvd_grid: Vec<(f64, String)>,
     progress: Option<indicatif::ProgressBar>,
     t_end: f64,
+    /// The `.h5` time series (feature `hdf5`), opened at the first output.
+    #[cfg(feature = "hdf5")]
+    h5: Option<impact_io::h5::TimeSeries>,
 }
 
 impl<'a, const D: usize> FileWriter<'a, D> {
@@ -71,6 +75,8 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             pvd_grid: Vec::new(),
             progress,
             t_end,
+            #[cfg(feature = "hdf5")]
+            h5: None,
         }
     }
 
@@ -78,6 +84,10 @@ impl<'a, const D: usize> FileWriter<'a, D> {
     pub fn finish(&mut self) -> anyhow::Result<()> {
         if let Some(p) = self.progress.take() {
             p.finish_and_clear();
+        }
+        #[cfg(feature = "hdf5")]
+        if let Some(series) = self.h5.take() {
+            series.finish()?;
         }
         if !self.pvd.is_empty() {
             write_pvd(&self.dir.join(format!("{}.pvd", self.method)), &self.pvd)?;
@@ -188,6 +198,16 @@ impl<const D: usize> FileWriter<'_, D> {
         )
         .with_context(|| format!("writing {file}"))?;
         self.pvd.push((t, file));
+        #[cfg(feature = "hdf5")]
+        {
+            if self.h5.is_none() {
+                let path = self.dir.join(format!("{}.h5", self.method));
+                self.h5 = Some(impact_io::h5::TimeSeries::create(&path)?);
+            }
+            if let Some(series) = self.h5.as_mut() {
+                series.write_step(t, &points, &stress, &velocity)?;
+            }
+        }
         Ok(())
     }
 

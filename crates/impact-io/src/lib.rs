@@ -1,6 +1,8 @@
 //! Output files: CSV profiles, VTK unstructured grids (`.vtu`), PNG plots and JSON. Every
 //! file is written to a temporary name beside its target and renamed when complete, so
 //! an output file is never left half-written.
+#[cfg(feature = "hdf5")]
+pub mod h5;
 pub mod plot;
 pub mod vtu;
 
