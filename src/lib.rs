@@ -7,7 +7,8 @@ pub mod output;
 pub mod run;
 
 use impact_core::method::{
-    Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, StressUpdate, TransverseFlux,
+    Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, RiemannSolver, StressUpdate,
+    TransverseFlux,
 };
 use impact_core::scene::{check_courant, check_points_per_cell, MethodSpec, Scene};
 use impact_core::{CoreError, Method, Problem, SceneError};
@@ -48,6 +49,10 @@ pub fn scene_config(scene: &Scene, kind: MethodKind) -> MethodConfig {
             Some("musl") => StressUpdate::Musl,
             _ => StressUpdate::Usl,
         },
+        riemann: match spec.riemann.as_deref() {
+            Some("exact") => RiemannSolver::Exact,
+            _ => RiemannSolver::Approximate,
+        },
         flux: match spec.flux.as_deref() {
             Some("dcu") => TransverseFlux::DonorCell,
             _ => TransverseFlux::Ctu,
@@ -78,6 +83,12 @@ pub struct Overrides {
     pub frame: Option<MpmFrame>,
     /// DGMPM transverse flux (2D).
     pub flux: Option<TransverseFlux>,
+    /// DGMPM Riemann solver (SVK).
+    pub riemann: Option<RiemannSolver>,
+    /// Direction of the pressure load: `true` for compression, `false` for tension.
+    pub compression: Option<bool>,
+    /// Magnitude of the pressure load (Pa).
+    pub load_magnitude: Option<f64>,
     /// End time (s).
     pub t_end: Option<f64>,
     /// Output times (s).
@@ -88,6 +99,26 @@ impl Overrides {
     /// Apply the scene-level overrides (cells) to `scene`, checking each value (points per
     /// cell is checked against the scene's dimension but applied per method).
     pub fn apply_to_scene(&self, scene: &mut Scene) -> Result<(), SceneError> {
+        if self.compression.is_some() || self.load_magnitude.is_some() {
+            let edge = [&mut scene.boundary.left, &mut scene.boundary.right]
+                .into_iter()
+                .flatten()
+                .find(|e| e.kind == "pressure")
+                .ok_or_else(|| {
+                    SceneError::new("--load", "given", "a scene with a pressure-loaded end")
+                })?;
+            let current = edge.value.unwrap_or(0.0);
+            let magnitude = self.load_magnitude.unwrap_or(current.abs());
+            if !(magnitude.is_finite() && magnitude > 0.0) {
+                return Err(SceneError::new(
+                    "--load-magnitude",
+                    magnitude,
+                    "a positive finite pressure in Pa",
+                ));
+            }
+            let compression = self.compression.unwrap_or(current >= 0.0);
+            edge.value = Some(if compression { magnitude } else { -magnitude });
+        }
         if self.flux.is_some() && scene.dim != 2 {
             return Err(SceneError::new(
                 "--flux",
@@ -146,6 +177,9 @@ impl Overrides {
         if let Some(f) = self.flux {
             config.flux = f;
         }
+        if let Some(r) = self.riemann {
+            config.riemann = r;
+        }
         Ok(())
     }
 
@@ -182,19 +216,36 @@ pub fn reference_for<const D: usize>(
         fine.grid.cells[l] *= r;
         fine.grid.spacing[l] /= r as f64;
     }
+    // CTU at Courant 1 for linear elasticity; donor-cell with RK2 at Courant 0.5 for SVK
+    // (CTU is implemented for linear elasticity only)
+    let linear = fine.model == impact_core::method::Model::LinearElastic;
     let config = MethodConfig {
         kind: MethodKind::Dgmpm,
-        courant: 1.0,
+        courant: if linear { 1.0 } else { 0.5 },
         points_per_cell: 1,
-        integrator: Integrator::Euler,
+        integrator: if linear {
+            Integrator::Euler
+        } else {
+            Integrator::Rk2
+        },
         update: PointUpdate::Nodal,
         stress_update: StressUpdate::Usl,
         frame: MpmFrame::TotalLagrangian,
-        flux: TransverseFlux::Ctu,
+        flux: if linear {
+            TransverseFlux::Ctu
+        } else {
+            TransverseFlux::DonorCell
+        },
+        riemann: RiemannSolver::Approximate,
     };
     let description = format!(
-        "converged reference: DGMPM (1 ppc, CTU, Euler, Courant 1) on a {}x{} grid ({}x finer)",
-        fine.grid.cells[0], fine.grid.cells[1], r
+        "converged reference: DGMPM (1 ppc, {}, {}, Courant {}) on a {}x{} grid ({}x finer)",
+        config.flux.name().to_uppercase(),
+        config.integrator.name(),
+        config.courant,
+        fine.grid.cells[0],
+        fine.grid.cells[1],
+        r
     );
     if say {
         println!("computing the {description}");

@@ -6,7 +6,7 @@ use impact::output::{stress_map, stress_plot, FileWriter, Summary};
 use impact::run::{run_method, RunRecord, Silent};
 use impact::{scene_config, Overrides};
 use impact_core::method::{
-    Integrator, MethodKind, MpmFrame, PointUpdate, StressUpdate, TransverseFlux,
+    Integrator, MethodKind, MpmFrame, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
 };
 use impact_core::{Problem, Scene};
 use std::path::PathBuf;
@@ -52,6 +52,15 @@ struct SceneArgs {
     /// MPM stress update.
     #[arg(long, value_enum)]
     stress_update: Option<StressUpdateArg>,
+    /// DGMPM Riemann solver for Saint-Venant-Kirchhoff.
+    #[arg(long, value_enum)]
+    riemann: Option<RiemannArg>,
+    /// Direction of the pressure load on the loaded end.
+    #[arg(long, value_enum)]
+    load: Option<LoadArg>,
+    /// Magnitude of the pressure load in Pa (keeps the direction unless --load is given).
+    #[arg(long, allow_negative_numbers = true)]
+    load_magnitude: Option<f64>,
     /// DGMPM transverse flux in 2D: donor-cell upwind or corner transport upwind.
     #[arg(long, value_enum)]
     flux: Option<FluxArg>,
@@ -104,6 +113,18 @@ enum IntegratorArg {
 enum UpdateArg {
     Nodal,
     Increment,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum RiemannArg {
+    Approximate,
+    Exact,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum LoadArg {
+    Compression,
+    Tension,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -171,6 +192,12 @@ impl SceneArgs {
                 FluxArg::Dcu => TransverseFlux::DonorCell,
                 FluxArg::Ctu => TransverseFlux::Ctu,
             }),
+            riemann: self.riemann.map(|r| match r {
+                RiemannArg::Approximate => RiemannSolver::Approximate,
+                RiemannArg::Exact => RiemannSolver::Exact,
+            }),
+            compression: self.load.map(|l| matches!(l, LoadArg::Compression)),
+            load_magnitude: self.load_magnitude,
             t_end: self.t_end,
             output_times: self.output_times.clone(),
         }
@@ -261,6 +288,7 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
         runs: Vec::new(),
     };
     let mut plots = Vec::new();
+    let mut dgmpm_positions = Vec::new();
     let mut maps: Vec<(String, impact::output::CellMap)> = Vec::new();
     let mut failures = Vec::new();
     println!(
@@ -300,6 +328,9 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
         );
         let (record, blowup) = run_method(&problem, config, reference.as_ref(), &mut writer)?;
         writer.finish()?;
+        if kind == MethodKind::Dgmpm {
+            dgmpm_positions = std::mem::take(&mut writer.positions);
+        }
         maps.push((kind.name().to_string(), writer.last_map.take()));
         plots.push((
             kind.name().to_string(),
@@ -326,6 +357,16 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
         length,
         band,
     )?;
+    if D == 1 && matches!(problem.model, impact_core::method::Model::Svk(_)) {
+        impact::output::svk_plot(
+            &dir.join("svk.png"),
+            &scene.name,
+            &dgmpm_positions,
+            &plots,
+            reference.as_ref(),
+            length,
+        )?;
+    }
     if D == 2 {
         let g = &problem.grid;
         let grid2 = impact_core::Grid::<2> {

@@ -44,6 +44,8 @@ pub struct FileWriter<'a, const D: usize> {
     pub profiles: Profiles,
     /// Cell averages of σ_xx at the last output, for `stress_map.png`.
     pub last_map: CellMap,
+    /// Current x positions of the bottom-row samples at each output, for `svk.png`.
+    pub positions: Vec<(f64, Vec<f64>)>,
     pvd: Vec<(f64, String)>,
     pvd_grid: Vec<(f64, String)>,
     progress: Option<indicatif::ProgressBar>,
@@ -71,6 +73,7 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             samples: Samples::default(),
             profiles: Vec::new(),
             last_map: None,
+            positions: Vec::new(),
             pvd: Vec::new(),
             pvd_grid: Vec::new(),
             progress,
@@ -155,6 +158,7 @@ impl<const D: usize> FileWriter<'_, D> {
         }
         let refs: Vec<&[f64]> = columns.iter().map(|c| c.as_slice()).collect();
         impact_io::write_csv(&path, &header, &refs)?;
+        self.positions.push((t, columns[1].clone()));
         self.profiles.push((t, x.into_iter().zip(sxx).collect()));
         Ok(())
     }
@@ -352,7 +356,7 @@ pub fn stress_plot(
                 .filter(|p| p.1.is_finite())
                 .collect();
             let label = match r {
-                Reference::Bar(_) => "exact",
+                Reference::Bar(_) | Reference::SvkBar(_) => "exact",
                 Reference::Converged(_) => "reference",
             };
             series.push(Series {
@@ -386,6 +390,76 @@ pub fn stress_plot(
         "stress_xx (Pa)"
     };
     line_panels(path, &panels, "x (m)", y_label)?;
+    Ok(())
+}
+
+/// `svk.png` (large strain, 1D; the paper's Fig. 6): the current positions of DGMPM's
+/// points at each output time (top) and the first Piola–Kirchhoff stress of every method
+/// against the exact solution at the last output time (bottom).
+pub fn svk_plot(
+    path: &Path,
+    scene: &str,
+    positions: &[(f64, Vec<f64>)],
+    writers: &[(String, Profiles)],
+    reference: Option<&Reference>,
+    length: f64,
+) -> anyhow::Result<()> {
+    let mut top = Vec::new();
+    for (k, (t, xs)) in positions.iter().enumerate() {
+        top.push(Series {
+            label: format!("t = {:.4} ms", t * 1e3),
+            points: xs.iter().map(|&x| (x, t * 1e3)).collect(),
+            colour: k + 1,
+            reference: false,
+        });
+    }
+    let last = positions.last().map_or(0.0, |p| p.0);
+    let mut bottom = Vec::new();
+    if let Some(r) = reference {
+        let n = 2000;
+        let dx = length / n as f64;
+        let pts = (0..n)
+            .map(|i| {
+                let x = (i as f64 + 0.5) * dx;
+                let lo = Vector::<1>::new(x - 0.5 * dx);
+                let hi = Vector::<1>::new(x + 0.5 * dx);
+                (x, r.averages(&lo, &hi, last).0)
+            })
+            .collect();
+        bottom.push(Series {
+            label: "exact".into(),
+            points: pts,
+            colour: 0,
+            reference: true,
+        });
+    }
+    for (m, (name, profiles)) in writers.iter().enumerate() {
+        if let Some((_, pts)) = profiles
+            .iter()
+            .find(|p| (p.0 - last).abs() <= 1e-12 * last.max(1e-30))
+        {
+            bottom.push(Series {
+                label: name.clone(),
+                points: pts.clone(),
+                colour: m + 1,
+                reference: false,
+            });
+        }
+    }
+    let panels = [
+        Panel {
+            title: format!("{scene}: DGMPM point positions (time in ms on the vertical axis)"),
+            series: top,
+        },
+        Panel {
+            title: format!(
+                "{scene}: first Piola-Kirchhoff stress at t = {:.4} ms",
+                last * 1e3
+            ),
+            series: bottom,
+        },
+    ];
+    line_panels(path, &panels, "x (m)", "t (ms) / Pi_xx (Pa)")?;
     Ok(())
 }
 

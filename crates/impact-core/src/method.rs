@@ -1,6 +1,7 @@
 //! The [`Method`] trait shared by DGMPM, MPM and FEM, and the sampled fields they return.
 pub use crate::problem::{
-    Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, StressUpdate, TransverseFlux,
+    Integrator, MethodConfig, MethodKind, Model, MpmFrame, PointUpdate, RiemannSolver,
+    StressUpdate, TransverseFlux,
 };
 use crate::{Tensor, Vector};
 use thiserror::Error;

@@ -19,12 +19,20 @@ pub struct MaterialPoints<const D: usize> {
     pub stress: Vec<Tensor<D>>,
     /// Half-size of the point's domain along each axis (for the exact cell averages).
     pub half_size: Vec<Vector<D>>,
+    /// Deformation gradient `F` (large-strain models only; empty otherwise).
+    pub deformation: Vec<Tensor<D>>,
 }
 
 impl<const D: usize> MaterialPoints<D> {
     /// Number of points.
     pub fn len(&self) -> usize {
         self.mass.len()
+    }
+
+    /// Allocate the deformation gradients (`F = 1`) for a large-strain model.
+    pub fn with_deformation(mut self) -> Self {
+        self.deformation = vec![Tensor::<D>::identity(); self.len()];
+        self
     }
 
     /// Whether there is no point.
@@ -48,6 +56,7 @@ impl<const D: usize> MaterialPoints<D> {
             velocity: vec![Vector::<D>::zeros(); n],
             stress: vec![Tensor::<D>::zeros(); n],
             half_size: vec![sub * 0.5; n],
+            deformation: Vec::new(),
         };
         for c in 0..grid.cell_count() {
             let lower = grid.cell_lower(c);

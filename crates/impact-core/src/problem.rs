@@ -2,7 +2,7 @@
 //! conditions (one per side of each axis) and the output schedule.
 use crate::error::{CoreError, SceneError};
 use crate::scene::{points_per_axis, EdgeSpec, Scene};
-use crate::{Grid, LinearElastic, Vector};
+use crate::{Grid, LinearElastic, Tensor, Vector};
 
 /// Condition on one side of the box. Loads are step functions of time (applied from
 /// `t = 0` on), as in the paper's scenes.
@@ -34,6 +34,35 @@ impl Boundary {
         match segment {
             None => true,
             Some((a, b)) => s >= a - 1e-12 && s <= b + 1e-12,
+        }
+    }
+}
+
+/// Constitutive model of a scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Model {
+    /// Small-strain linear elasticity (stress `σ`, points fixed in the reference grid).
+    LinearElastic,
+    /// Saint-Venant–Kirchhoff, total Lagrangian (deformation gradient `F`, stress `Π`).
+    Svk(crate::material::Svk),
+}
+
+/// DGMPM's Riemann solver for Saint-Venant–Kirchhoff (linear elasticity always uses the
+/// exact linear solver).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RiemannSolver {
+    /// Linearised (acoustic) solver with each side's impedance `ρ₀ c(F)` (Toro 2009, §9.3).
+    Approximate,
+    /// Exact solver: shock and rarefaction curves, Newton on the star stress (1D).
+    Exact,
+}
+
+impl RiemannSolver {
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            RiemannSolver::Approximate => "approximate",
+            RiemannSolver::Exact => "exact",
         }
     }
 }
@@ -161,6 +190,8 @@ pub struct MethodConfig {
     pub frame: MpmFrame,
     /// Transverse flux (DGMPM, 2D).
     pub flux: TransverseFlux,
+    /// Riemann solver (DGMPM, Saint-Venant–Kirchhoff).
+    pub riemann: RiemannSolver,
 }
 
 impl MethodConfig {
@@ -186,8 +217,10 @@ pub struct Problem<const D: usize> {
     pub name: String,
     /// The body `[0, length]` and its grid.
     pub grid: Grid<D>,
-    /// Material.
+    /// Material parameters (`E`, `ν`, `ρ₀`).
     pub material: LinearElastic,
+    /// Constitutive model.
+    pub model: Model,
     /// `boundaries[l][0]` at the low side of axis `l`, `[l][1]` at the high side.
     pub boundaries: [[Boundary; 2]; D],
     /// Points per cell from the scene.
@@ -218,6 +251,10 @@ impl<const D: usize> Problem<D> {
         };
         let m = &scene.material;
         let material = LinearElastic::new(m.young, m.poisson, m.density);
+        let model = match m.model.as_str() {
+            "svk" => Model::Svk(crate::material::Svk::new(material)),
+            _ => Model::LinearElastic,
+        };
         let b = &scene.boundary;
         let sides = [[&b.left, &b.right], [&b.bottom, &b.top]];
         let mut boundaries = [[Boundary::Free; 2]; D];
@@ -234,10 +271,34 @@ impl<const D: usize> Problem<D> {
         };
         let last = *output_times.last().expect("internal: validated non-empty");
         let t_end = scene.time.t_end.unwrap_or(last);
+        if let Model::Svk(svk) = model {
+            let (f_lim, pi_lim) = svk.hyperbolicity_limit_1d();
+            for (name, e) in [
+                ("left", &b.left),
+                ("right", &b.right),
+                ("bottom", &b.bottom),
+                ("top", &b.top),
+            ] {
+                let Some(e) = e else { continue };
+                if e.kind == "pressure" && e.value.unwrap_or(0.0) >= -pi_lim {
+                    return Err(SceneError::new(
+                        format!("boundary.{name}.value"),
+                        e.value.unwrap_or(0.0),
+                        format!(
+                            "a compression below the SVK hyperbolicity limit E/(3√3) = {:.4e} Pa \
+                             (uniaxial F = 1/√3 = {f_lim:.4}, where Π' = 0)",
+                            -pi_lim
+                        ),
+                    )
+                    .into());
+                }
+            }
+        }
         let mut problem = Self {
             name: scene.name.clone(),
             grid,
             material,
+            model,
             boundaries,
             points_per_cell: d.points_per_cell,
             output_times,
@@ -275,6 +336,49 @@ impl<const D: usize> Problem<D> {
             self.t_end = t_end;
         }
         Ok(())
+    }
+
+    /// Largest wave speed the loads can produce: `c_p` for linear elasticity; for SVK the
+    /// largest of `c(1)` and the speeds at the uniaxial stretch each pressure or velocity
+    /// load implies (1D: `Π(F) = -p`; 2D: strain `±p/M` or `±v/c_p`, with 10 % margin for the
+    /// transverse stiffening the estimate misses). The guard stops a run whose state
+    /// outruns this speed by more than 5 % (e.g. a 1D bar long after the reflection of a
+    /// strong compression as tension).
+    pub fn max_wave_speed(&self) -> f64 {
+        let c_p = self.material.p_wave_speed::<D>();
+        let Model::Svk(svk) = self.model else {
+            return c_p;
+        };
+        let mut c: f64 = c_p;
+        for pair in &self.boundaries {
+            for bc in pair {
+                let stretch = match *bc {
+                    Boundary::Pressure { value, .. } => {
+                        if D == 1 {
+                            svk.stretch_for_1d(-value).unwrap_or(1.0)
+                        } else {
+                            1.0 - value / self.material.p_modulus::<D>()
+                        }
+                    }
+                    Boundary::Velocity { value, .. } => 1.0 - value.abs() / c_p,
+                    _ => 1.0,
+                };
+                // 1D: the stretch the load produces; 2D: also its mirror (reflections, shear)
+                let mirror = if D == 1 { stretch } else { 2.0 - stretch };
+                for f in [stretch, mirror] {
+                    let mut t = Tensor::<D>::identity();
+                    t[(0, 0)] = f;
+                    let s = svk.max_wave_speed(&t);
+                    if s.is_finite() {
+                        c = c.max(s);
+                    }
+                }
+            }
+        }
+        if D > 1 {
+            c *= 1.1;
+        }
+        c
     }
 
     /// Time for a P wave to cross the smallest cell, `Δx/c_p`.

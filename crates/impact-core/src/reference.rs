@@ -10,7 +10,7 @@
 //!   finer grid ([`Converged`], computed by the caller, e.g. DGMPM on a refined grid). The
 //!   samples are compared with its averages over their regions; the front is at `c_p t`,
 //!   with the jump from 0 to the reference's average over the cell just behind the front.
-use crate::exact::{BarExact, EndLoad, Front};
+use crate::exact::{BarExact, EndLoad, Front, SvkBarExact};
 use crate::method::{Method, Samples};
 use crate::metrics::{energy_rel, Profile, ProfileMetrics};
 use crate::problem::{Boundary, Problem};
@@ -24,6 +24,8 @@ pub enum Reference {
     Bar(BarExact),
     /// A converged numerical solution on a finer grid.
     Converged(Box<Converged>),
+    /// Exact fan or shock of the Saint-Venant–Kirchhoff bar (until it reaches the free end).
+    SvkBar(SvkBarExact),
 }
 
 /// A converged numerical solution: `σ_xx` and `v_x` per cell of a fine regular grid at
@@ -115,6 +117,19 @@ impl Reference {
     /// The reference of `problem`, if it has an exact solution.
     pub fn for_problem<const D: usize>(problem: &Problem<D>) -> Option<Self> {
         let m = problem.material;
+        if let crate::problem::Model::Svk(svk) = problem.model {
+            return match (D, problem.boundaries[0]) {
+                (
+                    1,
+                    [Boundary::Pressure {
+                        value,
+                        segment: None,
+                    }, Boundary::Free],
+                ) => SvkBarExact::new(svk, problem.grid.upper()[0] - problem.grid.origin[0], value)
+                    .map(Reference::SvkBar),
+                _ => None,
+            };
+        }
         let length = problem.grid.upper()[0] - problem.grid.origin[0];
         let b = &problem.boundaries;
         let plane = (1..D).all(|k| b[k] == [Boundary::Symmetry; 2]);
@@ -153,6 +168,7 @@ impl Reference {
                 b.stress_average(lo[0], hi[0], t),
                 b.velocity_average(lo[0], hi[0], t),
             ),
+            Reference::SvkBar(b) => b.averages(lo[0], hi[0], t),
             Reference::Converged(c) => {
                 let lo2 = [lo[0], if D > 1 { lo[1] } else { 0.0 }];
                 let hi2 = [hi[0], if D > 1 { hi[1] } else { c.spacing[1] }];
@@ -168,6 +184,7 @@ impl Reference {
     pub fn front(&self, t: f64) -> Option<Front> {
         match self {
             Reference::Bar(b) => b.leading_front(t),
+            Reference::SvkBar(b) => b.leading_front(t),
             Reference::Converged(c) => {
                 let position = c.speed * t;
                 if !(position > 1.5 * c.coarse_dx && position < c.length) {
@@ -193,6 +210,7 @@ impl Reference {
     pub fn work(&self, t: f64) -> Option<f64> {
         match self {
             Reference::Bar(b) => Some(b.work(t)),
+            Reference::SvkBar(b) => Some(b.work(t)),
             Reference::Converged(c) => c
                 .times
                 .iter()
@@ -205,6 +223,11 @@ impl Reference {
     pub fn describe(&self) -> String {
         match self {
             Reference::Bar(_) => "exact solution (averages over each sample's region)".into(),
+            Reference::SvkBar(b) => format!(
+                "exact SVK {} (averages over each sample's region; valid until t = {:.4e} s)",
+                if b.is_shock() { "shock" } else { "centred fan" },
+                b.valid_until()
+            ),
             Reference::Converged(c) => c.description.clone(),
         }
     }
@@ -213,6 +236,7 @@ impl Reference {
     pub fn scale(&self) -> f64 {
         match self {
             Reference::Bar(b) => b.pressure.abs(),
+            Reference::SvkBar(b) => b.pressure.abs(),
             Reference::Converged(c) => c
                 .stress_xx
                 .iter()
@@ -272,7 +296,9 @@ impl Reference {
         } = profile.metrics(front.as_ref(), dx, self.scale());
         // the exact plane-wave work is per unit height; the converged one is the total
         let work = match self {
-            Reference::Bar(_) => self.work(t).map(|w| w * Self::work_scale(samples)),
+            Reference::Bar(_) | Reference::SvkBar(_) => {
+                self.work(t).map(|w| w * Self::work_scale(samples))
+            }
             Reference::Converged(_) => self.work(t),
         }
         .unwrap_or(method.external_work());

@@ -73,7 +73,7 @@ fn one() -> usize {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
-    /// Model name: `linear-elastic`.
+    /// Model name: `linear-elastic` or `svk` (Saint-Venant–Kirchhoff, large strain).
     pub model: String,
     /// Young's modulus (Pa).
     pub young: f64,
@@ -153,6 +153,9 @@ pub struct MethodSpec {
     /// Transverse flux (DGMPM, 2D): `dcu` or `ctu` (default `ctu` in 2D).
     #[serde(default)]
     pub flux: Option<String>,
+    /// Riemann solver (DGMPM, SVK): `approximate` (default) or `exact`.
+    #[serde(default)]
+    pub riemann: Option<String>,
 }
 
 impl MethodSpec {
@@ -164,6 +167,7 @@ impl MethodSpec {
             stress_update: None,
             frame: None,
             flux: None,
+            riemann: None,
         }
     }
     /// Paper default for DGMPM: Courant 1.
@@ -259,11 +263,11 @@ impl Scene {
         }
         check_points_per_cell(self.dim, d.points_per_cell)?;
         let m = &self.material;
-        if m.model != "linear-elastic" {
+        if !(m.model == "linear-elastic" || m.model == "svk") {
             return Err(SceneError::new(
                 "material.model",
                 format!("{:?}", m.model),
-                "\"linear-elastic\"",
+                "\"linear-elastic\" or \"svk\" (Saint-Venant-Kirchhoff)",
             ));
         }
         positive("material.young", m.young, "a positive finite modulus in Pa")?;
@@ -350,6 +354,15 @@ impl Scene {
                         format!("{name}.flux"),
                         format!("{f:?}"),
                         "\"dcu\" or \"ctu\" (DGMPM in 2D only)",
+                    ));
+                }
+            }
+            if let Some(r) = &spec.riemann {
+                if name != "dgmpm" || !(r == "approximate" || r == "exact") {
+                    return Err(SceneError::new(
+                        format!("{name}.riemann"),
+                        format!("{r:?}"),
+                        "\"approximate\" or \"exact\" (DGMPM only)",
                     ));
                 }
             }
@@ -486,7 +499,7 @@ fn check_edge(field: &str, edge: &EdgeSpec, dim: usize) -> Result<(), SceneError
 }
 
 /// Names of the scenes shipped with impact (files under `scenes/`).
-pub const BUILTIN: &[&str] = &["bar", "plate", "plate-wave"];
+pub const BUILTIN: &[&str] = &["bar", "plate", "plate-wave", "svk-bar", "svk-plate"];
 
 /// TOML text of a shipped scene.
 pub fn builtin(name: &str) -> Option<&'static str> {
@@ -494,6 +507,8 @@ pub fn builtin(name: &str) -> Option<&'static str> {
         "bar" => Some(include_str!("../../../scenes/bar.toml")),
         "plate" => Some(include_str!("../../../scenes/plate.toml")),
         "plate-wave" => Some(include_str!("../../../scenes/plate-wave.toml")),
+        "svk-bar" => Some(include_str!("../../../scenes/svk-bar.toml")),
+        "svk-plate" => Some(include_str!("../../../scenes/svk-plate.toml")),
         _ => None,
     }
 }

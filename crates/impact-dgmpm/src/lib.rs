@@ -50,15 +50,27 @@
 #![allow(clippy::needless_range_loop)]
 pub mod riemann;
 
+use impact_core::material::Svk;
 use impact_core::method::{BadState, Method, MethodConfig, Samples};
 use impact_core::points::MaterialPoints;
-use impact_core::problem::{Boundary, Integrator, PointUpdate, TransverseFlux};
+use impact_core::problem::{
+    Boundary, Integrator, Model, PointUpdate, RiemannSolver, TransverseFlux,
+};
 use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
 use rayon::prelude::*;
 use riemann::{
     constrain_correction, fluctuations, ghost_full, linear_elastic_star, normal_flux,
     transverse_split, Conserved, Elastic, FullState, GhostCondition, Impedances,
 };
+
+/// Which system DGMPM solves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Physics {
+    /// Small-strain linear elasticity, `q = (σ, ρ v)` (paper eq. 7).
+    Linear,
+    /// Saint-Venant–Kirchhoff, total Lagrangian, `q = (F, ρ₀ v)` (paper eq. 5-6).
+    Svk { svk: Svk, riemann: RiemannSolver },
+}
 
 /// Most local nodes a cell can have (`2^3`).
 const MAX_NODES: usize = 8;
@@ -103,6 +115,9 @@ pub struct DgmpmSolver<const D: usize> {
     fluct_minus: [Vec<Conserved<D>>; D],
     fluct_plus: [Vec<Conserved<D>>; D],
     elastic: Elastic,
+    physics: Physics,
+    /// Largest wave speed the loads can produce (time step, guard).
+    wave_speed: f64,
 }
 
 /// DGMPM as a [`Method`]: solver plus state.
@@ -132,7 +147,25 @@ impl<const D: usize> Dgmpm<D> {
         let per_axis = problem.points_per_axis(config.points_per_cell)?;
         impact_core::scene::check_courant("courant", config.courant)?;
         let grid = problem.grid.clone();
-        let points = MaterialPoints::regular(&grid, per_axis, problem.material.density);
+        let mut points = MaterialPoints::regular(&grid, per_axis, problem.material.density);
+        if let Model::Svk(_) = problem.model {
+            let unsupported = |message: &str| CoreError::Unsupported {
+                method: "dgmpm".into(),
+                message: message.into(),
+            };
+            if D > 1 && config.flux == TransverseFlux::Ctu {
+                return Err(unsupported(
+                    "the CTU transverse solver is implemented for linear elasticity; \
+                     use --flux dcu with Saint-Venant-Kirchhoff",
+                ));
+            }
+            if D > 1 && config.riemann == RiemannSolver::Exact {
+                return Err(unsupported(
+                    "the exact Saint-Venant-Kirchhoff Riemann solver is 1D; use --riemann approximate in 2D",
+                ));
+            }
+            points = points.with_deformation();
+        }
         let solver = DgmpmSolver::new(problem, config, &points);
         Ok(Self {
             solver,
@@ -201,6 +234,14 @@ impl<const D: usize> DgmpmSolver<D> {
             fluct_minus: fluct(),
             fluct_plus: fluct(),
             elastic,
+            physics: match problem.model {
+                Model::LinearElastic => Physics::Linear,
+                Model::Svk(svk) => Physics::Svk {
+                    svk,
+                    riemann: config.riemann,
+                },
+            },
+            wave_speed: problem.max_wave_speed(),
             grid,
         }
     }
@@ -210,6 +251,11 @@ impl<const D: usize> DgmpmSolver<D> {
         let npc = Grid::<D>::NODES_PER_CELL;
         let ppc = self.points_per_cell;
         let (shape, parallel) = (&self.shape, self.parallel);
+        // the tensor field: σ (linear elasticity) or F (SVK)
+        let source = match self.physics {
+            Physics::Linear => &points.stress,
+            Physics::Svk { .. } => &points.deformation,
+        };
         let kernel =
             |c: usize, mass: &mut [f64], stress: &mut [Tensor<D>], vel: &mut [Vector<D>]| {
                 for a in 0..npc {
@@ -219,7 +265,7 @@ impl<const D: usize> DgmpmSolver<D> {
                     for p in c * ppc..(c + 1) * ppc {
                         let w = shape[p * npc + a] * points.mass[p];
                         m += w;
-                        s += points.stress[p] * w;
+                        s += source[p] * w;
                         v += points.velocity[p] * w;
                     }
                     mass[a] = m;
@@ -380,9 +426,24 @@ impl<const D: usize> DgmpmSolver<D> {
                 let (lc, rc, s) = this.face_cells(l, f);
                 let left = lc.map(|c| Self::side_state(stress, velocity, c, l, true));
                 let right = rc.map(|c| Self::side_state(stress, velocity, c, l, false));
-                let (a, b) = this.face_pair(l, left, right, s);
-                let star = linear_elastic_star(&a.on_face(&e), &b.on_face(&e), &e, this.elastic.z);
-                *flux = normal_flux(&star, &e, &this.elastic);
+                let star = match this.physics {
+                    Physics::Linear => {
+                        let (a, b) = this.face_pair(l, left, right, s);
+                        let star =
+                            linear_elastic_star(&a.on_face(&e), &b.on_face(&e), &e, this.elastic.z);
+                        *flux = normal_flux(&star, &e, &this.elastic);
+                        star
+                    }
+                    Physics::Svk { svk, riemann } => {
+                        let star = this.svk_star(&svk, riemann, l, left, right, s);
+                        // F_n(q*) = -(v* ⊗ n, Π* n)
+                        *flux = Conserved {
+                            stress: -(star.velocity * e.transpose()),
+                            momentum: -star.traction,
+                        };
+                        star
+                    }
+                };
                 match (lc, rc) {
                     // traction on the body σ* n_out, n_out = -e_l at the low boundary
                     (None, _) => -area * star.traction.dot(&star.velocity),
@@ -406,6 +467,91 @@ impl<const D: usize> DgmpmSolver<D> {
             self.face_flux[l] = fluxes;
         }
         power
+    }
+
+    /// Star state of a face for Saint-Venant–Kirchhoff (`FullState::stress` holds `F`),
+    /// in the `+e_l` orientation. Boundary faces solve the half problem: exactly in 1D
+    /// ([`riemann::svk::exact_boundary_1d`]); with the acoustic solver through the mirror
+    /// state of [`ghost_state`] carrying the interior's impedance. A face with no admissible
+    /// state (hyperbolicity lost) gets a NaN state, which the guard reports.
+    fn svk_star(
+        &self,
+        svk: &Svk,
+        riemann: RiemannSolver,
+        l: usize,
+        left: Option<FullState<D>>,
+        right: Option<FullState<D>>,
+        s: f64,
+    ) -> riemann::FaceState<D> {
+        let e = unit::<D>(l);
+        let nan = riemann::FaceState {
+            traction: Vector::<D>::from_element(f64::NAN),
+            velocity: Vector::<D>::from_element(f64::NAN),
+        };
+        let one_d = |(v, pi): (f64, f64)| riemann::FaceState {
+            traction: e * pi,
+            velocity: e * v,
+        };
+        match (riemann, left, right) {
+            (RiemannSolver::Exact, Some(a), Some(b)) if D == 1 => riemann::svk::exact_star_1d(
+                svk,
+                (a.stress[(0, 0)], a.velocity[0]),
+                (b.stress[(0, 0)], b.velocity[0]),
+            )
+            .map_or(nan, one_d),
+            (RiemannSolver::Exact, a, b) if D == 1 => {
+                let (inner, side) = match (a, b) {
+                    (Some(a), None) => (a, 1),
+                    (None, Some(b)) => (b, 0),
+                    _ => unreachable!("internal: a face has at least one cell"),
+                };
+                let outward = if side == 0 { -1.0 } else { 1.0 };
+                let cond = match self.ghost_condition(l, side, s) {
+                    GhostCondition::Traction(t) => GhostCondition::Traction(Vector::<1>::new(t[0])),
+                    GhostCondition::NormalVelocity(v) => GhostCondition::NormalVelocity(v),
+                };
+                riemann::svk::exact_boundary_1d(
+                    svk,
+                    (inner.stress[(0, 0)], inner.velocity[0]),
+                    outward,
+                    cond,
+                )
+                .map_or(nan, one_d)
+            }
+            (_, Some(a), Some(b)) => riemann::svk::acoustic_star(
+                svk,
+                (&a.stress, &a.velocity),
+                (&b.stress, &b.velocity),
+                &e,
+            )
+            .unwrap_or(nan),
+            (_, a, b) => {
+                let (inner, side) = match (a, b) {
+                    (Some(a), None) => (a, 1),
+                    (None, Some(b)) => (b, 0),
+                    _ => unreachable!("internal: a face has at least one cell"),
+                };
+                let sign = if side == 0 { -1.0 } else { 1.0 };
+                let outward = e * sign;
+                // solve along the outward normal with the interior on the left
+                let interior = riemann::FaceState {
+                    traction: svk.piola(&inner.stress) * outward,
+                    velocity: inner.velocity,
+                };
+                let z = riemann::svk::impedance(svk, &inner.stress, &outward);
+                riemann::svk::acoustic_boundary(
+                    &z,
+                    &interior,
+                    &outward,
+                    self.ghost_condition(l, side, s),
+                )
+                .map(|st| riemann::FaceState {
+                    traction: st.traction * sign,
+                    velocity: st.velocity,
+                })
+                .unwrap_or(nan)
+            }
+        }
     }
 
     /// Fluctuations `(A⁻Δq, A⁺Δq)` of the face between `left` and `right` (normal `e_l`).
@@ -607,6 +753,7 @@ impl<const D: usize> DgmpmSolver<D> {
         let (shape, grad) = (&self.shape, &self.shape_gradient);
         let (mass, stress, velocity) = (&self.node_mass, &self.node_stress, &self.node_velocity);
         let face_flux = &self.face_flux;
+        let physics = self.physics;
         let kernel = |c: usize, rs: &mut [Tensor<D>], rv: &mut [Vector<D>]| {
             let mut strain = [Tensor::<D>::zeros(); MAX_NODES];
             let mut force = [Vector::<D>::zeros(); MAX_NODES];
@@ -622,9 +769,21 @@ impl<const D: usize> DgmpmSolver<D> {
                     vh += nv[b] * s[b];
                 }
                 let vol = points.volume[p];
-                for a in 0..npc {
-                    strain[a] -= sym(&vh, &g[a]) * vol;
-                    force[a] -= (sh * g[a]) * vol;
+                match physics {
+                    Physics::Linear => {
+                        for a in 0..npc {
+                            strain[a] -= sym(&vh, &g[a]) * vol;
+                            force[a] -= (sh * g[a]) * vol;
+                        }
+                    }
+                    Physics::Svk { svk, .. } => {
+                        // volume term of F: -V v_h ⊗ ∇S; of ρ₀v: -V Π(F_h) ∇S
+                        let pi = svk.piola(&sh);
+                        for a in 0..npc {
+                            strain[a] -= (vh * g[a].transpose()) * vol;
+                            force[a] -= (pi * g[a]) * vol;
+                        }
+                    }
                 }
             }
             let idx = grid.cell_multi_index(c);
@@ -649,7 +808,11 @@ impl<const D: usize> DgmpmSolver<D> {
             for a in 0..npc {
                 let m = mass[c * npc + a];
                 if m > 0.0 {
-                    rs[a] = (material.stress(&strain[a]) + stress_flux[a]) * (density / m);
+                    let volume_part = match physics {
+                        Physics::Linear => material.stress(&strain[a]),
+                        Physics::Svk { .. } => strain[a],
+                    };
+                    rs[a] = (volume_part + stress_flux[a]) * (density / m);
                     rv[a] = force[a] / m;
                 } else {
                     rs[a] = Tensor::<D>::zeros();
@@ -723,20 +886,28 @@ impl<const D: usize> DgmpmSolver<D> {
                 }
             }
         };
+        // the tensor field: σ (linear elasticity) or F (SVK)
+        let target = match self.physics {
+            Physics::Linear => &mut points.stress,
+            Physics::Svk { .. } => &mut points.deformation,
+        };
         if self.parallel {
-            points
-                .stress
+            target
                 .par_chunks_mut(ppc)
                 .zip(points.velocity.par_chunks_mut(ppc))
                 .enumerate()
                 .for_each(|(c, (s, v))| kernel(c, s, v));
         } else {
-            points
-                .stress
+            target
                 .chunks_mut(ppc)
                 .zip(points.velocity.chunks_mut(ppc))
                 .enumerate()
                 .for_each(|(c, (s, v))| kernel(c, s, v));
+        }
+        if let Physics::Svk { svk, .. } = self.physics {
+            for (s, f) in points.stress.iter_mut().zip(&points.deformation) {
+                *s = svk.piola(f);
+            }
         }
     }
 
@@ -775,6 +946,10 @@ impl<const D: usize> DgmpmSolver<D> {
             }
         }
         self.nodes_to_particles(&mut state.points);
+        // points move with the velocity solution (output only: the grid is the reference)
+        for (x, v) in state.points.position.iter_mut().zip(&state.points.velocity) {
+            *x += v * dt;
+        }
     }
 }
 
@@ -783,8 +958,7 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
         &self.solver.config
     }
     fn stable_dt(&self) -> f64 {
-        self.solver.config.courant * self.solver.grid.min_spacing()
-            / self.solver.material.p_wave_speed::<D>()
+        self.solver.config.courant * self.solver.grid.min_spacing() / self.solver.wave_speed
     }
     fn step(&mut self, _t: f64, dt: f64) {
         self.solver.step(&mut self.state, dt);
@@ -803,8 +977,11 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
         let m = &self.solver.material;
         (0..p.len())
             .map(|i| {
-                0.5 * p.mass[i] * p.velocity[i].norm_squared()
-                    + p.volume[i] * m.energy_density(&p.stress[i])
+                let strain = match self.solver.physics {
+                    Physics::Linear => m.energy_density(&p.stress[i]),
+                    Physics::Svk { svk, .. } => svk.energy_density(&p.deformation[i]),
+                };
+                0.5 * p.mass[i] * p.velocity[i].norm_squared() + p.volume[i] * strain
             })
             .sum()
     }
@@ -826,8 +1003,21 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
             {
                 return Err(BadState {
                     place: p.reference[i],
-                    reason: "non-finite stress or velocity at a material point".into(),
+                    reason: match self.solver.physics {
+                        Physics::Linear => "non-finite stress or velocity at a material point".into(),
+                        Physics::Svk { .. } => "non-finite state at a material point: no admissible Riemann \
+                                                state (Saint-Venant-Kirchhoff hyperbolicity lost at F = 1/√3)"
+                            .into(),
+                    },
                 });
+            }
+            if let Physics::Svk { svk, .. } = self.solver.physics {
+                if !svk.admissible(&p.deformation[i], self.solver.wave_speed) {
+                    return Err(BadState {
+                        place: p.reference[i],
+                        reason: Svk::inadmissible_reason(&p.deformation[i]),
+                    });
+                }
             }
         }
         Ok(())

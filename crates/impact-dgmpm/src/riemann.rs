@@ -536,3 +536,445 @@ mod flux_tests {
         }
     }
 }
+
+/// Saint-Venant–Kirchhoff Riemann solvers (paper §4, §5.3), for the total Lagrangian system
+/// `q = (F, ρ₀ v)`, `F_n(q) = -(v ⊗ n, Π(F) n)` (paper eq. 6).
+pub mod svk {
+    use super::{FaceState, GhostCondition};
+    use impact_core::material::Svk;
+    use impact_core::{Tensor, Vector};
+
+    /// Velocity behind a wave of the 1D system reaching the stress `pi` from the state
+    /// `(f, v)`: a left-going (1-) wave if `left` (the state on its left), else a
+    /// right-going (2-) wave. Rarefaction (the Riemann invariant `v ∓ φ(F)` holds) when
+    /// the stretch decreases across it, shock (Rankine–Hugoniot,
+    /// `[v]² = [Π][F]/ρ₀`) otherwise. `None` beyond the hyperbolicity limit.
+    pub fn wave_velocity_1d(m: &Svk, f: f64, v: f64, pi: f64, left: bool) -> Option<f64> {
+        let f_star = m.stretch_for_1d(pi)?;
+        let pi_side = m.piola_1d(f);
+        let jump = if f_star < f {
+            m.riemann_phi_1d(f_star) - m.riemann_phi_1d(f)
+        } else {
+            ((pi - pi_side) * (f_star - f) / m.linear.density)
+                .max(0.0)
+                .sqrt()
+        };
+        Some(if left { v + jump } else { v - jump })
+    }
+
+    /// Root of the increasing function `g` on `(lo, ∞)`: bracket by doubling from `guess`,
+    /// then Newton with slope `slope(π)` safeguarded by bisection. `None` when `g(lo) > 0`.
+    fn solve_increasing(
+        g: impl Fn(f64) -> Option<f64>,
+        slope: impl Fn(f64) -> f64,
+        lo: f64,
+        guess: f64,
+        scale: f64,
+    ) -> Option<f64> {
+        let (mut a, mut b) = (lo, guess.max(lo + 1e-9 * scale));
+        if g(a)? > 0.0 {
+            return None;
+        }
+        let mut width = scale.max(1.0);
+        let mut gb = g(b)?;
+        let mut tries = 0;
+        while gb < 0.0 {
+            a = b;
+            b += width;
+            width *= 2.0;
+            gb = g(b)?;
+            tries += 1;
+            if tries > 200 {
+                return None;
+            }
+        }
+        let mut x = guess.clamp(a, b);
+        for _ in 0..200 {
+            let gx = g(x)?;
+            if gx == 0.0 {
+                return Some(x);
+            }
+            if gx < 0.0 {
+                a = x;
+            } else {
+                b = x;
+            }
+            let mut next = x - gx / slope(x);
+            if !(next > a && next < b) {
+                next = 0.5 * (a + b);
+            }
+            if (next - x).abs() <= 1e-14 * (x.abs() + 1e-6 * scale)
+                || b - a <= 1e-14 * (x.abs() + scale * 1e-6)
+            {
+                return Some(next);
+            }
+            x = next;
+        }
+        Some(x)
+    }
+
+    fn slope_1d(m: &Svk, pi: f64) -> f64 {
+        let f = m.stretch_for_1d(pi).unwrap_or(1.0);
+        1.0 / (m.linear.density * m.wave_speed_1d(f)).max(1e-300)
+    }
+
+    /// Exact 1D star state `(v*, Π*)` between `(F_L, v_L)` and `(F_R, v_R)`:
+    /// `v₁(Π*) = v₂(Π*)` with [`wave_velocity_1d`]. `None` if no admissible star state
+    /// exists (hyperbolicity lost).
+    pub fn exact_star_1d(m: &Svk, left: (f64, f64), right: (f64, f64)) -> Option<(f64, f64)> {
+        let (_, pi_min) = m.hyperbolicity_limit_1d();
+        let lo = pi_min * (1.0 - 1e-9);
+        let (pl, pr) = (m.piola_1d(left.0), m.piola_1d(right.0));
+        let (zl, zr) = (
+            m.linear.density * m.wave_speed_1d(left.0),
+            m.linear.density * m.wave_speed_1d(right.0),
+        );
+        let guess = (zr * pl + zl * pr + zl * zr * (right.1 - left.1)) / (zl + zr);
+        let g = |pi: f64| {
+            Some(
+                wave_velocity_1d(m, left.0, left.1, pi, true)?
+                    - wave_velocity_1d(m, right.0, right.1, pi, false)?,
+            )
+        };
+        let pi = solve_increasing(
+            g,
+            |p| 2.0 * slope_1d(m, p),
+            lo,
+            guess.max(lo),
+            m.linear.elastic.young * 1e-3,
+        )?;
+        Some((wave_velocity_1d(m, left.0, left.1, pi, true)?, pi))
+    }
+
+    /// Exact 1D boundary problem: the interior state `(F, v)`, the outward normal sign
+    /// `outward` (±1) and the condition give `(v*, Π*)`: a traction `t_d` fixes
+    /// `Π* = t_d · outward` and `v*` follows from the interior's wave curve; a normal velocity
+    /// fixes `v* = v_n · outward` and `Π*` is solved on that curve.
+    pub fn exact_boundary_1d(
+        m: &Svk,
+        interior: (f64, f64),
+        outward: f64,
+        condition: GhostCondition<1>,
+    ) -> Option<(f64, f64)> {
+        // the interior is on the left of a right boundary (1-wave), on the right of a left one
+        let interior_left = outward > 0.0;
+        match condition {
+            GhostCondition::Traction(t) => {
+                let pi = t[0] * outward;
+                Some((
+                    wave_velocity_1d(m, interior.0, interior.1, pi, interior_left)?,
+                    pi,
+                ))
+            }
+            GhostCondition::NormalVelocity(vn) => {
+                let v = vn * outward;
+                let (_, pi_min) = m.hyperbolicity_limit_1d();
+                let sign = if interior_left { 1.0 } else { -1.0 };
+                let g = |pi: f64| {
+                    Some(
+                        sign * (wave_velocity_1d(m, interior.0, interior.1, pi, interior_left)?
+                            - v),
+                    )
+                };
+                let guess = m.piola_1d(interior.0);
+                let pi = solve_increasing(
+                    g,
+                    |p| slope_1d(m, p),
+                    pi_min * (1.0 - 1e-9),
+                    guess,
+                    m.linear.elastic.young * 1e-3,
+                )?;
+                Some((v, pi))
+            }
+        }
+    }
+
+    /// Determinant of a 1×1 or 2×2 tensor.
+    fn small_det<const D: usize>(a: &Tensor<D>) -> f64 {
+        match D {
+            1 => a[(0, 0)],
+            2 => a[(0, 0)] * a[(1, 1)] - a[(0, 1)] * a[(1, 0)],
+            _ => unreachable!("internal: impact runs in 1D and 2D"),
+        }
+    }
+
+    /// Inverse of a 1×1 or 2×2 tensor (`None` if singular).
+    fn small_inverse<const D: usize>(a: &Tensor<D>) -> Option<Tensor<D>> {
+        let det = small_det(a);
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let mut inv = Tensor::<D>::zeros();
+        if D == 1 {
+            inv[(0, 0)] = 1.0 / det;
+        } else {
+            inv[(0, 0)] = a[(1, 1)] / det;
+            inv[(1, 1)] = a[(0, 0)] / det;
+            inv[(0, 1)] = -a[(0, 1)] / det;
+            inv[(1, 0)] = -a[(1, 0)] / det;
+        }
+        Some(inv)
+    }
+
+    /// Square root of a symmetric positive definite 1×1 or 2×2 tensor (closed form:
+    /// `√M = (M + √det M 1)/sqrt(tr M + 2 √det M)` in 2D).
+    pub fn spd_sqrt<const D: usize>(a: &Tensor<D>) -> Tensor<D> {
+        if D == 1 {
+            return a.map(|x| x.max(0.0).sqrt());
+        }
+        let det = small_det(a).max(0.0).sqrt();
+        let norm = (a.trace() + 2.0 * det).max(0.0).sqrt();
+        (a + Tensor::<D>::identity() * det) / norm
+    }
+
+    /// Approximate (acoustic) Riemann solver: each wave is linearised about its own side,
+    /// `t* - t_L = Z_L (v* - v_L)`, `t* - t_R = -Z_R (v* - v_R)`, with the impedance tensors
+    /// `Z = sqrt(ρ₀ A(F, n))` from the acoustic tensor (Toro 2009, §9.3; exact for linear
+    /// elasticity, where it is [`super::linear_elastic_star`]). `None` if an acoustic tensor
+    /// is not positive definite (hyperbolicity lost).
+    pub fn acoustic_star<const D: usize>(
+        m: &Svk,
+        (fl, vl): (&Tensor<D>, &Vector<D>),
+        (fr, vr): (&Tensor<D>, &Vector<D>),
+        n: &Vector<D>,
+    ) -> Option<FaceState<D>> {
+        let (zl, zr) = (impedance(m, fl, n), impedance(m, fr, n));
+        let left = FaceState {
+            traction: m.piola(fl) * n,
+            velocity: *vl,
+        };
+        let right = FaceState {
+            traction: m.piola(fr) * n,
+            velocity: *vr,
+        };
+        acoustic_star_tv(&zl, &left, &zr, &right)
+    }
+
+    /// Acoustic boundary half problem: the interior state on the left of the outward normal
+    /// `n`, the waves entering the interior obey `t* = t_i + Z (v* - v_i)`. A traction
+    /// condition fixes `t* = t_d` (`v* = v_i + Z⁻¹ (t_d - t_i)`); a normal-velocity condition
+    /// fixes `v*·n = v_d` and zero shear traction, which leaves the tangential velocity and the
+    /// normal traction to solve for (exact for any symmetric `Z`, also when shear and normal
+    /// waves couple at finite strain).
+    pub fn acoustic_boundary<const D: usize>(
+        z: &Tensor<D>,
+        interior: &FaceState<D>,
+        n: &Vector<D>,
+        condition: GhostCondition<D>,
+    ) -> Option<FaceState<D>> {
+        let state = match condition {
+            GhostCondition::Traction(t_d) => FaceState {
+                traction: t_d,
+                velocity: interior.velocity + small_inverse(z)? * (t_d - interior.traction),
+            },
+            GhostCondition::NormalVelocity(v_d) => {
+                let dvn = v_d - interior.velocity.dot(n);
+                let mut velocity = interior.velocity + n * dvn;
+                if D > 1 {
+                    let t = Vector::<D>::from_fn(|k, _| match k {
+                        0 => -n[1 % D],
+                        _ => n[0],
+                    });
+                    let (ztt, ztn) = (t.dot(&(z * t)), t.dot(&(z * n)));
+                    if ztt <= 0.0 {
+                        return None;
+                    }
+                    // 0 = t·t_i + Z_tn Δv_n + Z_tt Δv_t
+                    let dvt = -(t.dot(&interior.traction) + ztn * dvn) / ztt;
+                    velocity += t * dvt;
+                }
+                let traction = interior.traction + z * (velocity - interior.velocity);
+                // keep only the normal part: the shear traction is zero by construction
+                FaceState {
+                    traction: n * n.dot(&traction),
+                    velocity,
+                }
+            }
+        };
+        (state
+            .traction
+            .iter()
+            .chain(state.velocity.iter())
+            .all(|x| x.is_finite()))
+        .then_some(state)
+    }
+
+    /// Impedance tensor `Z = sqrt(ρ₀ A(F, n))`.
+    pub fn impedance<const D: usize>(m: &Svk, f: &Tensor<D>, n: &Vector<D>) -> Tensor<D> {
+        spd_sqrt(&(m.acoustic_tensor(f, n) * m.linear.density))
+    }
+
+    /// The acoustic star state from traction/velocity pairs and impedance tensors:
+    /// `v* = (Z_L + Z_R)⁻¹ (Z_L v_L + Z_R v_R + t_R - t_L)`, `t* = t_L + Z_L (v* - v_L)`.
+    pub fn acoustic_star_tv<const D: usize>(
+        zl: &Tensor<D>,
+        left: &FaceState<D>,
+        zr: &Tensor<D>,
+        right: &FaceState<D>,
+    ) -> Option<FaceState<D>> {
+        let sum = small_inverse(&(zl + zr))?;
+        let v = sum * (zl * left.velocity + zr * right.velocity + right.traction - left.traction);
+        let state = FaceState {
+            traction: left.traction + zl * (v - left.velocity),
+            velocity: v,
+        };
+        (state.traction.iter().all(|x| x.is_finite()) && zl.iter().all(|x| x.is_finite()))
+            .then_some(state)
+    }
+}
+
+#[cfg(test)]
+mod svk_tests {
+    use super::svk::*;
+    use super::{linear_elastic_star, FaceState, GhostCondition, Impedances};
+    use approx::assert_relative_eq;
+    use impact_core::material::{LinearElastic, Svk};
+    use impact_core::{Tensor, Vector};
+
+    fn m() -> Svk {
+        Svk::new(LinearElastic::new(2e11, 0.3, 7800.0))
+    }
+
+    #[test]
+    fn equal_states_are_their_own_star_state() {
+        let f = 0.995;
+        let (v, pi) = exact_star_1d(&m(), (f, 3.0), (f, 3.0)).unwrap();
+        assert_relative_eq!(v, 3.0, max_relative = 1e-10);
+        assert_relative_eq!(pi, m().piola_1d(f), max_relative = 1e-10);
+    }
+
+    /// A pure fan: the left state is the star state of a compressive load reached through
+    /// a rarefaction from rest; the solver returns it.
+    #[test]
+    fn pure_fan() {
+        let f = m().stretch_for_1d(-8e8).unwrap();
+        let v = -m().riemann_phi_1d(f);
+        let (vs, pis) = exact_star_1d(&m(), (f, v), (1.0, 0.0)).unwrap();
+        assert_relative_eq!(vs, v, max_relative = 1e-9);
+        assert_relative_eq!(pis, -8e8, max_relative = 1e-9);
+    }
+
+    /// A pure shock: a tensile state behind a Rankine–Hugoniot shock into rest.
+    #[test]
+    fn pure_shock() {
+        let f = m().stretch_for_1d(8e8).unwrap();
+        let s = (m().piola_1d(f) / (7800.0 * (f - 1.0))).sqrt();
+        let v = -s * (f - 1.0);
+        let (vs, pis) = exact_star_1d(&m(), (f, v), (1.0, 0.0)).unwrap();
+        assert_relative_eq!(vs, v, max_relative = 1e-9);
+        assert_relative_eq!(pis, 8e8, max_relative = 1e-9);
+    }
+
+    /// Hand-worked colliding state: two halves at ±10 m/s meet; by symmetry v* = 0. The
+    /// compression lowers the wave speed (Π'' > 0), so both waves are rarefactions (Lax):
+    /// the invariant v - φ(F) across the 1-wave gives φ(F*) = -10 m/s.
+    #[test]
+    fn colliding_halves() {
+        let (vs, pis) = exact_star_1d(&m(), (1.0, 10.0), (1.0, -10.0)).unwrap();
+        assert!(vs.abs() < 1e-9);
+        let f = m().stretch_for_1d(pis).unwrap();
+        assert!(f < 1.0);
+        assert_relative_eq!(m().riemann_phi_1d(f), -10.0, max_relative = 1e-9);
+        // pulling apart instead gives two shocks: [v]² = [Π][F]/ρ₀
+        let (vs, pis) = exact_star_1d(&m(), (1.0, -10.0), (1.0, 10.0)).unwrap();
+        assert!(vs.abs() < 1e-9 && pis > 0.0);
+        let f = m().stretch_for_1d(pis).unwrap();
+        assert_relative_eq!(100.0, pis * (f - 1.0) / 7800.0, max_relative = 1e-9);
+        let (_, pis) = exact_star_1d(&m(), (1.0, 10.0), (1.0, -10.0)).unwrap();
+        // weak waves: close to the acoustic value Z v
+        assert_relative_eq!(-pis, (7800.0 * 2e11f64).sqrt() * 10.0, max_relative = 0.01);
+    }
+
+    #[test]
+    fn boundary_problems_enforce_their_condition() {
+        let (v, pi) = exact_boundary_1d(
+            &m(),
+            (1.0, 0.0),
+            -1.0,
+            GhostCondition::Traction(Vector::<1>::new(8e8)),
+        )
+        .unwrap();
+        assert_relative_eq!(pi, -8e8, max_relative = 1e-12);
+        assert_relative_eq!(
+            v,
+            -m().riemann_phi_1d(m().stretch_for_1d(-8e8).unwrap()),
+            max_relative = 1e-9
+        );
+        let (v, pi) =
+            exact_boundary_1d(&m(), (1.0, 0.0), -1.0, GhostCondition::NormalVelocity(-5.0))
+                .unwrap();
+        assert_relative_eq!(v, 5.0, max_relative = 1e-12);
+        assert!(pi < 0.0);
+        // loads beyond the hyperbolicity limit have no star state
+        let (_, pi_min) = m().hyperbolicity_limit_1d();
+        assert!(exact_boundary_1d(
+            &m(),
+            (1.0, 0.0),
+            -1.0,
+            GhostCondition::Traction(Vector::<1>::new(-pi_min * 1.01))
+        )
+        .is_none());
+    }
+
+    /// At F = 1 the acoustic solver is the linear one.
+    #[test]
+    fn acoustic_solver_is_linear_at_rest() {
+        let svk = m();
+        let (f, n) = (Tensor::<2>::identity(), Vector::<2>::new(0.0, 1.0));
+        let (vl, vr) = (Vector::<2>::new(1.0, -2.0), Vector::<2>::new(-0.5, 3.0));
+        let s = acoustic_star(&svk, (&f, &vl), (&f, &vr), &n).unwrap();
+        let (zp, zs) = svk.linear.impedances::<2>();
+        let zero = Vector::<2>::zeros();
+        let lin = linear_elastic_star(
+            &FaceState {
+                traction: zero,
+                velocity: vl,
+            },
+            &FaceState {
+                traction: zero,
+                velocity: vr,
+            },
+            &n,
+            Impedances { p: zp, s: zs },
+        );
+        assert_relative_eq!(s.velocity, lin.velocity, max_relative = 1e-12);
+        assert_relative_eq!(s.traction, lin.traction, max_relative = 1e-12);
+        let a = Tensor::<2>::new(4.0, 1.0, 1.0, 3.0);
+        let r = spd_sqrt(&a);
+        assert_relative_eq!(r * r, a, max_relative = 1e-12);
+    }
+}
+
+#[cfg(test)]
+mod acoustic_boundary_tests {
+    use super::svk::acoustic_boundary;
+    use super::{FaceState, GhostCondition};
+    use approx::assert_relative_eq;
+    use impact_core::{Tensor, Vector};
+
+    /// With a coupled (non-diagonal) impedance the boundary state still meets the condition
+    /// exactly and lies on the interior's wave relation.
+    #[test]
+    fn boundary_state_meets_its_condition_with_coupled_impedance() {
+        let z = Tensor::<2>::new(4.0e7, 0.6e7, 0.6e7, 2.2e7);
+        let inner = FaceState {
+            traction: Vector::<2>::new(-3e8, 4e7),
+            velocity: Vector::<2>::new(2.0, -0.7),
+        };
+        let n = Vector::<2>::new(-1.0, 0.0);
+        let s = acoustic_boundary(&z, &inner, &n, GhostCondition::NormalVelocity(-100.0)).unwrap();
+        assert_relative_eq!(s.velocity.dot(&n), -100.0, max_relative = 1e-12);
+        assert_eq!(s.traction[1], 0.0);
+        let rel = inner.traction + z * (s.velocity - inner.velocity);
+        assert_relative_eq!(rel, s.traction, max_relative = 1e-12);
+        let t_d = Vector::<2>::new(1e8, 0.0);
+        let s = acoustic_boundary(&z, &inner, &n, GhostCondition::Traction(t_d)).unwrap();
+        assert_eq!(s.traction, t_d);
+        assert_relative_eq!(
+            inner.traction + z * (s.velocity - inner.velocity),
+            t_d,
+            max_relative = 1e-12,
+            epsilon = 1e-6
+        );
+    }
+}

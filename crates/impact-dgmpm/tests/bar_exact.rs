@@ -17,6 +17,7 @@ fn config(courant: f64, ppc: usize, integrator: Integrator) -> MethodConfig {
         stress_update: StressUpdate::Usl,
         frame: MpmFrame::TotalLagrangian,
         flux: TransverseFlux::Ctu,
+        riemann: impact_core::method::RiemannSolver::Exact,
     }
 }
 

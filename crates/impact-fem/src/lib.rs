@@ -4,9 +4,12 @@
 //!
 //! Central differences with the standard half-step start (Belytschko et al., *Nonlinear
 //! Finite Elements*, Box 6.1):
+//! With Saint-Venant–Kirchhoff the internal force is the total Lagrangian one,
+//! `f_int,a = Σ_g w_g V_e Π(F_g) ∇N_a`, `F_g = 1 + Σ_b u_b ⊗ ∇N_b(ξ_g)`.
+//!
 //! `a^n = M⁻¹ (f_ext - f_int(u^n))`, `v^{n+1/2} = v^{n-1/2} + Δt_avg a^n` (first step:
 //! `v^{1/2} = v^0 + Δt/2 a^0`), `u^{n+1} = u^n + Δt v^{n+1/2}`, with
-//! `f_int,a = Σ_g w_g V_e σ_g ∇N_a(ξ_g)`, `σ_g = C : sym(Σ_b u_b ⊗ ∇N_b(ξ_g))`.
+//! `f_int,a = Σ_g w_g V_e σ_g ∇N_a(ξ_g)`, `σ_g = C : sym(∇u_g)`, `∇u_g = Σ_b u_b ⊗ ∇N_b(ξ_g)`.
 //!
 //! One step, one phase per function: [`FemSolver::velocity_update`],
 //! [`FemSolver::displacement_update`], [`FemSolver::internal_forces_into`] (which already
@@ -19,7 +22,7 @@
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
-use impact_core::method::{BadState, Method, MethodConfig, Samples};
+use impact_core::method::{BadState, Method, MethodConfig, Model, Samples};
 use impact_core::problem::Boundary;
 use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
 
@@ -48,6 +51,8 @@ pub struct FemSolver<const D: usize> {
     config: MethodConfig,
     grid: Grid<D>,
     material: LinearElastic,
+    model: Model,
+    wave_speed: f64,
     mass: Vec<f64>,
     external: Vec<Vector<D>>,
     /// `(node, axis, velocity)` prescribed.
@@ -69,11 +74,6 @@ pub struct Fem<const D: usize> {
     pub solver: FemSolver<D>,
     /// Nodal state.
     pub state: FemState<D>,
-}
-
-fn sym<const D: usize>(a: &Vector<D>, b: &Vector<D>) -> Tensor<D> {
-    let outer = a * b.transpose();
-    (outer + outer.transpose()) * 0.5
 }
 
 impl<const D: usize> Fem<D> {
@@ -166,6 +166,8 @@ impl<const D: usize> Fem<D> {
             config,
             grid,
             material: problem.material,
+            model: problem.model,
+            wave_speed: problem.max_wave_speed(),
             mass,
             external,
             constraints,
@@ -203,15 +205,35 @@ impl<const D: usize> FemSolver<D> {
             }
             for q in 0..npc {
                 let g = &self.gauss_gradient[q * npc..(q + 1) * npc];
-                let mut strain = Tensor::<D>::zeros();
+                let mut grad = Tensor::<D>::zeros();
                 for a in 0..npc {
-                    strain += sym(&displacement[nodes[a]], &g[a]);
+                    grad += displacement[nodes[a]] * g[a].transpose();
                 }
-                let stress = self.material.stress(&strain);
+                let stress = self.stress_of(&grad);
                 for a in 0..npc {
                     self.force[nodes[a]] += (stress * g[a]) * volume;
                 }
             }
+        }
+    }
+
+    /// Stress from the displacement gradient `∇u`: `C : sym(∇u)` or `Π(1 + ∇u)`.
+    #[inline]
+    fn stress_of(&self, grad: &Tensor<D>) -> Tensor<D> {
+        match self.model {
+            Model::LinearElastic => self.material.stress(&((grad + grad.transpose()) * 0.5)),
+            Model::Svk(svk) => svk.piola(&(Tensor::<D>::identity() + grad)),
+        }
+    }
+
+    /// Strain energy density from the displacement gradient.
+    #[inline]
+    fn energy_of(&self, grad: &Tensor<D>) -> f64 {
+        match self.model {
+            Model::LinearElastic => self
+                .material
+                .energy_density(&self.material.stress(&((grad + grad.transpose()) * 0.5))),
+            Model::Svk(svk) => svk.energy_density(&(Tensor::<D>::identity() + grad)),
         }
     }
 
@@ -273,14 +295,12 @@ impl<const D: usize> FemSolver<D> {
 
     /// Stress at the centre of element `c`.
     fn centre_stress(&self, state: &FemState<D>, c: usize) -> Tensor<D> {
-        let mut strain = Tensor::<D>::zeros();
+        let mut grad = Tensor::<D>::zeros();
         for a in 0..Grid::<D>::NODES_PER_CELL {
-            strain += sym(
-                &state.displacement[self.grid.vertex_of(c, a)],
-                &self.centre_gradient[a],
-            );
+            grad +=
+                state.displacement[self.grid.vertex_of(c, a)] * self.centre_gradient[a].transpose();
         }
-        self.material.stress(&strain)
+        self.stress_of(&grad)
     }
 
     /// The mesh.
@@ -303,8 +323,7 @@ impl<const D: usize> Method<D> for Fem<D> {
         &self.solver.config
     }
     fn stable_dt(&self) -> f64 {
-        self.solver.config.courant * self.solver.grid.min_spacing()
-            / self.solver.material.p_wave_speed::<D>()
+        self.solver.config.courant * self.solver.grid.min_spacing() / self.solver.wave_speed
     }
     fn step(&mut self, _t: f64, dt: f64) {
         self.solver.step(&mut self.state, dt);
@@ -341,11 +360,11 @@ impl<const D: usize> Method<D> for Fem<D> {
         for c in 0..s.grid.cell_count() {
             for q in 0..npc {
                 let g = &s.gauss_gradient[q * npc..(q + 1) * npc];
-                let mut strain = Tensor::<D>::zeros();
+                let mut grad = Tensor::<D>::zeros();
                 for a in 0..npc {
-                    strain += sym(&self.state.displacement[s.grid.vertex_of(c, a)], &g[a]);
+                    grad += self.state.displacement[s.grid.vertex_of(c, a)] * g[a].transpose();
                 }
-                strain_energy += volume * s.material.energy_density(&s.material.stress(&strain));
+                strain_energy += volume * s.energy_of(&grad);
             }
         }
         kinetic + strain_energy
@@ -372,6 +391,24 @@ impl<const D: usize> Method<D> for Fem<D> {
                     place: self.solver.grid.vertex_position(i),
                     reason: "non-finite displacement or velocity at a node".into(),
                 });
+            }
+        }
+        if let Model::Svk(svk) = self.solver.model {
+            let npc = Grid::<D>::NODES_PER_CELL;
+            let g = &self.solver.grid;
+            for c in 0..g.cell_count() {
+                let mut grad = Tensor::<D>::zeros();
+                for a in 0..npc {
+                    grad += self.state.displacement[g.vertex_of(c, a)]
+                        * self.solver.centre_gradient[a].transpose();
+                }
+                let f = Tensor::<D>::identity() + grad;
+                if !svk.admissible(&f, self.solver.wave_speed) {
+                    return Err(BadState {
+                        place: g.cell_centre(c),
+                        reason: impact_core::material::Svk::inadmissible_reason(&f),
+                    });
+                }
             }
         }
         Ok(())

@@ -41,7 +41,7 @@
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
-use impact_core::method::{BadState, Method, MethodConfig, MpmFrame, Samples, StressUpdate};
+use impact_core::method::{BadState, Method, MethodConfig, Model, MpmFrame, Samples, StressUpdate};
 use impact_core::points::MaterialPoints;
 use impact_core::problem::Boundary;
 use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
@@ -90,6 +90,9 @@ pub struct MpmSolver<const D: usize> {
     body: Grid<D>,
     grid: Grid<D>,
     material: LinearElastic,
+    model: Model,
+    /// Largest wave speed the loads can produce (time step).
+    wave_speed: f64,
     loads: Vec<SurfaceLoad<D>>,
     velocity_edges: Vec<VelocityEdge>,
     node_mass: Vec<f64>,
@@ -112,18 +115,24 @@ pub struct Mpm<const D: usize> {
     pub state: MpmState<D>,
 }
 
-fn sym<const D: usize>(a: &Vector<D>, b: &Vector<D>) -> Tensor<D> {
-    let outer = a * b.transpose();
-    (outer + outer.transpose()) * 0.5
-}
-
 impl<const D: usize> Mpm<D> {
     /// Build MPM for `problem`.
     pub fn new(problem: &Problem<D>, config: MethodConfig) -> Result<Self, CoreError> {
         let per_axis = problem.points_per_axis(config.points_per_cell)?;
         impact_core::scene::check_courant("courant", config.courant)?;
         let body = problem.grid.clone();
-        let points = MaterialPoints::regular(&body, per_axis, problem.material.density);
+        let mut points = MaterialPoints::regular(&body, per_axis, problem.material.density);
+        if let Model::Svk(_) = problem.model {
+            if config.frame != MpmFrame::TotalLagrangian {
+                return Err(CoreError::Unsupported {
+                    method: "mpm".into(),
+                    message: "Saint-Venant-Kirchhoff is solved in the total Lagrangian frame \
+                              (--frame total-lagrangian)"
+                        .into(),
+                });
+            }
+            points = points.with_deformation();
+        }
         let mut cells = body.cells;
         for c in cells.iter_mut() {
             *c += 2 * PADDING;
@@ -192,6 +201,8 @@ impl<const D: usize> Mpm<D> {
                 config,
                 body,
                 material: problem.material,
+                model: problem.model,
+                wave_speed: problem.max_wave_speed(),
                 loads,
                 velocity_edges,
                 node_mass: vec![0.0; nodes],
@@ -444,23 +455,30 @@ impl<const D: usize> MpmSolver<D> {
         }
     }
 
-    /// Phase 5: stress and volume update from the nodal velocity.
+    /// Phase 5: stress and volume update from the nodal velocity (linear elasticity), or
+    /// `F += Δt ∇_X v`, `Π = Π(F)` (Saint-Venant–Kirchhoff, total Lagrangian).
     pub fn update_stress(&self, points: &mut MaterialPoints<D>, dt: f64) {
         let npc = Grid::<D>::NODES_PER_CELL;
         for p in 0..points.len() {
             let c = self.point_cell[p];
+            // velocity gradient ∇v = Σ_i v_i ⊗ ∇N_ip (∇_X in the total Lagrangian frame)
             let mut l = Tensor::<D>::zeros();
             for a in 0..npc {
                 let i = self.grid.vertex_of(c, a);
                 let m = self.node_mass[i];
                 if m > 0.0 {
-                    l += sym(
-                        &(self.node_momentum[i] / m),
-                        &self.shape_gradient[p * npc + a],
-                    );
+                    l += (self.node_momentum[i] / m) * self.shape_gradient[p * npc + a].transpose();
                 }
             }
-            points.stress[p] += self.material.stress(&l) * dt;
+            match self.model {
+                Model::LinearElastic => {
+                    points.stress[p] += self.material.stress(&((l + l.transpose()) * 0.5)) * dt;
+                }
+                Model::Svk(svk) => {
+                    points.deformation[p] += l * dt;
+                    points.stress[p] = svk.piola(&points.deformation[p]);
+                }
+            }
             if self.config.frame == MpmFrame::UpdatedLagrangian {
                 points.volume[p] *= 1.0 + dt * l.trace();
             }
@@ -502,8 +520,7 @@ impl<const D: usize> Method<D> for Mpm<D> {
         &self.solver.config
     }
     fn stable_dt(&self) -> f64 {
-        self.solver.config.courant * self.solver.body.min_spacing()
-            / self.solver.material.p_wave_speed::<D>()
+        self.solver.config.courant * self.solver.body.min_spacing() / self.solver.wave_speed
     }
     fn step(&mut self, _t: f64, dt: f64) {
         self.solver.step(&mut self.state, dt);
@@ -522,8 +539,11 @@ impl<const D: usize> Method<D> for Mpm<D> {
         let m = &self.solver.material;
         (0..p.len())
             .map(|i| {
-                0.5 * p.mass[i] * p.velocity[i].norm_squared()
-                    + p.volume[i] * m.energy_density(&p.stress[i])
+                let strain = match self.solver.model {
+                    Model::LinearElastic => p.volume[i] * m.energy_density(&p.stress[i]),
+                    Model::Svk(svk) => p.volume[i] * svk.energy_density(&p.deformation[i]),
+                };
+                0.5 * p.mass[i] * p.velocity[i].norm_squared() + strain
             })
             .sum()
     }
@@ -548,6 +568,14 @@ impl<const D: usize> Method<D> for Mpm<D> {
                     place: p.reference[i],
                     reason: "non-finite stress, velocity or position at a material point".into(),
                 });
+            }
+            if let Model::Svk(svk) = self.solver.model {
+                if !svk.admissible(&p.deformation[i], self.solver.wave_speed) {
+                    return Err(BadState {
+                        place: p.reference[i],
+                        reason: impact_core::material::Svk::inadmissible_reason(&p.deformation[i]),
+                    });
+                }
             }
             let moving = self.solver.config.frame == MpmFrame::UpdatedLagrangian;
             if moving && self.solver.grid.locate(&p.position[i]).is_none() {
