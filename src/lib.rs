@@ -5,6 +5,7 @@
 //! scene through the controller with metrics and outputs ([`run::run_methods`]).
 pub mod output;
 pub mod run;
+pub mod stability;
 
 use impact_core::method::{
     Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, RiemannSolver, StressUpdate,

@@ -26,6 +26,9 @@ enum Command {
     /// Exit 0 only if DGMPM's front width and overshoot are below MPM's at every output
     /// time (each at the scene's Courant number; the method flags change DGMPM only).
     Check(CheckArgs),
+    /// Critical Courant numbers of every method and configuration: empirical (bisection on
+    /// perturbed runs) and, for DGMPM, von Neumann; writes stability.csv and stability.png.
+    Stability(StabilityArgs),
     /// List the shipped scenes.
     Scenes,
 }
@@ -94,6 +97,22 @@ struct RunArgs {
 struct CheckArgs {
     #[command(flatten)]
     scene: SceneArgs,
+}
+
+#[derive(Args)]
+struct StabilityArgs {
+    /// Dimensions to sweep.
+    #[arg(long, value_delimiter = ',', default_value = "1,2")]
+    dim: Vec<usize>,
+    /// Steps of each perturbed run in 1D.
+    #[arg(long, default_value_t = 20000)]
+    steps_1d: usize,
+    /// Steps of each perturbed run in 2D.
+    #[arg(long, default_value_t = 3000)]
+    steps_2d: usize,
+    /// Output folder.
+    #[arg(long, default_value = "out/stability")]
+    out: PathBuf,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -481,11 +500,56 @@ fn check_scene<const D: usize>(scene: &Scene, args: &CheckArgs) -> Result<bool> 
     Ok(ok)
 }
 
+fn stability_command(args: &StabilityArgs) -> Result<()> {
+    use impact::stability::{sweep, StabilityRow};
+    for &d in &args.dim {
+        if !(d == 1 || d == 2) {
+            bail!("--dim {d} is not supported (allowed: 1 and/or 2)");
+        }
+    }
+    if args.steps_1d == 0 || args.steps_2d == 0 {
+        bail!("--steps-1d/--steps-2d must be at least 1");
+    }
+    impact_io::create_dir(&args.out)?;
+    println!(
+        "{:>3} {:<6} {:>4} {:>8} {:>5} {:>10} {:>12}",
+        "dim", "method", "ppc", "integr.", "flux", "empirical", "von_neumann"
+    );
+    let print = |r: &StabilityRow| {
+        println!(
+            "{:>3} {:<6} {:>4} {:>8} {:>5} {:>10.4} {:>12}",
+            r.dim,
+            r.method,
+            r.points_per_cell,
+            r.integrator,
+            r.flux,
+            r.empirical,
+            r.von_neumann.map_or("-".to_string(), |v| format!("{v:.4}"))
+        )
+    };
+    let mut rows = Vec::new();
+    if args.dim.contains(&1) {
+        let scene = Scene::builtin("bar").expect("shipped scene");
+        let problem = Problem::<1>::from_scene(&scene)?;
+        rows.extend(sweep(&problem, &scene, args.steps_1d, print));
+    }
+    if args.dim.contains(&2) {
+        let mut scene = Scene::builtin("plate-wave").expect("shipped scene");
+        scene.domain.cells = vec![16, 12];
+        let problem = Problem::<2>::from_scene(&scene)?;
+        rows.extend(sweep(&problem, &scene, args.steps_2d, print));
+    }
+    impact::stability::write(&args.out, &rows)?;
+    println!("wrote {}", args.out.display());
+    Ok(())
+}
+
 fn main() {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Run(a) => run_command(a).map(|_| true),
         Command::Check(a) => check_command(a),
+        Command::Stability(a) => stability_command(a).map(|_| true),
         Command::Scenes => {
             for name in impact_core::scene::BUILTIN {
                 println!("{name}");

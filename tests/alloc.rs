@@ -1,7 +1,9 @@
 //! No heap allocation inside the step loop of any method: a counting global allocator
 //! watches 100 steps of each method and variant (grids below the parallel threshold; the
 //! rayon paths of large grids are not covered here).
-use impact_core::method::{Integrator, MethodKind, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux};
+use impact_core::method::{
+    Integrator, MethodKind, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
+};
 use impact_core::{Problem, Scene};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -34,7 +36,10 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
-fn steps_allocate<const D: usize>(problem: &Problem<D>, config: impact_core::method::MethodConfig) -> usize {
+fn steps_allocate<const D: usize>(
+    problem: &Problem<D>,
+    config: impact_core::method::MethodConfig,
+) -> usize {
     let mut m = impact::build(problem, config).unwrap();
     let dt = m.stable_dt();
     m.step(0.0, dt); // first step: lazily cached shape functions (MPM) are filled here
@@ -61,12 +66,28 @@ fn no_allocation_in_the_step_loop() {
         let problem = Problem::<1>::from_scene(&scene).unwrap();
         for kind in MethodKind::ALL {
             for (integrator, update, stress_update, riemann) in [
-                (Integrator::Euler, PointUpdate::Nodal, StressUpdate::Usl, RiemannSolver::Approximate),
-                (Integrator::Rk2, PointUpdate::Increment, StressUpdate::Musl, RiemannSolver::Exact),
-                (Integrator::Euler, PointUpdate::Nodal, StressUpdate::Usf, RiemannSolver::Exact),
+                (
+                    Integrator::Euler,
+                    PointUpdate::Nodal,
+                    StressUpdate::Usl,
+                    RiemannSolver::Approximate,
+                ),
+                (
+                    Integrator::Rk2,
+                    PointUpdate::Increment,
+                    StressUpdate::Musl,
+                    RiemannSolver::Exact,
+                ),
+                (
+                    Integrator::Euler,
+                    PointUpdate::Nodal,
+                    StressUpdate::Usf,
+                    RiemannSolver::Exact,
+                ),
             ] {
                 let mut c = impact::scene_config(&scene, kind);
-                (c.integrator, c.update, c.stress_update, c.riemann) = (integrator, update, stress_update, riemann);
+                (c.integrator, c.update, c.stress_update, c.riemann) =
+                    (integrator, update, stress_update, riemann);
                 c.courant = 0.5;
                 assert_eq!(steps_allocate(&problem, c), 0, "{name} {kind:?} {c:?}");
                 cases += 1;

@@ -95,6 +95,9 @@ pub trait Method<const D: usize>: Send {
     fn cells(&self) -> usize;
     /// Number of degrees of freedom updated per step (for throughput figures).
     fn updates_per_step(&self) -> usize;
+    /// Add `kick(i, X_i)` to the velocity of every velocity carrier `i` (points, or FEM nodes)
+    /// at reference position `X_i`: the perturbed start of the stability sweeps.
+    fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>);
     /// Nodal velocities and displacements of a conforming mesh on the body's grid, for the
     /// methods that have one (FEM); `None` for the point methods. Called at outputs only.
     fn mesh_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {

@@ -1032,6 +1032,12 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
             .copied()
             .unwrap_or_else(Vector::<D>::zeros)
     }
+    fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
+        let p = &mut self.state.points;
+        for i in 0..p.len() {
+            p.velocity[i] += kick(i, &p.reference[i]);
+        }
+    }
     fn cells(&self) -> usize {
         self.solver.grid.cell_count()
     }

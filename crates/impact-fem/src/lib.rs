@@ -420,6 +420,12 @@ impl<const D: usize> Method<D> for Fem<D> {
             .unwrap_or(0);
         self.solver.grid.vertex_position(i)
     }
+    fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
+        for i in 0..self.state.velocity_half.len() {
+            let x = self.solver.grid().vertex_position(i);
+            self.state.velocity_half[i] += kick(i, &x);
+        }
+    }
     fn cells(&self) -> usize {
         self.solver.grid.cell_count()
     }
