@@ -249,7 +249,9 @@ pub fn reference_for<const D: usize>(
         r
     );
     if say {
-        println!("computing the {description}");
+        use std::io::Write as _;
+        // a closed pipe only loses this line
+        let _ = writeln!(std::io::stdout(), "computing the {description}");
     }
     let mut method = build(&fine, config)?;
     let mut samples = impact_core::method::Samples::<D>::default();

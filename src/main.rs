@@ -11,6 +11,19 @@ use impact_core::method::{
 use impact_core::{Problem, Scene};
 use std::path::PathBuf;
 
+/// Print a line to stdout; a closed pipe (`impact run bar | head`) ends the program
+/// quietly instead of panicking.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+        }
+    }};
+}
+
 /// DGMPM vs MPM vs FEM for impact waves in solids.
 #[derive(Parser)]
 #[command(name = "impact", version, about)]
@@ -228,8 +241,8 @@ fn fmt_opt(v: Option<f64>, digits: usize) -> String {
 }
 
 fn print_header() {
-    println!(
-        "{:<6} {:>7} {:>4} {:>8} {:>6} {:>8} {:>10} {:>10} {:>10} {:>11} {:>10} {:>11}",
+    say!(
+        "{:<6} {:>7} {:>4} {:>8} {:>6} {:>8} {:>10} {:>10} {:>10} {:>11} {:>10} {:>11} {:>8} {:>8}",
         "method",
         "courant",
         "ppc",
@@ -241,14 +254,16 @@ fn print_header() {
         "Linf_rel",
         "front_cells",
         "overshoot%",
-        "energy_rel"
+        "energy_rel",
+        "front_m",
+        "exact_m"
     );
 }
 
 fn print_rows(r: &RunRecord) {
     for t in &r.times {
-        println!(
-            "{:<6} {:>7.3} {:>4} {:>8} {:>6} {:>8.4} {:>10.4} {:>10.3e} {:>10.3e} {:>11} {:>10} {:>11.3e}",
+        say!(
+            "{:<6} {:>7.3} {:>4} {:>8} {:>6} {:>8.4} {:>10.4} {:>10.3e} {:>10.3e} {:>11} {:>10} {:>11.3e} {:>8} {:>8}",
             r.method,
             r.courant,
             r.points_per_cell,
@@ -260,11 +275,13 @@ fn print_rows(r: &RunRecord) {
             t.linf_rel,
             fmt_opt(t.front_width_cells, 2),
             fmt_opt(t.overshoot_pct, 2),
-            t.energy_rel
+            t.energy_rel,
+            fmt_opt(t.front_position, 3),
+            fmt_opt(t.front_exact, 3)
         );
     }
     if let Some(e) = &r.error {
-        println!("{:<6} stopped: {e}", r.method);
+        say!("{:<6} stopped: {e}", r.method);
     }
 }
 
@@ -310,7 +327,7 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
     let mut dgmpm_positions = Vec::new();
     let mut maps: Vec<(String, impact::output::CellMap)> = Vec::new();
     let mut failures = Vec::new();
-    println!(
+    say!(
         "scene {} ({}D, {} cells, output times {:?} ms)",
         scene.name,
         D,
@@ -395,7 +412,7 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
         };
         stress_map(&dir.join("stress_map.png"), &grid2, &maps)?;
     }
-    println!("wrote {}", dir.display());
+    say!("wrote {}", dir.display());
     if !failures.is_empty() {
         bail!(
             "{} (frames written before the blow-up are kept in {})",
@@ -430,7 +447,7 @@ fn check_scene<const D: usize>(scene: &Scene, args: &CheckArgs) -> Result<bool> 
     let mpm = scene_config(scene, MethodKind::Mpm);
     let (dg_rec, dg_err) = run_method(&problem, dg, Some(&reference), &mut Silent)?;
     let (mpm_rec, mpm_err) = run_method(&problem, mpm, Some(&reference), &mut Silent)?;
-    println!(
+    say!(
         "check {}: DGMPM (courant {}, {} ppc, {}) vs MPM (courant {}, {} ppc, {})",
         scene.name,
         dg.courant,
@@ -440,9 +457,13 @@ fn check_scene<const D: usize>(scene: &Scene, args: &CheckArgs) -> Result<bool> 
         mpm.points_per_cell,
         mpm_rec.integrator
     );
-    println!(
+    say!(
         "{:>10} {:>13} {:>13} {:>13} {:>13}  verdict",
-        "t_ms", "dgmpm_front", "mpm_front", "dgmpm_over%", "mpm_over%"
+        "t_ms",
+        "dgmpm_front",
+        "mpm_front",
+        "dgmpm_over%",
+        "mpm_over%"
     );
     let mut ok = dg_err.is_none() && mpm_err.is_none();
     let worse = |v: Option<f64>| v.unwrap_or(f64::INFINITY);
@@ -473,7 +494,7 @@ fn check_scene<const D: usize>(scene: &Scene, args: &CheckArgs) -> Result<bool> 
                 "FAIL"
             }
         };
-        println!(
+        say!(
             "{:>10.4} {:>13} {:>13} {:>13} {:>13}  {verdict}",
             t * 1e3,
             fmt_opt(dw, 3),
@@ -483,13 +504,13 @@ fn check_scene<const D: usize>(scene: &Scene, args: &CheckArgs) -> Result<bool> 
         );
     }
     for e in [dg_err, mpm_err].into_iter().flatten() {
-        println!("stopped: {e}");
+        say!("stopped: {e}");
     }
     if compared == 0 {
-        println!("no output time has a front to compare");
+        say!("no output time has a front to compare");
         ok = false;
     }
-    println!(
+    say!(
         "{}",
         if ok {
             "PASS: DGMPM front sharper than MPM at every output time"
@@ -511,12 +532,18 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
         bail!("--steps-1d/--steps-2d must be at least 1");
     }
     impact_io::create_dir(&args.out)?;
-    println!(
+    say!(
         "{:>3} {:<6} {:>4} {:>8} {:>5} {:>10} {:>12}",
-        "dim", "method", "ppc", "integr.", "flux", "empirical", "von_neumann"
+        "dim",
+        "method",
+        "ppc",
+        "integr.",
+        "flux",
+        "empirical",
+        "von_neumann"
     );
     let print = |r: &StabilityRow| {
-        println!(
+        say!(
             "{:>3} {:<6} {:>4} {:>8} {:>5} {:>10.4} {:>12}",
             r.dim,
             r.method,
@@ -540,7 +567,7 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
         rows.extend(sweep(&problem, &scene, args.steps_2d, print));
     }
     impact::stability::write(&args.out, &rows)?;
-    println!("wrote {}", args.out.display());
+    say!("wrote {}", args.out.display());
     Ok(())
 }
 
@@ -552,7 +579,7 @@ fn main() {
         Command::Stability(a) => stability_command(a).map(|_| true),
         Command::Scenes => {
             for name in impact_core::scene::BUILTIN {
-                println!("{name}");
+                say!("{name}");
             }
             Ok(true)
         }
