@@ -320,6 +320,51 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
     }
 }
 
+/// The reference's σ_xx along x at `t` (averaged over cells of `length/1000` and, in 2D,
+/// over the bottom band `[0, band]`), labelled `exact` or `reference`.
+fn reference_series(r: &Reference, t: f64, length: f64, band: f64) -> Series {
+    let n = 1000;
+    let dx = length / n as f64;
+    let points = (0..n)
+        .map(|i| {
+            let x = (i as f64 + 0.5) * dx;
+            let lo = Vector::<2>::new(x - 0.5 * dx, 0.0);
+            let hi = Vector::<2>::new(x + 0.5 * dx, band);
+            (x, r.averages(&lo, &hi, t).0)
+        })
+        .filter(|p| p.1.is_finite())
+        .collect();
+    let label = match r {
+        Reference::Bar(_) | Reference::SvkBar(_) => "exact",
+        Reference::Converged(_) => "reference",
+    };
+    Series {
+        label: label.into(),
+        points,
+        colour: 0,
+        reference: true,
+    }
+}
+
+/// Every method's profile at output time `t`.
+fn method_series(writers: &[(String, Profiles)], t: f64) -> Vec<Series> {
+    writers
+        .iter()
+        .enumerate()
+        .filter_map(|(m, (name, profiles))| {
+            profiles
+                .iter()
+                .find(|p| (p.0 - t).abs() <= 1e-12 * t.max(1e-30))
+                .map(|(_, pts)| Series {
+                    label: name.clone(),
+                    points: pts.clone(),
+                    colour: m + 1,
+                    reference: false,
+                })
+        })
+        .collect()
+}
+
 /// `stress.png`: one panel per output time (at most three), the reference and every
 /// method's σ_xx along x (the bottom row in 2D: the reference averaged over `band`).
 pub fn stress_plot(
@@ -342,43 +387,11 @@ pub fn stress_plot(
     let mut panels = Vec::new();
     for &k in &picks {
         let t = times[k];
-        let mut series = Vec::new();
-        if let Some(r) = reference {
-            let n = 1000;
-            let dx = length / n as f64;
-            let pts: Vec<(f64, f64)> = (0..n)
-                .map(|i| {
-                    let x = (i as f64 + 0.5) * dx;
-                    let lo = Vector::<2>::new(x - 0.5 * dx, 0.0);
-                    let hi = Vector::<2>::new(x + 0.5 * dx, band);
-                    (x, r.averages(&lo, &hi, t).0)
-                })
-                .filter(|p| p.1.is_finite())
-                .collect();
-            let label = match r {
-                Reference::Bar(_) | Reference::SvkBar(_) => "exact",
-                Reference::Converged(_) => "reference",
-            };
-            series.push(Series {
-                label: label.into(),
-                points: pts,
-                colour: 0,
-                reference: true,
-            });
-        }
-        for (m, (name, profiles)) in writers.iter().enumerate() {
-            if let Some((_, pts)) = profiles
-                .iter()
-                .find(|p| (p.0 - t).abs() <= 1e-12 * t.max(1e-30))
-            {
-                series.push(Series {
-                    label: name.clone(),
-                    points: pts.clone(),
-                    colour: m + 1,
-                    reference: false,
-                });
-            }
-        }
+        let mut series: Vec<Series> = reference
+            .map(|r| reference_series(r, t, length, band))
+            .into_iter()
+            .collect();
+        series.extend(method_series(writers, t));
         panels.push(Panel {
             title: format!("{scene}: t = {:.4} ms", t * 1e3),
             series,
@@ -414,38 +427,11 @@ pub fn svk_plot(
         });
     }
     let last = positions.last().map_or(0.0, |p| p.0);
-    let mut bottom = Vec::new();
-    if let Some(r) = reference {
-        let n = 2000;
-        let dx = length / n as f64;
-        let pts = (0..n)
-            .map(|i| {
-                let x = (i as f64 + 0.5) * dx;
-                let lo = Vector::<1>::new(x - 0.5 * dx);
-                let hi = Vector::<1>::new(x + 0.5 * dx);
-                (x, r.averages(&lo, &hi, last).0)
-            })
-            .collect();
-        bottom.push(Series {
-            label: "exact".into(),
-            points: pts,
-            colour: 0,
-            reference: true,
-        });
-    }
-    for (m, (name, profiles)) in writers.iter().enumerate() {
-        if let Some((_, pts)) = profiles
-            .iter()
-            .find(|p| (p.0 - last).abs() <= 1e-12 * last.max(1e-30))
-        {
-            bottom.push(Series {
-                label: name.clone(),
-                points: pts.clone(),
-                colour: m + 1,
-                reference: false,
-            });
-        }
-    }
+    let mut bottom: Vec<Series> = reference
+        .map(|r| reference_series(r, last, length, 0.0))
+        .into_iter()
+        .collect();
+    bottom.extend(method_series(writers, last));
     let panels = [
         Panel {
             title: format!("{scene}: DGMPM point positions (time in ms on the vertical axis)"),
