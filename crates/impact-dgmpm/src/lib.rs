@@ -412,8 +412,9 @@ impl<const D: usize> DgmpmSolver<D> {
     }
 
     /// Phase 2: the Godunov flux `F_{e_l}(q*)` on every face (exact Riemann solver, ghost
-    /// states on the boundary); returns the power delivered by the boundary conditions,
-    /// `Σ_boundary |Γ_f| (σ* n_out)·v*`.
+    /// states on the boundary) and, when CTU needs them, the fluctuations
+    /// `A⁻Δq = F(q*) - F(q_L)`, `A⁺Δq = F(q_R) - F(q*)` of the same Riemann problem;
+    /// returns the power delivered by the boundary conditions, `Σ_boundary |Γ_f| (σ* n_out)·v*`.
     pub fn interface_fluxes(&mut self) -> f64 {
         let (stress, velocity) = (&self.node_stress, &self.node_velocity);
         let mut power = 0.0;
@@ -421,17 +422,27 @@ impl<const D: usize> DgmpmSolver<D> {
             let e = unit::<D>(l);
             let area = self.grid.cell_volume() / self.grid.spacing[l];
             let mut fluxes = std::mem::take(&mut self.face_flux[l]);
+            let mut minus = std::mem::take(&mut self.fluct_minus[l]);
+            let mut plus = std::mem::take(&mut self.fluct_plus[l]);
+            let ctu = !minus.is_empty();
             let this = &*self;
-            let kernel = |f: usize, flux: &mut Conserved<D>| -> f64 {
+            let kernel = |f: usize,
+                          flux: &mut Conserved<D>,
+                          fluct: Option<(&mut Conserved<D>, &mut Conserved<D>)>|
+             -> f64 {
                 let (lc, rc, s) = this.face_cells(l, f);
                 let left = lc.map(|c| Self::side_state(stress, velocity, c, l, true));
                 let right = rc.map(|c| Self::side_state(stress, velocity, c, l, false));
                 let star = match this.physics {
                     Physics::Linear => {
                         let (a, b) = this.face_pair(l, left, right, s);
-                        let star =
-                            linear_elastic_star(&a.on_face(&e), &b.on_face(&e), &e, this.elastic.z);
+                        let (fa, fb) = (a.on_face(&e), b.on_face(&e));
+                        let star = linear_elastic_star(&fa, &fb, &e, this.elastic.z);
                         *flux = normal_flux(&star, &e, &this.elastic);
+                        if let Some((m, p)) = fluct {
+                            *m = flux.add_scaled(&normal_flux(&fa, &e, &this.elastic), -1.0);
+                            *p = normal_flux(&fb, &e, &this.elastic).add_scaled(flux, -1.0);
+                        }
                         star
                     }
                     Physics::Svk { svk, riemann } => {
@@ -451,28 +462,41 @@ impl<const D: usize> DgmpmSolver<D> {
                     _ => 0.0,
                 }
             };
-            power += if self.parallel {
-                fluxes
+            power += match (ctu, self.parallel) {
+                (true, true) => fluxes
+                    .par_iter_mut()
+                    .zip(minus.par_iter_mut().zip(plus.par_iter_mut()))
+                    .enumerate()
+                    .map(|(f, (q, (m, p)))| kernel(f, q, Some((m, p))))
+                    .sum::<f64>(),
+                (true, false) => fluxes
+                    .iter_mut()
+                    .zip(minus.iter_mut().zip(plus.iter_mut()))
+                    .enumerate()
+                    .map(|(f, (q, (m, p)))| kernel(f, q, Some((m, p))))
+                    .sum::<f64>(),
+                (false, true) => fluxes
                     .par_iter_mut()
                     .enumerate()
-                    .map(|(f, q)| kernel(f, q))
-                    .sum::<f64>()
-            } else {
-                fluxes
+                    .map(|(f, q)| kernel(f, q, None))
+                    .sum::<f64>(),
+                (false, false) => fluxes
                     .iter_mut()
                     .enumerate()
-                    .map(|(f, q)| kernel(f, q))
-                    .sum::<f64>()
+                    .map(|(f, q)| kernel(f, q, None))
+                    .sum::<f64>(),
             };
             self.face_flux[l] = fluxes;
+            self.fluct_minus[l] = minus;
+            self.fluct_plus[l] = plus;
         }
         power
     }
 
     /// Star state of a face for Saint-Venant–Kirchhoff (`FullState::stress` holds `F`),
     /// in the `+e_l` orientation. Boundary faces solve the half problem: exactly in 1D
-    /// ([`riemann::svk::exact_boundary_1d`]); with the acoustic solver through the mirror
-    /// state of [`ghost_state`] carrying the interior's impedance. A face with no admissible
+    /// ([`riemann::svk::exact_boundary_1d`]); with the acoustic solver from the interior's
+    /// wave relation ([`riemann::svk::acoustic_boundary`]). A face with no admissible
     /// state (hyperbolicity lost) gets a NaN state, which the guard reports.
     fn svk_star(
         &self,
@@ -578,34 +602,8 @@ impl<const D: usize> DgmpmSolver<D> {
     /// Cells outside an edge are ghost cells (mirror states through the edge's condition),
     /// so a plane wave along an edge stays plane.
     pub fn transverse_corrections(&mut self, dt: f64) {
+        // the fluctuations of every face were stored by `interface_fluxes`
         let (stress, velocity) = (&self.node_stress, &self.node_velocity);
-        // fluctuations of every face
-        for l in 0..D {
-            let mut minus = std::mem::take(&mut self.fluct_minus[l]);
-            let mut plus = std::mem::take(&mut self.fluct_plus[l]);
-            let this = &*self;
-            let kernel = |f: usize, (m, p): (&mut Conserved<D>, &mut Conserved<D>)| {
-                let (lc, rc, s) = this.face_cells(l, f);
-                let left = lc.map(|c| Self::side_state(stress, velocity, c, l, true));
-                let right = rc.map(|c| Self::side_state(stress, velocity, c, l, false));
-                (*m, *p) = this.face_fluctuations(l, left, right, s);
-            };
-            if self.parallel {
-                minus
-                    .par_iter_mut()
-                    .zip(plus.par_iter_mut())
-                    .enumerate()
-                    .for_each(|(f, mp)| kernel(f, mp));
-            } else {
-                minus
-                    .iter_mut()
-                    .zip(plus.iter_mut())
-                    .enumerate()
-                    .for_each(|(f, mp)| kernel(f, mp));
-            }
-            self.fluct_minus[l] = minus;
-            self.fluct_plus[l] = plus;
-        }
         // corrections, gathered per transverse face
         for k in 0..D {
             let l = (k + 1) % D;
