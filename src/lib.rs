@@ -144,6 +144,26 @@ impl Overrides {
                 };
             }
         }
+        let total: f64 = scene
+            .domain
+            .cells
+            .iter()
+            .map(|&n| n as f64)
+            .product::<f64>()
+            * self
+                .points_per_cell
+                .unwrap_or(1)
+                .max(scene.domain.points_per_cell) as f64;
+        if total > impact_core::scene::MAX_POINTS {
+            return Err(SceneError::new(
+                "--cells/--points-per-cell",
+                format!("{:?} cells", scene.domain.cells),
+                format!(
+                    "at most {:.0e} cells × points per cell in total",
+                    impact_core::scene::MAX_POINTS
+                ),
+            ));
+        }
         if let Some(ppc) = self.points_per_cell {
             // checked here against the scene's dimension; applied per method
             check_points_per_cell(scene.dim, ppc).map_err(|mut e| {

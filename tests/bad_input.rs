@@ -161,6 +161,15 @@ fn bad_flags_are_named() {
         &["run", "bar", "--cells", "0"],
         &["--cells", "0", "at least 1"],
     );
+    // grids that cannot fit in memory are refused before any allocation
+    cli_error(
+        &["run", "bar", "--cells", "99999999"],
+        &["--cells", "99999999", "at most 1e7"],
+    );
+    cli_error(
+        &["run", "plate", "--cells", "5000"],
+        &["--cells", "at most 1e7"],
+    );
     cli_error(
         &["run", "bar", "--integrator", "rk4"],
         &["--integrator", "rk4", "euler", "rk2"],

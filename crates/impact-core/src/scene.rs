@@ -184,6 +184,9 @@ impl MethodSpec {
     }
 }
 
+/// Largest number of cells × points per cell a scene may ask for.
+pub const MAX_POINTS: f64 = 1e7;
+
 /// Allowed range of the Courant number.
 pub const COURANT_RANGE: &str = "a number in (0, 2]";
 
@@ -262,6 +265,17 @@ impl Scene {
             }
         }
         check_points_per_cell(self.dim, d.points_per_cell)?;
+        let total = d.cells.iter().map(|&n| n as f64).product::<f64>() * d.points_per_cell as f64;
+        if total > MAX_POINTS {
+            return Err(SceneError::new(
+                "domain.cells",
+                format!("{:?} × {} points per cell", d.cells, d.points_per_cell),
+                format!(
+                    "at most {MAX_POINTS:.0e} cells × points per cell in total (about 1.2 kB per cell \
+                     in 2D: larger grids do not fit in memory here)"
+                ),
+            ));
+        }
         let m = &self.material;
         if !(m.model == "linear-elastic" || m.model == "svk") {
             return Err(SceneError::new(
