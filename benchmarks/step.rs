@@ -62,5 +62,32 @@ fn plate_step(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, step, plate_step);
+/// DGMPM one step with and without the one-point-per-cell fast path of particles→nodes.
+fn fast_path(c: &mut Criterion) {
+    let mut group = c.benchmark_group("fast_path");
+    group.measurement_time(Duration::from_secs(3));
+    group.warm_up_time(Duration::from_secs(1));
+    group.sample_size(20);
+    let mut bar = Scene::builtin("bar").expect("shipped scene");
+    bar.domain.cells = vec![150_000];
+    let bar_problem = Problem::<1>::from_scene(&bar).expect("valid scene");
+    for fast in [false, true] {
+        let config = impact::scene_config(&bar, MethodKind::Dgmpm);
+        let mut m = impact_dgmpm::Dgmpm::<1>::new(&bar_problem, config).expect("valid method");
+        m.solver.set_single_point_fast_path(fast);
+        let dt = impact_core::Method::stable_dt(&m);
+        group.throughput(Throughput::Elements(150_000));
+        let mut t = 0.0;
+        let id = if fast { "on" } else { "off" };
+        group.bench_with_input(BenchmarkId::new("bar_150000", id), &fast, |b, _| {
+            b.iter(|| {
+                impact_core::Method::step(&mut m, t, dt);
+                t += dt;
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, step, plate_step, fast_path);
 criterion_main!(benches);

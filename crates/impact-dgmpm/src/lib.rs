@@ -118,6 +118,9 @@ pub struct DgmpmSolver<const D: usize> {
     physics: Physics,
     /// Largest wave speed the loads can produce (time step, guard).
     wave_speed: f64,
+    /// One point per cell: particles→nodes copies the point's state (the mass-weighted map
+    /// `Σ S m q / Σ S m` is the identity there) and only weighs the lumped masses.
+    single_point_fast_path: bool,
 }
 
 /// DGMPM as a [`Method`]: solver plus state.
@@ -242,8 +245,15 @@ impl<const D: usize> DgmpmSolver<D> {
                 },
             },
             wave_speed: problem.max_wave_speed(),
+            single_point_fast_path: config.points_per_cell == 1,
             grid,
         }
+    }
+
+    /// Switch the one-point-per-cell fast path (on by default at one point per cell; the
+    /// general path is kept for comparison).
+    pub fn set_single_point_fast_path(&mut self, enabled: bool) {
+        self.single_point_fast_path = enabled && self.points_per_cell == 1;
     }
 
     /// Phase 1: lumped nodal mass and mass-weighted nodal fields (paper eq. 17).
@@ -256,8 +266,18 @@ impl<const D: usize> DgmpmSolver<D> {
             Physics::Linear => &points.stress,
             Physics::Svk { .. } => &points.deformation,
         };
+        let fast = self.single_point_fast_path;
         let kernel =
             |c: usize, mass: &mut [f64], stress: &mut [Tensor<D>], vel: &mut [Vector<D>]| {
+                if fast {
+                    // one point: M_a = S_a m, q_a = q_p
+                    for a in 0..npc {
+                        mass[a] = shape[c * npc + a] * points.mass[c];
+                        stress[a] = source[c];
+                        vel[a] = points.velocity[c];
+                    }
+                    return;
+                }
                 for a in 0..npc {
                     let mut m = 0.0;
                     let mut s = Tensor::<D>::zeros();
