@@ -6,6 +6,7 @@
 pub mod output;
 pub mod run;
 pub mod stability;
+pub mod work_precision;
 
 use impact_core::method::{
     Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, RiemannSolver, StressUpdate,

@@ -42,6 +42,11 @@ enum Command {
     /// Critical Courant numbers of every method and configuration: empirical (bisection on
     /// perturbed runs) and, for DGMPM, von Neumann; writes stability.csv and stability.png.
     Stability(StabilityArgs),
+    /// Benchmarks: `impact bench work-precision --scene bar|svk-bar|plate-wave|plate`.
+    Bench {
+        #[command(subcommand)]
+        what: BenchCommand,
+    },
     /// List the shipped scenes.
     Scenes,
 }
@@ -104,12 +109,33 @@ struct RunArgs {
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
+    /// Write only summary.json (no profiles, VTK, HDF5 or plots): no I/O at output times.
+    #[arg(long)]
+    no_files: bool,
 }
 
 #[derive(Args)]
 struct CheckArgs {
     #[command(flatten)]
     scene: SceneArgs,
+}
+
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// Run time against error over a refinement ladder for every method and configuration;
+    /// writes work_precision.{csv,json,png}.
+    WorkPrecision {
+        /// Scene: bar, svk-bar, plate-wave or plate.
+        #[arg(long, default_value = "bar")]
+        scene: String,
+        /// Refinement levels (1D: 75·2^k cells; 2D: 16·2^k × 12·2^k). Default: 9 in 1D
+        /// (to 19,200 cells), 5 for plate-wave (to 256×192), 4 for plate.
+        #[arg(long)]
+        levels: Option<usize>,
+        /// Output folder (default: out/work-precision-<scene>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
 }
 
 #[derive(Args)]
@@ -322,6 +348,7 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
             .as_ref()
             .map_or("none (errors not computed)".into(), |r| r.describe()),
         runs: Vec::new(),
+        peak_rss_mib: None,
     };
     let mut plots = Vec::new();
     let mut dgmpm_positions = Vec::new();
@@ -362,6 +389,7 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
             progress,
             problem.t_end,
         );
+        writer.files = !args.no_files;
         let (record, blowup) = run_method(&problem, config, reference.as_ref(), &mut writer)?;
         writer.finish()?;
         if kind == MethodKind::Dgmpm {
@@ -382,7 +410,15 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
     for r in &rows {
         print_rows(r);
     }
+    summary.peak_rss_mib = impact::output::peak_rss_mib();
     impact_io::write_json(&dir.join("summary.json"), &summary)?;
+    if args.no_files {
+        say!("wrote {}", dir.join("summary.json").display());
+        if !failures.is_empty() {
+            bail!("{}", failures.join("; "));
+        }
+        return Ok(());
+    }
     let length = problem.grid.upper()[0] - problem.grid.origin[0];
     let band = if D > 1 { problem.grid.spacing[1] } else { 0.0 };
     stress_plot(
@@ -521,6 +557,59 @@ fn check_scene<const D: usize>(scene: &Scene, args: &CheckArgs) -> Result<bool> 
     Ok(ok)
 }
 
+fn work_precision_command(scene: &str, levels: Option<usize>, out: Option<PathBuf>) -> Result<()> {
+    let levels = levels.unwrap_or(match scene {
+        "plate-wave" => 5,
+        "plate" => 4,
+        _ => 9,
+    });
+    let out = out.unwrap_or_else(|| impact::work_precision::default_out(scene));
+    let exe = std::env::current_exe().context("locating the impact executable")?;
+    let total =
+        impact::work_precision::configurations(if scene.starts_with("plate") { 2 } else { 1 })
+            .len()
+            * levels;
+    let bar = indicatif::ProgressBar::new(total as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("work-precision [{bar:40}] {pos}/{len} {msg}")
+            .expect("internal: valid template")
+            .progress_chars("=> "),
+    );
+    let (points, sentence) = impact::work_precision::run(&exe, scene, levels, &out, |p| {
+        bar.set_message(format!("{} {} cells", p.config, p.cells));
+        bar.inc(1);
+    })?;
+    bar.finish_and_clear();
+    say!(
+        "{:<26} {:>8} {:>7} {:>10} {:>12} {:>9} {:>10}",
+        "config",
+        "cells",
+        "steps",
+        "wall_s",
+        "updates/s",
+        "peak_MiB",
+        "L1_rel"
+    );
+    for p in &points {
+        say!(
+            "{:<26} {:>8} {:>7} {:>10.3e} {:>12.3e} {:>9.1} {:>10.3e}{}",
+            p.config,
+            p.cells,
+            p.steps,
+            p.wall_s,
+            p.updates_per_s,
+            p.peak_rss_mib,
+            p.l1_rel,
+            p.error
+                .as_ref()
+                .map_or(String::new(), |e| format!("  stopped: {e}"))
+        );
+    }
+    say!("{sentence}");
+    say!("wrote {}", out.display());
+    Ok(())
+}
+
 fn stability_command(args: &StabilityArgs) -> Result<()> {
     use impact::stability::{sweep, StabilityRow};
     for &d in &args.dim {
@@ -577,6 +666,9 @@ fn main() {
         Command::Run(a) => run_command(a).map(|_| true),
         Command::Check(a) => check_command(a),
         Command::Stability(a) => stability_command(a).map(|_| true),
+        Command::Bench {
+            what: BenchCommand::WorkPrecision { scene, levels, out },
+        } => work_precision_command(scene, *levels, out.clone()).map(|_| true),
         Command::Scenes => {
             for name in impact_core::scene::BUILTIN {
                 say!("{name}");

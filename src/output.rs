@@ -25,6 +25,16 @@ pub struct Summary {
     pub reference: String,
     /// One entry per method.
     pub runs: Vec<RunRecord>,
+    /// Peak resident memory of the process (MiB, Linux `VmHWM`), if known.
+    pub peak_rss_mib: Option<f64>,
+}
+
+/// Peak resident set size of this process in MiB (Linux: `VmHWM` of `/proc/self/status`).
+pub fn peak_rss_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024.0)
 }
 
 /// Profiles of one method: `(t, [(x, σ_xx)])` per output time.
@@ -50,6 +60,8 @@ pub struct FileWriter<'a, const D: usize> {
     pvd_grid: Vec<(f64, String)>,
     progress: Option<indicatif::ProgressBar>,
     t_end: f64,
+    /// Write files at output times (`false`: metrics only, no I/O).
+    pub files: bool,
     /// The `.h5` time series (feature `hdf5`), opened at the first output.
     #[cfg(feature = "hdf5")]
     h5: Option<impact_io::h5::TimeSeries>,
@@ -78,6 +90,7 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             pvd_grid: Vec::new(),
             progress,
             t_end,
+            files: true,
             #[cfg(feature = "hdf5")]
             h5: None,
         }
@@ -312,6 +325,9 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         t: f64,
         _metrics: &TimeMetrics,
     ) -> anyhow::Result<()> {
+        if !self.files {
+            return Ok(());
+        }
         method.sample_into(&mut self.samples);
         self.write_profile(index, t)?;
         self.write_samples(index, t)?;

@@ -1,0 +1,388 @@
+//! Work-precision: run time against error. Each configuration runs a refinement ladder at a
+//! fixed time; each run is a separate `impact run --no-files` process, so its wall time
+//! (stepping only), steps and peak memory (`VmHWM`) are its own. Errors are relative L1 of
+//! σ_xx (Π for SVK) against the scene's reference: exact for `bar`, `svk-bar` and
+//! `plate-wave`; for `plate`, each run's converged reference (DGMPM on a grid 4× finer).
+//!
+//! Courant numbers per configuration stay inside the measured stability limits
+//! (`impact stability`): DGMPM 1 point per cell Euler 1.0 (2D: CTU 1.0, DCU 0.6); several
+//! points per cell with Euler 0.6; RK2 1.0 (2D: DCU 0.95, CTU 0.7); MPM 0.5; FEM 0.9.
+use anyhow::{bail, Context, Result};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// One configuration of the ladder.
+#[derive(Debug, Clone)]
+pub struct Config {
+    /// Label in tables and plots.
+    pub label: String,
+    /// Method flag.
+    pub method: &'static str,
+    /// Extra CLI flags.
+    pub flags: Vec<String>,
+}
+
+/// One run of the ladder.
+#[derive(Debug, Clone, Serialize)]
+pub struct Point {
+    /// Scene.
+    pub scene: String,
+    /// Configuration label.
+    pub config: String,
+    /// Cells along x.
+    pub cells_x: usize,
+    /// Cells in all.
+    pub cells: usize,
+    /// Steps.
+    pub steps: usize,
+    /// Wall time of the stepping (s).
+    pub wall_s: f64,
+    /// Cell- (point-) updates per second.
+    pub updates_per_s: f64,
+    /// Peak resident memory of the run's process (MiB).
+    pub peak_rss_mib: f64,
+    /// Relative L1 error at the fixed time.
+    pub l1_rel: f64,
+    /// Error text if the run stopped.
+    pub error: Option<String>,
+}
+
+fn cfg(label: &str, method: &'static str, flags: &[&str]) -> Config {
+    Config {
+        label: label.into(),
+        method,
+        flags: flags.iter().map(|s| s.to_string()).collect(),
+    }
+}
+
+/// Configurations for a scene of dimension `dim`.
+pub fn configurations(dim: usize) -> Vec<Config> {
+    let mut out = Vec::new();
+    if dim == 1 {
+        for ppc in ["1", "2", "4"] {
+            let euler_c = if ppc == "1" { "1.0" } else { "0.6" };
+            out.push(cfg(
+                &format!("dgmpm euler {ppc}ppc C{euler_c}"),
+                "dgmpm",
+                &[
+                    "--integrator",
+                    "euler",
+                    "--points-per-cell",
+                    ppc,
+                    "--courant",
+                    euler_c,
+                ],
+            ));
+            out.push(cfg(
+                &format!("dgmpm rk2 {ppc}ppc C1.0"),
+                "dgmpm",
+                &[
+                    "--integrator",
+                    "rk2",
+                    "--points-per-cell",
+                    ppc,
+                    "--courant",
+                    "1.0",
+                ],
+            ));
+        }
+        for ppc in ["1", "4"] {
+            out.push(cfg(
+                &format!("mpm {ppc}ppc C0.5"),
+                "mpm",
+                &["--points-per-cell", ppc, "--courant", "0.5"],
+            ));
+        }
+    } else {
+        for ppc in ["1", "4"] {
+            let e = if ppc == "1" { "1.0" } else { "0.6" };
+            out.push(cfg(
+                &format!("dgmpm euler ctu {ppc}ppc C{e}"),
+                "dgmpm",
+                &[
+                    "--integrator",
+                    "euler",
+                    "--flux",
+                    "ctu",
+                    "--points-per-cell",
+                    ppc,
+                    "--courant",
+                    e,
+                ],
+            ));
+            out.push(cfg(
+                &format!("dgmpm euler dcu {ppc}ppc C0.6"),
+                "dgmpm",
+                &[
+                    "--integrator",
+                    "euler",
+                    "--flux",
+                    "dcu",
+                    "--points-per-cell",
+                    ppc,
+                    "--courant",
+                    "0.6",
+                ],
+            ));
+            out.push(cfg(
+                &format!("dgmpm rk2 dcu {ppc}ppc C0.95"),
+                "dgmpm",
+                &[
+                    "--integrator",
+                    "rk2",
+                    "--flux",
+                    "dcu",
+                    "--points-per-cell",
+                    ppc,
+                    "--courant",
+                    "0.95",
+                ],
+            ));
+            out.push(cfg(
+                &format!("dgmpm rk2 ctu {ppc}ppc C0.7"),
+                "dgmpm",
+                &[
+                    "--integrator",
+                    "rk2",
+                    "--flux",
+                    "ctu",
+                    "--points-per-cell",
+                    ppc,
+                    "--courant",
+                    "0.7",
+                ],
+            ));
+            out.push(cfg(
+                &format!("mpm {ppc}ppc C0.5"),
+                "mpm",
+                &["--points-per-cell", ppc, "--courant", "0.5"],
+            ));
+        }
+    }
+    out.push(cfg("fem C0.9", "fem", &["--courant", "0.9"]));
+    out
+}
+
+/// Cells along x of level `k` (1D: 75·2^k; 2D: 16·2^k, with 12·2^k along y).
+pub fn cells_x(dim: usize, k: usize) -> usize {
+    if dim == 1 {
+        75 << k
+    } else {
+        16 << k
+    }
+}
+
+/// Run one configuration at one level as a child process of `exe`.
+fn run_one(
+    exe: &Path,
+    scene: &str,
+    dim: usize,
+    c: &Config,
+    k: usize,
+    t: f64,
+    dir: &Path,
+) -> Result<Point> {
+    let out = dir.join(format!("run-{}-{k}", c.label.replace(' ', "_")));
+    let nx = cells_x(dim, k);
+    let mut cmd = Command::new(exe);
+    cmd.args(["run", scene, "--quiet", "--no-files", "--method", c.method])
+        .args([
+            "--cells",
+            &nx.to_string(),
+            "--output-times",
+            &format!("{t:e}"),
+        ])
+        .args(&c.flags)
+        .arg("--out")
+        .arg(&out);
+    let status = cmd
+        .output()
+        .with_context(|| format!("running {}", exe.display()))?;
+    let text = std::fs::read_to_string(out.join("summary.json")).with_context(|| {
+        format!(
+            "{} {}: {}",
+            c.label,
+            nx,
+            String::from_utf8_lossy(&status.stderr)
+        )
+    })?;
+    let s: serde_json::Value = serde_json::from_str(&text)?;
+    let r = &s["runs"][0];
+    let steps = r["steps"].as_u64().unwrap_or(0) as usize;
+    let cells = r["cells"].as_u64().unwrap_or(0) as usize;
+    let wall = r["wall_s"].as_f64().unwrap_or(f64::NAN);
+    let _ = std::fs::remove_dir_all(&out);
+    Ok(Point {
+        scene: scene.into(),
+        config: c.label.clone(),
+        cells_x: nx,
+        cells,
+        steps,
+        wall_s: wall,
+        updates_per_s: cells as f64 * steps as f64 / wall,
+        peak_rss_mib: s["peak_rss_mib"].as_f64().unwrap_or(f64::NAN),
+        l1_rel: r["times"][0]["l1_rel"].as_f64().unwrap_or(f64::NAN),
+        error: r["error"].as_str().map(String::from),
+    })
+}
+
+/// Wall time a configuration needs to reach `target` (log-log interpolation between its
+/// ladder points; `None` if it never does).
+fn time_to_reach(points: &[&Point], target: f64) -> Option<f64> {
+    let usable: Vec<&&Point> = points
+        .iter()
+        .filter(|p| p.error.is_none() && p.l1_rel.is_finite())
+        .collect();
+    if let Some(p) = usable.iter().find(|p| p.l1_rel <= target) {
+        let i = usable
+            .iter()
+            .position(|q| std::ptr::eq(**q, **p))
+            .unwrap_or(0);
+        if i == 0 {
+            return Some(p.wall_s);
+        }
+        let a = usable[i - 1];
+        let (le0, le1) = (a.l1_rel.max(1e-300).ln(), p.l1_rel.max(1e-300).ln());
+        let s = if le1 == le0 {
+            1.0
+        } else {
+            (target.ln() - le0) / (le1 - le0)
+        };
+        return Some((a.wall_s.ln() + s * (p.wall_s.ln() - a.wall_s.ln())).exp());
+    }
+    None
+}
+
+/// Run the ladder for `scene` (`levels` refinements) and write `work_precision.csv`,
+/// `work_precision.json`, `work_precision.png` into `out`. Returns the points and a
+/// summary sentence: which configuration reaches a target error fastest, by what factor.
+pub fn run(
+    exe: &Path,
+    scene: &str,
+    levels: usize,
+    out: &Path,
+    mut progress: impl FnMut(&Point),
+) -> Result<(Vec<Point>, String)> {
+    let s = impact_core::Scene::builtin(scene).with_context(|| {
+        format!("unknown scene {scene:?} (allowed: bar, svk-bar, plate-wave, plate)")
+    })?;
+    if !["bar", "svk-bar", "plate-wave", "plate"].contains(&scene) {
+        bail!("work-precision runs on bar, svk-bar, plate-wave or plate, not {scene:?}");
+    }
+    if levels == 0 || levels > 10 {
+        bail!("--levels {levels}: allowed 1 to 10");
+    }
+    // the fixed time: the scene's first default output time
+    let t = match s.dim {
+        1 => impact_core::Problem::<1>::from_scene(&s)?.output_times[0],
+        _ => impact_core::Problem::<2>::from_scene(&s)?.output_times[0],
+    };
+    impact_io::create_dir(out)?;
+    let mut points = Vec::new();
+    for c in configurations(s.dim) {
+        for k in 0..levels {
+            let p = run_one(exe, scene, s.dim, &c, k, t, out)?;
+            progress(&p);
+            points.push(p);
+        }
+    }
+    write(out, scene, &points)?;
+    // which configuration reaches a target error fastest: the median of the finest errors
+    let mut finest: Vec<f64> = configurations(s.dim)
+        .iter()
+        .filter_map(|c| {
+            points
+                .iter()
+                .filter(|p| p.config == c.label && p.error.is_none())
+                .map(|p| p.l1_rel)
+                .reduce(f64::min)
+        })
+        .filter(|e| e.is_finite() && *e > 1e-12)
+        .collect();
+    finest.sort_by(f64::total_cmp);
+    let target = finest.get(finest.len() / 2).copied().unwrap_or(1e-2);
+    let mut times: Vec<(String, f64)> = configurations(s.dim)
+        .iter()
+        .filter_map(|c| {
+            let mine: Vec<&Point> = points.iter().filter(|p| p.config == c.label).collect();
+            time_to_reach(&mine, target).map(|t| (c.label.clone(), t))
+        })
+        .collect();
+    times.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let best_other = |prefix: &str| {
+        times
+            .iter()
+            .find(|(l, _)| l.starts_with(prefix))
+            .map(|x| x.1)
+    };
+    let sentence = match times.first() {
+        Some((label, t_best)) => format!(
+            "{scene}: L1 error {target:.2e} is reached fastest by `{label}` in {t_best:.3e} s; MPM {}; FEM {}",
+            best_other("mpm").map_or("does not reach it on this ladder".into(), |t| format!("needs {:.1}× longer", t / t_best)),
+            best_other("fem").map_or("does not reach it on this ladder".into(), |t| format!("needs {:.1}× longer", t / t_best)),
+        ),
+        None => format!("{scene}: no configuration reaches L1 {target:.2e}"),
+    };
+    Ok((points, sentence))
+}
+
+fn write(out: &Path, scene: &str, points: &[Point]) -> Result<()> {
+    use impact_io::plot::{line_panels, Panel, Series};
+    impact_io::write_atomic(&out.join("work_precision.csv"), |w| {
+        writeln!(
+            w,
+            "scene,config,cells_x,cells,steps,wall_s,updates_per_s,peak_rss_mib,l1_rel,error"
+        )?;
+        for p in points {
+            writeln!(
+                w,
+                "{},{},{},{},{},{:.6e},{:.6e},{:.1},{:.6e},{}",
+                p.scene,
+                p.config,
+                p.cells_x,
+                p.cells,
+                p.steps,
+                p.wall_s,
+                p.updates_per_s,
+                p.peak_rss_mib,
+                p.l1_rel,
+                p.error.as_deref().unwrap_or("").replace(',', ";")
+            )?;
+        }
+        Ok(())
+    })?;
+    impact_io::write_json(&out.join("work_precision.json"), &points)?;
+    let mut labels: Vec<&str> = points.iter().map(|p| p.config.as_str()).collect();
+    labels.dedup();
+    let series = labels
+        .iter()
+        .enumerate()
+        .map(|(k, l)| Series {
+            label: l.to_string(),
+            points: points
+                .iter()
+                .filter(|p| p.config == *l && p.error.is_none() && p.l1_rel > 0.0 && p.wall_s > 0.0)
+                .map(|p| (p.wall_s.log10(), p.l1_rel.max(1e-16).log10()))
+                .collect(),
+            colour: k + 1,
+            reference: false,
+        })
+        .collect();
+    let panel = Panel {
+        title: format!("{scene}: work-precision (log10 L1 error against log10 wall time)"),
+        series,
+    };
+    line_panels(
+        &out.join("work_precision.png"),
+        &[panel],
+        "log10 wall time of the stepping (s)",
+        "log10 relative L1 error",
+    )?;
+    Ok(())
+}
+
+/// The default output folder.
+pub fn default_out(scene: &str) -> PathBuf {
+    PathBuf::from("out").join(format!("work-precision-{scene}"))
+}
