@@ -233,6 +233,19 @@ pub fn reference_for<const D: usize>(
         return Ok(None);
     }
     let r = REFERENCE_REFINEMENT;
+    let fine_cells = problem.grid.cell_count() as f64 * (r as f64).powi(D as i32);
+    if fine_cells > impact_core::scene::MAX_POINTS {
+        if say {
+            use std::io::Write as _;
+            let _ = writeln!(
+                std::io::stdout(),
+                "no converged reference: a grid {r}x finer ({fine_cells:.2e} cells) exceeds the \
+                 {:.0e}-cell limit; errors are not computed",
+                impact_core::scene::MAX_POINTS
+            );
+        }
+        return Ok(None);
+    }
     let mut fine = problem.clone();
     for l in 0..D {
         fine.grid.cells[l] *= r;

@@ -313,3 +313,33 @@ fn flux_is_refused_in_1d() {
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("--flux") && text(&o).contains("only in 2D"));
 }
+
+/// A plate too fine for its 4× converged reference runs without one (errors not computed)
+/// instead of exhausting memory.
+#[test]
+fn a_fine_plate_runs_without_a_reference_it_cannot_afford() {
+    let out = tmp("fine");
+    let o = impact(&[
+        "run",
+        "plate",
+        "--cells",
+        "1000",
+        "--method",
+        "fem",
+        "--t-end",
+        "1e-6",
+        "--no-files",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let all = text(&o);
+    assert!(o.status.success(), "{all}");
+    assert!(
+        all.contains("no converged reference") && all.contains("exceeds"),
+        "{all}"
+    );
+    let s = json(&out.join("summary.json"));
+    assert!(s["reference"].as_str().unwrap().starts_with("none"));
+    assert_eq!(s["runs"][0]["cells"], 1000 * 758);
+    std::fs::remove_dir_all(&out).unwrap();
+}
