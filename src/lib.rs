@@ -2,7 +2,7 @@
 //!
 //! This library holds what the CLI and the cross-method tests share: building a method
 //! from a scene ([`build`]), applying command-line overrides ([`Overrides`]) and running a
-//! scene through the controller with metrics and outputs ([`run::run_methods`]).
+//! scene through the controller with metrics and outputs ([`run::run_method`]).
 pub mod output;
 pub mod run;
 pub mod stability;
