@@ -46,9 +46,8 @@ fn noise(state: &mut u64) -> f64 {
     ((*state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
 }
 
-/// The unloaded body of `problem`: free ends in 1D, symmetry edges in 2D. (In 2D, free
-/// edges lower CTU's limit: measured between 0.985 and 0.99 on a 16×12 plate, against 1.0
-/// with symmetry edges; see [`free_edge_limit`].)
+/// The unloaded body of `problem`: free ends in 1D, symmetry edges in 2D (the closest to
+/// the periodic grid of the von Neumann analysis; [`free_edge_limit`] measures free edges).
 fn unloaded<const D: usize>(problem: &Problem<D>) -> Problem<D> {
     let edge = if D == 1 {
         impact_core::Boundary::Free

@@ -41,7 +41,11 @@
 //!   edge's condition), so their fluctuations correct the edge fluxes as inside; the
 //!   correction on an edge face is then restricted to what the edge's condition leaves
 //!   free ([`riemann::constrain_correction`]), so free edges stay exactly traction-free
-//!   and a plane wave along a symmetry edge stays plane. With RK2, CTU corrects both stages.
+//!   and a plane wave along a symmetry edge stays plane. At a corner where both edges
+//!   prescribe a traction, the ghost's face towards the diagonal (defined by neither
+//!   condition) carries no fluctuation: with it, CTU with all edges free was unstable from
+//!   Courant 0.99; without it the limit is 1. With RK2, CTU corrects both stages (limit
+//!   about 0.75).
 //! - Every cell must hold points (the paper's scenes fill their grid); points are stored
 //!   cell by cell, `points_per_cell` each.
 //! - Rayon parallelises over cells and faces (disjoint writes) from 4,096 cells on.
@@ -717,8 +721,28 @@ impl<const D: usize> DgmpmSolver<D> {
             c[l] += 1;
             ghost_of(c, false)
         });
-        let (_, plus_low) = self.face_fluctuations(l, left, Some(me_low), s_l);
-        let (minus_high, _) = self.face_fluctuations(l, Some(me_high), right, s_l);
+        // a corner where both edges prescribe a traction: the ghost of the ghost cell (the
+        // diagonal neighbour) is not defined by either condition alone; its face carries no
+        // fluctuation (measured: with it, CTU with free corners is unstable from Courant 0.99)
+        let traction_corner = |l_side: usize| {
+            matches!(
+                self.ghost_condition(k, side, s_l),
+                GhostCondition::Traction(_)
+            ) && matches!(
+                self.ghost_condition(l, l_side, s_l),
+                GhostCondition::Traction(_)
+            )
+        };
+        let plus_low = if left.is_none() && traction_corner(0) {
+            Conserved::zeros()
+        } else {
+            self.face_fluctuations(l, left, Some(me_low), s_l).1
+        };
+        let minus_high = if right.is_none() && traction_corner(1) {
+            Conserved::zeros()
+        } else {
+            self.face_fluctuations(l, Some(me_high), right, s_l).0
+        };
         (plus_low, minus_high)
     }
 
