@@ -390,6 +390,9 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
             problem.t_end,
         );
         writer.files = !args.no_files;
+        if D == 2 && problem.model == impact_core::method::Model::LinearElastic {
+            writer.plane_strain = Some(problem.material);
+        }
         let (record, blowup) = run_method(&problem, config, reference.as_ref(), &mut writer)?;
         writer.finish()?;
         if kind == MethodKind::Dgmpm {

@@ -62,6 +62,10 @@ pub struct FileWriter<'a, const D: usize> {
     t_end: f64,
     /// Write files at output times (`false`: metrics only, no I/O).
     pub files: bool,
+    /// Linear elasticity in 2D: the material giving the plane-strain `σ_zz` written in the
+    /// 3×3 stress tensors (`None`: the zz slot is 0: the 1D bar, and SVK, whose `Π_zz` is
+    /// not tracked).
+    pub plane_strain: Option<impact_core::LinearElastic>,
     /// The `.h5` time series (feature `hdf5`), opened at the first output.
     #[cfg(feature = "hdf5")]
     h5: Option<impact_io::h5::TimeSeries>,
@@ -91,6 +95,7 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             progress,
             t_end,
             files: true,
+            plane_strain: None,
             #[cfg(feature = "hdf5")]
             h5: None,
         }
@@ -130,6 +135,18 @@ fn tensor9<const D: usize>(t: &impact_core::Tensor<D>) -> [f64; 9] {
         for c in 0..D {
             full[3 * r + c] = t[(r, c)];
         }
+    }
+    full
+}
+
+/// The 3×3 tensor with the plane-strain `σ_zz` in its zz slot when `material` is given.
+fn with_zz<const D: usize>(
+    mut full: [f64; 9],
+    t: &impact_core::Tensor<D>,
+    material: Option<impact_core::LinearElastic>,
+) -> [f64; 9] {
+    if let Some(m) = material {
+        full[8] = m.out_of_plane_stress(t);
     }
     full
 }
@@ -182,7 +199,12 @@ impl<const D: usize> FileWriter<'_, D> {
         let n = s.len();
         let points: Vec<f64> = s.position.iter().flat_map(pad3).collect();
         let reference: Vec<f64> = s.reference.iter().flat_map(pad3).collect();
-        let stress: Vec<f64> = s.stress.iter().flat_map(tensor9).collect();
+        let zz = self.plane_strain;
+        let stress: Vec<f64> = s
+            .stress
+            .iter()
+            .flat_map(|t| with_zz(tensor9(t), t, zz))
+            .collect();
         let velocity: Vec<f64> = s.velocity.iter().flat_map(pad3).collect();
         let connectivity: Vec<usize> = (0..n).collect();
         let file = format!("{}_t{}.vtu", self.method, index);
@@ -268,7 +290,11 @@ impl<const D: usize> FileWriter<'_, D> {
             .flat_map(|c| order.iter().map(move |&a| (c, a)))
             .map(|(c, a)| g.vertex_of(c, a))
             .collect();
-        let cell_stress: Vec<f64> = stress.iter().flat_map(tensor9).collect();
+        let zz = self.plane_strain;
+        let cell_stress: Vec<f64> = stress
+            .iter()
+            .flat_map(|t| with_zz(tensor9(t), t, zz))
+            .collect();
         let cell_velocity: Vec<f64> = velocity.iter().flat_map(pad3).collect();
         let nodal_velocity: Vec<f64> = nodal
             .as_ref()

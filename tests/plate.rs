@@ -146,7 +146,8 @@ fn plane_wave_is_independent_of_y_in_every_method() {
 }
 
 /// DGMPM, 1 point per cell, CTU, Courant 1: the exact uniaxial-strain solution at whole
-/// numbers of Courant-1 steps (σ_xx = -ρ c_p v behind the front, σ_yy = λ/(λ+2μ) σ_xx).
+/// numbers of Courant-1 steps (σ_xx = -ρ c_p v behind the front,
+/// σ_yy = σ_zz = λ/(λ+2μ) σ_xx).
 #[test]
 fn dgmpm_plane_wave_equals_the_exact_uniaxial_strain_solution() {
     let sc = scene("plate-wave");
@@ -156,6 +157,7 @@ fn dgmpm_plane_wave_equals_the_exact_uniaxial_strain_solution() {
     };
     let lame = problem.material.lame;
     let ratio = lame.lambda / (lame.lambda + 2.0 * lame.mu);
+    let material = problem.material;
     let zv = exact.pressure;
     // 40 steps: past the reflection at the free right end (32 cells)
     for steps in [8, 24, 40] {
@@ -175,6 +177,8 @@ fn dgmpm_plane_wave_equals_the_exact_uniaxial_strain_solution() {
                 st[(0, 0)]
             );
             assert!((st[(1, 1)] - ratio * sxx).abs() <= 1e-10 * zv);
+            // plane strain: σ_zz = λ tr ε = λ/(λ+2μ) σ_xx in uniaxial strain
+            assert!((material.out_of_plane_stress(&st) - ratio * sxx).abs() <= 1e-10 * zv);
             assert!(st[(0, 1)].abs() <= 1e-10 * zv && s.velocity[i][1].abs() <= 1e-10 * 5.0);
             assert!((s.velocity[i][0] - vx).abs() <= 1e-10 * 5.0);
         }

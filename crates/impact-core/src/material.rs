@@ -103,6 +103,17 @@ impl LinearElastic {
         }
     }
 
+    /// Out-of-plane stress of plane strain (`ε_zz = 0`):
+    /// `σ_zz = λ tr(ε) = λ/(2(λ+μ)) (σ_xx + σ_yy)`; 0 for the 1D bar (uniaxial stress).
+    pub fn out_of_plane_stress<const D: usize>(&self, stress: &Tensor<D>) -> f64 {
+        if D == 1 {
+            0.0
+        } else {
+            let Lame { lambda, mu } = self.lame;
+            lambda / (2.0 * (lambda + mu)) * stress.trace()
+        }
+    }
+
     /// Strain energy density `ψ = ½ σ:ε` with `ε` from [`Self::strain`].
     #[inline]
     pub fn energy_density<const D: usize>(&self, stress: &Tensor<D>) -> f64 {
@@ -145,6 +156,18 @@ mod tests {
         assert_relative_eq!(
             m.energy_density(&sigma),
             0.5 * sigma.component_mul(&eps).sum(),
+            max_relative = 1e-12
+        );
+    }
+
+    #[test]
+    fn out_of_plane_stress_is_lambda_times_the_trace_of_strain() {
+        let m = LinearElastic::new(2e11, 0.3, 7800.0);
+        let eps = Tensor::<2>::new(1e-3, 2e-4, 2e-4, -5e-4);
+        let sigma = m.stress(&eps);
+        assert_relative_eq!(
+            m.out_of_plane_stress(&sigma),
+            m.lame.lambda * eps.trace(),
             max_relative = 1e-12
         );
     }
