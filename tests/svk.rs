@@ -68,9 +68,10 @@ fn dgmpm_exact_solver_follows_the_fan() {
 }
 
 /// Tension makes a shock: it moves at the Rankine–Hugoniot speed (front position within one
-/// cell) and stays a few cells wide at Courant 1 with one point per cell, far sharper than
-/// MPM's. Measured widths (8e8 Pa: 2.44, 3.24, 3.85 cells; 8e9 Pa: 2.63, 3.13, 3.38 cells)
-/// are asserted below 4 cells; the 3-cell target holds at the first output only.
+/// cell) and stays at most 3 cells wide at Courant 1 with one point per cell, far sharper
+/// than MPM's. Measured widths: 8e8 Pa 1.51, 2.01, 2.26 cells; 8e9 Pa 2.37, 2.56, 2.78 cells
+/// (with equal sub-steps per output interval, i.e. an effective Courant 0.976, they were
+/// 2.44, 3.24, 3.85: see the controller's doc).
 #[test]
 fn tension_shock_moves_at_the_rankine_hugoniot_speed() {
     for pressure in [-8e8, -8e9] {
@@ -98,11 +99,10 @@ fn tension_shock_moves_at_the_rankine_hugoniot_speed() {
             let t = dg.times[k];
             let width = t.front_width_cells.unwrap();
             println!("p = {pressure:e}, t = {:.4} ms: shock width {width:.2} cells, position {:.4} vs s t = {:.4}", t.t * 1e3, t.front_position.unwrap(), exact.shock_speed() * t.t);
-            assert!(width < 4.0);
+            assert!(width <= 3.0, "shock width {width} cells > 3");
             assert!(width < 0.6 * mpm.times[k].front_width_cells.unwrap());
             assert!((t.front_position.unwrap() - exact.shock_speed() * t.t).abs() < 0.04);
         }
-        assert!(dg.times[0].front_width_cells.unwrap() <= 3.0);
     }
 }
 

@@ -2,9 +2,14 @@
 //! stable step) and the stability guard (stop a run whose state is non-finite or whose
 //! energy grows far past the work done by the loads).
 //!
-//! Between two outputs the loop takes `n = ceil((t_out - t)/Δt_stable)` equal steps of
-//! `(t_out - t)/n`, so an output time that is a whole number of stable steps is reached
-//! with exactly the stable step (needed for the Courant-1 exactness of DGMPM and FEM).
+//! Between two outputs the loop takes full stable steps `Δt_stable` and shortens only the
+//! last one to land on `t_out` (as Clawpack does), so an output time that is a whole number
+//! of stable steps is reached with exactly the stable step (needed for the Courant-1
+//! exactness of DGMPM and FEM). The alternative, `n = ceil(span/Δt_stable)` equal steps,
+//! lowers the Courant number of *every* step by up to `1/n`, and first-order upwind
+//! diffusion grows with `1 - C`: on the SVK tension shock (150 cells, Courant 1, 123 steps)
+//! equal steps ran at an effective 0.976 and smeared the shock to 2.44/3.24/3.85 cells;
+//! full steps give 1.51/2.01/2.26 cells and a 3× smaller L1 error.
 use crate::method::{Blowup, Method};
 
 /// Stability guard settings.
@@ -105,13 +110,12 @@ where
         let span = t_out - t;
         if span > 0.0 {
             let n = ((span / dt_stable) * (1.0 - 1e-12)).ceil().max(1.0) as usize;
-            let dt = span / n as f64;
             let start = std::time::Instant::now();
             for k in 0..n {
-                let t0 = t + k as f64 * dt;
-                method.step(t0, dt);
+                let t0 = t + k as f64 * dt_stable;
+                let t1 = if k + 1 == n { t_out } else { t0 + dt_stable };
+                method.step(t0, t1 - t0);
                 steps += 1;
-                let t1 = if k + 1 == n { t_out } else { t0 + dt };
                 if steps.is_multiple_of(guard.check_every.max(1)) {
                     check(method, steps, t1).map_err(RunError::Blowup)?;
                 }
