@@ -64,7 +64,7 @@ use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
 use rayon::prelude::*;
 use riemann::{
     constrain_correction, fluctuations, ghost_full, linear_elastic_star, normal_flux,
-    transverse_split, Conserved, Elastic, FullState, GhostCondition, Impedances,
+    transverse_into_face, Conserved, Elastic, FullState, GhostCondition, Impedances,
 };
 
 /// Which system DGMPM solves.
@@ -80,6 +80,44 @@ enum Physics {
 const MAX_NODES: usize = 8;
 /// Cell count from which loops run in parallel.
 const PARALLEL_CELLS: usize = 4096;
+
+/// Where face states are read from (see [`DgmpmSolver::interface_fluxes`]).
+#[derive(Clone, Copy)]
+struct Fields<'a, const D: usize> {
+    stress: &'a [Tensor<D>],
+    velocity: &'a [Vector<D>],
+    /// One value per cell (the cell path) instead of `2^D` nodes per cell.
+    per_cell: bool,
+}
+
+impl<const D: usize> Fields<'_, D> {
+    /// State of cell `c` on its face normal to axis `l` (`high` side or low side): the
+    /// average of the cell's nodes on that face (paper §4); on the cell path, the cell's
+    /// one state (all its nodes carry it).
+    #[inline]
+    fn side(&self, c: usize, l: usize, high: bool) -> FullState<D> {
+        if self.per_cell {
+            return FullState {
+                stress: self.stress[c],
+                velocity: self.velocity[c],
+            };
+        }
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let mut s = Tensor::<D>::zeros();
+        let mut v = Vector::<D>::zeros();
+        for a in 0..npc {
+            if ((a >> l) & 1 == 1) == high {
+                s += self.stress[c * npc + a];
+                v += self.velocity[c * npc + a];
+            }
+        }
+        let inv = 2.0 / npc as f64;
+        FullState {
+            stress: s * inv,
+            velocity: v * inv,
+        }
+    }
+}
 
 /// The DGMPM state: material points and the work done on them by the loads.
 #[derive(Debug, Clone)]
@@ -112,12 +150,10 @@ pub struct DgmpmSolver<const D: usize> {
     start_velocity: Vec<Vector<D>>,
     rate_stress: Vec<Tensor<D>>,
     rate_velocity: Vec<Vector<D>>,
-    /// Per axis `l`: the normal flux `F_{e_l}(q*)` on each face (with the CTU
-    /// corrections when they apply).
+    /// Per axis `l`: the Godunov flux `F_{e_l}(q*)` on each face.
     face_flux: [Vec<Conserved<D>>; D],
-    /// Per axis, CTU only (empty otherwise): fluctuations `A⁻Δq`, `A⁺Δq` of each face.
-    fluct_minus: [Vec<Conserved<D>>; D],
-    fluct_plus: [Vec<Conserved<D>>; D],
+    /// Per axis, CTU only (empty otherwise): the transverse correction of each face's flux.
+    face_correction: [Vec<Conserved<D>>; D],
     elastic: Elastic,
     physics: Physics,
     /// Largest wave speed the loads can produce (time step, guard).
@@ -125,6 +161,10 @@ pub struct DgmpmSolver<const D: usize> {
     /// One point per cell: particles→nodes copies the point's state (the mass-weighted map
     /// `Σ S m q / Σ S m` is the identity there) and only weighs the lumped masses.
     single_point_fast_path: bool,
+    /// One point per cell with forward Euler: the whole step reduces exactly to the
+    /// cell-centred Godunov update ([`DgmpmSolver::cell_update`]); the nodal buffers are
+    /// then not allocated.
+    cell_path: bool,
 }
 
 /// DGMPM as a [`Method`]: solver plus state.
@@ -207,7 +247,7 @@ impl<const D: usize> DgmpmSolver<D> {
                 .product()
         });
         let ctu = D > 1 && config.flux == TransverseFlux::Ctu;
-        let fluct = || -> [Vec<Conserved<D>>; D] {
+        let correction = || -> [Vec<Conserved<D>>; D] {
             std::array::from_fn(|l| vec![Conserved::zeros(); if ctu { face_counts[l] } else { 0 }])
         };
         let (p, s) = problem.material.impedances::<D>();
@@ -222,8 +262,14 @@ impl<const D: usize> DgmpmSolver<D> {
             density: problem.material.density,
             z: Impedances { p, s },
         };
+        // the cell path needs every lumped mass S_a m > 0 (a point strictly inside its cell)
+        let cell_path = config.points_per_cell == 1
+            && config.integrator == Integrator::Euler
+            && shape.iter().all(|&w| w > 0.0);
+        let nodes = if cell_path { 0 } else { nodes };
         Self {
             config,
+            cell_path,
             parallel: grid.cell_count() >= PARALLEL_CELLS,
             material: problem.material,
             boundaries: problem.boundaries,
@@ -238,8 +284,7 @@ impl<const D: usize> DgmpmSolver<D> {
             rate_stress: vec![Tensor::<D>::zeros(); nodes],
             rate_velocity: vec![Vector::<D>::zeros(); nodes],
             face_flux: std::array::from_fn(|l| vec![Conserved::zeros(); face_counts[l]]),
-            fluct_minus: fluct(),
-            fluct_plus: fluct(),
+            face_correction: correction(),
             elastic,
             physics: match problem.model {
                 Model::LinearElastic => Physics::Linear,
@@ -254,10 +299,35 @@ impl<const D: usize> DgmpmSolver<D> {
         }
     }
 
-    /// Switch the one-point-per-cell fast path (on by default at one point per cell; the
-    /// general path is kept for comparison).
+    /// Switch the one-point-per-cell fast path of particles→nodes (on by default at one
+    /// point per cell; the general path is kept for comparison).
     pub fn set_single_point_fast_path(&mut self, enabled: bool) {
         self.single_point_fast_path = enabled && self.points_per_cell == 1;
+    }
+
+    /// Switch the cell path (on by default where it applies: one point per cell, forward
+    /// Euler); off runs the nodal phases 1-5, kept for comparison. Allocates the nodal
+    /// buffers when they are first needed (never inside the step loop).
+    pub fn set_cell_path(&mut self, enabled: bool) {
+        let applies = self.points_per_cell == 1
+            && self.config.integrator == Integrator::Euler
+            && self.shape.iter().all(|&w| w > 0.0);
+        self.cell_path = enabled && applies;
+        let nodes = self.grid.cell_count() * Grid::<D>::NODES_PER_CELL;
+        if !self.cell_path && self.node_mass.len() != nodes {
+            self.node_mass = vec![0.0; nodes];
+            self.node_stress = vec![Tensor::<D>::zeros(); nodes];
+            self.node_velocity = vec![Vector::<D>::zeros(); nodes];
+            self.start_stress = vec![Tensor::<D>::zeros(); nodes];
+            self.start_velocity = vec![Vector::<D>::zeros(); nodes];
+            self.rate_stress = vec![Tensor::<D>::zeros(); nodes];
+            self.rate_velocity = vec![Vector::<D>::zeros(); nodes];
+        }
+    }
+
+    /// Whether the step takes the cell path.
+    pub fn cell_path(&self) -> bool {
+        self.cell_path
     }
 
     /// Phase 1: lumped nodal mass and mass-weighted nodal fields (paper eq. 17).
@@ -319,16 +389,24 @@ impl<const D: usize> DgmpmSolver<D> {
         }
     }
 
-    /// Multi-index of face `f` of axis `l` (`cells + 1` faces along `l`).
+    /// Multi-index of entry `f` of an array with dimensions `dims` (first index fastest).
     #[inline]
-    fn face_multi_index(grid: &Grid<D>, l: usize, mut f: usize) -> [usize; D] {
+    fn multi_index(dims: [usize; D], mut f: usize) -> [usize; D] {
         let mut idx = [0; D];
         for k in 0..D {
-            let n = grid.cells[k] + usize::from(k == l);
-            idx[k] = f % n;
-            f /= n;
+            idx[k] = f % dims[k];
+            f /= dims[k];
         }
         idx
+    }
+
+    /// How the face loops of axis `l` are cut: chunks of one row along axis 0 (in 1D,
+    /// pieces of the row), so that only `idx[0]` changes inside a chunk; and the face
+    /// array's dimensions.
+    fn face_rows(&self, l: usize) -> (usize, [usize; D]) {
+        let dims: [usize; D] = std::array::from_fn(|k| self.grid.cells[k] + usize::from(k == l));
+        let chunk = if D == 1 { dims[0].min(4096) } else { dims[0] };
+        (chunk, dims)
     }
 
     #[inline]
@@ -340,29 +418,26 @@ impl<const D: usize> DgmpmSolver<D> {
         lin
     }
 
-    /// State of cell `c` on its face normal to axis `l` (`high` side or low side): the
-    /// average of the cell's nodes on that face (paper §4).
+    /// The fields the face states are read from: the cells' DG nodes, or on the cell path
+    /// the points themselves (one per cell, stored in cell order).
     #[inline]
-    fn side_state(
-        stress: &[Tensor<D>],
-        velocity: &[Vector<D>],
-        c: usize,
-        l: usize,
-        high: bool,
-    ) -> FullState<D> {
-        let npc = Grid::<D>::NODES_PER_CELL;
-        let mut s = Tensor::<D>::zeros();
-        let mut v = Vector::<D>::zeros();
-        for a in 0..npc {
-            if ((a >> l) & 1 == 1) == high {
-                s += stress[c * npc + a];
-                v += velocity[c * npc + a];
+    fn fields<'a>(&'a self, points: &'a MaterialPoints<D>) -> Fields<'a, D> {
+        if self.cell_path {
+            let stress = match self.physics {
+                Physics::Linear => &points.stress,
+                Physics::Svk { .. } => &points.deformation,
+            };
+            Fields {
+                stress,
+                velocity: &points.velocity,
+                per_cell: true,
             }
-        }
-        let inv = 2.0 / npc as f64;
-        FullState {
-            stress: s * inv,
-            velocity: v * inv,
+        } else {
+            Fields {
+                stress: &self.node_stress,
+                velocity: &self.node_velocity,
+                per_cell: false,
+            }
         }
     }
 
@@ -415,17 +490,24 @@ impl<const D: usize> DgmpmSolver<D> {
         }
     }
 
-    /// The states of the cells on both sides of face `f` of axis `l` (`None` outside).
+    /// The cells on both sides of the face of axis `l` with multi-index `idx` (`None`
+    /// outside) and the face's tangential coordinate.
     #[inline]
-    fn face_cells(&self, l: usize, f: usize) -> (Option<usize>, Option<usize>, f64) {
+    fn face_cells(&self, l: usize, idx: [usize; D]) -> (Option<usize>, Option<usize>, f64) {
         let grid = &self.grid;
-        let idx = Self::face_multi_index(grid, l, f);
-        let right = (idx[l] < grid.cells[l]).then(|| grid.cell_index(idx));
-        let left = (idx[l] > 0).then(|| {
-            let mut i = idx;
-            i[l] -= 1;
-            grid.cell_index(i)
-        });
+        // index arithmetic (cell strides), no multi-index entry written at a run-time axis
+        let mut cell = 0;
+        let mut stride = 1;
+        let mut stride_l = 1;
+        for m in 0..D {
+            cell += idx[m] * stride;
+            if m == l {
+                stride_l = stride;
+            }
+            stride *= grid.cells[m];
+        }
+        let right = (idx[l] < grid.cells[l]).then_some(cell);
+        let left = (idx[l] > 0).then(|| cell - stride_l);
         let s = if D > 1 {
             let k = (l + 1) % D;
             grid.origin[k] + (idx[k] as f64 + 0.5) * grid.spacing[k]
@@ -436,37 +518,26 @@ impl<const D: usize> DgmpmSolver<D> {
     }
 
     /// Phase 2: the Godunov flux `F_{e_l}(q*)` on every face (exact Riemann solver, ghost
-    /// states on the boundary) and, when CTU needs them, the fluctuations
-    /// `A⁻Δq = F(q*) - F(q_L)`, `A⁺Δq = F(q_R) - F(q*)` of the same Riemann problem;
-    /// returns the power delivered by the boundary conditions, `Σ_boundary |Γ_f| (σ* n_out)·v*`.
-    pub fn interface_fluxes(&mut self) -> f64 {
-        let (stress, velocity) = (&self.node_stress, &self.node_velocity);
+    /// states on the boundary); returns the power delivered by the boundary conditions,
+    /// `Σ_boundary |Γ_f| (σ* n_out)·v*`.
+    pub fn interface_fluxes(&mut self, points: &MaterialPoints<D>) -> f64 {
         let mut power = 0.0;
         for l in 0..D {
             let e = unit::<D>(l);
             let area = self.grid.cell_volume() / self.grid.spacing[l];
             let mut fluxes = std::mem::take(&mut self.face_flux[l]);
-            let mut minus = std::mem::take(&mut self.fluct_minus[l]);
-            let mut plus = std::mem::take(&mut self.fluct_plus[l]);
-            let ctu = !minus.is_empty();
             let this = &*self;
-            let kernel = |f: usize,
-                          flux: &mut Conserved<D>,
-                          fluct: Option<(&mut Conserved<D>, &mut Conserved<D>)>|
-             -> f64 {
-                let (lc, rc, s) = this.face_cells(l, f);
-                let left = lc.map(|c| Self::side_state(stress, velocity, c, l, true));
-                let right = rc.map(|c| Self::side_state(stress, velocity, c, l, false));
+            let fields = this.fields(points);
+            let kernel = |idx: [usize; D], flux: &mut Conserved<D>| -> f64 {
+                let (lc, rc, s) = this.face_cells(l, idx);
+                let left = lc.map(|c| fields.side(c, l, true));
+                let right = rc.map(|c| fields.side(c, l, false));
                 let star = match this.physics {
                     Physics::Linear => {
                         let (a, b) = this.face_pair(l, left, right, s);
                         let (fa, fb) = (a.on_face(&e), b.on_face(&e));
                         let star = linear_elastic_star(&fa, &fb, &e, this.elastic.z);
                         *flux = normal_flux(&star, &e, &this.elastic);
-                        if let Some((m, p)) = fluct {
-                            *m = flux.add_scaled(&normal_flux(&fa, &e, &this.elastic), -1.0);
-                            *p = normal_flux(&fb, &e, &this.elastic).add_scaled(flux, -1.0);
-                        }
                         star
                     }
                     Physics::Svk { svk, riemann } => {
@@ -486,33 +557,32 @@ impl<const D: usize> DgmpmSolver<D> {
                     _ => 0.0,
                 }
             };
-            power += match (ctu, self.parallel) {
-                (true, true) => fluxes
-                    .par_iter_mut()
-                    .zip(minus.par_iter_mut().zip(plus.par_iter_mut()))
+            let (chunk, dims) = self.face_rows(l);
+            // one row of faces (or a piece of the 1D row): only idx[0] varies in it
+            let row = |start: usize, q: &mut [Conserved<D>]| -> f64 {
+                let mut idx = Self::multi_index(dims, start);
+                let first = idx[0];
+                let mut sum = 0.0;
+                for (j, q) in q.iter_mut().enumerate() {
+                    idx[0] = first + j;
+                    sum += kernel(idx, q);
+                }
+                sum
+            };
+            power += if self.parallel {
+                fluxes
+                    .par_chunks_mut(chunk)
                     .enumerate()
-                    .map(|(f, (q, (m, p)))| kernel(f, q, Some((m, p))))
-                    .sum::<f64>(),
-                (true, false) => fluxes
-                    .iter_mut()
-                    .zip(minus.iter_mut().zip(plus.iter_mut()))
+                    .map(|(r, q)| row(r * chunk, q))
+                    .sum::<f64>()
+            } else {
+                fluxes
+                    .chunks_mut(chunk)
                     .enumerate()
-                    .map(|(f, (q, (m, p)))| kernel(f, q, Some((m, p))))
-                    .sum::<f64>(),
-                (false, true) => fluxes
-                    .par_iter_mut()
-                    .enumerate()
-                    .map(|(f, q)| kernel(f, q, None))
-                    .sum::<f64>(),
-                (false, false) => fluxes
-                    .iter_mut()
-                    .enumerate()
-                    .map(|(f, q)| kernel(f, q, None))
-                    .sum::<f64>(),
+                    .map(|(r, q)| row(r * chunk, q))
+                    .sum::<f64>()
             };
             self.face_flux[l] = fluxes;
-            self.fluct_minus[l] = minus;
-            self.fluct_plus[l] = plus;
         }
         power
     }
@@ -625,36 +695,74 @@ impl<const D: usize> DgmpmSolver<D> {
     /// `F_k(C, high) -= Δt/(2Δx_l) B⁺A^±Δq`, `F_k(C, low) -= Δt/(2Δx_l) B⁻A^±Δq`.
     /// Cells outside an edge are ghost cells (mirror states through the edge's condition),
     /// so a plane wave along an edge stays plane.
-    pub fn transverse_corrections(&mut self, dt: f64) {
-        // the fluctuations of every face were stored by `interface_fluxes`
-        let (stress, velocity) = (&self.node_stress, &self.node_velocity);
-        // corrections, gathered per transverse face
+    ///
+    /// The fluctuations entering a cell through its two `l`-faces add up to
+    /// `A⁺Δq_low + A⁻Δq_high = F*_high - F*_low + F(q_C,low) - F(q_C,high)` (with `q_C,side`
+    /// the cell's state on that face), so they are formed from the stored Godunov fluxes;
+    /// on the cell path the last two terms cancel. The corrections go to their own arrays,
+    /// so every axis reads uncorrected fluxes.
+    pub fn transverse_corrections(&mut self, points: &MaterialPoints<D>, dt: f64) {
         for k in 0..D {
+            if self.cell_path {
+                self.transverse_corrections_axis::<true>(k, points, dt);
+            } else {
+                self.transverse_corrections_axis::<false>(k, points, dt);
+            }
+        }
+    }
+
+    /// [`Self::transverse_corrections`] of the faces normal to `e_k`; `PER_CELL`: the
+    /// cell path (compiled apart so that its kernel carries no nodal branch).
+    fn transverse_corrections_axis<const PER_CELL: bool>(
+        &mut self,
+        k: usize,
+        points: &MaterialPoints<D>,
+        dt: f64,
+    ) {
+        {
             let l = (k + 1) % D;
             let scale = dt / (2.0 * self.grid.spacing[l]);
             let n_k = unit::<D>(k);
-            let mut fluxes = std::mem::take(&mut self.face_flux[k]);
+            let mut corrections = std::mem::take(&mut self.face_correction[k]);
             let this = &*self;
-            let kernel = |g: usize, flux: &mut Conserved<D>| {
-                let idx = Self::face_multi_index(&this.grid, k, g);
-                let mut total = Conserved::<D>::zeros();
-                // the cell below the face (side 0: its B⁺ parts) and above (side 1: B⁻)
+            let fields = this.fields(points);
+            let l_fluxes = &this.face_flux[l];
+            // strides of the l-face array: a cell's low l-face is Σ_m c_m stride_m, its high
+            // one `stride_l` further (index arithmetic only: writing a multi-index entry
+            // picked at run time stalls store forwarding in this loop)
+            let stride: [usize; D] = std::array::from_fn(|m| {
+                (0..m)
+                    .map(|p| this.grid.cells[p] + usize::from(p == l))
+                    .product()
+            });
+            let kernel = |idx: [usize; D], out: &mut Conserved<D>| {
+                let base: usize = (0..D).filter(|&m| m != k).map(|m| idx[m] * stride[m]).sum();
+                // the fluctuations of the cell below the face (side 0: their B⁺ part counts)
+                // and above (side 1: B⁻)
+                let mut w_side = [Conserved::<D>::zeros(); 2];
                 for side in 0..2 {
                     let j = idx[k] as isize - 1 + side as isize;
                     let inside = j >= 0 && (j as usize) < this.grid.cells[k];
-                    let mut cell = idx;
-                    cell[k] = j.clamp(0, this.grid.cells[k] as isize - 1) as usize;
-                    let (m_in, p_in) = if inside {
-                        let (lo, hi) = this.cell_l_faces(l, cell);
-                        (this.fluct_plus[l][lo], this.fluct_minus[l][hi])
+                    let w = if inside {
+                        let lo = base + j as usize * stride[k];
+                        let w = l_fluxes[lo + stride[l]].add_scaled(&l_fluxes[lo], -1.0);
+                        if PER_CELL {
+                            w
+                        } else {
+                            let mut cell = idx;
+                            cell[k] = j as usize;
+                            w.add_scaled(&this.side_flux_difference(fields, cell, l), 1.0)
+                        }
                     } else {
                         // ghost cell behind the edge of axis k on this side
-                        this.ghost_cell_fluctuations(k, side, l, cell, stress, velocity)
+                        let mut cell = idx;
+                        cell[k] = j.clamp(0, this.grid.cells[k] as isize - 1) as usize;
+                        let (m_in, p_in) = this.ghost_cell_fluctuations(k, side, l, cell, fields);
+                        m_in.add_scaled(&p_in, 1.0)
                     };
-                    let w = m_in.add_scaled(&p_in, 1.0);
-                    let (up, down) = transverse_split(&w, &n_k, &this.elastic);
-                    total = total.add_scaled(if side == 0 { &up } else { &down }, 1.0);
+                    w_side[side] = w;
                 }
+                let total = transverse_into_face(&w_side[0], &w_side[1], &n_k, &this.elastic);
                 let mut correction = Conserved::<D>::zeros().add_scaled(&total, -scale);
                 // on an edge, the correction must not undo the edge's condition
                 if idx[k] == 0 || idx[k] == this.grid.cells[k] {
@@ -663,30 +771,47 @@ impl<const D: usize> DgmpmSolver<D> {
                     let cond = this.ghost_condition(k, side, s);
                     correction = constrain_correction(&correction, &n_k, cond);
                 }
-                *flux = flux.add_scaled(&correction, 1.0);
+                *out = correction;
+            };
+            let (chunk, dims) = self.face_rows(k);
+            let row = |start: usize, q: &mut [Conserved<D>]| {
+                let mut idx = Self::multi_index(dims, start);
+                let first = idx[0];
+                for (j, q) in q.iter_mut().enumerate() {
+                    idx[0] = first + j;
+                    kernel(idx, q);
+                }
             };
             if self.parallel {
-                fluxes
-                    .par_iter_mut()
+                corrections
+                    .par_chunks_mut(chunk)
                     .enumerate()
-                    .for_each(|(g, q)| kernel(g, q));
+                    .for_each(|(r, q)| row(r * chunk, q));
             } else {
-                fluxes
-                    .iter_mut()
+                corrections
+                    .chunks_mut(chunk)
                     .enumerate()
-                    .for_each(|(g, q)| kernel(g, q));
+                    .for_each(|(r, q)| row(r * chunk, q));
             }
-            self.face_flux[k] = fluxes;
+            self.face_correction[k] = corrections;
         }
     }
 
-    /// Indices of the low and high faces normal to `e_l` of the cell with multi-index `cell`.
-    #[inline]
-    fn cell_l_faces(&self, l: usize, cell: [usize; D]) -> (usize, usize) {
-        let lo = Self::face_index(&self.grid, l, cell);
-        let mut hi = cell;
-        hi[l] += 1;
-        (lo, Self::face_index(&self.grid, l, hi))
+    /// `F(q_C,low) - F(q_C,high)`: the difference of the normal fluxes (`e_l`) of cell `C`'s
+    /// states on its low and high `l`-faces (nodal path only; kept out of line so the
+    /// cell path's kernel stays small).
+    #[inline(never)]
+    fn side_flux_difference(
+        &self,
+        fields: Fields<'_, D>,
+        cell: [usize; D],
+        l: usize,
+    ) -> Conserved<D> {
+        let e_l = unit::<D>(l);
+        let c = self.grid.cell_index(cell);
+        let flux_of =
+            |high: bool| normal_flux(&fields.side(c, l, high).on_face(&e_l), &e_l, &self.elastic);
+        flux_of(false).add_scaled(&flux_of(true), -1.0)
     }
 
     /// `(A⁺Δq` through its low `l`-face, `A⁻Δq` through its high `l`-face) of the ghost
@@ -697,14 +822,13 @@ impl<const D: usize> DgmpmSolver<D> {
         side: usize,
         l: usize,
         cell: [usize; D],
-        stress: &[Tensor<D>],
-        velocity: &[Vector<D>],
+        fields: Fields<'_, D>,
     ) -> (Conserved<D>, Conserved<D>) {
         let outward = unit::<D>(k) * if side == 0 { -1.0 } else { 1.0 };
         let grid = &self.grid;
         let ghost_of = |c: [usize; D], high: bool| -> FullState<D> {
             let s_edge = grid.origin[l] + (c[l] as f64 + 0.5) * grid.spacing[l];
-            let inner = Self::side_state(stress, velocity, grid.cell_index(c), l, high);
+            let inner = fields.side(grid.cell_index(c), l, high);
             ghost_full(&inner, &outward, self.ghost_condition(k, side, s_edge))
         };
         // tangential coordinate (along e_k) of the ghost cell, clamped into the edge
@@ -746,6 +870,26 @@ impl<const D: usize> DgmpmSolver<D> {
         (plus_low, minus_high)
     }
 
+    /// The flux of face `f` of axis `l` as the update uses it: Godunov plus, under CTU,
+    /// the transverse correction.
+    #[inline]
+    fn final_flux(&self, l: usize, f: usize) -> Conserved<D> {
+        Self::flux_with_correction(&self.face_flux, &self.face_correction, l, f)
+    }
+
+    #[inline]
+    fn flux_with_correction(
+        flux: &[Vec<Conserved<D>>; D],
+        correction: &[Vec<Conserved<D>>; D],
+        l: usize,
+        f: usize,
+    ) -> Conserved<D> {
+        match correction[l].get(f) {
+            Some(c) => flux[l][f].add_scaled(c, 1.0),
+            None => flux[l][f],
+        }
+    }
+
     /// Force on the body through the loaded boundary faces (those whose condition is not
     /// traction-free), `Σ -sign |Γ_f| F_{e_l}` (the momentum part of the final face fluxes,
     /// CTU corrections included). Free faces are left out, so momentum equals this impulse
@@ -777,7 +921,7 @@ impl<const D: usize> DgmpmSolver<D> {
                         continue;
                     }
                     let f = Self::face_index(grid, l, idx);
-                    force -= self.face_flux[l][f].momentum * (sign * area);
+                    force -= self.final_flux(l, f).momentum * (sign * area);
                 }
             }
         }
@@ -794,7 +938,7 @@ impl<const D: usize> DgmpmSolver<D> {
         let density = material.density;
         let (shape, grad) = (&self.shape, &self.shape_gradient);
         let (mass, stress, velocity) = (&self.node_mass, &self.node_stress, &self.node_velocity);
-        let face_flux = &self.face_flux;
+        let (face_flux, face_correction) = (&self.face_flux, &self.face_correction);
         let physics = self.physics;
         let kernel = |c: usize, rs: &mut [Tensor<D>], rv: &mut [Vector<D>]| {
             let mut strain = [Tensor::<D>::zeros(); MAX_NODES];
@@ -838,7 +982,7 @@ impl<const D: usize> DgmpmSolver<D> {
                     let f = Self::face_index(grid, l, fidx);
                     // outward flux F_n = sign · F_{e_l}; it leaves the cell
                     let sign = if side == 0 { -1.0 } else { 1.0 };
-                    let q = &face_flux[l][f];
+                    let q = &Self::flux_with_correction(face_flux, face_correction, l, f);
                     for a in 0..npc {
                         if (a >> l) & 1 == side {
                             stress_flux[a] -= q.stress * (sign * weight);
@@ -881,17 +1025,96 @@ impl<const D: usize> DgmpmSolver<D> {
     /// stage `(½, ½)`.
     pub fn nodal_update(&mut self, dt: f64, start_weight: f64) {
         let b = 1.0 - start_weight;
-        for i in 0..self.node_stress.len() {
-            let s = self.node_stress[i] + self.rate_stress[i] * dt;
-            let v = self.node_velocity[i] + self.rate_velocity[i] * dt;
+        let (rs, rv) = (&self.rate_stress, &self.rate_velocity);
+        let (s0, v0) = (&self.start_stress, &self.start_velocity);
+        let kernel = |i: usize, stress: &mut Tensor<D>, velocity: &mut Vector<D>| {
+            let s = *stress + rs[i] * dt;
+            let v = *velocity + rv[i] * dt;
             if start_weight == 0.0 {
-                self.node_stress[i] = s;
-                self.node_velocity[i] = v;
+                *stress = s;
+                *velocity = v;
             } else {
-                self.node_stress[i] = self.start_stress[i] * start_weight + s * b;
-                self.node_velocity[i] = self.start_velocity[i] * start_weight + v * b;
+                *stress = s0[i] * start_weight + s * b;
+                *velocity = v0[i] * start_weight + v * b;
             }
+        };
+        if self.parallel {
+            self.node_stress
+                .par_iter_mut()
+                .zip(self.node_velocity.par_iter_mut())
+                .enumerate()
+                .for_each(|(i, (s, v))| kernel(i, s, v));
+        } else {
+            self.node_stress
+                .iter_mut()
+                .zip(self.node_velocity.iter_mut())
+                .enumerate()
+                .for_each(|(i, (s, v))| kernel(i, s, v));
         }
+    }
+
+    /// Cell path, phases 3-5 in one (one point per cell, forward Euler): the point update
+    /// `q_p ← q_p + Δt Σ_i S_i(X_p) q̇_i` of phases 3-5 with `M_i = S_i m_p` and
+    /// `q_i = q_p` on every node reduces exactly to the cell-centred Godunov update
+    /// `q_p ← q_p - Δt (ρ V/m_p) Σ_l (F_l(high) - F_l(low))/Δx_l` (momentum part divided
+    /// by `ρ`): `Σ_i S_i q̇_i = (ρ/m_p) Σ_i (…)_i`, the volume terms cancel because
+    /// `Σ_i ∇S_i = 0`, and each face flux reaches its `2^{D-1}` nodes with weight
+    /// `|Γ_f| 2/2^D`. Tested equal to phases 1-5 to round-off.
+    pub fn cell_update(&self, points: &mut MaterialPoints<D>, dt: f64) {
+        let grid = &self.grid;
+        let (face_flux, face_correction) = (&self.face_flux, &self.face_correction);
+        let (density, volume) = (self.material.density, grid.cell_volume());
+        let mass = &points.mass;
+        // stride along l of the l-face array: the high face of a cell is this far on
+        let high_offset: [usize; D] = std::array::from_fn(|l| grid.cells[..l].iter().product());
+        let kernel = |c: usize, idx: [usize; D], q: &mut Tensor<D>, v: &mut Vector<D>| {
+            let mut dq = Tensor::<D>::zeros();
+            let mut dm = Vector::<D>::zeros();
+            for l in 0..D {
+                let lo = Self::face_index(grid, l, idx);
+                let hi = lo + high_offset[l];
+                let a = Self::flux_with_correction(face_flux, face_correction, l, lo);
+                let b = Self::flux_with_correction(face_flux, face_correction, l, hi);
+                let inv = 1.0 / grid.spacing[l];
+                dq -= (b.stress - a.stress) * inv;
+                dm -= (b.momentum - a.momentum) * inv;
+            }
+            let scale = dt * density * volume / mass[c];
+            *q += dq * scale;
+            *v += dm * (scale / density);
+        };
+        let target = match self.physics {
+            Physics::Linear => &mut points.stress,
+            Physics::Svk { .. } => &mut points.deformation,
+        };
+        // rows of cells along axis 0 (pieces of the row in 1D): only idx[0] varies in one
+        let chunk = if D == 1 {
+            grid.cells[0].min(4096)
+        } else {
+            grid.cells[0]
+        };
+        let row = |start: usize, q: &mut [Tensor<D>], v: &mut [Vector<D>]| {
+            let mut idx = Self::multi_index(grid.cells, start);
+            let first = idx[0];
+            for (j, (q, v)) in q.iter_mut().zip(v.iter_mut()).enumerate() {
+                idx[0] = first + j;
+                kernel(start + j, idx, q, v);
+            }
+        };
+        if self.parallel {
+            target
+                .par_chunks_mut(chunk)
+                .zip(points.velocity.par_chunks_mut(chunk))
+                .enumerate()
+                .for_each(|(r, (q, v))| row(r * chunk, q, v));
+        } else {
+            target
+                .chunks_mut(chunk)
+                .zip(points.velocity.chunks_mut(chunk))
+                .enumerate()
+                .for_each(|(r, (q, v))| row(r * chunk, q, v));
+        }
+        self.piola_at_points(points);
     }
 
     /// Phase 5: points take the new nodal field ([`PointUpdate::Nodal`]) or add its
@@ -946,15 +1169,26 @@ impl<const D: usize> DgmpmSolver<D> {
                 .enumerate()
                 .for_each(|(c, (s, v))| kernel(c, s, v));
         }
-        if let Physics::Svk { svk, .. } = self.physics {
-            for (s, f) in points.stress.iter_mut().zip(&points.deformation) {
-                *s = svk.piola(f);
-            }
-        }
+        self.piola_at_points(points);
     }
 
-    /// One step: phases 1-5 (module doc). Returns the work done by the loads.
+    /// One step: phases 1-5 (module doc); on the cell path `interface_fluxes`,
+    /// `transverse_corrections` (CTU), `boundary_force` and [`Self::cell_update`]. Adds the
+    /// work and impulse of the loads to the state.
     pub fn step(&mut self, state: &mut DgmpmState<D>, dt: f64) {
+        let ctu = D > 1 && self.config.flux == TransverseFlux::Ctu;
+        if self.cell_path {
+            let power = self.interface_fluxes(&state.points);
+            if ctu {
+                self.transverse_corrections(&state.points, dt);
+            }
+            let force = self.boundary_force();
+            self.cell_update(&mut state.points, dt);
+            state.work += dt * power;
+            state.impulse += force * dt;
+            self.move_points(&mut state.points, dt);
+            return;
+        }
         self.particles_to_nodes(&state.points);
         let keep_start = self.config.integrator == Integrator::Rk2
             || self.config.update == PointUpdate::Increment;
@@ -962,10 +1196,9 @@ impl<const D: usize> DgmpmSolver<D> {
             self.start_stress.copy_from_slice(&self.node_stress);
             self.start_velocity.copy_from_slice(&self.node_velocity);
         }
-        let ctu = D > 1 && self.config.flux == TransverseFlux::Ctu;
-        let power = self.interface_fluxes();
+        let power = self.interface_fluxes(&state.points);
         if ctu {
-            self.transverse_corrections(dt);
+            self.transverse_corrections(&state.points, dt);
         }
         let force = self.boundary_force();
         self.nodal_rates(&state.points);
@@ -976,9 +1209,9 @@ impl<const D: usize> DgmpmSolver<D> {
                 state.impulse += force * dt;
             }
             Integrator::Rk2 => {
-                let power2 = self.interface_fluxes();
+                let power2 = self.interface_fluxes(&state.points);
                 if ctu {
-                    self.transverse_corrections(dt);
+                    self.transverse_corrections(&state.points, dt);
                 }
                 let force2 = self.boundary_force();
                 self.nodal_rates(&state.points);
@@ -988,9 +1221,42 @@ impl<const D: usize> DgmpmSolver<D> {
             }
         }
         self.nodes_to_particles(&mut state.points);
-        // points move with the velocity solution (output only: the grid is the reference)
-        for (x, v) in state.points.position.iter_mut().zip(&state.points.velocity) {
-            *x += v * dt;
+        self.move_points(&mut state.points, dt);
+    }
+
+    /// SVK: the points' stress is `Π(F)` of their new deformation gradient.
+    fn piola_at_points(&self, points: &mut MaterialPoints<D>) {
+        let Physics::Svk { svk, .. } = self.physics else {
+            return;
+        };
+        let kernel = |(s, f): (&mut Tensor<D>, &Tensor<D>)| *s = svk.piola(f);
+        if self.parallel {
+            points
+                .stress
+                .par_iter_mut()
+                .zip(points.deformation.par_iter())
+                .for_each(kernel);
+        } else {
+            points
+                .stress
+                .iter_mut()
+                .zip(points.deformation.iter())
+                .for_each(kernel);
+        }
+    }
+
+    /// Points move with the velocity solution (output only: the grid is the reference).
+    fn move_points(&self, points: &mut MaterialPoints<D>, dt: f64) {
+        if self.parallel {
+            points
+                .position
+                .par_iter_mut()
+                .zip(points.velocity.par_iter())
+                .for_each(|(x, v)| *x += v * dt);
+        } else {
+            for (x, v) in points.position.iter_mut().zip(&points.velocity) {
+                *x += v * dt;
+            }
         }
     }
 }
