@@ -29,8 +29,9 @@ pub struct RunRecord {
     pub error: Option<String>,
 }
 
-/// Hooks for progress and output during [`run_method`].
-pub trait Observer<const D: usize> {
+/// Hooks for progress and output during [`run_method`] (called on the rayon worker that
+/// runs the step loop, see [`controller::run`]).
+pub trait Observer<const D: usize>: Send {
     /// Called after each step with the current time.
     fn progress(&mut self, _t: f64) {}
     /// Called at each output time with the method state.
@@ -62,7 +63,10 @@ pub fn run_method<const D: usize>(
     let mut samples = Samples::<D>::default();
     let mut times = Vec::new();
     let mut steps_at_output = 0;
-    let observer = std::cell::RefCell::new(observer);
+    // shared by the output and progress hooks (never contended: one thread calls both)
+    let observer = std::sync::Mutex::new(observer);
+    // a hook that panicked has ended the run already; the observer is still usable
+    let lock = std::sync::PoisonError::into_inner;
     let result = controller::run::<D, dyn Method<D>, anyhow::Error>(
         method.as_mut(),
         &problem.output_times,
@@ -83,9 +87,12 @@ pub fn run_method<const D: usize>(
             };
             steps_at_output = steps;
             times.push(metrics);
-            observer.borrow_mut().output(m, index, t, &metrics)
+            observer
+                .lock()
+                .unwrap_or_else(lock)
+                .output(m, index, t, &metrics)
         },
-        |t| observer.borrow_mut().progress(t),
+        |t| observer.lock().unwrap_or_else(lock).progress(t),
     );
     let mut record = RunRecord {
         method: config.kind.name().to_string(),

@@ -1,6 +1,6 @@
 //! No heap allocation inside the step loop of any method: a counting global allocator
-//! watches 100 steps of each method and variant (grids below the parallel threshold; the
-//! rayon paths of large grids are not covered here).
+//! (it counts on every thread, rayon's workers included) watches 100 steps of each method
+//! and variant, on grids below the parallel threshold and, for DGMPM, above it (rayon).
 use impact_core::method::{
     Integrator, MethodKind, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
 };
@@ -11,6 +11,8 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 struct Counting;
 static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
 static COUNTING: AtomicBool = AtomicBool::new(false);
+/// The counter is global: the tests of this binary take turns.
+static TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
@@ -36,24 +38,37 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
+/// Allocations during steps 21-120 of the controller's loop (the time loop every command
+/// runs: steps, guard checks every 10 steps, progress hook), after 20 warm-up steps: lazily
+/// cached shape functions (MPM) are filled in the first step, and rayon's workers set up
+/// their deques the first time each gets a job.
 fn steps_allocate<const D: usize>(
     problem: &Problem<D>,
     config: impact_core::method::MethodConfig,
 ) -> usize {
     let mut m = impact::build(problem, config).unwrap();
     let dt = m.stable_dt();
-    m.step(0.0, dt); // first step: lazily cached shape functions (MPM) are filled here
+    let mut steps = 0;
     ALLOCATIONS.store(0, Ordering::SeqCst);
-    COUNTING.store(true, Ordering::SeqCst);
-    for k in 1..=100 {
-        m.step(k as f64 * dt, dt);
-    }
+    let result = impact_core::controller::run::<D, dyn impact_core::Method<D>, String>(
+        m.as_mut(),
+        &[125.0 * dt],
+        impact_core::controller::Guard::default(),
+        |_, _, _, _| Ok(()),
+        |_| {
+            steps += 1;
+            COUNTING.store((20..120).contains(&steps), Ordering::SeqCst);
+        },
+    );
     COUNTING.store(false, Ordering::SeqCst);
+    assert!(result.is_ok(), "{config:?}: the run must not blow up");
+    assert!(steps >= 120);
     ALLOCATIONS.load(Ordering::SeqCst)
 }
 
 #[test]
 fn no_allocation_in_the_step_loop() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
     // the counter sees an allocation when there is one
     COUNTING.store(true, Ordering::SeqCst);
     ALLOCATIONS.store(0, Ordering::SeqCst);
@@ -89,7 +104,8 @@ fn no_allocation_in_the_step_loop() {
                 (c.integrator, c.update, c.stress_update, c.riemann) =
                     (integrator, update, stress_update, riemann);
                 c.courant = 0.5;
-                assert_eq!(steps_allocate(&problem, c), 0, "{name} {kind:?} {c:?}");
+                let n = steps_allocate(&problem, c);
+                assert_eq!(n, 0, "{n} allocations: {name} {kind:?} {c:?}");
                 cases += 1;
             }
         }
@@ -111,4 +127,50 @@ fn no_allocation_in_the_step_loop() {
         }
     }
     assert_eq!(cases, 18 + 9);
+}
+
+/// DGMPM's rayon loops (grids from 4,096 cells on): the cell path (CTU, donor-cell, SVK) and
+/// the nodal phases (RK2, 4 points per cell), in 1D and 2D.
+#[test]
+fn no_allocation_in_the_parallel_step_loop() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let mut cases = 0;
+    for (name, cells) in [("bar", vec![6000]), ("svk-bar", vec![6000])] {
+        let mut scene = Scene::builtin(name).unwrap();
+        scene.domain.cells = cells;
+        let problem = Problem::<1>::from_scene(&scene).unwrap();
+        for integrator in [Integrator::Euler, Integrator::Rk2] {
+            let mut c = impact::scene_config(&scene, MethodKind::Dgmpm);
+            c.integrator = integrator;
+            c.courant = 0.5;
+            let n = steps_allocate(&problem, c);
+            assert_eq!(n, 0, "{n} allocations: {name} {integrator:?}");
+            cases += 1;
+        }
+    }
+    for name in ["plate", "svk-plate"] {
+        let mut scene = Scene::builtin(name).unwrap();
+        scene.domain.cells = vec![80, 60];
+        let problem = Problem::<2>::from_scene(&scene).unwrap();
+        for (flux, integrator, ppc) in [
+            (TransverseFlux::Ctu, Integrator::Euler, 1),
+            (TransverseFlux::DonorCell, Integrator::Euler, 1),
+            (TransverseFlux::Ctu, Integrator::Rk2, 1),
+            (TransverseFlux::DonorCell, Integrator::Euler, 4),
+        ] {
+            if name == "svk-plate" && flux == TransverseFlux::Ctu {
+                continue; // CTU is linear-elastic only
+            }
+            let mut c = impact::scene_config(&scene, MethodKind::Dgmpm);
+            (c.flux, c.integrator, c.points_per_cell) = (flux, integrator, ppc);
+            c.courant = 0.5;
+            assert_eq!(
+                steps_allocate(&problem, c),
+                0,
+                "{name} {flux:?} {integrator:?} {ppc}"
+            );
+            cases += 1;
+        }
+    }
+    assert_eq!(cases, 4 + 4 + 2);
 }

@@ -61,7 +61,27 @@ impl<E: std::fmt::Debug + std::fmt::Display> std::error::Error for RunError<E> {
 
 /// Run `method` from `t = 0` through every output time. `on_output(method, index, t,
 /// step)` is called at each output time; `on_progress(t)` after each step.
+///
+/// The loop runs on a worker of rayon's global pool, so the parallel loops of a step are
+/// forked from inside the pool (onto the worker's own deque). Forked from outside, each
+/// parallel loop would be injected through rayon's global queue, which allocates a block
+/// every 63 jobs: a heap allocation in the step loop.
 pub fn run<const D: usize, M, E>(
+    method: &mut M,
+    output_times: &[f64],
+    guard: Guard,
+    on_output: impl FnMut(&M, usize, f64, usize) -> Result<(), E> + Send,
+    on_progress: impl FnMut(f64) + Send,
+) -> Result<RunStats, RunError<E>>
+where
+    M: Method<D> + ?Sized,
+    E: Send,
+{
+    rayon::scope(|_| run_here(method, output_times, guard, on_output, on_progress))
+}
+
+/// [`run`] on the calling thread.
+fn run_here<const D: usize, M, E>(
     method: &mut M,
     output_times: &[f64],
     guard: Guard,
