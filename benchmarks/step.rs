@@ -4,7 +4,7 @@
 //! `cargo bench --bench step`; throughput is in cells (elements) per second, i.e.
 //! cell-updates per second (points per second for MPM at one point per cell).
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use impact_core::method::MethodKind;
+use impact_core::method::{MethodConfig, MethodKind, RiemannSolver, TransverseFlux};
 use impact_core::{Problem, Scene};
 use std::time::Duration;
 
@@ -62,32 +62,124 @@ fn plate_step(c: &mut Criterion) {
     group.finish();
 }
 
-/// DGMPM one step with and without the one-point-per-cell fast path of particles→nodes.
-fn fast_path(c: &mut Criterion) {
-    let mut group = c.benchmark_group("fast_path");
+/// Time one DGMPM step of `m` under `id` in `group`.
+fn dgmpm_step<const D: usize>(
+    group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    id: BenchmarkId,
+    m: &mut impact_dgmpm::Dgmpm<D>,
+) {
+    let dt = impact_core::Method::stable_dt(m);
+    let mut t = 0.0;
+    group.bench_function(id, |b| {
+        b.iter(|| {
+            impact_core::Method::step(m, t, dt);
+            t += dt;
+        })
+    });
+}
+
+fn dgmpm<const D: usize>(
+    scene: &Scene,
+    edit: impl Fn(&mut MethodConfig),
+) -> impact_dgmpm::Dgmpm<D> {
+    let problem = Problem::<D>::from_scene(scene).expect("valid scene");
+    let mut config = impact::scene_config(scene, MethodKind::Dgmpm);
+    edit(&mut config);
+    impact_dgmpm::Dgmpm::<D>::new(&problem, config).expect("valid method")
+}
+
+/// What each skip saves: one DGMPM step with and without it (issue #5).
+/// - `one_point`: the general nodal phases, the particles→nodes fast path, the cell path;
+/// - `transverse`: donor-cell (no transverse solve) against CTU, same Courant number;
+/// - `hyperelastic`: the linear bar against the same bar in Saint-Venant–Kirchhoff
+///   (approximate solver): the cost of the hyperelastic flux a linear scene never pays;
+/// - `dimension`: the 1D bar against the same bar as a 2D strip of N×1 cells (donor-cell).
+fn skips(c: &mut Criterion) {
+    let mut group = c.benchmark_group("skips");
     group.measurement_time(Duration::from_secs(3));
     group.warm_up_time(Duration::from_secs(1));
     group.sample_size(20);
+    let cells = 150_000;
     let mut bar = Scene::builtin("bar").expect("shipped scene");
-    bar.domain.cells = vec![150_000];
-    let bar_problem = Problem::<1>::from_scene(&bar).expect("valid scene");
-    for fast in [false, true] {
-        let config = impact::scene_config(&bar, MethodKind::Dgmpm);
-        let mut m = impact_dgmpm::Dgmpm::<1>::new(&bar_problem, config).expect("valid method");
+    bar.domain.cells = vec![cells];
+    group.throughput(Throughput::Elements(cells as u64));
+    for (label, cell_path, fast) in [
+        ("general", false, false),
+        ("p2n_fast", false, true),
+        ("cell_path", true, true),
+    ] {
+        let mut m = dgmpm::<1>(&bar, |_| {});
+        m.solver.set_cell_path(cell_path);
         m.solver.set_single_point_fast_path(fast);
-        let dt = impact_core::Method::stable_dt(&m);
-        group.throughput(Throughput::Elements(150_000));
-        let mut t = 0.0;
-        let id = if fast { "on" } else { "off" };
-        group.bench_with_input(BenchmarkId::new("bar_150000", id), &fast, |b, _| {
-            b.iter(|| {
-                impact_core::Method::step(&mut m, t, dt);
-                t += dt;
-            })
-        });
+        dgmpm_step(
+            &mut group,
+            BenchmarkId::new("one_point/bar_150000", label),
+            &mut m,
+        );
     }
+    let mut plate = Scene::builtin("plate").expect("shipped scene");
+    plate.domain.cells = vec![400, 300];
+    group.throughput(Throughput::Elements(400 * 300));
+    for (label, cell_path, fast) in [
+        ("general", false, false),
+        ("p2n_fast", false, true),
+        ("cell_path", true, true),
+    ] {
+        let mut m = dgmpm::<2>(&plate, |_| {});
+        m.solver.set_cell_path(cell_path);
+        m.solver.set_single_point_fast_path(fast);
+        dgmpm_step(
+            &mut group,
+            BenchmarkId::new("one_point/plate_400x300", label),
+            &mut m,
+        );
+    }
+    for flux in [TransverseFlux::DonorCell, TransverseFlux::Ctu] {
+        let mut m = dgmpm::<2>(&plate, |c| {
+            c.flux = flux;
+            c.courant = 0.5;
+        });
+        dgmpm_step(
+            &mut group,
+            BenchmarkId::new("transverse/plate_400x300", format!("{flux:?}")),
+            &mut m,
+        );
+    }
+    group.throughput(Throughput::Elements(cells as u64));
+    let mut svk = Scene::builtin("svk-bar").expect("shipped scene");
+    svk.domain.cells = vec![cells];
+    let mut m = dgmpm::<1>(&bar, |_| {});
+    dgmpm_step(
+        &mut group,
+        BenchmarkId::new("hyperelastic/bar_150000", "linear"),
+        &mut m,
+    );
+    let mut m = dgmpm::<1>(&svk, |c| c.riemann = RiemannSolver::Approximate);
+    dgmpm_step(
+        &mut group,
+        BenchmarkId::new("hyperelastic/bar_150000", "svk_approximate"),
+        &mut m,
+    );
+    let mut m = dgmpm::<1>(&bar, |c| c.courant = 0.5);
+    dgmpm_step(
+        &mut group,
+        BenchmarkId::new("dimension/bar_150000", "1d"),
+        &mut m,
+    );
+    let mut strip = Scene::builtin("plate-wave").expect("shipped scene");
+    strip.domain.length = vec![6.0, 6.0 / cells as f64];
+    strip.domain.cells = vec![cells, 1];
+    let mut m = dgmpm::<2>(&strip, |c| {
+        c.flux = TransverseFlux::DonorCell;
+        c.courant = 0.5;
+    });
+    dgmpm_step(
+        &mut group,
+        BenchmarkId::new("dimension/bar_150000", "2d_strip"),
+        &mut m,
+    );
     group.finish();
 }
 
-criterion_group!(benches, step, plate_step, fast_path);
+criterion_group!(benches, step, plate_step, skips);
 criterion_main!(benches);

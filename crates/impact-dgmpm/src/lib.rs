@@ -80,6 +80,8 @@ enum Physics {
 const MAX_NODES: usize = 8;
 /// Cell count from which loops run in parallel.
 const PARALLEL_CELLS: usize = 4096;
+/// Faces or cells per chunk of the cell-path loops (rayon's unit of work).
+const CHUNK: usize = 2048;
 
 /// Where face states are read from (see [`DgmpmSolver::interface_fluxes`]).
 #[derive(Clone, Copy)]
@@ -400,13 +402,28 @@ impl<const D: usize> DgmpmSolver<D> {
         idx
     }
 
-    /// How the face loops of axis `l` are cut: chunks of one row along axis 0 (in 1D,
-    /// pieces of the row), so that only `idx[0]` changes inside a chunk; and the face
-    /// array's dimensions.
+    /// How the face loops of axis `l` are cut (chunks of [`CHUNK`] faces, each walked with
+    /// [`Self::advance`] from its first multi-index), and the face array's dimensions.
     fn face_rows(&self, l: usize) -> (usize, [usize; D]) {
         let dims: [usize; D] = std::array::from_fn(|k| self.grid.cells[k] + usize::from(k == l));
-        let chunk = if D == 1 { dims[0].min(4096) } else { dims[0] };
-        (chunk, dims)
+        (CHUNK, dims)
+    }
+
+    /// Next multi-index in storage order (first index fastest): no division, and entries
+    /// other than `idx[0]` are written only at the end of a row.
+    #[inline(always)]
+    fn advance(idx: &mut [usize; D], dims: &[usize; D]) {
+        idx[0] += 1;
+        if idx[0] == dims[0] {
+            idx[0] = 0;
+            for k in 1..D {
+                idx[k] += 1;
+                if idx[k] < dims[k] {
+                    break;
+                }
+                idx[k] = 0;
+            }
+        }
     }
 
     #[inline]
@@ -558,14 +575,12 @@ impl<const D: usize> DgmpmSolver<D> {
                 }
             };
             let (chunk, dims) = self.face_rows(l);
-            // one row of faces (or a piece of the 1D row): only idx[0] varies in it
             let row = |start: usize, q: &mut [Conserved<D>]| -> f64 {
                 let mut idx = Self::multi_index(dims, start);
-                let first = idx[0];
                 let mut sum = 0.0;
-                for (j, q) in q.iter_mut().enumerate() {
-                    idx[0] = first + j;
+                for q in q.iter_mut() {
                     sum += kernel(idx, q);
+                    Self::advance(&mut idx, &dims);
                 }
                 sum
             };
@@ -776,10 +791,9 @@ impl<const D: usize> DgmpmSolver<D> {
             let (chunk, dims) = self.face_rows(k);
             let row = |start: usize, q: &mut [Conserved<D>]| {
                 let mut idx = Self::multi_index(dims, start);
-                let first = idx[0];
-                for (j, q) in q.iter_mut().enumerate() {
-                    idx[0] = first + j;
+                for q in q.iter_mut() {
                     kernel(idx, q);
+                    Self::advance(&mut idx, &dims);
                 }
             };
             if self.parallel {
@@ -1087,18 +1101,12 @@ impl<const D: usize> DgmpmSolver<D> {
             Physics::Linear => &mut points.stress,
             Physics::Svk { .. } => &mut points.deformation,
         };
-        // rows of cells along axis 0 (pieces of the row in 1D): only idx[0] varies in one
-        let chunk = if D == 1 {
-            grid.cells[0].min(4096)
-        } else {
-            grid.cells[0]
-        };
+        let chunk = CHUNK;
         let row = |start: usize, q: &mut [Tensor<D>], v: &mut [Vector<D>]| {
             let mut idx = Self::multi_index(grid.cells, start);
-            let first = idx[0];
             for (j, (q, v)) in q.iter_mut().zip(v.iter_mut()).enumerate() {
-                idx[0] = first + j;
                 kernel(start + j, idx, q, v);
+                Self::advance(&mut idx, &grid.cells);
             }
         };
         if self.parallel {
