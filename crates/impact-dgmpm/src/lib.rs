@@ -19,6 +19,15 @@
 //! 4. [`DgmpmSolver::nodal_update`]: forward Euler, or two-stage RK2 (Heun), repeating 2-3.
 //! 5. [`DgmpmSolver::nodes_to_particles`]: see [`PointUpdate`].
 //!
+//! **Cell path** (one point per cell, forward Euler: the paper's §5 setting). There every
+//! node of a cell carries the point's state after phase 1, and phases 3-5 reduce exactly to
+//! the cell-centred Godunov update `q ← q - Δt Σ_l (F_l,high - F_l,low)/Δx_l`
+//! ([`DgmpmSolver::cell_update`], derivation in its doc). The step is then
+//! `interface_fluxes` (face states read from the points), `transverse_corrections` (CTU),
+//! `boundary_force`, `cell_update`; the nodal buffers are not allocated. It is tested equal
+//! to phases 1-5 to round-off (1D/2D, CTU/donor-cell, linear and SVK), and
+//! [`DgmpmSolver::set_cell_path`] switches it off for comparison.
+//!
 //! Choices where the paper is silent, with their reasons:
 //! - **Point update** ([`PointUpdate`]): the default is `Nodal` (points take the
 //!   interpolated new nodal field, `q_α = Σ_i S_iα q_i^{n+1}`). The point state then stays
@@ -48,7 +57,10 @@
 //!   about 0.75).
 //! - Every cell must hold points (the paper's scenes fill their grid); points are stored
 //!   cell by cell, `points_per_cell` each.
-//! - Rayon parallelises over cells and faces (disjoint writes) from 4,096 cells on.
+//! - Rayon parallelises over cells and faces (disjoint writes) from 4,096 cells on. Face
+//!   and cell loops walk their chunks with a multi-index odometer and plain index
+//!   arithmetic: per-face divisions, and multi-index entries written at an axis known only
+//!   at run time (a store-forwarding stall), had cost about half of the CTU step.
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
