@@ -136,6 +136,10 @@ enum BenchCommand {
         /// Output folder (default: out/work-precision-<scene>).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Run nothing: print the summary sentence of the ladder already in this folder
+        /// (its work_precision.json).
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["levels", "out"])]
+        summarize: Option<PathBuf>,
     },
 }
 
@@ -671,7 +675,19 @@ fn main() {
         Command::Check(a) => check_command(a),
         Command::Stability(a) => stability_command(a).map(|_| true),
         Command::Bench {
-            what: BenchCommand::WorkPrecision { scene, levels, out },
+            what:
+                BenchCommand::WorkPrecision {
+                    summarize: Some(dir),
+                    ..
+                },
+        } => impact::work_precision::summarize_dir(dir).map(|sentence| {
+            say!("{sentence}");
+            true
+        }),
+        Command::Bench {
+            what: BenchCommand::WorkPrecision {
+                scene, levels, out, ..
+            },
         } => work_precision_command(scene, *levels, out.clone()).map(|_| true),
         Command::Scenes => {
             for name in impact_core::scene::BUILTIN {

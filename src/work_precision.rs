@@ -8,7 +8,7 @@
 //! (`impact stability`): DGMPM 1 point per cell Euler 1.0 (2D: CTU 1.0, DCU 0.6); several
 //! points per cell with Euler 0.6; RK2 1.0 (2D: DCU 0.95, CTU 0.7); MPM 0.5; FEM 0.9.
 use anyhow::{bail, Context, Result};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -24,7 +24,7 @@ pub struct Config {
 }
 
 /// One run of the ladder.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Point {
     /// Scene.
     pub scene: String,
@@ -288,43 +288,100 @@ pub fn run(
         }
     }
     write(out, scene, &points)?;
-    // which configuration reaches a target error fastest: the median of the finest errors
-    let mut finest: Vec<f64> = configurations(s.dim)
+    let sentence = summarize(scene, &points);
+    Ok((points, sentence))
+}
+
+/// Error at or below which a configuration counts as exact (round-off).
+const EXACT: f64 = 1e-12;
+
+/// Which configuration reaches a target error fastest and by what factor the fastest
+/// DGMPM, MPM and FEM configurations follow. The target is the median over configurations
+/// of their finest non-exact error. When some configurations are exact on the scene
+/// (DGMPM at Courant 1 on the bar and the plane wave: any target is met on the coarsest
+/// grid, so factors against them are degenerate), a second sentence repeats the comparison
+/// without them.
+pub fn summarize(scene: &str, points: &[Point]) -> String {
+    let mut labels: Vec<&str> = points.iter().map(|p| p.config.as_str()).collect();
+    labels.dedup();
+    let finest = |label: &str| {
+        points
+            .iter()
+            .filter(|p| p.config == label && p.error.is_none() && p.l1_rel.is_finite())
+            .map(|p| p.l1_rel)
+            .reduce(f64::min)
+    };
+    let exact: Vec<&str> = labels
         .iter()
-        .filter_map(|c| {
-            points
-                .iter()
-                .filter(|p| p.config == c.label && p.error.is_none())
-                .map(|p| p.l1_rel)
-                .reduce(f64::min)
-        })
-        .filter(|e| e.is_finite() && *e > 1e-12)
+        .copied()
+        .filter(|l| finest(l).is_some_and(|e| e <= EXACT))
         .collect();
-    finest.sort_by(f64::total_cmp);
-    let target = finest.get(finest.len() / 2).copied().unwrap_or(1e-2);
-    let mut times: Vec<(String, f64)> = configurations(s.dim)
+    let mut errors: Vec<f64> = labels
         .iter()
-        .filter_map(|c| {
-            let mine: Vec<&Point> = points.iter().filter(|p| p.config == c.label).collect();
-            time_to_reach(&mine, target).map(|t| (c.label.clone(), t))
+        .filter_map(|l| finest(l))
+        .filter(|e| *e > EXACT)
+        .collect();
+    errors.sort_by(f64::total_cmp);
+    let target = errors.get(errors.len() / 2).copied().unwrap_or(1e-2);
+    let all = format!("{scene}: {}", fastest(points, &labels, target));
+    if exact.is_empty() {
+        return all;
+    }
+    let others: Vec<&str> = labels
+        .iter()
+        .copied()
+        .filter(|l| !exact.contains(l))
+        .collect();
+    format!(
+        "{all}. Without the configurations that are exact on this scene ({}): {}",
+        exact.join(", "),
+        fastest(points, &others, target)
+    )
+}
+
+/// The sentence of [`summarize`] over the configurations `labels`.
+fn fastest(points: &[Point], labels: &[&str], target: f64) -> String {
+    let mut times: Vec<(&str, f64)> = labels
+        .iter()
+        .filter_map(|l| {
+            let mine: Vec<&Point> = points.iter().filter(|p| p.config == *l).collect();
+            time_to_reach(&mine, target).map(|t| (*l, t))
         })
         .collect();
     times.sort_by(|a, b| a.1.total_cmp(&b.1));
-    let best_other = |prefix: &str| {
-        times
-            .iter()
-            .find(|(l, _)| l.starts_with(prefix))
-            .map(|x| x.1)
+    let Some(&(label, t_best)) = times.first() else {
+        return format!("no configuration reaches L1 {target:.2e}");
     };
-    let sentence = match times.first() {
-        Some((label, t_best)) => format!(
-            "{scene}: L1 error {target:.2e} is reached fastest by `{label}` in {t_best:.3e} s; MPM {}; FEM {}",
-            best_other("mpm").map_or("does not reach it on this ladder".into(), |t| format!("needs {:.1}× longer", t / t_best)),
-            best_other("fem").map_or("does not reach it on this ladder".into(), |t| format!("needs {:.1}× longer", t / t_best)),
-        ),
-        None => format!("{scene}: no configuration reaches L1 {target:.2e}"),
+    let family = |prefix: &str, name: &str| {
+        let present = labels.iter().any(|l| l.starts_with(prefix));
+        match times.iter().find(|(l, _)| l.starts_with(prefix)) {
+            _ if !present => None,
+            Some((l, _)) if *l == label => Some(format!("{name} is that one")),
+            Some((l, t)) => Some(format!("{name} (`{l}`) needs {:.1}× longer", t / t_best)),
+            None => Some(format!("{name} does not reach it on this ladder")),
+        }
     };
-    Ok((points, sentence))
+    let rest: Vec<String> = [("dgmpm", "DGMPM"), ("mpm", "MPM"), ("fem", "FEM")]
+        .iter()
+        .filter_map(|(p, n)| family(p, n))
+        .collect();
+    format!(
+        "L1 error {target:.2e} is reached fastest by `{label}` in {t_best:.3e} s; {}",
+        rest.join("; ")
+    )
+}
+
+/// The summary sentence of a ladder already run (`work_precision.json` in `dir`).
+pub fn summarize_dir(dir: &Path) -> Result<String> {
+    let path = dir.join("work_precision.json");
+    let text =
+        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
+    let points: Vec<Point> = serde_json::from_str(&text)
+        .with_context(|| format!("{}: not a work-precision result", path.display()))?;
+    let Some(first) = points.first() else {
+        bail!("{}: no runs in it", path.display());
+    };
+    Ok(summarize(&first.scene.clone(), &points))
 }
 
 fn write(out: &Path, scene: &str, points: &[Point]) -> Result<()> {
@@ -385,4 +442,62 @@ fn write(out: &Path, scene: &str, points: &[Point]) -> Result<()> {
 /// The default output folder.
 pub fn default_out(scene: &str) -> PathBuf {
     PathBuf::from("out").join(format!("work-precision-{scene}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(config: &str, cells: usize, wall_s: f64, l1_rel: f64) -> Point {
+        Point {
+            scene: "bar".into(),
+            config: config.into(),
+            cells_x: cells,
+            cells,
+            steps: cells,
+            wall_s,
+            updates_per_s: 0.0,
+            peak_rss_mib: 0.0,
+            l1_rel,
+            error: None,
+        }
+    }
+
+    /// The target is the median of the finest non-exact errors; an exact configuration wins
+    /// the first sentence, and the second compares the others, with log-log interpolation.
+    #[test]
+    fn summary_leaves_exact_configurations_out_of_the_second_comparison() {
+        let points = vec![
+            point("dgmpm exact", 100, 1e-3, 1e-15),
+            point("dgmpm exact", 200, 4e-3, 1e-15),
+            point("dgmpm slow", 100, 1.0, 4e-2),
+            point("dgmpm slow", 200, 4.0, 1e-2),
+            point("mpm", 100, 0.1, 8e-2),
+            point("mpm", 200, 0.4, 2e-2),
+            point("fem", 100, 0.01, 1e-1),
+            point("fem", 200, 0.04, 5e-2),
+        ];
+        // finest non-exact errors 1e-2, 2e-2, 5e-2: the median is 2e-2
+        let s = summarize("bar", &points);
+        assert!(
+            s.starts_with("bar: L1 error 2.00e-2 is reached fastest by `dgmpm exact`"),
+            "{s}"
+        );
+        assert!(
+            s.contains("Without the configurations that are exact on this scene (dgmpm exact)"),
+            "{s}"
+        );
+        // mpm reaches 2e-2 exactly at its finest level (0.4 s); dgmpm slow halfway in log
+        // between (1 s, 4e-2) and (4 s, 1e-2): 2 s; FEM never
+        let tail = s.split("Without").nth(1).unwrap();
+        assert!(
+            tail.contains("reached fastest by `mpm` in 4.000e-1 s"),
+            "{s}"
+        );
+        assert!(
+            tail.contains("DGMPM (`dgmpm slow`) needs 5.0× longer"),
+            "{s}"
+        );
+        assert!(tail.contains("FEM does not reach it on this ladder"), "{s}");
+    }
 }

@@ -59,5 +59,19 @@ fn work_precision_ladder_on_the_bar() {
         &std::fs::read(out.join("work_precision.png")).unwrap()[..4],
         b"\x89PNG"
     );
+    // the summary of the ladder on disk: the same sentence as the run printed, and (the bar
+    // has exact configurations) a second one without them
+    let again = Command::new(env!("CARGO_BIN_EXE_impact"))
+        .args(["bench", "work-precision", "--summarize"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let summary = String::from_utf8_lossy(&again.stdout);
+    assert!(again.status.success());
+    assert!(stdout.contains(summary.trim()), "{stdout}\n{summary}");
+    assert!(
+        summary.contains("Without the configurations that are exact on this scene"),
+        "{summary}"
+    );
     std::fs::remove_dir_all(&out).unwrap();
 }
