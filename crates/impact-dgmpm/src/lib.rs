@@ -1003,10 +1003,12 @@ impl<const D: usize> DgmpmSolver<D> {
             let mut stress_flux = [Tensor::<D>::zeros(); MAX_NODES];
             for l in 0..D {
                 let weight = grid.cell_volume() / grid.spacing[l] * 2.0 / npc as f64;
+                // the high face is one l-stride of the l-face array further (no multi-index
+                // entry written at a run-time axis)
+                let low = Self::face_index(grid, l, idx);
+                let stride: usize = grid.cells[..l].iter().product();
                 for side in 0..2 {
-                    let mut fidx = idx;
-                    fidx[l] += side;
-                    let f = Self::face_index(grid, l, fidx);
+                    let f = low + side * stride;
                     // outward flux F_n = sign · F_{e_l}; it leaves the cell
                     let sign = if side == 0 { -1.0 } else { 1.0 };
                     let q = &Self::flux_with_correction(face_flux, face_correction, l, f);
