@@ -437,6 +437,7 @@ pub fn stress_plot(
         panels.push(Panel {
             title: format!("{scene}: t = {:.4} ms", t * 1e3),
             series,
+            y_label: None,
         });
     }
     let y_label = if band > 0.0 {
@@ -478,6 +479,7 @@ pub fn svk_plot(
         Panel {
             title: format!("{scene}: DGMPM point positions (time in ms on the vertical axis)"),
             series: top,
+            y_label: Some("t (ms)".into()),
         },
         Panel {
             title: format!(
@@ -485,9 +487,10 @@ pub fn svk_plot(
                 last * 1e3
             ),
             series: bottom,
+            y_label: Some("Pi_xx (Pa)".into()),
         },
     ];
-    line_panels(path, &panels, "x (m)", "t (ms) / Pi_xx (Pa)")?;
+    line_panels(path, &panels, "x (m)", "Pi_xx (Pa)")?;
     Ok(())
 }
 

@@ -436,6 +436,7 @@ pub fn write(dir: &std::path::Path, rows: &[StabilityRow]) -> anyhow::Result<()>
                     reference: false,
                 },
             ],
+            y_label: None,
         });
     }
     line_panels(

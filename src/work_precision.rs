@@ -429,6 +429,7 @@ fn write(out: &Path, scene: &str, points: &[Point]) -> Result<()> {
     let panel = Panel {
         title: format!("{scene}: work-precision (log10 L1 error against log10 wall time)"),
         series,
+        y_label: None,
     };
     line_panels(
         &out.join("work_precision.png"),

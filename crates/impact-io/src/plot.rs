@@ -38,6 +38,8 @@ pub struct Panel {
     pub title: String,
     /// Curves.
     pub series: Vec<Series>,
+    /// This panel's y-axis label (default: the figure's).
+    pub y_label: Option<String>,
 }
 
 fn colour(i: usize) -> RGBColor {
@@ -103,7 +105,7 @@ pub fn line_panels(
             chart
                 .configure_mesh()
                 .x_desc(x_label)
-                .y_desc(y_label)
+                .y_desc(panel.y_label.as_deref().unwrap_or(y_label))
                 .y_label_formatter(&|v| format!("{v:.2e}"))
                 .draw()
                 .map_err(|e| err(e.to_string()))?;
