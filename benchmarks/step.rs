@@ -181,5 +181,40 @@ fn skips(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, step, plate_step, skips);
+/// The phases of one DGMPM cell-path step on the 1000×750 plate (1 point per cell, CTU,
+/// Courant 1), timed alone: Godunov fluxes, CTU corrections, cell update. Run with
+/// `RAYON_NUM_THREADS=1` for per-core figures.
+fn phases(c: &mut Criterion) {
+    let mut group = c.benchmark_group("phases");
+    group.measurement_time(Duration::from_secs(4));
+    group.warm_up_time(Duration::from_secs(1));
+    group.sample_size(10);
+    let mut plate = Scene::builtin("plate").expect("shipped scene");
+    plate.domain.cells = vec![1000, 750];
+    group.throughput(Throughput::Elements(1000 * 750));
+    let mut m = dgmpm::<2>(&plate, |_| {});
+    assert!(
+        m.solver.cell_path(),
+        "the plate's default takes the cell path"
+    );
+    let dt = impact_core::Method::stable_dt(&m);
+    // a few steps so that the wave is in the plate
+    for k in 0..20 {
+        impact_core::Method::step(&mut m, k as f64 * dt, dt);
+    }
+    let (solver, state) = (&mut m.solver, &mut m.state);
+    group.bench_function("plate_1000x750/interface_fluxes", |b| {
+        b.iter(|| solver.interface_fluxes(&state.points))
+    });
+    group.bench_function("plate_1000x750/transverse_corrections", |b| {
+        b.iter(|| solver.transverse_corrections(&state.points, dt))
+    });
+    group.bench_function("plate_1000x750/cell_update", |b| {
+        // the same fluxes each time: the state drifts linearly, which does not change the work
+        b.iter(|| solver.cell_update(&mut state.points, dt))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, step, plate_step, skips, phases);
 criterion_main!(benches);

@@ -129,8 +129,9 @@ enum BenchCommand {
         #[arg(long, default_value = "bar")]
         scene: String,
         /// Refinement levels (1D: 75·2^k cells; 2D: 16·2^k × 12·2^k). Default: 9 in 1D
-        /// (to 19,200 cells), 7 for plate-wave (to 1024×768, about 17 min on 2 cores), 4 for
-        /// plate (its 4× reference would pass the input limit beyond 512 cells along x).
+        /// (to 19,200 cells), 7 for plate-wave (to 1024×768, about 17 min on 2 cores), 6 for
+        /// plate (to 512×388, about 23 min: each run computes its own 4× finer reference, which
+        /// would pass the 1e7-cell input limit at 1024).
         #[arg(long)]
         levels: Option<usize>,
         /// Output folder (default: out/work-precision-<scene>).
@@ -568,7 +569,7 @@ fn check_scene<const D: usize>(scene: &Scene, args: &CheckArgs) -> Result<bool> 
 fn work_precision_command(scene: &str, levels: Option<usize>, out: Option<PathBuf>) -> Result<()> {
     let levels = levels.unwrap_or(match scene {
         "plate-wave" => 7,
-        "plate" => 4,
+        "plate" => 6,
         _ => 9,
     });
     let out = out.unwrap_or_else(|| impact::work_precision::default_out(scene));
