@@ -6,6 +6,7 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use impact_core::method::{MethodConfig, MethodKind, RiemannSolver, TransverseFlux};
 use impact_core::{Problem, Scene};
+use impact_dgmpm::StepPath;
 use std::time::Duration;
 
 fn step(c: &mut Criterion) {
@@ -18,7 +19,7 @@ fn step(c: &mut Criterion) {
         scene.domain.cells = vec![cells];
         let problem = Problem::<1>::from_scene(&scene).expect("valid scene");
         for kind in MethodKind::ALL {
-            let config = impact::scene_config(&scene, kind);
+            let config = scene.method_config(kind);
             let mut method = impact::build(&problem, config).expect("valid method");
             let dt = method.stable_dt();
             group.throughput(Throughput::Elements(cells as u64));
@@ -45,7 +46,7 @@ fn plate_step(c: &mut Criterion) {
         let problem = Problem::<2>::from_scene(&scene).expect("valid scene");
         let count = cells[0] * cells[1];
         for kind in MethodKind::ALL {
-            let config = impact::scene_config(&scene, kind);
+            let config = scene.method_config(kind);
             let mut method = impact::build(&problem, config).expect("valid method");
             let dt = method.stable_dt();
             group.throughput(Throughput::Elements(count as u64));
@@ -83,7 +84,7 @@ fn dgmpm<const D: usize>(
     edit: impl Fn(&mut MethodConfig),
 ) -> impact_dgmpm::Dgmpm<D> {
     let problem = Problem::<D>::from_scene(scene).expect("valid scene");
-    let mut config = impact::scene_config(scene, MethodKind::Dgmpm);
+    let mut config = scene.method_config(MethodKind::Dgmpm);
     edit(&mut config);
     impact_dgmpm::Dgmpm::<D>::new(&problem, config).expect("valid method")
 }
@@ -103,14 +104,15 @@ fn skips(c: &mut Criterion) {
     let mut bar = Scene::builtin("bar").expect("shipped scene");
     bar.domain.cells = vec![cells];
     group.throughput(Throughput::Elements(cells as u64));
-    for (label, cell_path, fast) in [
-        ("general", false, false),
-        ("p2n_fast", false, true),
-        ("cell_path", true, true),
+    for (label, path) in [
+        ("general", StepPath::Nodal),
+        ("p2n_fast", StepPath::SinglePoint),
+        ("cell_path", StepPath::Cell),
     ] {
         let mut m = dgmpm::<1>(&bar, |_| {});
-        m.solver.set_cell_path(cell_path);
-        m.solver.set_single_point_fast_path(fast);
+        m.solver
+            .set_step_path(path)
+            .expect("applies at one point per cell");
         dgmpm_step(
             &mut group,
             BenchmarkId::new("one_point/bar_150000", label),
@@ -120,14 +122,15 @@ fn skips(c: &mut Criterion) {
     let mut plate = Scene::builtin("plate").expect("shipped scene");
     plate.domain.cells = vec![400, 300];
     group.throughput(Throughput::Elements(400 * 300));
-    for (label, cell_path, fast) in [
-        ("general", false, false),
-        ("p2n_fast", false, true),
-        ("cell_path", true, true),
+    for (label, path) in [
+        ("general", StepPath::Nodal),
+        ("p2n_fast", StepPath::SinglePoint),
+        ("cell_path", StepPath::Cell),
     ] {
         let mut m = dgmpm::<2>(&plate, |_| {});
-        m.solver.set_cell_path(cell_path);
-        m.solver.set_single_point_fast_path(fast);
+        m.solver
+            .set_step_path(path)
+            .expect("applies at one point per cell");
         dgmpm_step(
             &mut group,
             BenchmarkId::new("one_point/plate_400x300", label),
@@ -136,7 +139,7 @@ fn skips(c: &mut Criterion) {
     }
     for flux in [TransverseFlux::DonorCell, TransverseFlux::Ctu] {
         let mut m = dgmpm::<2>(&plate, |c| {
-            c.flux = flux;
+            c.dgmpm_mut().expect("dgmpm").flux = flux;
             c.courant = 0.5;
         });
         dgmpm_step(
@@ -154,7 +157,9 @@ fn skips(c: &mut Criterion) {
         BenchmarkId::new("hyperelastic/bar_150000", "linear"),
         &mut m,
     );
-    let mut m = dgmpm::<1>(&svk, |c| c.riemann = RiemannSolver::Approximate);
+    let mut m = dgmpm::<1>(&svk, |c| {
+        c.dgmpm_mut().expect("dgmpm").riemann = RiemannSolver::Approximate
+    });
     dgmpm_step(
         &mut group,
         BenchmarkId::new("hyperelastic/bar_150000", "svk_approximate"),
@@ -170,7 +175,7 @@ fn skips(c: &mut Criterion) {
     strip.domain.length = vec![6.0, 6.0 / cells as f64];
     strip.domain.cells = vec![cells, 1];
     let mut m = dgmpm::<2>(&strip, |c| {
-        c.flux = TransverseFlux::DonorCell;
+        c.dgmpm_mut().expect("dgmpm").flux = TransverseFlux::DonorCell;
         c.courant = 0.5;
     });
     dgmpm_step(
@@ -194,7 +199,7 @@ fn phases(c: &mut Criterion) {
     group.throughput(Throughput::Elements(1000 * 750));
     let mut m = dgmpm::<2>(&plate, |_| {});
     assert!(
-        m.solver.cell_path(),
+        m.solver.step_path() == StepPath::Cell,
         "the plate's default takes the cell path"
     );
     let dt = impact_core::Method::stable_dt(&m);

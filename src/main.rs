@@ -1,13 +1,11 @@
 //! `impact` command line: run a scene with DGMPM, MPM and FEM side by side, and check
 //! that DGMPM captures the wave front more sharply than MPM.
 use anyhow::{bail, Context, Result};
-use clap::{Args, Parser, Subcommand, ValueEnum};
-use impact::output::{stress_map, stress_plot, FileWriter, Summary};
-use impact::run::{run_method, RunRecord, Silent};
-use impact::{scene_config, Overrides};
-use impact_core::method::{
-    Integrator, MethodKind, MpmFrame, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
-};
+use clap::{Args, Parser, Subcommand};
+use impact::check::{check_study, Verdict};
+use impact::run::{run_study, RunOptions, RunRecord};
+use impact::{Overrides, Study};
+use impact_core::method::MethodKind;
 use impact_core::{Problem, Scene};
 use std::path::PathBuf;
 
@@ -55,45 +53,8 @@ enum Command {
 struct SceneArgs {
     /// A shipped scene name (`impact scenes`) or a path to a scene file (.toml).
     scene: String,
-    /// Cells along x (other axes scaled to keep the cell shape).
-    #[arg(long)]
-    cells: Option<usize>,
-    /// Courant number c·Δt/Δx, in (0, 2].
-    #[arg(long, allow_negative_numbers = true)]
-    courant: Option<f64>,
-    /// Material points per cell (1D: 1..64; 2D: 1, 4, 9, ...).
-    #[arg(long)]
-    points_per_cell: Option<usize>,
-    /// DGMPM time integrator.
-    #[arg(long, value_enum)]
-    integrator: Option<IntegratorArg>,
-    /// DGMPM point update after the nodal solve.
-    #[arg(long, value_enum)]
-    update: Option<UpdateArg>,
-    /// MPM stress update.
-    #[arg(long, value_enum)]
-    stress_update: Option<StressUpdateArg>,
-    /// DGMPM Riemann solver for Saint-Venant-Kirchhoff.
-    #[arg(long, value_enum)]
-    riemann: Option<RiemannArg>,
-    /// Direction of the pressure load on the loaded end.
-    #[arg(long, value_enum)]
-    load: Option<LoadArg>,
-    /// Magnitude of the pressure load in Pa (keeps the direction unless --load is given).
-    #[arg(long, allow_negative_numbers = true)]
-    load_magnitude: Option<f64>,
-    /// DGMPM transverse flux in 2D: donor-cell upwind or corner transport upwind.
-    #[arg(long, value_enum)]
-    flux: Option<FluxArg>,
-    /// MPM frame: shape functions at reference (total) or current (updated) positions.
-    #[arg(long, value_enum)]
-    frame: Option<FrameArg>,
-    /// End time in seconds (outputs after it are dropped; it becomes the last output).
-    #[arg(long, allow_negative_numbers = true)]
-    t_end: Option<f64>,
-    /// Output times in seconds, comma-separated and increasing.
-    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
-    output_times: Option<Vec<f64>>,
+    #[command(flatten)]
+    overrides: Overrides,
 }
 
 #[derive(Args)]
@@ -101,8 +62,13 @@ struct RunArgs {
     #[command(flatten)]
     scene: SceneArgs,
     /// Methods to run, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "dgmpm,mpm,fem")]
-    method: Vec<MethodArg>,
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "dgmpm,mpm,fem"
+    )]
+    method: Vec<MethodKind>,
     /// Output folder (default: out/<scene name>).
     #[arg(long)]
     out: Option<PathBuf>,
@@ -160,61 +126,12 @@ struct StabilityArgs {
     out: PathBuf,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum MethodArg {
-    Dgmpm,
-    Mpm,
-    Fem,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum IntegratorArg {
-    Euler,
-    Rk2,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum UpdateArg {
-    Nodal,
-    Increment,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum RiemannArg {
-    Approximate,
-    Exact,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum LoadArg {
-    Compression,
-    Tension,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum FluxArg {
-    Dcu,
-    Ctu,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum FrameArg {
-    TotalLagrangian,
-    UpdatedLagrangian,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum StressUpdateArg {
-    Usl,
-    Musl,
-    Usf,
-}
-
 impl SceneArgs {
-    fn load(&self) -> Result<Scene> {
+    /// The study: the scene (shipped or from a file) with the overrides, validated once.
+    fn study(&self) -> Result<Study> {
         let looks_like_file = self.scene.ends_with(".toml") || self.scene.contains('/');
-        let mut scene = if looks_like_file {
-            Scene::from_file(std::path::Path::new(&self.scene))?
+        let scene = if looks_like_file {
+            Scene::parse_file(std::path::Path::new(&self.scene))?
         } else {
             match Scene::builtin(&self.scene) {
                 Some(s) => s,
@@ -225,46 +142,7 @@ impl SceneArgs {
                 ),
             }
         };
-        self.overrides().apply_to_scene(&mut scene)?;
-        scene.validate()?;
-        Ok(scene)
-    }
-
-    fn overrides(&self) -> Overrides {
-        Overrides {
-            cells: self.cells,
-            courant: self.courant,
-            points_per_cell: self.points_per_cell,
-            integrator: self.integrator.map(|i| match i {
-                IntegratorArg::Euler => Integrator::Euler,
-                IntegratorArg::Rk2 => Integrator::Rk2,
-            }),
-            update: self.update.map(|u| match u {
-                UpdateArg::Nodal => PointUpdate::Nodal,
-                UpdateArg::Increment => PointUpdate::Increment,
-            }),
-            stress_update: self.stress_update.map(|u| match u {
-                StressUpdateArg::Usl => StressUpdate::Usl,
-                StressUpdateArg::Musl => StressUpdate::Musl,
-                StressUpdateArg::Usf => StressUpdate::Usf,
-            }),
-            frame: self.frame.map(|f| match f {
-                FrameArg::TotalLagrangian => MpmFrame::TotalLagrangian,
-                FrameArg::UpdatedLagrangian => MpmFrame::UpdatedLagrangian,
-            }),
-            flux: self.flux.map(|f| match f {
-                FluxArg::Dcu => TransverseFlux::DonorCell,
-                FluxArg::Ctu => TransverseFlux::Ctu,
-            }),
-            riemann: self.riemann.map(|r| match r {
-                RiemannArg::Approximate => RiemannSolver::Approximate,
-                RiemannArg::Exact => RiemannSolver::Exact,
-            }),
-            compression: self.load.map(|l| matches!(l, LoadArg::Compression)),
-            load_magnitude: self.load_magnitude,
-            t_end: self.t_end,
-            output_times: self.output_times.clone(),
-        }
+        Ok(Study::new(scene, self.overrides.clone())?)
     }
 }
 
@@ -318,51 +196,19 @@ fn print_rows(r: &RunRecord) {
 }
 
 fn run_command(args: &RunArgs) -> Result<()> {
-    let scene = args.scene.load()?;
-    match scene.dim {
-        1 => run_scene::<1>(&scene, args),
-        2 => run_scene::<2>(&scene, args),
+    let study = args.scene.study()?;
+    match study.dim() {
+        1 => run_scene::<1>(&study, args),
+        2 => run_scene::<2>(&study, args),
         d => bail!("dim = {d} is not supported (allowed: 1 or 2)"),
     }
 }
 
-fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
-    let overrides = args.scene.overrides();
-    let mut problem = Problem::<D>::from_scene(scene)?;
-    overrides.apply_to_problem(&mut problem)?;
-    let reference = impact::reference_for(&problem, !args.quiet)?;
-    let dir = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("out").join(&scene.name));
-    impact_io::create_dir(&dir)?;
-    let mut kinds: Vec<MethodKind> = Vec::new();
-    for m in &args.method {
-        let k = match m {
-            MethodArg::Dgmpm => MethodKind::Dgmpm,
-            MethodArg::Mpm => MethodKind::Mpm,
-            MethodArg::Fem => MethodKind::Fem,
-        };
-        if !kinds.contains(&k) {
-            kinds.push(k);
-        }
-    }
-    let mut summary = Summary {
-        scene: scene.name.clone(),
-        dim: D,
-        reference: reference
-            .as_ref()
-            .map_or("none (errors not computed)".into(), |r| r.describe()),
-        runs: Vec::new(),
-        peak_rss_mib: None,
-    };
-    let mut plots = Vec::new();
-    let mut dgmpm_positions = Vec::new();
-    let mut maps: Vec<(String, impact::output::CellMap)> = Vec::new();
-    let mut failures = Vec::new();
+fn run_scene<const D: usize>(study: &Study, args: &RunArgs) -> Result<()> {
+    let problem = study.problem::<D>()?;
     say!(
         "scene {} ({}D, {} cells, output times {:?} ms)",
-        scene.name,
+        study.name(),
         D,
         problem.grid.cell_count(),
         problem
@@ -371,97 +217,32 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
             .map(|t| (t * 1e6).round() / 1e3)
             .collect::<Vec<_>>()
     );
-    let mut rows = Vec::new();
-    for kind in kinds {
-        let mut config = scene_config(scene, kind);
-        overrides.apply_to_config(&mut config)?;
-        let progress = (!args.quiet).then(|| {
-            let bar = indicatif::ProgressBar::new(1000);
-            bar.set_style(
-                indicatif::ProgressStyle::with_template(
-                    "{prefix:>6} [{bar:40}] {percent:>3}% {elapsed_precise}",
-                )
-                .expect("internal: valid template")
-                .progress_chars("=> "),
-            );
-            bar.set_prefix(kind.name());
-            bar
-        });
-        let mut writer = FileWriter::<D>::new(
-            &dir,
-            kind.name(),
-            &problem.grid,
-            reference.as_ref(),
-            progress,
-            problem.t_end,
-        );
-        writer.files = !args.no_files;
-        if D == 2 && problem.model == impact_core::method::Model::LinearElastic {
-            writer.plane_strain = Some(problem.material);
-        }
-        let (record, blowup) = run_method(&problem, config, reference.as_ref(), &mut writer)?;
-        writer.finish()?;
-        if kind == MethodKind::Dgmpm {
-            dgmpm_positions = std::mem::take(&mut writer.positions);
-        }
-        maps.push((kind.name().to_string(), writer.last_map.take()));
-        plots.push((
-            kind.name().to_string(),
-            std::mem::take(&mut writer.profiles),
-        ));
-        if let Some(b) = blowup {
-            failures.push(b.to_string());
-        }
-        rows.push(record.clone());
-        summary.runs.push(record);
-    }
+    let options = RunOptions {
+        out: args
+            .out
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("out").join(study.name())),
+        quiet: args.quiet,
+        no_files: args.no_files,
+    };
+    let report = run_study::<D>(study, &args.method, &options)?;
     print_header();
-    for r in &rows {
+    for r in &report.records {
         print_rows(r);
     }
-    summary.peak_rss_mib = impact::output::peak_rss_mib();
-    impact_io::write_json(&dir.join("summary.json"), &summary)?;
+    let dir = &options.out;
     if args.no_files {
         say!("wrote {}", dir.join("summary.json").display());
-        if !failures.is_empty() {
-            bail!("{}", failures.join("; "));
+        if !report.failures.is_empty() {
+            bail!("{}", report.failures.join("; "));
         }
         return Ok(());
     }
-    let length = problem.grid.upper()[0] - problem.grid.origin[0];
-    let band = if D > 1 { problem.grid.spacing[1] } else { 0.0 };
-    stress_plot(
-        &dir.join("stress.png"),
-        &scene.name,
-        &plots,
-        reference.as_ref(),
-        length,
-        band,
-    )?;
-    if D == 1 && matches!(problem.model, impact_core::method::Model::Svk(_)) {
-        impact::output::svk_plot(
-            &dir.join("svk.png"),
-            &scene.name,
-            &dgmpm_positions,
-            &plots,
-            reference.as_ref(),
-            length,
-        )?;
-    }
-    if D == 2 {
-        let g = &problem.grid;
-        let grid2 = impact_core::Grid::<2> {
-            origin: impact_core::Vector::<2>::new(g.origin[0], g.origin[1 % D]),
-            spacing: impact_core::Vector::<2>::new(g.spacing[0], g.spacing[1 % D]),
-            cells: [g.cells[0], g.cells[1 % D]],
-        };
-        stress_map(&dir.join("stress_map.png"), &grid2, &maps)?;
-    }
     say!("wrote {}", dir.display());
-    if !failures.is_empty() {
+    if !report.failures.is_empty() {
         bail!(
             "{} (frames written before the blow-up are kept in {})",
-            failures.join("; "),
+            report.failures.join("; "),
             dir.display()
         );
     }
@@ -469,38 +250,22 @@ fn run_scene<const D: usize>(scene: &Scene, args: &RunArgs) -> Result<()> {
 }
 
 fn check_command(args: &CheckArgs) -> Result<bool> {
-    let scene = args.scene.load()?;
-    match scene.dim {
-        1 => check_scene::<1>(&scene, args),
-        2 => check_scene::<2>(&scene, args),
+    let study = args.scene.study()?;
+    let report = match study.dim() {
+        1 => check_study::<1>(&study)?,
+        2 => check_study::<2>(&study)?,
         d => bail!("dim = {d} is not supported (allowed: 1 or 2)"),
-    }
-}
-
-fn check_scene<const D: usize>(scene: &Scene, args: &CheckArgs) -> Result<bool> {
-    let overrides = args.scene.overrides();
-    let mut problem = Problem::<D>::from_scene(scene)?;
-    overrides.apply_to_problem(&mut problem)?;
-    let reference = impact::reference_for(&problem, false)?.with_context(|| {
-        format!(
-            "scene {} has no reference to measure fronts against",
-            scene.name
-        )
-    })?;
-    let mut dg = scene_config(scene, MethodKind::Dgmpm);
-    overrides.apply_to_config(&mut dg)?;
-    let mpm = scene_config(scene, MethodKind::Mpm);
-    let (dg_rec, dg_err) = run_method(&problem, dg, Some(&reference), &mut Silent)?;
-    let (mpm_rec, mpm_err) = run_method(&problem, mpm, Some(&reference), &mut Silent)?;
+    };
+    let (dg, mpm) = (&report.dgmpm, &report.mpm);
     say!(
         "check {}: DGMPM (courant {}, {} ppc, {}) vs MPM (courant {}, {} ppc, {})",
-        scene.name,
+        study.name(),
         dg.courant,
         dg.points_per_cell,
-        dg_rec.integrator,
+        report.dgmpm_record.integrator,
         mpm.courant,
         mpm.points_per_cell,
-        mpm_rec.integrator
+        report.mpm_record.integrator
     );
     say!(
         "{:>10} {:>13} {:>13} {:>13} {:>13}  verdict",
@@ -510,60 +275,39 @@ fn check_scene<const D: usize>(scene: &Scene, args: &CheckArgs) -> Result<bool> 
         "dgmpm_over%",
         "mpm_over%"
     );
-    let mut ok = dg_err.is_none() && mpm_err.is_none();
-    let worse = |v: Option<f64>| v.unwrap_or(f64::INFINITY);
-    let n = dg_rec.times.len().max(mpm_rec.times.len());
-    let mut compared = 0;
-    for k in 0..n {
-        let (d, m) = (dg_rec.times.get(k), mpm_rec.times.get(k));
-        let t = d.or(m).map(|x| x.t).unwrap_or(0.0);
-        let (dw, mw) = (
-            d.and_then(|x| x.front_width_cells),
-            m.and_then(|x| x.front_width_cells),
-        );
-        let (dov, mov) = (
-            d.and_then(|x| x.overshoot_pct),
-            m.and_then(|x| x.overshoot_pct),
-        );
-        let verdict = if d.is_none() || m.is_none() {
-            ok = false;
-            "FAIL (run stopped)"
-        } else if reference.front(t).is_none() {
-            "skip (no front)"
-        } else {
-            compared += 1;
-            if worse(dw) < worse(mw) && worse(dov) < worse(mov) {
-                "pass"
-            } else {
-                ok = false;
-                "FAIL"
-            }
-        };
+    for r in &report.rows {
         say!(
-            "{:>10.4} {:>13} {:>13} {:>13} {:>13}  {verdict}",
-            t * 1e3,
-            fmt_opt(dw, 3),
-            fmt_opt(mw, 3),
-            fmt_opt(dov, 3),
-            fmt_opt(mov, 3)
+            "{:>10.4} {:>13} {:>13} {:>13} {:>13}  {}",
+            r.t * 1e3,
+            fmt_opt(r.dgmpm_front, 3),
+            fmt_opt(r.mpm_front, 3),
+            fmt_opt(r.dgmpm_overshoot, 3),
+            fmt_opt(r.mpm_overshoot, 3),
+            r.verdict.label()
         );
     }
-    for e in [dg_err, mpm_err].into_iter().flatten() {
+    for e in [&report.dgmpm_record.error, &report.mpm_record.error]
+        .into_iter()
+        .flatten()
+    {
         say!("stopped: {e}");
     }
-    if compared == 0 {
+    if !report
+        .rows
+        .iter()
+        .any(|r| matches!(r.verdict, Verdict::Pass | Verdict::Fail))
+    {
         say!("no output time has a front to compare");
-        ok = false;
     }
     say!(
         "{}",
-        if ok {
+        if report.pass {
             "PASS: DGMPM front sharper than MPM at every output time"
         } else {
             "FAIL"
         }
     );
-    Ok(ok)
+    Ok(report.pass)
 }
 
 fn work_precision_command(scene: &str, levels: Option<usize>, out: Option<PathBuf>) -> Result<()> {
@@ -574,10 +318,9 @@ fn work_precision_command(scene: &str, levels: Option<usize>, out: Option<PathBu
     });
     let out = out.unwrap_or_else(|| impact::work_precision::default_out(scene));
     let exe = std::env::current_exe().context("locating the impact executable")?;
-    let total =
-        impact::work_precision::configurations(if scene.starts_with("plate") { 2 } else { 1 })
-            .len()
-            * levels;
+    let total = Scene::builtin(scene)
+        .map_or(0, |s| impact::work_precision::configurations(&s).len())
+        * levels;
     let bar = indicatif::ProgressBar::new(total as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("work-precision [{bar:40}] {pos}/{len} {msg}")

@@ -1,5 +1,5 @@
 //! Running methods on a problem: the controller, metrics at every output time, and
-//! (optionally) the output files.
+//! (optionally) the output files; [`run_study`] is `impact run`.
 use impact_core::controller::{self, Guard, RunError};
 use impact_core::method::{MethodConfig, Samples};
 use impact_core::reference::{Reference, TimeMetrics};
@@ -95,9 +95,9 @@ pub fn run_method<const D: usize>(
         |t| observer.lock().unwrap_or_else(lock).progress(t),
     );
     let mut record = RunRecord {
-        method: config.kind.name().to_string(),
+        method: config.kind().name().to_string(),
         courant: config.courant,
-        points_per_cell: if config.kind == impact_core::MethodKind::Fem {
+        points_per_cell: if config.kind() == impact_core::MethodKind::Fem {
             1
         } else {
             config.points_per_cell
@@ -121,4 +121,138 @@ pub fn run_method<const D: usize>(
         }
         Err(RunError::Output(e)) => Err(e),
     }
+}
+
+/// What `impact run` does besides running: files and progress bars.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Output folder.
+    pub out: std::path::PathBuf,
+    /// No progress bar or status line.
+    pub quiet: bool,
+    /// Write only summary.json (no profiles, VTK, HDF5 or plots).
+    pub no_files: bool,
+}
+
+/// The outcome of [`run_study`].
+#[derive(Debug, Clone)]
+pub struct RunReport {
+    /// One record per method, in the order run.
+    pub records: Vec<RunRecord>,
+    /// The blow-ups that stopped runs.
+    pub failures: Vec<String>,
+}
+
+/// `impact run`: every method of `kinds` (duplicates once) on the study's problem, with
+/// the reference, summary.json and (unless `no_files`) profiles, VTK, plots.
+pub fn run_study<const D: usize>(
+    study: &crate::Study,
+    kinds: &[impact_core::MethodKind],
+    options: &RunOptions,
+) -> anyhow::Result<RunReport> {
+    use crate::output::{stress_map, stress_plot, svk_plot, CellMap, FileWriter, Summary};
+    use impact_core::method::{MethodKind, Model};
+    let problem = study.problem::<D>()?;
+    let reference = crate::reference_for(&problem, !options.quiet)?;
+    let dir = &options.out;
+    impact_io::create_dir(dir)?;
+    let mut summary = Summary {
+        scene: study.name().to_string(),
+        dim: D,
+        reference: reference
+            .as_ref()
+            .map_or("none (errors not computed)".into(), |r| r.describe()),
+        runs: Vec::new(),
+        peak_rss_mib: None,
+    };
+    let (mut plots, mut maps, mut failures) =
+        (Vec::new(), Vec::<(String, CellMap)>::new(), Vec::new());
+    let mut dgmpm_positions = Vec::new();
+    let mut done: Vec<MethodKind> = Vec::new();
+    for &kind in kinds {
+        if done.contains(&kind) {
+            continue;
+        }
+        done.push(kind);
+        let progress = (!options.quiet).then(|| progress_bar(kind.name()));
+        let mut writer = FileWriter::<D>::new(
+            dir,
+            kind.name(),
+            &problem.grid,
+            reference.as_ref(),
+            progress,
+            problem.t_end,
+        );
+        writer.files = !options.no_files;
+        if D == 2 && problem.model == Model::LinearElastic {
+            writer.plane_strain = Some(problem.material);
+        }
+        let (record, blowup) = run_method(
+            &problem,
+            study.config(kind),
+            reference.as_ref(),
+            &mut writer,
+        )?;
+        writer.finish()?;
+        if kind == MethodKind::Dgmpm {
+            dgmpm_positions = std::mem::take(&mut writer.positions);
+        }
+        maps.push((kind.name().to_string(), writer.last_map.take()));
+        plots.push((
+            kind.name().to_string(),
+            std::mem::take(&mut writer.profiles),
+        ));
+        failures.extend(blowup.map(|b| b.to_string()));
+        summary.runs.push(record);
+    }
+    summary.peak_rss_mib = crate::output::peak_rss_mib();
+    impact_io::write_json(&dir.join("summary.json"), &summary)?;
+    if !options.no_files {
+        let length = problem.grid.upper()[0] - problem.grid.origin[0];
+        let band = if D > 1 { problem.grid.spacing[1] } else { 0.0 };
+        let name = study.name();
+        stress_plot(
+            &dir.join("stress.png"),
+            name,
+            &plots,
+            reference.as_ref(),
+            length,
+            band,
+        )?;
+        if D == 1 && matches!(problem.model, Model::Svk(_)) {
+            let svk = dir.join("svk.png");
+            svk_plot(
+                &svk,
+                name,
+                &dgmpm_positions,
+                &plots,
+                reference.as_ref(),
+                length,
+            )?;
+        }
+        if D == 2 {
+            let g = &problem.grid;
+            let grid2 = impact_core::Grid::<2> {
+                origin: impact_core::Vector::<2>::new(g.origin[0], g.origin[D - 1]),
+                spacing: impact_core::Vector::<2>::new(g.spacing[0], g.spacing[D - 1]),
+                cells: [g.cells[0], g.cells[D - 1]],
+            };
+            stress_map(&dir.join("stress_map.png"), &grid2, &maps)?;
+        }
+    }
+    Ok(RunReport {
+        records: summary.runs,
+        failures,
+    })
+}
+
+fn progress_bar(prefix: &'static str) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(1000);
+    if let Ok(style) = indicatif::ProgressStyle::with_template(
+        "{prefix:>6} [{bar:40}] {percent:>3}% {elapsed_precise}",
+    ) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_prefix(prefix);
+    bar
 }

@@ -247,7 +247,7 @@ pub fn max_amplification<const D: usize>(
     config: MethodConfig,
     samples: usize,
 ) -> Option<f64> {
-    let reach = if config.integrator == Integrator::Rk2 {
+    let reach = if config.dgmpm().map(|o| o.integrator) == Some(Integrator::Rk2) {
         3
     } else {
         2
@@ -312,18 +312,21 @@ pub fn configurations<const D: usize>(base: &impact_core::Scene) -> Vec<MethodCo
     for &ppc in layouts {
         for integrator in [Integrator::Euler, Integrator::Rk2] {
             for &flux in fluxes {
-                let mut c = crate::scene_config(base, MethodKind::Dgmpm);
-                (c.points_per_cell, c.integrator, c.flux) = (ppc, integrator, flux);
+                let mut c = base.method_config(MethodKind::Dgmpm);
+                c.points_per_cell = ppc;
+                if let Some(o) = c.dgmpm_mut() {
+                    (o.integrator, o.flux) = (integrator, flux);
+                }
                 out.push(c);
             }
         }
     }
     for ppc in [1, layouts[1]] {
-        let mut c = crate::scene_config(base, MethodKind::Mpm);
+        let mut c = base.method_config(MethodKind::Mpm);
         c.points_per_cell = ppc;
         out.push(c);
     }
-    out.push(crate::scene_config(base, MethodKind::Fem));
+    out.push(base.method_config(MethodKind::Fem));
     out
 }
 
@@ -336,20 +339,19 @@ pub fn sweep<const D: usize>(
 ) -> Vec<StabilityRow> {
     let mut rows = Vec::new();
     for c in configurations::<D>(base) {
-        let dgmpm = c.kind == MethodKind::Dgmpm;
+        let dgmpm = c.kind() == MethodKind::Dgmpm;
         let row = StabilityRow {
             dim: D,
-            method: c.kind.name().into(),
-            points_per_cell: if c.kind == MethodKind::Fem {
+            method: c.kind().name().into(),
+            points_per_cell: if c.kind() == MethodKind::Fem {
                 1
             } else {
                 c.points_per_cell
             },
             integrator: c.integrator_label().into(),
-            flux: if dgmpm && D > 1 {
-                c.flux.name().into()
-            } else {
-                "-".into()
+            flux: match (c.dgmpm(), D) {
+                (Some(o), 2..) => o.flux.name().into(),
+                _ => "-".into(),
             },
             empirical: empirical_limit(problem, c, steps),
             // 2D: one point per cell (4 and 9 points per cell make 20×20 and 45×45

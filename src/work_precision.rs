@@ -8,6 +8,8 @@
 //! (`impact stability`): DGMPM 1 point per cell Euler 1.0 (2D: CTU 1.0, DCU 0.6); several
 //! points per cell with Euler 0.6; RK2 1.0 (2D: DCU 0.95, CTU 0.7); MPM 0.5; FEM 0.9.
 use anyhow::{bail, Context, Result};
+use impact_core::method::{Integrator, MethodConfig, MethodKind, TransverseFlux};
+use impact_core::Scene;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -17,10 +19,16 @@ use std::process::Command;
 pub struct Config {
     /// Label in tables and plots.
     pub label: String,
-    /// Method flag.
-    pub method: &'static str,
-    /// Extra CLI flags.
-    pub flags: Vec<String>,
+    /// The configuration (the scene's, with the ladder's points per cell, integrator,
+    /// flux and Courant number); its flags come from [`MethodConfig::to_flags`].
+    pub config: MethodConfig,
+}
+
+impl Config {
+    /// The `impact run` flags of this configuration in dimension `dim`.
+    pub fn flags(&self, dim: usize) -> Vec<String> {
+        self.config.to_flags(dim)
+    }
 }
 
 /// One run of the ladder.
@@ -48,119 +56,69 @@ pub struct Point {
     pub error: Option<String>,
 }
 
-fn cfg(label: &str, method: &'static str, flags: &[&str]) -> Config {
-    Config {
-        label: label.into(),
-        method,
-        flags: flags.iter().map(|s| s.to_string()).collect(),
-    }
-}
-
-/// Configurations for a scene of dimension `dim`.
-pub fn configurations(dim: usize) -> Vec<Config> {
+/// The configurations of the ladder for `scene`: DGMPM Euler and RK2 × points per cell
+/// (× donor-cell/CTU in 2D), MPM at 1 and 4 points per cell, FEM; every other option is
+/// the scene's.
+pub fn configurations(scene: &Scene) -> Vec<Config> {
+    let dgmpm = |ppc: usize, integrator: Integrator, flux: TransverseFlux, courant: f64| {
+        let mut config = scene.method_config(MethodKind::Dgmpm);
+        config.points_per_cell = ppc;
+        config.courant = courant;
+        if let Some(o) = config.dgmpm_mut() {
+            (o.integrator, o.flux) = (integrator, flux);
+        }
+        let flux_label = if scene.dim > 1 {
+            format!(" {}", flux.name())
+        } else {
+            String::new()
+        };
+        Config {
+            label: format!(
+                "dgmpm {}{flux_label} {ppc}ppc C{courant:?}",
+                integrator.name()
+            ),
+            config,
+        }
+    };
     let mut out = Vec::new();
-    if dim == 1 {
-        for ppc in ["1", "2", "4"] {
-            let euler_c = if ppc == "1" { "1.0" } else { "0.6" };
-            out.push(cfg(
-                &format!("dgmpm euler {ppc}ppc C{euler_c}"),
-                "dgmpm",
-                &[
-                    "--integrator",
-                    "euler",
-                    "--points-per-cell",
-                    ppc,
-                    "--courant",
-                    euler_c,
-                ],
+    let layouts: &[usize] = if scene.dim == 1 { &[1, 2, 4] } else { &[1, 4] };
+    for &ppc in layouts {
+        // Courant numbers inside the measured stability limits (module doc)
+        let euler = if ppc == 1 { 1.0 } else { 0.6 };
+        if scene.dim == 1 {
+            out.push(dgmpm(
+                ppc,
+                Integrator::Euler,
+                TransverseFlux::DonorCell,
+                euler,
             ));
-            out.push(cfg(
-                &format!("dgmpm rk2 {ppc}ppc C1.0"),
-                "dgmpm",
-                &[
-                    "--integrator",
-                    "rk2",
-                    "--points-per-cell",
-                    ppc,
-                    "--courant",
-                    "1.0",
-                ],
+            out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::DonorCell, 1.0));
+        } else {
+            out.push(dgmpm(ppc, Integrator::Euler, TransverseFlux::Ctu, euler));
+            out.push(dgmpm(
+                ppc,
+                Integrator::Euler,
+                TransverseFlux::DonorCell,
+                0.6,
             ));
-        }
-        for ppc in ["1", "4"] {
-            out.push(cfg(
-                &format!("mpm {ppc}ppc C0.5"),
-                "mpm",
-                &["--points-per-cell", ppc, "--courant", "0.5"],
-            ));
-        }
-    } else {
-        for ppc in ["1", "4"] {
-            let e = if ppc == "1" { "1.0" } else { "0.6" };
-            out.push(cfg(
-                &format!("dgmpm euler ctu {ppc}ppc C{e}"),
-                "dgmpm",
-                &[
-                    "--integrator",
-                    "euler",
-                    "--flux",
-                    "ctu",
-                    "--points-per-cell",
-                    ppc,
-                    "--courant",
-                    e,
-                ],
-            ));
-            out.push(cfg(
-                &format!("dgmpm euler dcu {ppc}ppc C0.6"),
-                "dgmpm",
-                &[
-                    "--integrator",
-                    "euler",
-                    "--flux",
-                    "dcu",
-                    "--points-per-cell",
-                    ppc,
-                    "--courant",
-                    "0.6",
-                ],
-            ));
-            out.push(cfg(
-                &format!("dgmpm rk2 dcu {ppc}ppc C0.95"),
-                "dgmpm",
-                &[
-                    "--integrator",
-                    "rk2",
-                    "--flux",
-                    "dcu",
-                    "--points-per-cell",
-                    ppc,
-                    "--courant",
-                    "0.95",
-                ],
-            ));
-            out.push(cfg(
-                &format!("dgmpm rk2 ctu {ppc}ppc C0.7"),
-                "dgmpm",
-                &[
-                    "--integrator",
-                    "rk2",
-                    "--flux",
-                    "ctu",
-                    "--points-per-cell",
-                    ppc,
-                    "--courant",
-                    "0.7",
-                ],
-            ));
-            out.push(cfg(
-                &format!("mpm {ppc}ppc C0.5"),
-                "mpm",
-                &["--points-per-cell", ppc, "--courant", "0.5"],
-            ));
+            out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::DonorCell, 0.95));
+            out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::Ctu, 0.7));
         }
     }
-    out.push(cfg("fem C0.9", "fem", &["--courant", "0.9"]));
+    for ppc in [1, 4] {
+        let mut config = scene.method_config(MethodKind::Mpm);
+        (config.points_per_cell, config.courant) = (ppc, 0.5);
+        out.push(Config {
+            label: format!("mpm {ppc}ppc C0.5"),
+            config,
+        });
+    }
+    let mut fem = scene.method_config(MethodKind::Fem);
+    fem.courant = 0.9;
+    out.push(Config {
+        label: "fem C0.9".into(),
+        config: fem,
+    });
     out
 }
 
@@ -186,14 +144,14 @@ fn run_one(
     let out = dir.join(format!("run-{}-{k}", c.label.replace(' ', "_")));
     let nx = cells_x(dim, k);
     let mut cmd = Command::new(exe);
-    cmd.args(["run", scene, "--quiet", "--no-files", "--method", c.method])
+    cmd.args(["run", scene, "--quiet", "--no-files"])
         .args([
             "--cells",
             &nx.to_string(),
             "--output-times",
             &format!("{t:e}"),
         ])
-        .args(&c.flags)
+        .args(c.flags(dim))
         .arg("--out")
         .arg(&out);
     let status = cmd
@@ -280,7 +238,7 @@ pub fn run(
     };
     impact_io::create_dir(out)?;
     let mut points = Vec::new();
-    for c in configurations(s.dim) {
+    for c in configurations(&s) {
         for k in 0..levels {
             let p = run_one(exe, scene, s.dim, &c, k, t, out)?;
             progress(&p);

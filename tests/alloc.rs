@@ -116,10 +116,16 @@ fn no_allocation_in_the_step_loop() {
                     RiemannSolver::Exact,
                 ),
             ] {
-                let mut c = impact::scene_config(&scene, kind);
-                (c.integrator, c.update, c.stress_update, c.riemann) =
-                    (integrator, update, stress_update, riemann);
-                c.courant = 0.5;
+                let mut c = scene.method_config(kind);
+                let options = impact::Overrides {
+                    integrator: Some(integrator),
+                    update: Some(update),
+                    stress_update: Some(stress_update),
+                    riemann: Some(riemann),
+                    courant: Some(0.5),
+                    ..Default::default()
+                };
+                options.apply_to_config(&mut c);
                 let n = steps_allocate(&problem, c);
                 assert_eq!(n, 0, "{n} allocations: {name} {kind:?} {c:?}");
                 cases += 1;
@@ -131,8 +137,10 @@ fn no_allocation_in_the_step_loop() {
         let problem = Problem::<2>::from_scene(&scene).unwrap();
         for kind in MethodKind::ALL {
             for flux in [TransverseFlux::DonorCell, TransverseFlux::Ctu] {
-                let mut c = impact::scene_config(&scene, kind);
-                c.flux = flux;
+                let mut c = scene.method_config(kind);
+                if let Some(o) = c.dgmpm_mut() {
+                    o.flux = flux;
+                }
                 c.courant = 0.5;
                 if name == "svk-plate" && flux == TransverseFlux::Ctu {
                     continue; // CTU is linear-elastic only
@@ -156,8 +164,8 @@ fn no_allocation_in_the_parallel_step_loop() {
         scene.domain.cells = cells;
         let problem = Problem::<1>::from_scene(&scene).unwrap();
         for integrator in [Integrator::Euler, Integrator::Rk2] {
-            let mut c = impact::scene_config(&scene, MethodKind::Dgmpm);
-            c.integrator = integrator;
+            let mut c = scene.method_config(MethodKind::Dgmpm);
+            c.dgmpm_mut().unwrap().integrator = integrator;
             c.courant = 0.5;
             let n = steps_allocate(&problem, c);
             assert_eq!(n, 0, "{n} allocations: {name} {integrator:?}");
@@ -177,8 +185,10 @@ fn no_allocation_in_the_parallel_step_loop() {
             if name == "svk-plate" && flux == TransverseFlux::Ctu {
                 continue; // CTU is linear-elastic only
             }
-            let mut c = impact::scene_config(&scene, MethodKind::Dgmpm);
-            (c.flux, c.integrator, c.points_per_cell) = (flux, integrator, ppc);
+            let mut c = scene.method_config(MethodKind::Dgmpm);
+            let o = c.dgmpm_mut().unwrap();
+            (o.flux, o.integrator) = (flux, integrator);
+            c.points_per_cell = ppc;
             c.courant = 0.5;
             assert_eq!(
                 steps_allocate(&problem, c),

@@ -13,7 +13,7 @@ fn dgmpm_single_point_courant_one_is_exact_at_default_output_times() {
     let impact_core::reference::Reference::Bar(exact) = reference else {
         panic!("the bar has an exact solution")
     };
-    let mut dg = impact::build(&problem, impact::scene_config(&scene, MethodKind::Dgmpm)).unwrap();
+    let mut dg = impact::build(&problem, scene.method_config(MethodKind::Dgmpm)).unwrap();
     let dx = problem.grid.spacing[0];
     let mut samples = Samples::<1>::default();
     let mut checked = 0;
@@ -88,7 +88,7 @@ fn nodal_point_update_is_monotone_where_increment_overshoots() {
     let (scene, problem, reference) = bar(150, None);
     let nodal = dgmpm(&scene, 0.5, 2, Integrator::Euler);
     let mut increment = nodal;
-    increment.update = PointUpdate::Increment;
+    increment.dgmpm_mut().unwrap().update = PointUpdate::Increment;
     let (rec, err) = run(&problem, nodal, &reference);
     assert!(err.is_none());
     for t in &rec.times {
@@ -165,21 +165,9 @@ fn mpm_courant_one_is_stopped_by_the_guard() {
 #[test]
 fn energy_against_work_of_the_load() {
     let (scene, problem, reference) = bar(150, None);
-    let (dg, _) = run(
-        &problem,
-        impact::scene_config(&scene, MethodKind::Dgmpm),
-        &reference,
-    );
-    let (fem, _) = run(
-        &problem,
-        impact::scene_config(&scene, MethodKind::Fem),
-        &reference,
-    );
-    let (mpm, _) = run(
-        &problem,
-        impact::scene_config(&scene, MethodKind::Mpm),
-        &reference,
-    );
+    let (dg, _) = run(&problem, scene.method_config(MethodKind::Dgmpm), &reference);
+    let (fem, _) = run(&problem, scene.method_config(MethodKind::Fem), &reference);
+    let (mpm, _) = run(&problem, scene.method_config(MethodKind::Mpm), &reference);
     let (diss, _) = run(
         &problem,
         dgmpm(&scene, 0.5, 1, Integrator::Euler),
@@ -210,21 +198,9 @@ fn energy_against_work_of_the_load() {
 #[test]
 fn dgmpm_front_is_sharper_than_mpm_and_fem() {
     let (scene, problem, reference) = bar(150, None);
-    let (dg, _) = run(
-        &problem,
-        impact::scene_config(&scene, MethodKind::Dgmpm),
-        &reference,
-    );
-    let (mpm, _) = run(
-        &problem,
-        impact::scene_config(&scene, MethodKind::Mpm),
-        &reference,
-    );
-    let (fem, _) = run(
-        &problem,
-        impact::scene_config(&scene, MethodKind::Fem),
-        &reference,
-    );
+    let (dg, _) = run(&problem, scene.method_config(MethodKind::Dgmpm), &reference);
+    let (mpm, _) = run(&problem, scene.method_config(MethodKind::Mpm), &reference);
+    let (fem, _) = run(&problem, scene.method_config(MethodKind::Fem), &reference);
     for k in 0..3 {
         let w = |r: &impact::run::RunRecord| r.times[k].front_width_cells.unwrap_or(f64::INFINITY);
         assert!(

@@ -195,11 +195,7 @@ fn check_prints_the_figures_of_a_smeared_dgmpm() {
         common::dgmpm(&scene, 0.3, 4, Integrator::Rk2),
         &reference,
     );
-    let (mpm, _) = common::run(
-        &problem,
-        impact::scene_config(&scene, MethodKind::Mpm),
-        &reference,
-    );
+    let (mpm, _) = common::run(&problem, scene.method_config(MethodKind::Mpm), &reference);
     let rows: Vec<Vec<String>> = out
         .lines()
         .filter(|l| l.trim_start().starts_with("0.") || l.trim_start().starts_with("1."))

@@ -38,7 +38,7 @@ fn assert_converges(name: &str, errors: &[f64], min_order: f64, max_order: f64) 
 
 #[test]
 fn dgmpm_default_is_exact_at_every_level() {
-    let errors = l1_ladder(|s| impact::scene_config(s, MethodKind::Dgmpm));
+    let errors = l1_ladder(|s| s.method_config(MethodKind::Dgmpm));
     println!("dgmpm (courant 1, 1 ppc, euler): L1 {errors:.3?} (exact)");
     for e in errors {
         assert!(e < 1e-12);
@@ -56,13 +56,13 @@ fn dgmpm_below_courant_one_converges_at_the_first_order_rate_for_a_jump() {
 
 #[test]
 fn mpm_converges_at_default_courant() {
-    let errors = l1_ladder(|s| impact::scene_config(s, MethodKind::Mpm));
+    let errors = l1_ladder(|s| s.method_config(MethodKind::Mpm));
     assert_converges("mpm courant 0.5", &errors, 0.2, 1.2);
 }
 
 #[test]
 fn fem_converges_at_default_courant() {
-    let errors = l1_ladder(|s| impact::scene_config(s, MethodKind::Fem));
+    let errors = l1_ladder(|s| s.method_config(MethodKind::Fem));
     assert_converges("fem courant 0.9", &errors, 0.2, 1.2);
 }
 
@@ -75,8 +75,9 @@ fn updated_lagrangian_mpm_does_not_converge_because_of_cell_crossing() {
     use impact_core::method::{MpmFrame, StressUpdate};
     let errors = l1_ladder(|s| {
         config(s, MethodKind::Mpm, |c| {
-            c.frame = MpmFrame::UpdatedLagrangian;
-            c.stress_update = StressUpdate::Musl;
+            let o = c.mpm_mut().unwrap();
+            o.frame = MpmFrame::UpdatedLagrangian;
+            o.stress_update = StressUpdate::Musl;
         })
     });
     println!("mpm updated lagrangian (musl): L1 {errors:.3?}");
@@ -106,8 +107,8 @@ fn dgmpm_svk_exact_solver_converges_to_the_fan() {
             let mut problem = Problem::<1>::from_scene(&scene).unwrap();
             problem.set_schedule(Some(vec![t]), None).unwrap();
             let reference = Reference::for_problem(&problem).unwrap();
-            let mut c = impact::scene_config(&scene, MethodKind::Dgmpm);
-            c.riemann = RiemannSolver::Exact;
+            let mut c = scene.method_config(MethodKind::Dgmpm);
+            c.dgmpm_mut().unwrap().riemann = RiemannSolver::Exact;
             let (rec, err) = run_svk(&problem, c, &reference);
             assert!(err.is_none());
             rec.times[0].l1_rel
@@ -141,8 +142,8 @@ fn dgmpm_svk_exact_solver_converges_to_the_paper_s_fan_once_resolved() {
                 panic!("the svk-bar scene has an exact solution")
             };
             assert!(!exact.is_shock(), "the paper's load makes a fan");
-            let mut c = impact::scene_config(&scene, MethodKind::Dgmpm);
-            c.riemann = RiemannSolver::Exact;
+            let mut c = scene.method_config(MethodKind::Dgmpm);
+            c.dgmpm_mut().unwrap().riemann = RiemannSolver::Exact;
             let (rec, err) = run_svk(&problem, c, &reference);
             assert!(err.is_none());
             rec.times[0].l1_rel

@@ -19,8 +19,10 @@ fn plate() -> (Scene, Problem<2>) {
 }
 
 fn dgmpm(scene: &Scene, ppc: usize, integrator: Integrator, flux: TransverseFlux) -> MethodConfig {
-    let mut c = impact::scene_config(scene, MethodKind::Dgmpm);
-    (c.points_per_cell, c.integrator, c.flux) = (ppc, integrator, flux);
+    let mut c = scene.method_config(MethodKind::Dgmpm);
+    c.points_per_cell = ppc;
+    let o = c.dgmpm_mut().unwrap();
+    (o.integrator, o.flux) = (integrator, flux);
     c
 }
 

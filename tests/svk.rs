@@ -21,8 +21,10 @@ fn run(
     riemann: RiemannSolver,
     r: &Reference,
 ) -> (RunRecord, Option<Blowup>) {
-    let mut c = impact::scene_config(scene, kind);
-    c.riemann = riemann;
+    let mut c = scene.method_config(kind);
+    if let Some(o) = c.dgmpm_mut() {
+        o.riemann = riemann;
+    }
     run_method(problem, c, Some(r), &mut Silent).unwrap()
 }
 
@@ -137,13 +139,7 @@ fn a_run_that_loses_hyperbolicity_is_stopped() {
     });
     let problem = Problem::<1>::from_scene(&scene).unwrap();
     for kind in MethodKind::ALL {
-        let (_, err) = run_method(
-            &problem,
-            impact::scene_config(&scene, kind),
-            None,
-            &mut Silent,
-        )
-        .unwrap();
+        let (_, err) = run_method(&problem, scene.method_config(kind), None, &mut Silent).unwrap();
         let err = err.unwrap_or_else(|| panic!("{kind:?} must be stopped"));
         assert!(
             err.step > 0 && err.time > 0.0 && err.place[0] < 1.0,
@@ -206,7 +202,7 @@ fn svk_plate_runs_in_every_method_with_momentum_balance() {
     let scene = Scene::builtin("svk-plate").unwrap();
     let problem = Problem::<2>::from_scene(&scene).unwrap();
     for kind in MethodKind::ALL {
-        let mut m = impact::build(&problem, impact::scene_config(&scene, kind)).unwrap();
+        let mut m = impact::build(&problem, scene.method_config(kind)).unwrap();
         let dt = m.stable_dt();
         let steps = (problem.output_times[2] / dt).round() as usize;
         for k in 0..steps {

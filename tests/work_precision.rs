@@ -30,7 +30,8 @@ fn work_precision_ladder_on_the_bar() {
         serde_json::from_str(&std::fs::read_to_string(out.join("work_precision.json")).unwrap())
             .unwrap();
     let points = points.as_array().unwrap();
-    let configs = impact::work_precision::configurations(1);
+    let configs =
+        impact::work_precision::configurations(&impact_core::Scene::builtin("bar").unwrap());
     assert_eq!(points.len(), 3 * configs.len());
     for c in &configs {
         let mine: Vec<&serde_json::Value> = points

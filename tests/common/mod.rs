@@ -19,7 +19,7 @@ pub fn bar(cells: usize, times: Option<Vec<f64>>) -> (Scene, Problem<1>, Referen
 
 /// A configuration of `kind` from the scene, changed by `f`.
 pub fn config(scene: &Scene, kind: MethodKind, f: impl FnOnce(&mut MethodConfig)) -> MethodConfig {
-    let mut c = impact::scene_config(scene, kind);
+    let mut c = scene.method_config(kind);
     f(&mut c);
     c
 }
@@ -38,6 +38,8 @@ pub fn dgmpm(scene: &Scene, courant: f64, ppc: usize, integrator: Integrator) ->
     config(scene, MethodKind::Dgmpm, |c| {
         c.courant = courant;
         c.points_per_cell = ppc;
-        c.integrator = integrator;
+        if let Some(o) = c.dgmpm_mut() {
+            o.integrator = integrator;
+        }
     })
 }

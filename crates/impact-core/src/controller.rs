@@ -92,7 +92,7 @@ where
     M: Method<D> + ?Sized,
 {
     let dt_stable = method.stable_dt();
-    let name = method.config().kind.name();
+    let name = method.config().kind().name();
     let initial_energy = method.energy();
     let mut t = 0.0;
     let mut steps = 0usize;

@@ -125,6 +125,28 @@ impl<const D: usize> Grid<D> {
         x
     }
 
+    /// Tangential axes of a face normal to axis `l` (`D - 1` of them, increasing).
+    pub fn tangent_axes(l: usize) -> impl Iterator<Item = usize> {
+        (0..D).filter(move |&k| k != l)
+    }
+
+    /// The axis along which a loaded segment of an edge normal to `l` is measured: the
+    /// first tangential axis (`None` in 1D, where an edge is a point). Segments are a 2D
+    /// notion; a 3D patch would need every tangential axis.
+    pub fn segment_axis(l: usize) -> Option<usize> {
+        Self::tangent_axes(l).next()
+    }
+
+    /// Dimensions of the array of faces normal to axis `l` (`cells + 1` along `l`).
+    pub fn face_dims(&self, l: usize) -> [usize; D] {
+        std::array::from_fn(|k| self.cells[k] + usize::from(k == l))
+    }
+
+    /// Number of faces normal to axis `l`.
+    pub fn face_count(&self, l: usize) -> usize {
+        self.face_dims(l).iter().product()
+    }
+
     /// Multilinear shape functions `S_a(ξ)` and their physical gradients `∇S_a` at local
     /// coordinates `xi` in `[0,1]^D`: `S_a = Π_l (ξ_l if bit l of a else 1-ξ_l)`.
     #[inline]

@@ -18,6 +18,8 @@ pub mod grid;
 pub mod material;
 pub mod method;
 pub mod metrics;
+pub mod options;
+pub mod parallel;
 pub mod points;
 pub mod problem;
 pub mod reference;

@@ -1,8 +1,9 @@
 //! The [`Method`] trait shared by DGMPM, MPM and FEM, and the sampled fields they return.
-pub use crate::problem::{
-    Integrator, MethodConfig, MethodKind, Model, MpmFrame, PointUpdate, RiemannSolver,
-    StressUpdate, TransverseFlux,
+pub use crate::options::{
+    DgmpmOptions, FemOptions, Integrator, LoadDirection, MethodConfig, MethodKind, MethodOptions,
+    MpmFrame, MpmOptions, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
 };
+pub use crate::problem::Model;
 use crate::{Tensor, Vector};
 use thiserror::Error;
 
@@ -16,7 +17,7 @@ pub struct Samples<const D: usize> {
     pub position: Vec<Vector<D>>,
     /// Half-size of the region each sample stands for (in the reference configuration).
     pub half_size: Vec<Vector<D>>,
-    /// Cauchy stress.
+    /// Stress: Cauchy `σ` in small strain, first Piola–Kirchhoff `Π` in large strain.
     pub stress: Vec<Tensor<D>>,
     /// Velocity.
     pub velocity: Vec<Vector<D>>,

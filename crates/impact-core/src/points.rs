@@ -1,4 +1,5 @@
 //! Material points as a struct of arrays.
+use crate::method::Samples;
 use crate::{Grid, Tensor, Vector};
 
 /// Material points (struct of arrays). `reference` is the position in the reference
@@ -15,7 +16,8 @@ pub struct MaterialPoints<const D: usize> {
     pub volume: Vec<f64>,
     /// Velocity `v_α`.
     pub velocity: Vec<Vector<D>>,
-    /// Cauchy stress `σ_α` (small strain).
+    /// Stress: Cauchy `σ_α` in small strain, first Piola–Kirchhoff `Π_α` under
+    /// Saint-Venant–Kirchhoff (total Lagrangian).
     pub stress: Vec<Tensor<D>>,
     /// Half-size of the point's domain along each axis (for the exact cell averages).
     pub half_size: Vec<Vector<D>>,
@@ -33,6 +35,49 @@ impl<const D: usize> MaterialPoints<D> {
     pub fn with_deformation(mut self) -> Self {
         self.deformation = vec![Tensor::<D>::identity(); self.len()];
         self
+    }
+
+    /// Copy the points' fields into `out` (the sampling of the point methods).
+    pub fn sample_into(&self, out: &mut Samples<D>) {
+        out.clear();
+        out.reference.extend_from_slice(&self.reference);
+        out.position.extend_from_slice(&self.position);
+        out.half_size.extend_from_slice(&self.half_size);
+        out.stress.extend_from_slice(&self.stress);
+        out.velocity.extend_from_slice(&self.velocity);
+    }
+
+    /// Total momentum `Σ m_α v_α`.
+    pub fn momentum(&self) -> Vector<D> {
+        self.velocity
+            .iter()
+            .zip(&self.mass)
+            .fold(Vector::<D>::zeros(), |sum, (v, m)| sum + v * *m)
+    }
+
+    /// Kinetic plus strain energy, `Σ ½ m_α |v_α|² + V_α ψ_α`, with the strain energy
+    /// density `ψ_α = energy_density(α)`.
+    pub fn energy(&self, energy_density: impl Fn(usize) -> f64) -> f64 {
+        (0..self.len())
+            .map(|i| {
+                0.5 * self.mass[i] * self.velocity[i].norm_squared()
+                    + self.volume[i] * energy_density(i)
+            })
+            .sum()
+    }
+
+    /// Reference position of the fastest point (where a blow-up is growing).
+    pub fn hottest_place(&self) -> Vector<D> {
+        (0..self.len())
+            .max_by(|&a, &b| self.velocity[a].norm().total_cmp(&self.velocity[b].norm()))
+            .map_or_else(Vector::<D>::zeros, |i| self.reference[i])
+    }
+
+    /// Add `kick(α, X_α)` to every point's velocity.
+    pub fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
+        for (i, (v, x)) in self.velocity.iter_mut().zip(&self.reference).enumerate() {
+            *v += kick(i, x);
+        }
     }
 
     /// Whether there is no point.

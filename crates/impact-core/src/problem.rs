@@ -47,169 +47,6 @@ pub enum Model {
     Svk(crate::material::Svk),
 }
 
-/// DGMPM's Riemann solver for Saint-Venant–Kirchhoff (linear elasticity always uses the
-/// exact linear solver).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum RiemannSolver {
-    /// Linearised (acoustic) solver with each side's impedance `ρ₀ c(F)` (Toro 2009, §9.3).
-    Approximate,
-    /// Exact solver: shock and rarefaction curves, Newton on the star stress (1D).
-    Exact,
-}
-
-impl RiemannSolver {
-    /// Lower-case name.
-    pub fn name(self) -> &'static str {
-        match self {
-            RiemannSolver::Approximate => "approximate",
-            RiemannSolver::Exact => "exact",
-        }
-    }
-}
-
-/// Which method a configuration belongs to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum MethodKind {
-    /// Discontinuous Galerkin material point method.
-    Dgmpm,
-    /// USL material point method.
-    Mpm,
-    /// Explicit finite elements.
-    Fem,
-}
-
-impl MethodKind {
-    /// Lower-case name used in tables, files and flags.
-    pub fn name(self) -> &'static str {
-        match self {
-            MethodKind::Dgmpm => "dgmpm",
-            MethodKind::Mpm => "mpm",
-            MethodKind::Fem => "fem",
-        }
-    }
-    /// Parse a lower-case name.
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "dgmpm" => Some(Self::Dgmpm),
-            "mpm" => Some(Self::Mpm),
-            "fem" => Some(Self::Fem),
-            _ => None,
-        }
-    }
-    /// All three, in table order.
-    pub const ALL: [MethodKind; 3] = [MethodKind::Dgmpm, MethodKind::Mpm, MethodKind::Fem];
-}
-
-/// Time integrator of DGMPM's semi-discrete system (paper §3.2).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Integrator {
-    /// Forward Euler.
-    Euler,
-    /// Two-stage Runge-Kutta (Heun / SSP-RK2).
-    Rk2,
-}
-
-impl Integrator {
-    /// Lower-case name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Integrator::Euler => "euler",
-            Integrator::Rk2 => "rk2",
-        }
-    }
-}
-
-/// How DGMPM points are updated after the nodal solve (the paper leaves it open).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PointUpdate {
-    /// `q_α = Σ_i S_iα q_i^{n+1}`: points take the interpolated new nodal field (default).
-    Nodal,
-    /// `q_α += Σ_i S_iα (q_i^{n+1} - q_i^n)`: points add the interpolated increment.
-    Increment,
-}
-
-/// MPM stress update order.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum StressUpdate {
-    /// Update stress last, from the grid-updated nodal velocity `v_i + Δt f_i/m_i`.
-    Usl,
-    /// Update stress last, from the nodal velocity mapped again from the updated point
-    /// velocities (the remap of Sulsky, Zhou & Schreyer 1995; "MUSL").
-    Musl,
-    /// Update stress first, from the nodal velocity mapped at the start of the step.
-    Usf,
-}
-
-/// DGMPM's treatment of waves crossing cells obliquely in 2D (LeVeque 2002, ch. 20-21).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TransverseFlux {
-    /// Donor-cell upwind: normal Godunov fluxes only.
-    DonorCell,
-    /// Corner transport upwind: the normal fluctuations are split by the transverse
-    /// Riemann solver and correct the transverse fluxes.
-    Ctu,
-}
-
-impl TransverseFlux {
-    /// Lower-case name.
-    pub fn name(self) -> &'static str {
-        match self {
-            TransverseFlux::DonorCell => "dcu",
-            TransverseFlux::Ctu => "ctu",
-        }
-    }
-}
-
-/// Frame in which MPM evaluates its shape functions.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MpmFrame {
-    /// Shape functions at the points' reference positions, reference volumes: the grid is
-    /// the reference configuration (the paper's "total Lagrangian formulation", §5.3).
-    TotalLagrangian,
-    /// Shape functions at the current positions, volumes updated: points move through the
-    /// grid (Sulsky, Zhou & Schreyer 1995).
-    UpdatedLagrangian,
-}
-
-/// Options of one method run. Each method reads the fields that apply to it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MethodConfig {
-    /// Which method.
-    pub kind: MethodKind,
-    /// Courant number `c_p Δt / Δx_min`.
-    pub courant: f64,
-    /// Material points per cell (DGMPM, MPM).
-    pub points_per_cell: usize,
-    /// Time integrator (DGMPM).
-    pub integrator: Integrator,
-    /// Point update (DGMPM).
-    pub update: PointUpdate,
-    /// Stress update (MPM).
-    pub stress_update: StressUpdate,
-    /// Frame (MPM).
-    pub frame: MpmFrame,
-    /// Transverse flux (DGMPM, 2D).
-    pub flux: TransverseFlux,
-    /// Riemann solver (DGMPM, Saint-Venant–Kirchhoff).
-    pub riemann: RiemannSolver,
-}
-
-impl MethodConfig {
-    /// Short label of the integrator column: DGMPM's integrator, `usl`/`usf` for MPM,
-    /// `central` for FEM.
-    pub fn integrator_label(&self) -> &'static str {
-        match self.kind {
-            MethodKind::Dgmpm => self.integrator.name(),
-            MethodKind::Mpm => match self.stress_update {
-                StressUpdate::Usl => "usl",
-                StressUpdate::Musl => "musl",
-                StressUpdate::Usf => "usf",
-            },
-            MethodKind::Fem => "central",
-        }
-    }
-}
-
 /// A scene in typed form for dimension `D`.
 #[derive(Debug, Clone)]
 pub struct Problem<const D: usize> {
@@ -232,10 +69,15 @@ pub struct Problem<const D: usize> {
 }
 
 impl<const D: usize> Problem<D> {
-    /// Build from a validated scene. `scene.dim` must equal `D`.
+    /// Validate `scene` and build the problem ([`Self::from_valid_scene`]).
     pub fn from_scene(scene: &Scene) -> Result<Self, CoreError> {
         scene.validate()?;
-        if scene.dim != D {
+        Self::from_valid_scene(scene)
+    }
+
+    /// Build from a scene that [`Scene::validate`] accepted. `scene.dim` must equal `D`.
+    pub fn from_valid_scene(scene: &Scene) -> Result<Self, CoreError> {
+        if scene.dim != D || scene.domain.length.len() != D || scene.domain.cells.len() != D {
             return Err(
                 SceneError::new("dim", scene.dim, format!("{D} for this build path")).into(),
             );

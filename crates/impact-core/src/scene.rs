@@ -23,6 +23,10 @@
 //! integrator = "euler"
 //! ```
 use crate::error::{CoreError, SceneError};
+use crate::options::{
+    DgmpmOptions, Integrator, MethodConfig, MethodKind, MethodOptions, MpmFrame, MpmOptions,
+    PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
+};
 use serde::{Deserialize, Serialize};
 
 /// A whole scene.
@@ -42,14 +46,14 @@ pub struct Scene {
     /// Time and output schedule.
     pub time: TimeSpec,
     /// DGMPM options.
-    #[serde(default = "MethodSpec::dgmpm_default")]
-    pub dgmpm: MethodSpec,
+    #[serde(default)]
+    pub dgmpm: DgmpmSpec,
     /// MPM options.
-    #[serde(default = "MethodSpec::mpm_default")]
-    pub mpm: MethodSpec,
+    #[serde(default)]
+    pub mpm: MpmSpec,
     /// FEM options.
-    #[serde(default = "MethodSpec::fem_default")]
-    pub fem: MethodSpec,
+    #[serde(default)]
+    pub fem: FemSpec,
 }
 
 /// Geometry: a box `[0, length]` meshed by `cells` regular cells.
@@ -132,55 +136,126 @@ pub struct TimeSpec {
     pub t_end: Option<f64>,
 }
 
-/// Per-method options.
+/// DGMPM's section: Courant number and options (each absent option takes its default,
+/// [`DgmpmOptions::default`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct MethodSpec {
-    /// Courant number `c_p Δt / Δx_min`.
+pub struct DgmpmSpec {
+    /// Courant number `c_p Δt / Δx_min` (default 1, the paper's).
+    #[serde(default = "courant_one")]
     pub courant: f64,
-    /// Time integrator (DGMPM): `euler` or `rk2`.
+    /// Time integrator.
     #[serde(default)]
-    pub integrator: Option<String>,
-    /// Point update after the nodal solve (DGMPM): `nodal` or `increment`.
+    pub integrator: Option<Integrator>,
+    /// Point update after the nodal solve.
     #[serde(default)]
-    pub update: Option<String>,
-    /// Stress update (MPM): `usl`, `musl` or `usf`.
+    pub update: Option<PointUpdate>,
+    /// Transverse flux (2D only).
     #[serde(default)]
-    pub stress_update: Option<String>,
-    /// Frame (MPM): `total-lagrangian` or `updated-lagrangian`.
+    pub flux: Option<TransverseFlux>,
+    /// Riemann solver (Saint-Venant–Kirchhoff).
     #[serde(default)]
-    pub frame: Option<String>,
-    /// Transverse flux (DGMPM, 2D): `dcu` or `ctu` (default `ctu` in 2D).
-    #[serde(default)]
-    pub flux: Option<String>,
-    /// Riemann solver (DGMPM, SVK): `approximate` (default) or `exact`.
-    #[serde(default)]
-    pub riemann: Option<String>,
+    pub riemann: Option<RiemannSolver>,
 }
 
-impl MethodSpec {
-    fn with_courant(courant: f64) -> Self {
+/// MPM's section.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MpmSpec {
+    /// Courant number (default 0.5, the paper's).
+    #[serde(default = "courant_half")]
+    pub courant: f64,
+    /// Stress update.
+    #[serde(default)]
+    pub stress_update: Option<StressUpdate>,
+    /// Frame of the shape functions.
+    #[serde(default)]
+    pub frame: Option<MpmFrame>,
+}
+
+/// FEM's section.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FemSpec {
+    /// Courant number (default 0.9, the paper's).
+    #[serde(default = "courant_fem")]
+    pub courant: f64,
+}
+
+fn courant_one() -> f64 {
+    1.0
+}
+fn courant_half() -> f64 {
+    0.5
+}
+fn courant_fem() -> f64 {
+    0.9
+}
+
+impl Default for DgmpmSpec {
+    fn default() -> Self {
         Self {
-            courant,
+            courant: courant_one(),
             integrator: None,
             update: None,
-            stress_update: None,
-            frame: None,
             flux: None,
             riemann: None,
         }
     }
-    /// Paper default for DGMPM: Courant 1.
-    pub fn dgmpm_default() -> Self {
-        Self::with_courant(1.0)
+}
+
+impl Default for MpmSpec {
+    fn default() -> Self {
+        Self {
+            courant: courant_half(),
+            stress_update: None,
+            frame: None,
+        }
     }
-    /// Paper default for MPM: Courant 0.5.
-    pub fn mpm_default() -> Self {
-        Self::with_courant(0.5)
+}
+
+impl Default for FemSpec {
+    fn default() -> Self {
+        Self {
+            courant: courant_fem(),
+        }
     }
-    /// Paper default for FEM: Courant 0.9.
-    pub fn fem_default() -> Self {
-        Self::with_courant(0.9)
+}
+
+impl Scene {
+    /// The configuration of `kind` written in this scene (absent options at their
+    /// defaults).
+    pub fn method_config(&self, kind: MethodKind) -> MethodConfig {
+        let ppc = self.domain.points_per_cell;
+        match kind {
+            MethodKind::Dgmpm => {
+                let s = &self.dgmpm;
+                let d = DgmpmOptions::default();
+                MethodConfig {
+                    courant: s.courant,
+                    points_per_cell: ppc,
+                    options: MethodOptions::Dgmpm(DgmpmOptions {
+                        integrator: s.integrator.unwrap_or(d.integrator),
+                        update: s.update.unwrap_or(d.update),
+                        flux: s.flux.unwrap_or(d.flux),
+                        riemann: s.riemann.unwrap_or(d.riemann),
+                    }),
+                }
+            }
+            MethodKind::Mpm => {
+                let s = &self.mpm;
+                let d = MpmOptions::default();
+                MethodConfig {
+                    courant: s.courant,
+                    points_per_cell: ppc,
+                    options: MethodOptions::Mpm(MpmOptions {
+                        stress_update: s.stress_update.unwrap_or(d.stress_update),
+                        frame: s.frame.unwrap_or(d.frame),
+                    }),
+                }
+            }
+            MethodKind::Fem => MethodConfig::new(MethodKind::Fem, self.fem.courant, ppc),
+        }
     }
 }
 
@@ -191,9 +266,17 @@ pub const MAX_POINTS: f64 = 1e7;
 pub const COURANT_RANGE: &str = "a number in (0, 2]";
 
 impl Scene {
-    /// Parse a scene from TOML text; `origin` names the source in errors.
+    /// Parse and validate a scene from TOML text; `origin` names the source in errors.
     pub fn from_toml(text: &str, origin: &str) -> Result<Self, CoreError> {
-        let scene: Scene = toml::from_str(text).map_err(|e| CoreError::Parse {
+        let scene = Self::parse_toml(text, origin)?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Parse a scene from TOML text without checking its values (callers that change the
+    /// scene before use validate it once afterwards, as [`Scene::validate`]).
+    pub fn parse_toml(text: &str, origin: &str) -> Result<Self, CoreError> {
+        toml::from_str(text).map_err(|e| CoreError::Parse {
             path: origin.to_string(),
             message: e.message().to_string()
                 + &e.span()
@@ -202,18 +285,23 @@ impl Scene {
                         format!(" (line {line})")
                     })
                     .unwrap_or_default(),
-        })?;
+        })
+    }
+
+    /// Read, parse and validate a scene file.
+    pub fn from_file(path: &std::path::Path) -> Result<Self, CoreError> {
+        let scene = Self::parse_file(path)?;
         scene.validate()?;
         Ok(scene)
     }
 
-    /// Read and parse a scene file.
-    pub fn from_file(path: &std::path::Path) -> Result<Self, CoreError> {
+    /// Read and parse a scene file without checking its values (see [`Self::parse_toml`]).
+    pub fn parse_file(path: &std::path::Path) -> Result<Self, CoreError> {
         let text = std::fs::read_to_string(path).map_err(|source| CoreError::Io {
             path: path.display().to_string(),
             source,
         })?;
-        Self::from_toml(&text, &path.display().to_string())
+        Self::parse_toml(&text, &path.display().to_string())
     }
 
     /// Check every value; the first problem found is returned.
@@ -338,66 +426,15 @@ impl Scene {
         if let Some(t_end) = t.t_end {
             positive("time.t_end", t_end, "a positive finite time in s")?;
         }
-        for (name, spec) in [
-            ("dgmpm", &self.dgmpm),
-            ("mpm", &self.mpm),
-            ("fem", &self.fem),
-        ] {
-            check_courant(&format!("{name}.courant"), spec.courant)?;
-            if let Some(i) = &spec.integrator {
-                if name != "dgmpm" || !(i == "euler" || i == "rk2") {
-                    return Err(SceneError::new(
-                        format!("{name}.integrator"),
-                        format!("{i:?}"),
-                        "\"euler\" or \"rk2\" (DGMPM only)",
-                    ));
-                }
-            }
-            if let Some(u) = &spec.update {
-                if name != "dgmpm" || !(u == "nodal" || u == "increment") {
-                    return Err(SceneError::new(
-                        format!("{name}.update"),
-                        format!("{u:?}"),
-                        "\"nodal\" or \"increment\" (DGMPM only)",
-                    ));
-                }
-            }
-            if let Some(f) = &spec.flux {
-                if name != "dgmpm" || self.dim != 2 || !(f == "dcu" || f == "ctu") {
-                    return Err(SceneError::new(
-                        format!("{name}.flux"),
-                        format!("{f:?}"),
-                        "\"dcu\" or \"ctu\" (DGMPM in 2D only)",
-                    ));
-                }
-            }
-            if let Some(r) = &spec.riemann {
-                if name != "dgmpm" || !(r == "approximate" || r == "exact") {
-                    return Err(SceneError::new(
-                        format!("{name}.riemann"),
-                        format!("{r:?}"),
-                        "\"approximate\" or \"exact\" (DGMPM only)",
-                    ));
-                }
-            }
-            if let Some(f) = &spec.frame {
-                if name != "mpm" || !(f == "total-lagrangian" || f == "updated-lagrangian") {
-                    return Err(SceneError::new(
-                        format!("{name}.frame"),
-                        format!("{f:?}"),
-                        "\"total-lagrangian\" or \"updated-lagrangian\" (MPM only)",
-                    ));
-                }
-            }
-            if let Some(u) = &spec.stress_update {
-                if name != "mpm" || !(u == "usl" || u == "musl" || u == "usf") {
-                    return Err(SceneError::new(
-                        format!("{name}.stress_update"),
-                        format!("{u:?}"),
-                        "\"usl\", \"musl\" or \"usf\" (MPM only)",
-                    ));
-                }
-            }
+        check_courant("dgmpm.courant", self.dgmpm.courant)?;
+        check_courant("mpm.courant", self.mpm.courant)?;
+        check_courant("fem.courant", self.fem.courant)?;
+        if let (Some(f), 1) = (self.dgmpm.flux, self.dim) {
+            return Err(SceneError::new(
+                "dgmpm.flux",
+                format!("{:?}", f.name()),
+                "no transverse flux in 1D (DGMPM in 2D only)",
+            ));
         }
         Ok(())
     }

@@ -2,22 +2,20 @@
 //! DGMPM is the exact upwind shift: every point equals the exact cell average.
 use impact_core::exact::BarExact;
 use impact_core::method::{
-    Integrator, MethodConfig, MethodKind, MpmFrame, PointUpdate, StressUpdate, TransverseFlux,
+    DgmpmOptions, Integrator, MethodConfig, MethodOptions, RiemannSolver, TransverseFlux,
 };
 use impact_core::{Method, Problem, Scene};
-use impact_dgmpm::Dgmpm;
+use impact_dgmpm::{Dgmpm, StepPath};
 
 fn config(courant: f64, ppc: usize, integrator: Integrator) -> MethodConfig {
     MethodConfig {
-        kind: MethodKind::Dgmpm,
         courant,
         points_per_cell: ppc,
-        integrator,
-        update: PointUpdate::Nodal,
-        stress_update: StressUpdate::Usl,
-        frame: MpmFrame::TotalLagrangian,
-        flux: TransverseFlux::Ctu,
-        riemann: impact_core::method::RiemannSolver::Exact,
+        options: MethodOptions::Dgmpm(DgmpmOptions {
+            integrator,
+            riemann: RiemannSolver::Exact,
+            ..DgmpmOptions::default()
+        }),
     }
 }
 
@@ -75,9 +73,9 @@ fn single_point_fast_path_matches_the_general_path() {
         c.courant = 0.9;
         let mut fast = Dgmpm::<D>::new(&problem, c).unwrap();
         // the nodal phases (the cell path skips particles→nodes altogether)
-        fast.solver.set_cell_path(false);
+        fast.solver.set_step_path(StepPath::SinglePoint).unwrap();
         let mut general = fast.clone();
-        general.solver.set_single_point_fast_path(false);
+        general.solver.set_step_path(StepPath::Nodal).unwrap();
         let dt = fast.stable_dt();
         let mut worst: f64 = 0.0;
         for n in 0..60 {
@@ -113,15 +111,20 @@ fn cell_path_matches_the_nodal_phases() {
         let name = scene.name.clone();
         let problem = Problem::<D>::from_scene(&scene).unwrap();
         let mut c = config(0.6, 1, Integrator::Euler);
-        c.flux = flux;
+        let o = c.dgmpm_mut().unwrap();
+        o.flux = flux;
         if !exact {
-            c.riemann = impact_core::method::RiemannSolver::Approximate;
+            o.riemann = RiemannSolver::Approximate;
         }
         let mut cell = Dgmpm::<D>::new(&problem, c).unwrap();
-        assert!(cell.solver.cell_path(), "{name}: the cell path applies");
+        assert_eq!(
+            cell.solver.step_path(),
+            StepPath::Cell,
+            "{name}: the cell path applies"
+        );
         let mut nodal = cell.clone();
-        nodal.solver.set_cell_path(false);
-        assert!(!nodal.solver.cell_path());
+        nodal.solver.set_step_path(StepPath::SinglePoint).unwrap();
+        assert_eq!(nodal.solver.step_path(), StepPath::SinglePoint);
         let dt = cell.stable_dt();
         for n in 0..80 {
             cell.step(n as f64 * dt, dt);

@@ -127,10 +127,9 @@ impl<const D: usize> Fem<D> {
                         continue;
                     }
                     let sign = if side == 0 { -1.0 } else { 1.0 };
-                    let s = if D > 1 { x[(l + 1) % D] } else { 0.0 };
+                    let s = Grid::<D>::segment_axis(l).map_or(0.0, |k| x[k]);
                     // tributary length of the node along the edge (1 in 1D)
-                    let tributary: f64 = (0..D)
-                        .filter(|&k| k != l)
+                    let tributary: f64 = Grid::<D>::tangent_axes(l)
                         .map(|k| {
                             let h = grid.spacing[k];
                             if idx[k] == 0 || idx[k] == grid.cells[k] {
@@ -199,22 +198,41 @@ impl<const D: usize> FemSolver<D> {
             .for_each(|f| *f = Vector::<D>::zeros());
         let volume = self.grid.cell_volume() * self.gauss_weight;
         for c in 0..self.grid.cell_count() {
-            let mut nodes = [0usize; MAX_NODES];
-            for (a, n) in nodes.iter_mut().enumerate().take(npc) {
-                *n = self.grid.vertex_of(c, a);
-            }
+            let nodes = self.element_nodes(c);
             for q in 0..npc {
                 let g = &self.gauss_gradient[q * npc..(q + 1) * npc];
-                let mut grad = Tensor::<D>::zeros();
-                for a in 0..npc {
-                    grad += displacement[nodes[a]] * g[a].transpose();
-                }
+                let grad = Self::displacement_gradient(displacement, &nodes, g);
                 let stress = self.stress_of(&grad);
                 for a in 0..npc {
                     self.force[nodes[a]] += (stress * g[a]) * volume;
                 }
             }
         }
+    }
+
+    /// The nodes of element `c` (local node `a` first `2^D` entries).
+    #[inline]
+    fn element_nodes(&self, c: usize) -> [usize; MAX_NODES] {
+        let mut nodes = [0usize; MAX_NODES];
+        for (a, n) in nodes.iter_mut().enumerate().take(Grid::<D>::NODES_PER_CELL) {
+            *n = self.grid.vertex_of(c, a);
+        }
+        nodes
+    }
+
+    /// Displacement gradient `∇u = Σ_a u_a ⊗ ∇N_a` of the element with nodes `nodes`, with
+    /// `gradients` the `∇N_a` at one point of the element (a Gauss point or the centre).
+    #[inline]
+    fn displacement_gradient(
+        displacement: &[Vector<D>],
+        nodes: &[usize; MAX_NODES],
+        gradients: &[Vector<D>],
+    ) -> Tensor<D> {
+        let mut grad = Tensor::<D>::zeros();
+        for (g, &n) in gradients.iter().zip(nodes) {
+            grad += displacement[n] * g.transpose();
+        }
+        grad
     }
 
     /// Stress from the displacement gradient `∇u`: `C : sym(∇u)` or `Π(1 + ∇u)`.
@@ -295,11 +313,12 @@ impl<const D: usize> FemSolver<D> {
 
     /// Stress at the centre of element `c`.
     fn centre_stress(&self, state: &FemState<D>, c: usize) -> Tensor<D> {
-        let mut grad = Tensor::<D>::zeros();
-        for a in 0..Grid::<D>::NODES_PER_CELL {
-            grad +=
-                state.displacement[self.grid.vertex_of(c, a)] * self.centre_gradient[a].transpose();
-        }
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let grad = Self::displacement_gradient(
+            &state.displacement,
+            &self.element_nodes(c),
+            &self.centre_gradient[..npc],
+        );
         self.stress_of(&grad)
     }
 
@@ -358,12 +377,10 @@ impl<const D: usize> Method<D> for Fem<D> {
         let volume = s.grid.cell_volume() * s.gauss_weight;
         let mut strain_energy = 0.0;
         for c in 0..s.grid.cell_count() {
+            let nodes = s.element_nodes(c);
             for q in 0..npc {
                 let g = &s.gauss_gradient[q * npc..(q + 1) * npc];
-                let mut grad = Tensor::<D>::zeros();
-                for a in 0..npc {
-                    grad += self.state.displacement[s.grid.vertex_of(c, a)] * g[a].transpose();
-                }
+                let grad = FemSolver::displacement_gradient(&self.state.displacement, &nodes, g);
                 strain_energy += volume * s.energy_of(&grad);
             }
         }
@@ -397,11 +414,11 @@ impl<const D: usize> Method<D> for Fem<D> {
             let npc = Grid::<D>::NODES_PER_CELL;
             let g = &self.solver.grid;
             for c in 0..g.cell_count() {
-                let mut grad = Tensor::<D>::zeros();
-                for a in 0..npc {
-                    grad += self.state.displacement[g.vertex_of(c, a)]
-                        * self.solver.centre_gradient[a].transpose();
-                }
+                let grad = FemSolver::displacement_gradient(
+                    &self.state.displacement,
+                    &self.solver.element_nodes(c),
+                    &self.solver.centre_gradient[..npc],
+                );
                 let f = Tensor::<D>::identity() + grad;
                 if !svk.admissible(&f, self.solver.wave_speed) {
                     return Err(BadState {

@@ -41,7 +41,9 @@
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
-use impact_core::method::{BadState, Method, MethodConfig, Model, MpmFrame, Samples, StressUpdate};
+use impact_core::method::{
+    BadState, Method, MethodConfig, Model, MpmFrame, MpmOptions, Samples, StressUpdate,
+};
 use impact_core::points::MaterialPoints;
 use impact_core::problem::Boundary;
 use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
@@ -87,6 +89,7 @@ struct VelocityEdge {
 #[derive(Debug, Clone)]
 pub struct MpmSolver<const D: usize> {
     config: MethodConfig,
+    options: MpmOptions,
     body: Grid<D>,
     grid: Grid<D>,
     material: LinearElastic,
@@ -118,12 +121,16 @@ pub struct Mpm<const D: usize> {
 impl<const D: usize> Mpm<D> {
     /// Build MPM for `problem`.
     pub fn new(problem: &Problem<D>, config: MethodConfig) -> Result<Self, CoreError> {
+        let options = *config.mpm().ok_or_else(|| CoreError::Unsupported {
+            method: "mpm".into(),
+            message: "not an MPM configuration".into(),
+        })?;
         let per_axis = problem.points_per_axis(config.points_per_cell)?;
         impact_core::scene::check_courant("courant", config.courant)?;
         let body = problem.grid.clone();
         let mut points = MaterialPoints::regular(&body, per_axis, problem.material.density);
         if let Model::Svk(_) = problem.model {
-            if config.frame != MpmFrame::TotalLagrangian {
+            if options.frame != MpmFrame::TotalLagrangian {
                 return Err(CoreError::Unsupported {
                     method: "mpm".into(),
                     message: "Saint-Venant-Kirchhoff is solved in the total Lagrangian frame \
@@ -162,12 +169,12 @@ impl<const D: usize> Mpm<D> {
                             if ((x[l] + sign * h[l]) - edge).abs() > 1e-9 * body.spacing[l] {
                                 continue;
                             }
-                            let s = if D > 1 { x[(l + 1) % D] } else { 0.0 };
+                            let s = Grid::<D>::segment_axis(l).map_or(0.0, |k| x[k]);
                             if !Boundary::acts_at(segment, s) {
                                 continue;
                             }
                             let area: f64 =
-                                (0..D).filter(|&k| k != l).map(|k| 2.0 * h[k]).product();
+                                Grid::<D>::tangent_axes(l).map(|k| 2.0 * h[k]).product();
                             let mut offset = Vector::<D>::zeros();
                             offset[l] = sign * h[l];
                             loads.push(SurfaceLoad {
@@ -199,6 +206,7 @@ impl<const D: usize> Mpm<D> {
         let mut mpm = Self {
             solver: MpmSolver {
                 config,
+                options,
                 body,
                 material: problem.material,
                 model: problem.model,
@@ -239,11 +247,7 @@ impl<const D: usize> MpmSolver<D> {
         if idx[e.axis] != e.node_layer {
             return false;
         }
-        let s = if D > 1 {
-            self.grid.vertex_position(v)[(e.axis + 1) % D]
-        } else {
-            0.0
-        };
+        let s = Grid::<D>::segment_axis(e.axis).map_or(0.0, |k| self.grid.vertex_position(v)[k]);
         Boundary::acts_at(e.segment, s)
     }
 
@@ -266,7 +270,7 @@ impl<const D: usize> MpmSolver<D> {
                 {
                     continue;
                 }
-                let s = if D > 1 { x[(e.axis + 1) % D] } else { 0.0 };
+                let s = Grid::<D>::segment_axis(e.axis).map_or(0.0, |k| x[k]);
                 if Boundary::acts_at(e.segment, s) {
                     kick[e.axis] += points.mass[p] * (e.value - points.velocity[p][e.axis]);
                     points.velocity[p][e.axis] = e.value;
@@ -287,7 +291,7 @@ impl<const D: usize> MpmSolver<D> {
         self.node_force
             .iter_mut()
             .for_each(|m| *m = Vector::<D>::zeros());
-        let moving = self.config.frame == MpmFrame::UpdatedLagrangian;
+        let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
         for p in 0..points.len() {
             if moving || !self.shapes_ready {
                 let x = if moving {
@@ -344,7 +348,7 @@ impl<const D: usize> MpmSolver<D> {
         let mut g = [Vector::<D>::zeros(); MAX_NODES];
         for k in 0..self.loads.len() {
             let load = self.loads[k];
-            let x = match self.config.frame {
+            let x = match self.options.frame {
                 MpmFrame::TotalLagrangian => points.reference[load.point],
                 MpmFrame::UpdatedLagrangian => points.position[load.point],
             } + load.offset;
@@ -479,7 +483,7 @@ impl<const D: usize> MpmSolver<D> {
                     points.stress[p] = svk.piola(&points.deformation[p]);
                 }
             }
-            if self.config.frame == MpmFrame::UpdatedLagrangian {
+            if self.options.frame == MpmFrame::UpdatedLagrangian {
                 points.volume[p] *= 1.0 + dt * l.trace();
             }
         }
@@ -487,7 +491,7 @@ impl<const D: usize> MpmSolver<D> {
 
     /// One step (module doc).
     pub fn step(&mut self, state: &mut MpmState<D>, dt: f64) {
-        let usl = self.config.stress_update != StressUpdate::Usf;
+        let usl = self.options.stress_update != StressUpdate::Usf;
         self.particles_to_grid(&state.points, usl);
         self.shapes_ready = true;
         if !usl {
@@ -506,7 +510,7 @@ impl<const D: usize> MpmSolver<D> {
         // trapezoidal work of the loads over the step
         state.work += 0.5 * dt * (power_start + self.load_power(&state.points));
         state.impulse += self.impose_point_velocities(&mut state.points);
-        if self.config.stress_update == StressUpdate::Musl {
+        if self.options.stress_update == StressUpdate::Musl {
             self.remap_momentum(&state.points);
         }
         if usl {
@@ -526,33 +530,21 @@ impl<const D: usize> Method<D> for Mpm<D> {
         self.solver.step(&mut self.state, dt);
     }
     fn sample_into(&self, out: &mut Samples<D>) {
-        let p = &self.state.points;
-        out.clear();
-        out.reference.extend_from_slice(&p.reference);
-        out.position.extend_from_slice(&p.position);
-        out.half_size.extend_from_slice(&p.half_size);
-        out.stress.extend_from_slice(&p.stress);
-        out.velocity.extend_from_slice(&p.velocity);
+        self.state.points.sample_into(out);
     }
     fn energy(&self) -> f64 {
         let p = &self.state.points;
         let m = &self.solver.material;
-        (0..p.len())
-            .map(|i| {
-                let strain = match self.solver.model {
-                    Model::LinearElastic => p.volume[i] * m.energy_density(&p.stress[i]),
-                    Model::Svk(svk) => p.volume[i] * svk.energy_density(&p.deformation[i]),
-                };
-                0.5 * p.mass[i] * p.velocity[i].norm_squared() + strain
-            })
-            .sum()
+        p.energy(|i| match self.solver.model {
+            Model::LinearElastic => m.energy_density(&p.stress[i]),
+            Model::Svk(svk) => svk.energy_density(&p.deformation[i]),
+        })
     }
     fn external_work(&self) -> f64 {
         self.state.work
     }
     fn momentum(&self) -> Vector<D> {
-        let p = &self.state.points;
-        (0..p.len()).fold(Vector::<D>::zeros(), |m, i| m + p.velocity[i] * p.mass[i])
+        self.state.points.momentum()
     }
     fn external_impulse(&self) -> Vector<D> {
         self.state.impulse
@@ -577,7 +569,7 @@ impl<const D: usize> Method<D> for Mpm<D> {
                     });
                 }
             }
-            let moving = self.solver.config.frame == MpmFrame::UpdatedLagrangian;
+            let moving = self.solver.options.frame == MpmFrame::UpdatedLagrangian;
             if moving && self.solver.grid.locate(&p.position[i]).is_none() {
                 return Err(BadState {
                     place: p.reference[i],
@@ -591,20 +583,10 @@ impl<const D: usize> Method<D> for Mpm<D> {
         Ok(())
     }
     fn hottest_place(&self) -> Vector<D> {
-        let p = &self.state.points;
-        let i = (0..p.len())
-            .max_by(|&a, &b| p.velocity[a].norm().total_cmp(&p.velocity[b].norm()))
-            .unwrap_or(0);
-        p.reference
-            .get(i)
-            .copied()
-            .unwrap_or_else(Vector::<D>::zeros)
+        self.state.points.hottest_place()
     }
     fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
-        let p = &mut self.state.points;
-        for i in 0..p.len() {
-            p.velocity[i] += kick(i, &p.reference[i]);
-        }
+        self.state.points.perturb_velocity(kick);
     }
     fn cells(&self) -> usize {
         self.solver.body.cell_count()

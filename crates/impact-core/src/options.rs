@@ -1,0 +1,371 @@
+//! Method options, typed end to end: each option is one enum whose names are spelled once
+//! (in [`option_enum!`]) and serve the scene parser (serde), the command line
+//! (`clap::ValueEnum`, behind the `clap` feature), tables, file names and the flags the
+//! work-precision ladder passes on ([`MethodConfig::to_flags`]).
+//!
+//! [`MethodConfig`] holds what every method shares (Courant number, points per cell) and
+//! the options of one method ([`MethodOptions`]). A new option is a new enum here and a
+//! field of its method's options struct; nothing else spells its names.
+use serde::{Deserialize, Serialize};
+
+/// An option enum: the variants with their names, `name()`, `parse()`, `ALL`, `NAMES`,
+/// serde (by name; an unknown name is rejected with the list of allowed names), `Display`
+/// and, behind the `clap` feature, `clap::ValueEnum`.
+macro_rules! option_enum {
+    ($(#[$meta:meta])* $name:ident {
+        $($(#[$vmeta:meta])* $variant:ident = $text:literal),+ $(,)?
+    }) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum $name {
+            $($(#[$vmeta])* $variant),+
+        }
+
+        impl $name {
+            /// Every variant, in declaration order.
+            pub const ALL: [Self; [$(stringify!($variant)),+].len()] = [$(Self::$variant),+];
+            /// Every name, in declaration order.
+            pub const NAMES: &'static [&'static str] = &[$($text),+];
+            /// The name used in scene files, flags, tables and file names.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(Self::$variant => $text),+
+                }
+            }
+            /// The variant of a name.
+            pub fn parse(text: &str) -> Option<Self> {
+                Self::ALL.iter().copied().find(|v| v.name() == text)
+            }
+            /// The allowed names, quoted and comma-separated (for error messages).
+            pub fn allowed() -> String {
+                Self::NAMES
+                    .iter()
+                    .map(|n| format!("\"{n}\""))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            }
+        }
+
+        impl std::fmt::Display for $name {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+
+        impl Serialize for $name {
+            fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+                s.serialize_str(self.name())
+            }
+        }
+
+        impl<'de> Deserialize<'de> for $name {
+            fn deserialize<De: serde::Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
+                let text = String::deserialize(d)?;
+                Self::parse(&text)
+                    .ok_or_else(|| serde::de::Error::unknown_variant(&text, Self::NAMES))
+            }
+        }
+
+        #[cfg(feature = "clap")]
+        impl clap::ValueEnum for $name {
+            fn value_variants<'a>() -> &'a [Self] {
+                &Self::ALL
+            }
+            fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+                Some(clap::builder::PossibleValue::new(self.name()))
+            }
+        }
+    };
+}
+
+option_enum! {
+    /// Which method a configuration belongs to.
+    MethodKind {
+        /// Discontinuous Galerkin material point method.
+        Dgmpm = "dgmpm",
+        /// Material point method.
+        Mpm = "mpm",
+        /// Explicit finite elements.
+        Fem = "fem",
+    }
+}
+
+option_enum! {
+    /// Time integrator of DGMPM's semi-discrete system (paper §3.2).
+    Integrator {
+        /// Forward Euler.
+        Euler = "euler",
+        /// Two-stage Runge-Kutta (Heun / SSP-RK2).
+        Rk2 = "rk2",
+    }
+}
+
+option_enum! {
+    /// How DGMPM points are updated after the nodal solve (the paper leaves it open).
+    PointUpdate {
+        /// `q_α = Σ_i S_iα q_i^{n+1}`: points take the interpolated new nodal field (default).
+        Nodal = "nodal",
+        /// `q_α += Σ_i S_iα (q_i^{n+1} - q_i^n)`: points add the interpolated increment.
+        Increment = "increment",
+    }
+}
+
+option_enum! {
+    /// DGMPM's treatment of waves crossing cells obliquely in 2D (LeVeque 2002, ch. 20-21).
+    TransverseFlux {
+        /// Donor-cell upwind: normal Godunov fluxes only.
+        DonorCell = "dcu",
+        /// Corner transport upwind: the normal fluctuations are split by the transverse
+        /// Riemann solver and correct the transverse fluxes.
+        Ctu = "ctu",
+    }
+}
+
+option_enum! {
+    /// DGMPM's Riemann solver for Saint-Venant–Kirchhoff (linear elasticity always uses the
+    /// exact linear solver).
+    RiemannSolver {
+        /// Linearised (acoustic) solver with each side's impedance `ρ₀ c(F)` (Toro 2009, §9.3).
+        Approximate = "approximate",
+        /// Exact solver: shock and rarefaction curves, Newton on the star stress (1D).
+        Exact = "exact",
+    }
+}
+
+option_enum! {
+    /// MPM stress update order.
+    StressUpdate {
+        /// Update stress last, from the grid-updated nodal velocity `v_i + Δt f_i/m_i`.
+        Usl = "usl",
+        /// Update stress last, from the nodal velocity mapped again from the updated point
+        /// velocities (the remap of Sulsky, Zhou & Schreyer 1995; "MUSL").
+        Musl = "musl",
+        /// Update stress first, from the nodal velocity mapped at the start of the step.
+        Usf = "usf",
+    }
+}
+
+option_enum! {
+    /// Frame in which MPM evaluates its shape functions.
+    MpmFrame {
+        /// Shape functions at the points' reference positions, reference volumes: the grid is
+        /// the reference configuration (the paper's "total Lagrangian formulation", §5.3).
+        TotalLagrangian = "total-lagrangian",
+        /// Shape functions at the current positions, volumes updated: points move through the
+        /// grid (Sulsky, Zhou & Schreyer 1995).
+        UpdatedLagrangian = "updated-lagrangian",
+    }
+}
+
+option_enum! {
+    /// Direction of a pressure load.
+    LoadDirection {
+        /// Pushing into the body (positive pressure).
+        Compression = "compression",
+        /// Pulling (negative pressure).
+        Tension = "tension",
+    }
+}
+
+/// DGMPM's options.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DgmpmOptions {
+    /// Time integrator.
+    pub integrator: Integrator,
+    /// Point update after the nodal solve.
+    pub update: PointUpdate,
+    /// Transverse flux (2D).
+    pub flux: TransverseFlux,
+    /// Riemann solver (Saint-Venant–Kirchhoff).
+    pub riemann: RiemannSolver,
+}
+
+impl Default for DgmpmOptions {
+    /// The paper's: forward Euler, nodal point update, CTU in 2D, approximate SVK solver.
+    fn default() -> Self {
+        Self {
+            integrator: Integrator::Euler,
+            update: PointUpdate::Nodal,
+            flux: TransverseFlux::Ctu,
+            riemann: RiemannSolver::Approximate,
+        }
+    }
+}
+
+/// MPM's options.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MpmOptions {
+    /// Stress update order.
+    pub stress_update: StressUpdate,
+    /// Frame of the shape functions.
+    pub frame: MpmFrame,
+}
+
+impl Default for MpmOptions {
+    /// USL in the total Lagrangian frame (the paper's comparisons, §5).
+    fn default() -> Self {
+        Self {
+            stress_update: StressUpdate::Usl,
+            frame: MpmFrame::TotalLagrangian,
+        }
+    }
+}
+
+/// FEM's options (none yet: linear elements, lumped mass, central differences).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FemOptions {}
+
+/// The options of one method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MethodOptions {
+    /// DGMPM.
+    Dgmpm(DgmpmOptions),
+    /// MPM.
+    Mpm(MpmOptions),
+    /// FEM.
+    Fem(FemOptions),
+}
+
+impl MethodOptions {
+    /// The defaults of `kind`.
+    pub fn defaults(kind: MethodKind) -> Self {
+        match kind {
+            MethodKind::Dgmpm => Self::Dgmpm(DgmpmOptions::default()),
+            MethodKind::Mpm => Self::Mpm(MpmOptions::default()),
+            MethodKind::Fem => Self::Fem(FemOptions::default()),
+        }
+    }
+}
+
+/// Options of one method run: what every method shares and the method's own part.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MethodConfig {
+    /// Courant number `c_p Δt / Δx_min`.
+    pub courant: f64,
+    /// Material points per cell (DGMPM, MPM; FEM ignores it).
+    pub points_per_cell: usize,
+    /// The method and its own options.
+    pub options: MethodOptions,
+}
+
+impl MethodConfig {
+    /// `kind` with its default options.
+    pub fn new(kind: MethodKind, courant: f64, points_per_cell: usize) -> Self {
+        Self {
+            courant,
+            points_per_cell,
+            options: MethodOptions::defaults(kind),
+        }
+    }
+
+    /// Which method.
+    pub fn kind(&self) -> MethodKind {
+        match self.options {
+            MethodOptions::Dgmpm(_) => MethodKind::Dgmpm,
+            MethodOptions::Mpm(_) => MethodKind::Mpm,
+            MethodOptions::Fem(_) => MethodKind::Fem,
+        }
+    }
+
+    /// DGMPM's options (`None` for another method).
+    pub fn dgmpm(&self) -> Option<&DgmpmOptions> {
+        match &self.options {
+            MethodOptions::Dgmpm(o) => Some(o),
+            _ => None,
+        }
+    }
+
+    /// DGMPM's options, to change (`None` for another method).
+    pub fn dgmpm_mut(&mut self) -> Option<&mut DgmpmOptions> {
+        match &mut self.options {
+            MethodOptions::Dgmpm(o) => Some(o),
+            _ => None,
+        }
+    }
+
+    /// MPM's options (`None` for another method).
+    pub fn mpm(&self) -> Option<&MpmOptions> {
+        match &self.options {
+            MethodOptions::Mpm(o) => Some(o),
+            _ => None,
+        }
+    }
+
+    /// MPM's options, to change (`None` for another method).
+    pub fn mpm_mut(&mut self) -> Option<&mut MpmOptions> {
+        match &mut self.options {
+            MethodOptions::Mpm(o) => Some(o),
+            _ => None,
+        }
+    }
+
+    /// Short label of the integrator column: DGMPM's integrator, the stress update for
+    /// MPM, `central` for FEM.
+    pub fn integrator_label(&self) -> &'static str {
+        match &self.options {
+            MethodOptions::Dgmpm(o) => o.integrator.name(),
+            MethodOptions::Mpm(o) => o.stress_update.name(),
+            MethodOptions::Fem(_) => "central",
+        }
+    }
+
+    /// The `impact run` flags that select this configuration (`--method`, `--courant`,
+    /// `--points-per-cell` and the method's own options; `--flux` only in 2D).
+    pub fn to_flags(&self, dim: usize) -> Vec<String> {
+        let mut flags = vec![
+            "--method".to_string(),
+            self.kind().name().to_string(),
+            "--courant".to_string(),
+            self.courant.to_string(),
+            "--points-per-cell".to_string(),
+            self.points_per_cell.to_string(),
+        ];
+        let mut push = |flag: &str, value: &str| {
+            flags.push(flag.to_string());
+            flags.push(value.to_string());
+        };
+        match &self.options {
+            MethodOptions::Dgmpm(o) => {
+                push("--integrator", o.integrator.name());
+                push("--update", o.update.name());
+                push("--riemann", o.riemann.name());
+                if dim > 1 {
+                    push("--flux", o.flux.name());
+                }
+            }
+            MethodOptions::Mpm(o) => {
+                push("--stress-update", o.stress_update.name());
+                push("--frame", o.frame.name());
+            }
+            MethodOptions::Fem(_) => {}
+        }
+        flags
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_unknown_names_list_the_allowed_ones() {
+        for v in TransverseFlux::ALL {
+            assert_eq!(TransverseFlux::parse(v.name()), Some(v));
+        }
+        #[derive(Deserialize)]
+        struct S {
+            #[allow(dead_code)]
+            frame: MpmFrame,
+        }
+        let e = toml::from_str::<S>("frame = \"eulerian\"")
+            .err()
+            .expect("an unknown name is refused")
+            .to_string();
+        assert!(
+            e.contains("eulerian")
+                && e.contains("total-lagrangian")
+                && e.contains("updated-lagrangian"),
+            "{e}"
+        );
+    }
+}

@@ -1,0 +1,210 @@
+//! One serial/parallel dispatch for the chunked loops of every method.
+//!
+//! A loop writes disjoint chunks of one or more arrays (`Chunks` of each array, zipped as
+//! a tuple); [`for_each_chunk`] calls the kernel on every chunk with its index, either in
+//! order on the calling thread or, when `parallel`, on rayon's pool by recursive halving
+//! with `rayon::join` (no heap allocation inside the pool; leaves of at least `grain`
+//! chunks run in order). [`sum_chunks`] does the same and adds up what the kernel returns
+//! (in a fixed tree order for a given chunk count, so results do not depend on the thread
+//! count). Only safe splitting (`split_at_mut`) is used: no unsafe aliasing.
+//!
+//! Loops that scatter into shared nodes (MPM, FEM) colour their cells so that the cells of
+//! one colour write disjoint nodes, and run each colour through these helpers.
+
+/// Whether a loop over `items` runs in parallel: from this many items on, and only when
+/// rayon's pool has more than one thread (one thread would only add the join overhead).
+pub const PARALLEL_ITEMS: usize = 4096;
+
+/// Whether a loop over `items` should run on rayon's pool.
+pub fn worth_parallel(items: usize) -> bool {
+    items >= PARALLEL_ITEMS && rayon::current_num_threads() > 1
+}
+
+/// Something that splits into a run of equal chunks (the last may be shorter).
+pub trait Chunked: Sized + Send {
+    /// One chunk.
+    type Chunk: Send;
+    /// Number of chunks.
+    fn chunk_count(&self) -> usize;
+    /// The first `chunks` chunks and the rest.
+    fn split_chunks(self, chunks: usize) -> (Self, Self);
+    /// The whole (a single chunk) as its chunk.
+    fn into_chunk(self) -> Self::Chunk;
+}
+
+/// `data` cut into chunks of `size` items.
+#[derive(Debug)]
+pub struct Chunks<'a, T> {
+    data: &'a mut [T],
+    size: usize,
+}
+
+/// Cut `data` into chunks of `size` items (`size ≥ 1`).
+pub fn chunks<T>(data: &mut [T], size: usize) -> Chunks<'_, T> {
+    Chunks {
+        data,
+        size: size.max(1),
+    }
+}
+
+impl<'a, T: Send> Chunked for Chunks<'a, T> {
+    type Chunk = &'a mut [T];
+    #[inline]
+    fn chunk_count(&self) -> usize {
+        self.data.len().div_ceil(self.size)
+    }
+    #[inline]
+    fn split_chunks(self, chunks: usize) -> (Self, Self) {
+        let at = (chunks * self.size).min(self.data.len());
+        let (a, b) = self.data.split_at_mut(at);
+        (
+            Chunks {
+                data: a,
+                size: self.size,
+            },
+            Chunks {
+                data: b,
+                size: self.size,
+            },
+        )
+    }
+    #[inline]
+    fn into_chunk(self) -> Self::Chunk {
+        self.data
+    }
+}
+
+impl<A: Chunked, B: Chunked> Chunked for (A, B) {
+    type Chunk = (A::Chunk, B::Chunk);
+    #[inline]
+    fn chunk_count(&self) -> usize {
+        self.0.chunk_count().min(self.1.chunk_count())
+    }
+    #[inline]
+    fn split_chunks(self, chunks: usize) -> (Self, Self) {
+        let (a0, a1) = self.0.split_chunks(chunks);
+        let (b0, b1) = self.1.split_chunks(chunks);
+        ((a0, b0), (a1, b1))
+    }
+    #[inline]
+    fn into_chunk(self) -> Self::Chunk {
+        (self.0.into_chunk(), self.1.into_chunk())
+    }
+}
+
+impl<A: Chunked, B: Chunked, C: Chunked> Chunked for (A, B, C) {
+    type Chunk = (A::Chunk, B::Chunk, C::Chunk);
+    #[inline]
+    fn chunk_count(&self) -> usize {
+        self.0
+            .chunk_count()
+            .min(self.1.chunk_count())
+            .min(self.2.chunk_count())
+    }
+    #[inline]
+    fn split_chunks(self, chunks: usize) -> (Self, Self) {
+        let (a0, a1) = self.0.split_chunks(chunks);
+        let (b0, b1) = self.1.split_chunks(chunks);
+        let (c0, c1) = self.2.split_chunks(chunks);
+        ((a0, b0, c0), (a1, b1, c1))
+    }
+    #[inline]
+    fn into_chunk(self) -> Self::Chunk {
+        (
+            self.0.into_chunk(),
+            self.1.into_chunk(),
+            self.2.into_chunk(),
+        )
+    }
+}
+
+/// Call `kernel(index, chunk)` on every chunk of `parts`: in order when `parallel` is
+/// false, else on rayon's pool (leaves of at least `grain` chunks run in order).
+#[inline]
+pub fn for_each_chunk<P: Chunked>(
+    parallel: bool,
+    grain: usize,
+    parts: P,
+    kernel: impl Fn(usize, P::Chunk) + Sync,
+) {
+    sum_chunks(parallel, grain, parts, |i, c| {
+        kernel(i, c);
+        0.0
+    });
+}
+
+/// [`for_each_chunk`] that adds up the kernel's results (serial: in chunk order; parallel:
+/// by halves, an order fixed by the chunk count and `grain`).
+#[inline]
+pub fn sum_chunks<P: Chunked>(
+    parallel: bool,
+    grain: usize,
+    parts: P,
+    kernel: impl Fn(usize, P::Chunk) -> f64 + Sync,
+) -> f64 {
+    if parallel {
+        halves(0, grain.max(1), parts, &kernel)
+    } else {
+        in_order(0, parts, &kernel)
+    }
+}
+
+fn in_order<P: Chunked>(start: usize, parts: P, kernel: &impl Fn(usize, P::Chunk) -> f64) -> f64 {
+    let mut rest = parts;
+    let mut sum = 0.0;
+    for i in 0..rest.chunk_count() {
+        let (head, tail) = rest.split_chunks(1);
+        sum += kernel(start + i, head.into_chunk());
+        rest = tail;
+    }
+    sum
+}
+
+fn halves<P: Chunked>(
+    start: usize,
+    grain: usize,
+    parts: P,
+    kernel: &(impl Fn(usize, P::Chunk) -> f64 + Sync),
+) -> f64 {
+    let n = parts.chunk_count();
+    if n <= grain {
+        return in_order(start, parts, kernel);
+    }
+    let mid = n / 2;
+    let (a, b) = parts.split_chunks(mid);
+    let (x, y) = rayon::join(
+        || halves(start, grain, a, kernel),
+        || halves(start + mid, grain, b, kernel),
+    );
+    x + y
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every chunk is visited once with its index, serially and in parallel, and the sums
+    /// agree.
+    #[test]
+    fn chunks_are_visited_once_with_their_index() {
+        for parallel in [false, true] {
+            let mut a = vec![0usize; 10_003];
+            let mut b = vec![0.0f64; 10_003];
+            let sum = sum_chunks(
+                parallel,
+                3,
+                (chunks(&mut a, 7), chunks(&mut b, 7)),
+                |i, (a, b)| {
+                    for (k, (x, y)) in a.iter_mut().zip(b.iter_mut()).enumerate() {
+                        *x += i * 7 + k;
+                        *y = 1.0;
+                    }
+                    a.len() as f64
+                },
+            );
+            assert_eq!(sum, 10_003.0);
+            assert!(a.iter().enumerate().all(|(k, &x)| x == k));
+            assert!(b.iter().all(|&y| y == 1.0));
+        }
+    }
+}

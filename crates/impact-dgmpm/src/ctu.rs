@@ -1,0 +1,197 @@
+//! Phase 2b (2D, CTU only): corner transport upwind corrections (LeVeque 2002, §21.2).
+use crate::faces::Fields;
+use crate::riemann::{
+    constrain_correction, fluctuations, ghost_full, linear_elastic_star, normal_flux,
+    transverse_into_face, Conserved, FullState, GhostCondition,
+};
+use crate::{unit, DgmpmSolver, StepPath};
+use impact_core::points::MaterialPoints;
+use impact_core::Grid;
+
+impl<const D: usize> DgmpmSolver<D> {
+    /// Fluctuations `(A⁻Δq, A⁺Δq)` of the face between `left` and `right` (normal `e_l`).
+    #[inline]
+    pub(crate) fn face_fluctuations(
+        &self,
+        l: usize,
+        left: Option<FullState<D>>,
+        right: Option<FullState<D>>,
+        s: f64,
+    ) -> (Conserved<D>, Conserved<D>) {
+        let e = unit::<D>(l);
+        let (a, b) = self.face_pair(l, left, right, s);
+        let (fa, fb) = (a.on_face(&e), b.on_face(&e));
+        let star = linear_elastic_star(&fa, &fb, &e, self.elastic.z);
+        fluctuations(&fa, &fb, &star, &e, &self.elastic)
+    }
+
+    /// Phase 2b (2D, CTU only): corner transport upwind (LeVeque 2002, §21.2). The
+    /// fluctuation entering cell `C` through a face normal to `e_l` is split by the
+    /// transverse solver ([`riemann::transverse_split`], applied as
+    /// [`transverse_into_face`]) along `e_k`, and its up- and down-going parts correct the
+    /// fluxes of `C`'s faces normal to `e_k`:
+    /// `F_k(C, high) -= Δt/(2Δx_l) B⁺A^±Δq`, `F_k(C, low) -= Δt/(2Δx_l) B⁻A^±Δq`.
+    /// Cells outside an edge are ghost cells (mirror states through the edge's condition),
+    /// so a plane wave along an edge stays plane.
+    ///
+    /// The fluctuations entering a cell through its two `l`-faces add up to
+    /// `A⁺Δq_low + A⁻Δq_high = F*_high - F*_low + F(q_C,low) - F(q_C,high)` (with `q_C,side`
+    /// the cell's state on that face), so they are formed from the stored Godunov fluxes;
+    /// on the cell path the last two terms cancel. The corrections go to their own arrays,
+    /// so every axis reads uncorrected fluxes.
+    pub fn transverse_corrections(&mut self, points: &MaterialPoints<D>, dt: f64) {
+        for k in 0..D {
+            if self.path == StepPath::Cell {
+                self.transverse_corrections_axis::<true>(k, points, dt);
+            } else {
+                self.transverse_corrections_axis::<false>(k, points, dt);
+            }
+        }
+    }
+
+    /// [`Self::transverse_corrections`] of the faces normal to `e_k`; `PER_CELL`: the
+    /// cell path (compiled apart so that its kernel carries no nodal branch). 2D: `e_l` is
+    /// the one transverse axis of `e_k`; a 3D CTU also needs transverse-transverse terms
+    /// (LeVeque 2002, §21.6; Clawpack's `rptt3`) and is refused at construction.
+    fn transverse_corrections_axis<const PER_CELL: bool>(
+        &mut self,
+        k: usize,
+        points: &MaterialPoints<D>,
+        dt: f64,
+    ) {
+        {
+            let Some(l) = Grid::<D>::segment_axis(k) else {
+                return;
+            };
+            let scale = dt / (2.0 * self.grid.spacing[l]);
+            let n_k = unit::<D>(k);
+            let mut corrections = std::mem::take(&mut self.face_correction[k]);
+            let this = &*self;
+            let fields = this.fields(points);
+            let l_fluxes = &this.face_flux[l];
+            // strides of the l-face array: a cell's low l-face is Σ_m c_m stride_m, its high
+            // one `stride_l` further (index arithmetic only: writing a multi-index entry
+            // picked at run time stalls store forwarding in this loop)
+            let stride: [usize; D] = std::array::from_fn(|m| {
+                (0..m)
+                    .map(|p| this.grid.cells[p] + usize::from(p == l))
+                    .product()
+            });
+            let kernel = |idx: [usize; D], out: &mut Conserved<D>| {
+                let base: usize = Grid::<D>::tangent_axes(k).map(|m| idx[m] * stride[m]).sum();
+                // the fluctuations of the cell below the face (side 0: their B⁺ part counts)
+                // and above (side 1: B⁻)
+                let mut w_side = [Conserved::<D>::zeros(); 2];
+                for side in 0..2 {
+                    let j = idx[k] as isize - 1 + side as isize;
+                    let inside = j >= 0 && (j as usize) < this.grid.cells[k];
+                    let w = if inside {
+                        let lo = base + j as usize * stride[k];
+                        let w = l_fluxes[lo + stride[l]].add_scaled(&l_fluxes[lo], -1.0);
+                        if PER_CELL {
+                            w
+                        } else {
+                            let mut cell = idx;
+                            cell[k] = j as usize;
+                            w.add_scaled(&this.side_flux_difference(fields, cell, l), 1.0)
+                        }
+                    } else {
+                        // ghost cell behind the edge of axis k on this side
+                        let mut cell = idx;
+                        cell[k] = j.clamp(0, this.grid.cells[k] as isize - 1) as usize;
+                        let (m_in, p_in) = this.ghost_cell_fluctuations(k, side, l, cell, fields);
+                        m_in.add_scaled(&p_in, 1.0)
+                    };
+                    w_side[side] = w;
+                }
+                let total = transverse_into_face(&w_side[0], &w_side[1], &n_k, &this.elastic);
+                let mut correction = Conserved::<D>::zeros().add_scaled(&total, -scale);
+                // on an edge, the correction must not undo the edge's condition
+                if idx[k] == 0 || idx[k] == this.grid.cells[k] {
+                    let side = usize::from(idx[k] != 0);
+                    let cond = this.ghost_condition(k, side, this.edge_coordinate(k, &idx));
+                    correction = constrain_correction(&correction, &n_k, cond);
+                }
+                *out = correction;
+            };
+            this.sum_over_faces(k, &mut corrections, |idx, out| {
+                kernel(idx, out);
+                0.0
+            });
+            self.face_correction[k] = corrections;
+        }
+    }
+
+    /// `F(q_C,low) - F(q_C,high)`: the difference of the normal fluxes (`e_l`) of cell `C`'s
+    /// states on its low and high `l`-faces (nodal path only; kept out of line so the
+    /// cell path's kernel stays small).
+    #[inline(never)]
+    fn side_flux_difference(
+        &self,
+        fields: Fields<'_, D>,
+        cell: [usize; D],
+        l: usize,
+    ) -> Conserved<D> {
+        let e_l = unit::<D>(l);
+        let c = self.grid.cell_index(cell);
+        let flux_of =
+            |high: bool| normal_flux(&fields.side(c, l, high).on_face(&e_l), &e_l, &self.elastic);
+        flux_of(false).add_scaled(&flux_of(true), -1.0)
+    }
+
+    /// `(A⁺Δq` through its low `l`-face, `A⁻Δq` through its high `l`-face) of the ghost
+    /// cell mirroring `cell` through the edge of axis `k` at `side`.
+    fn ghost_cell_fluctuations(
+        &self,
+        k: usize,
+        side: usize,
+        l: usize,
+        cell: [usize; D],
+        fields: Fields<'_, D>,
+    ) -> (Conserved<D>, Conserved<D>) {
+        let outward = unit::<D>(k) * if side == 0 { -1.0 } else { 1.0 };
+        let grid = &self.grid;
+        let ghost_of = |c: [usize; D], high: bool| -> FullState<D> {
+            let s_edge = self.edge_coordinate(k, &c);
+            let inner = fields.side(grid.cell_index(c), l, high);
+            ghost_full(&inner, &outward, self.ghost_condition(k, side, s_edge))
+        };
+        // tangential coordinate (along e_k) of the ghost cell, clamped into the edge
+        let s_l = self.edge_coordinate(l, &cell);
+        let me_low = ghost_of(cell, false);
+        let me_high = ghost_of(cell, true);
+        let left = (cell[l] > 0).then(|| {
+            let mut c = cell;
+            c[l] -= 1;
+            ghost_of(c, true)
+        });
+        let right = (cell[l] + 1 < grid.cells[l]).then(|| {
+            let mut c = cell;
+            c[l] += 1;
+            ghost_of(c, false)
+        });
+        // a corner where both edges prescribe a traction: the ghost of the ghost cell (the
+        // diagonal neighbour) is not defined by either condition alone; its face carries no
+        // fluctuation (measured: with it, CTU with free corners is unstable from Courant 0.99)
+        let traction_corner = |l_side: usize| {
+            matches!(
+                self.ghost_condition(k, side, s_l),
+                GhostCondition::Traction(_)
+            ) && matches!(
+                self.ghost_condition(l, l_side, s_l),
+                GhostCondition::Traction(_)
+            )
+        };
+        let plus_low = if left.is_none() && traction_corner(0) {
+            Conserved::zeros()
+        } else {
+            self.face_fluctuations(l, left, Some(me_low), s_l).1
+        };
+        let minus_high = if right.is_none() && traction_corner(1) {
+            Conserved::zeros()
+        } else {
+            self.face_fluctuations(l, Some(me_high), right, s_l).0
+        };
+        (plus_low, minus_high)
+    }
+}

@@ -1,0 +1,219 @@
+//! Faces and their states: face indexing (a multi-index odometer), the two states of a
+//! face (averages of each side's face nodes, paper §4, or the cell's one state on the cell
+//! path) and the ghost conditions of the boundary faces (LeVeque 2002, §7.3).
+use crate::riemann::{ghost_full, FullState, GhostCondition};
+use crate::{unit, DgmpmSolver, StepPath, CHUNK};
+use impact_core::parallel::{chunks, sum_chunks};
+use impact_core::points::MaterialPoints;
+use impact_core::problem::Boundary;
+use impact_core::{Grid, Tensor, Vector};
+
+/// Where face states are read from (see [`DgmpmSolver::interface_fluxes`]).
+#[derive(Clone, Copy)]
+pub(crate) struct Fields<'a, const D: usize> {
+    /// The tensor field (σ or F).
+    tensor: &'a [Tensor<D>],
+    velocity: &'a [Vector<D>],
+    /// One value per cell (the cell path) instead of `2^D` nodes per cell.
+    per_cell: bool,
+}
+
+impl<const D: usize> Fields<'_, D> {
+    /// State of cell `c` on its face normal to axis `l` (`high` side or low side): the
+    /// average of the cell's nodes on that face (paper §4); on the cell path, the cell's
+    /// one state (all its nodes carry it).
+    #[inline]
+    pub(crate) fn side(&self, c: usize, l: usize, high: bool) -> FullState<D> {
+        if self.per_cell {
+            return FullState {
+                tensor: self.tensor[c],
+                velocity: self.velocity[c],
+            };
+        }
+        let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
+        let mut q = Tensor::<D>::zeros();
+        let mut v = Vector::<D>::zeros();
+        for a in 0..nodes_per_cell {
+            if ((a >> l) & 1 == 1) == high {
+                q += self.tensor[c * nodes_per_cell + a];
+                v += self.velocity[c * nodes_per_cell + a];
+            }
+        }
+        let inv = 2.0 / nodes_per_cell as f64;
+        FullState {
+            tensor: q * inv,
+            velocity: v * inv,
+        }
+    }
+}
+
+impl<const D: usize> DgmpmSolver<D> {
+    /// Multi-index of entry `f` of an array with dimensions `dims` (first index fastest).
+    #[inline]
+    pub(crate) fn multi_index(dims: [usize; D], mut f: usize) -> [usize; D] {
+        let mut idx = [0; D];
+        for k in 0..D {
+            idx[k] = f % dims[k];
+            f /= dims[k];
+        }
+        idx
+    }
+
+    /// How the face loops of axis `l` are cut (chunks of [`CHUNK`] faces, each walked with
+    /// [`Self::advance`] from its first multi-index), and the face array's dimensions.
+    pub(crate) fn face_rows(&self, l: usize) -> (usize, [usize; D]) {
+        (CHUNK, self.grid.face_dims(l))
+    }
+
+    /// `kernel(idx, face)` on every entry of `faces`, the array of faces normal to axis
+    /// `l` (multi-index `idx`), in chunks of [`CHUNK`] walked with [`Self::advance`]
+    /// (serially or on rayon's pool); returns the sum of what the kernel returns.
+    pub(crate) fn sum_over_faces<T: Send>(
+        &self,
+        l: usize,
+        faces: &mut [T],
+        kernel: impl Fn([usize; D], &mut T) -> f64 + Sync,
+    ) -> f64 {
+        let (chunk, dims) = self.face_rows(l);
+        sum_chunks(self.parallel, 1, chunks(faces, chunk), |r, faces| {
+            let mut idx = Self::multi_index(dims, r * chunk);
+            let mut sum = 0.0;
+            for face in faces.iter_mut() {
+                sum += kernel(idx, face);
+                Self::advance(&mut idx, &dims);
+            }
+            sum
+        })
+    }
+
+    /// Next multi-index in storage order (first index fastest): no division, and entries
+    /// other than `idx[0]` are written only at the end of a row.
+    #[inline(always)]
+    pub(crate) fn advance(idx: &mut [usize; D], dims: &[usize; D]) {
+        idx[0] += 1;
+        if idx[0] == dims[0] {
+            idx[0] = 0;
+            for k in 1..D {
+                idx[k] += 1;
+                if idx[k] < dims[k] {
+                    break;
+                }
+                idx[k] = 0;
+            }
+        }
+    }
+
+    /// Linear index of the face of axis `l` with multi-index `idx`.
+    #[inline]
+    pub(crate) fn face_index(grid: &Grid<D>, l: usize, idx: [usize; D]) -> usize {
+        let mut lin = 0;
+        for k in (0..D).rev() {
+            lin = lin * (grid.cells[k] + usize::from(k == l)) + idx[k];
+        }
+        lin
+    }
+
+    /// The fields the face states are read from: the cells' DG nodes, or on the cell path
+    /// the points themselves (one per cell, stored in cell order).
+    #[inline]
+    pub(crate) fn fields<'a>(&'a self, points: &'a MaterialPoints<D>) -> Fields<'a, D> {
+        if self.path == StepPath::Cell {
+            Fields {
+                tensor: self.point_tensor(points),
+                velocity: &points.velocity,
+                per_cell: true,
+            }
+        } else {
+            Fields {
+                tensor: &self.nodes.tensor,
+                velocity: &self.nodes.velocity,
+                per_cell: false,
+            }
+        }
+    }
+
+    /// Coordinate along an edge normal to axis `l` of the cell or face with multi-index
+    /// `idx` (its centre along [`Grid::segment_axis`]; 0 in 1D): where a loaded segment is
+    /// tested.
+    #[inline]
+    pub(crate) fn edge_coordinate(&self, l: usize, idx: &[usize; D]) -> f64 {
+        match Grid::<D>::segment_axis(l) {
+            Some(k) => self.grid.origin[k] + (idx[k] as f64 + 0.5) * self.grid.spacing[k],
+            None => 0.0,
+        }
+    }
+
+    /// Ghost condition of the boundary at side `side` of axis `l`, at the tangential
+    /// coordinate `s` along the edge.
+    #[inline]
+    pub(crate) fn ghost_condition(&self, l: usize, side: usize, s: f64) -> GhostCondition<D> {
+        let outward = unit::<D>(l) * if side == 0 { -1.0 } else { 1.0 };
+        match self.boundaries[l][side] {
+            Boundary::Free => GhostCondition::Traction(Vector::<D>::zeros()),
+            Boundary::Pressure { value, segment } => {
+                if Boundary::acts_at(segment, s) {
+                    GhostCondition::Traction(outward * (-value))
+                } else {
+                    GhostCondition::Traction(Vector::<D>::zeros())
+                }
+            }
+            Boundary::Velocity { value, segment } => {
+                if Boundary::acts_at(segment, s) {
+                    GhostCondition::NormalVelocity(-value)
+                } else {
+                    GhostCondition::Traction(Vector::<D>::zeros())
+                }
+            }
+            Boundary::Symmetry => GhostCondition::NormalVelocity(0.0),
+        }
+    }
+
+    /// Both states of a face normal to `e_l`; a missing side (outside the grid) is the ghost
+    /// of the other through the boundary condition at tangential coordinate `s`.
+    #[inline]
+    pub(crate) fn face_pair(
+        &self,
+        l: usize,
+        left: Option<FullState<D>>,
+        right: Option<FullState<D>>,
+        s: f64,
+    ) -> (FullState<D>, FullState<D>) {
+        match (left, right) {
+            (Some(a), Some(b)) => (a, b),
+            (None, Some(b)) => (
+                ghost_full(&b, &(-unit::<D>(l)), self.ghost_condition(l, 0, s)),
+                b,
+            ),
+            (Some(a), None) => (
+                a,
+                ghost_full(&a, &unit::<D>(l), self.ghost_condition(l, 1, s)),
+            ),
+            (None, None) => unreachable!("internal: a face has at least one cell"),
+        }
+    }
+
+    /// The cells on both sides of the face of axis `l` with multi-index `idx` (`None`
+    /// outside) and the face's tangential coordinate.
+    #[inline]
+    pub(crate) fn face_cells(
+        &self,
+        l: usize,
+        idx: [usize; D],
+    ) -> (Option<usize>, Option<usize>, f64) {
+        let grid = &self.grid;
+        // index arithmetic (cell strides), no multi-index entry written at a run-time axis
+        let mut cell = 0;
+        let mut stride = 1;
+        let mut stride_l = 1;
+        for m in 0..D {
+            cell += idx[m] * stride;
+            if m == l {
+                stride_l = stride;
+            }
+            stride *= grid.cells[m];
+        }
+        let right = (idx[l] < grid.cells[l]).then_some(cell);
+        let left = (idx[l] > 0).then(|| cell - stride_l);
+        (left, right, self.edge_coordinate(l, &idx))
+    }
+}

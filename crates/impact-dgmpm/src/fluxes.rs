@@ -1,0 +1,198 @@
+//! Phase 2: the Godunov flux on every face (linear elastic or Saint-Venant–Kirchhoff
+//! Riemann solvers, ghost states on the boundary) and the force the loaded boundary
+//! faces exert on the body.
+use crate::riemann::{
+    self, linear_elastic_star, normal_flux, Conserved, FullState, GhostCondition,
+};
+use crate::{unit, DgmpmSolver, Physics};
+use impact_core::material::Svk;
+use impact_core::method::RiemannSolver;
+use impact_core::points::MaterialPoints;
+use impact_core::{Grid, Vector};
+
+impl<const D: usize> DgmpmSolver<D> {
+    /// Phase 2: the Godunov flux `F_{e_l}(q*)` on every face (exact Riemann solver, ghost
+    /// states on the boundary); returns the power delivered by the boundary conditions,
+    /// `Σ_boundary |Γ_f| (σ* n_out)·v*`.
+    pub fn interface_fluxes(&mut self, points: &MaterialPoints<D>) -> f64 {
+        let mut power = 0.0;
+        for l in 0..D {
+            let e = unit::<D>(l);
+            let area = self.grid.cell_volume() / self.grid.spacing[l];
+            let mut fluxes = std::mem::take(&mut self.face_flux[l]);
+            let this = &*self;
+            let fields = this.fields(points);
+            let kernel = |idx: [usize; D], flux: &mut Conserved<D>| -> f64 {
+                let (lc, rc, s) = this.face_cells(l, idx);
+                let left = lc.map(|c| fields.side(c, l, true));
+                let right = rc.map(|c| fields.side(c, l, false));
+                let star = match this.physics {
+                    Physics::Linear => {
+                        let (a, b) = this.face_pair(l, left, right, s);
+                        let (fa, fb) = (a.on_face(&e), b.on_face(&e));
+                        let star = linear_elastic_star(&fa, &fb, &e, this.elastic.z);
+                        *flux = normal_flux(&star, &e, &this.elastic);
+                        star
+                    }
+                    Physics::Svk { svk, riemann } => {
+                        let star = this.svk_star(&svk, riemann, l, left, right, s);
+                        // F_n(q*) = -(v* ⊗ n, Π* n)
+                        *flux = Conserved {
+                            tensor: -(star.velocity * e.transpose()),
+                            momentum: -star.traction,
+                        };
+                        star
+                    }
+                };
+                match (lc, rc) {
+                    // traction on the body σ* n_out, n_out = -e_l at the low boundary
+                    (None, _) => -area * star.traction.dot(&star.velocity),
+                    (_, None) => area * star.traction.dot(&star.velocity),
+                    _ => 0.0,
+                }
+            };
+            power += this.sum_over_faces(l, &mut fluxes, kernel);
+            self.face_flux[l] = fluxes;
+        }
+        power
+    }
+
+    /// Star state of a face for Saint-Venant–Kirchhoff (`FullState::tensor` holds `F`),
+    /// in the `+e_l` orientation. Boundary faces solve the half problem: exactly in 1D
+    /// ([`riemann::svk::exact_boundary_1d`]); with the acoustic solver from the interior's
+    /// wave relation ([`riemann::svk::acoustic_boundary`]). A face with no admissible
+    /// state (hyperbolicity lost) gets a NaN state, which the guard reports.
+    fn svk_star(
+        &self,
+        svk: &Svk,
+        riemann: RiemannSolver,
+        l: usize,
+        left: Option<FullState<D>>,
+        right: Option<FullState<D>>,
+        s: f64,
+    ) -> riemann::FaceState<D> {
+        let e = unit::<D>(l);
+        let nan = riemann::FaceState {
+            traction: Vector::<D>::from_element(f64::NAN),
+            velocity: Vector::<D>::from_element(f64::NAN),
+        };
+        let one_d = |(v, pi): (f64, f64)| riemann::FaceState {
+            traction: e * pi,
+            velocity: e * v,
+        };
+        match (riemann, left, right) {
+            (RiemannSolver::Exact, Some(a), Some(b)) if D == 1 => riemann::svk::exact_star_1d(
+                svk,
+                (a.tensor[(0, 0)], a.velocity[0]),
+                (b.tensor[(0, 0)], b.velocity[0]),
+            )
+            .map_or(nan, one_d),
+            (RiemannSolver::Exact, a, b) if D == 1 => {
+                let (inner, side) = match (a, b) {
+                    (Some(a), None) => (a, 1),
+                    (None, Some(b)) => (b, 0),
+                    _ => unreachable!("internal: a face has at least one cell"),
+                };
+                let outward = if side == 0 { -1.0 } else { 1.0 };
+                let cond = match self.ghost_condition(l, side, s) {
+                    GhostCondition::Traction(t) => GhostCondition::Traction(Vector::<1>::new(t[0])),
+                    GhostCondition::NormalVelocity(v) => GhostCondition::NormalVelocity(v),
+                };
+                riemann::svk::exact_boundary_1d(
+                    svk,
+                    (inner.tensor[(0, 0)], inner.velocity[0]),
+                    outward,
+                    cond,
+                )
+                .map_or(nan, one_d)
+            }
+            (_, Some(a), Some(b)) => riemann::svk::acoustic_star(
+                svk,
+                (&a.tensor, &a.velocity),
+                (&b.tensor, &b.velocity),
+                &e,
+            )
+            .unwrap_or(nan),
+            (_, a, b) => {
+                let (inner, side) = match (a, b) {
+                    (Some(a), None) => (a, 1),
+                    (None, Some(b)) => (b, 0),
+                    _ => unreachable!("internal: a face has at least one cell"),
+                };
+                let sign = if side == 0 { -1.0 } else { 1.0 };
+                let outward = e * sign;
+                // solve along the outward normal with the interior on the left
+                let interior = riemann::FaceState {
+                    traction: svk.piola(&inner.tensor) * outward,
+                    velocity: inner.velocity,
+                };
+                let z = riemann::svk::impedance(svk, &inner.tensor, &outward);
+                riemann::svk::acoustic_boundary(
+                    &z,
+                    &interior,
+                    &outward,
+                    self.ghost_condition(l, side, s),
+                )
+                .map(|st| riemann::FaceState {
+                    traction: st.traction * sign,
+                    velocity: st.velocity,
+                })
+                .unwrap_or(nan)
+            }
+        }
+    }
+
+    /// The flux of face `f` of axis `l` as the update uses it: Godunov plus, under CTU,
+    /// the transverse correction.
+    #[inline]
+    fn final_flux(&self, l: usize, f: usize) -> Conserved<D> {
+        Self::flux_with_correction(&self.face_flux, &self.face_correction, l, f)
+    }
+
+    /// [`Self::final_flux`] from the flux and correction arrays.
+    #[inline]
+    pub(crate) fn flux_with_correction(
+        flux: &[Vec<Conserved<D>>; D],
+        correction: &[Vec<Conserved<D>>; D],
+        l: usize,
+        f: usize,
+    ) -> Conserved<D> {
+        match correction[l].get(f) {
+            Some(c) => flux[l][f].add_scaled(c, 1.0),
+            None => flux[l][f],
+        }
+    }
+
+    /// Force on the body through the loaded boundary faces (those whose condition is not
+    /// traction-free), `Σ -sign |Γ_f| F_{e_l}` (the momentum part of the final face fluxes,
+    /// CTU corrections included). Free faces are left out, so momentum equals this impulse
+    /// only if they carry no traction.
+    pub fn boundary_force(&self) -> Vector<D> {
+        let grid = &self.grid;
+        let mut force = Vector::<D>::zeros();
+        for l in 0..D {
+            let area = grid.cell_volume() / grid.spacing[l];
+            let layer: usize = Grid::<D>::tangent_axes(l).map(|k| grid.cells[k]).product();
+            for t in 0..layer {
+                let mut idx = [0usize; D];
+                let mut rest = t;
+                for k in Grid::<D>::tangent_axes(l) {
+                    idx[k] = rest % grid.cells[k];
+                    rest /= grid.cells[k];
+                }
+                for side in 0..2 {
+                    idx[l] = side * grid.cells[l];
+                    let sign = if side == 0 { -1.0 } else { 1.0 };
+                    let s = self.edge_coordinate(l, &idx);
+                    let free = GhostCondition::Traction(Vector::<D>::zeros());
+                    if self.ghost_condition(l, side, s) == free {
+                        continue;
+                    }
+                    let f = Self::face_index(grid, l, idx);
+                    force -= self.final_flux(l, f).momentum * (sign * area);
+                }
+            }
+        }
+        force
+    }
+}

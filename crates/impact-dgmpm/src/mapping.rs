@@ -1,0 +1,141 @@
+//! Particle↔node mapping: phase 1 (particles→nodes, paper eq. 17) and phase 5
+//! (nodes→particles), with the point-side updates that follow them (`Π(F)` at the points
+//! under Saint-Venant–Kirchhoff, positions for output).
+use crate::{DgmpmSolver, Physics, StepPath, CHUNK};
+use impact_core::method::PointUpdate;
+use impact_core::parallel::{chunks, for_each_chunk};
+use impact_core::points::MaterialPoints;
+use impact_core::{Grid, Tensor, Vector};
+
+/// Cells per rayon leaf of the per-cell loops.
+const CELL_GRAIN: usize = 512;
+
+impl<const D: usize> DgmpmSolver<D> {
+    /// Phase 1: lumped nodal mass `M_i = Σ_α S_iα m_α` and mass-weighted nodal fields
+    /// `M_i q_i = Σ_α S_iα m_α q_α` (paper eq. 17), `q` being `σ` (small strain) or `F`
+    /// (Saint-Venant–Kirchhoff). On [`StepPath::SinglePoint`] the map is the identity
+    /// (`q_i = q_p`) and only the masses are weighed.
+    pub fn particles_to_nodes(&mut self, points: &MaterialPoints<D>) {
+        let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
+        let points_per_cell = self.points_per_cell;
+        let shape = &self.shape;
+        let source = self.point_tensor(points);
+        let single = self.path == StepPath::SinglePoint;
+        let nodes = &mut self.nodes;
+        let parts = (
+            chunks(&mut nodes.mass, nodes_per_cell),
+            chunks(&mut nodes.tensor, nodes_per_cell),
+            chunks(&mut nodes.velocity, nodes_per_cell),
+        );
+        for_each_chunk(
+            self.parallel,
+            CELL_GRAIN,
+            parts,
+            |c, (mass, tensor, vel)| {
+                if single {
+                    for a in 0..nodes_per_cell {
+                        mass[a] = shape[c * nodes_per_cell + a] * points.mass[c];
+                        tensor[a] = source[c];
+                        vel[a] = points.velocity[c];
+                    }
+                    return;
+                }
+                for a in 0..nodes_per_cell {
+                    let mut m = 0.0;
+                    let mut q = Tensor::<D>::zeros();
+                    let mut v = Vector::<D>::zeros();
+                    for p in c * points_per_cell..(c + 1) * points_per_cell {
+                        let w = shape[p * nodes_per_cell + a] * points.mass[p];
+                        m += w;
+                        q += source[p] * w;
+                        v += points.velocity[p] * w;
+                    }
+                    mass[a] = m;
+                    if m > 0.0 {
+                        tensor[a] = q / m;
+                        vel[a] = v / m;
+                    } else {
+                        tensor[a] = Tensor::<D>::zeros();
+                        vel[a] = Vector::<D>::zeros();
+                    }
+                }
+            },
+        );
+    }
+
+    /// Phase 5: points take the new nodal field, `q_α = Σ_i S_iα q_i^{n+1}`
+    /// ([`PointUpdate::Nodal`]), or add its increment,
+    /// `q_α += Σ_i S_iα (q_i^{n+1} - q_i^n)` ([`PointUpdate::Increment`]).
+    pub fn nodes_to_particles(&self, points: &mut MaterialPoints<D>) {
+        let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
+        let points_per_cell = self.points_per_cell;
+        let shape = &self.shape;
+        let nodes = &self.nodes;
+        let increment = self.options.update == PointUpdate::Increment;
+        let (target, velocity) = self.point_fields_mut(points);
+        let parts = (
+            chunks(target, points_per_cell),
+            chunks(velocity, points_per_cell),
+        );
+        for_each_chunk(self.parallel, CELL_GRAIN, parts, |c, (pq, pv)| {
+            for k in 0..points_per_cell {
+                let p = c * points_per_cell + k;
+                let mut q = Tensor::<D>::zeros();
+                let mut v = Vector::<D>::zeros();
+                for a in 0..nodes_per_cell {
+                    let w = shape[p * nodes_per_cell + a];
+                    let i = c * nodes_per_cell + a;
+                    if increment {
+                        q += (nodes.tensor[i] - nodes.start_tensor[i]) * w;
+                        v += (nodes.velocity[i] - nodes.start_velocity[i]) * w;
+                    } else {
+                        q += nodes.tensor[i] * w;
+                        v += nodes.velocity[i] * w;
+                    }
+                }
+                if increment {
+                    pq[k] += q;
+                    pv[k] += v;
+                } else {
+                    pq[k] = q;
+                    pv[k] = v;
+                }
+            }
+        });
+        self.piola_at_points(points);
+    }
+
+    /// Saint-Venant–Kirchhoff: the points' first Piola–Kirchhoff stress is `Π(F)` of their
+    /// new deformation gradient (paper eq. 22).
+    pub(crate) fn piola_at_points(&self, points: &mut MaterialPoints<D>) {
+        let Physics::Svk { svk, .. } = self.physics else {
+            return;
+        };
+        let deformation = &points.deformation;
+        for_each_chunk(
+            self.parallel,
+            1,
+            chunks(&mut points.stress, CHUNK),
+            |r, piola| {
+                for (j, s) in piola.iter_mut().enumerate() {
+                    *s = svk.piola(&deformation[r * CHUNK + j]);
+                }
+            },
+        );
+    }
+
+    /// Points move with the velocity solution (output only: the grid is the reference).
+    pub(crate) fn move_points(&self, points: &mut MaterialPoints<D>, dt: f64) {
+        let velocity = &points.velocity;
+        for_each_chunk(
+            self.parallel,
+            1,
+            chunks(&mut points.position, CHUNK),
+            |r, x| {
+                for (j, x) in x.iter_mut().enumerate() {
+                    *x += velocity[r * CHUNK + j] * dt;
+                }
+            },
+        );
+    }
+}

@@ -1,0 +1,76 @@
+//! DGMPM as a [`Method`].
+use crate::{Dgmpm, Physics};
+use impact_core::material::Svk;
+use impact_core::method::{BadState, Method, MethodConfig, Samples};
+use impact_core::Vector;
+
+impl<const D: usize> Method<D> for Dgmpm<D> {
+    fn config(&self) -> &MethodConfig {
+        &self.solver.config
+    }
+    fn stable_dt(&self) -> f64 {
+        self.solver.config.courant * self.solver.grid.min_spacing() / self.solver.wave_speed
+    }
+    fn step(&mut self, _t: f64, dt: f64) {
+        self.solver.step(&mut self.state, dt);
+    }
+    fn sample_into(&self, out: &mut Samples<D>) {
+        self.state.points.sample_into(out);
+    }
+    fn energy(&self) -> f64 {
+        let p = &self.state.points;
+        let m = &self.solver.material;
+        p.energy(|i| match self.solver.physics {
+            Physics::Linear => m.energy_density(&p.stress[i]),
+            Physics::Svk { svk, .. } => svk.energy_density(&p.deformation[i]),
+        })
+    }
+    fn external_work(&self) -> f64 {
+        self.state.work
+    }
+    fn momentum(&self) -> Vector<D> {
+        self.state.points.momentum()
+    }
+    fn external_impulse(&self) -> Vector<D> {
+        self.state.impulse
+    }
+    fn check_finite(&self) -> Result<(), BadState<D>> {
+        let p = &self.state.points;
+        for i in 0..p.len() {
+            if !(p.stress[i].iter().all(|x| x.is_finite())
+                && p.velocity[i].iter().all(|x| x.is_finite()))
+            {
+                return Err(BadState {
+                    place: p.reference[i],
+                    reason: match self.solver.physics {
+                        Physics::Linear => "non-finite stress or velocity at a material point".into(),
+                        Physics::Svk { .. } => "non-finite state at a material point: no admissible Riemann \
+                                                state (Saint-Venant-Kirchhoff hyperbolicity lost at F = 1/√3)"
+                            .into(),
+                    },
+                });
+            }
+            if let Physics::Svk { svk, .. } = self.solver.physics {
+                if !svk.admissible(&p.deformation[i], self.solver.wave_speed) {
+                    return Err(BadState {
+                        place: p.reference[i],
+                        reason: Svk::inadmissible_reason(&p.deformation[i]),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+    fn hottest_place(&self) -> Vector<D> {
+        self.state.points.hottest_place()
+    }
+    fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
+        self.state.points.perturb_velocity(kick);
+    }
+    fn cells(&self) -> usize {
+        self.solver.grid.cell_count()
+    }
+    fn updates_per_step(&self) -> usize {
+        self.solver.grid.cell_count()
+    }
+}

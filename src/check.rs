@@ -1,0 +1,137 @@
+//! `impact check`: the CI gate. DGMPM (the study's DGMPM configuration, method overrides
+//! included) and MPM (the scene's configuration) run on the same problem; the gate passes
+//! only if, at every output time with a front, DGMPM's front is narrower **and** its
+//! overshoot smaller than MPM's ([`judge`]), and neither run stopped.
+use crate::run::{run_method, RunRecord, Silent};
+use crate::study::Study;
+use anyhow::{Context, Result};
+use impact_core::method::{MethodConfig, MethodKind};
+
+/// The verdict at one output time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    /// DGMPM's front is narrower and its overshoot smaller.
+    Pass,
+    /// It is not.
+    Fail,
+    /// A run stopped before this output time.
+    RunStopped,
+    /// The reference has no front at this time: not compared.
+    NoFront,
+}
+
+impl Verdict {
+    /// Text of the verdict column.
+    pub fn label(self) -> &'static str {
+        match self {
+            Verdict::Pass => "pass",
+            Verdict::Fail => "FAIL",
+            Verdict::RunStopped => "FAIL (run stopped)",
+            Verdict::NoFront => "skip (no front)",
+        }
+    }
+}
+
+/// One output time of the gate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckRow {
+    /// Output time (s).
+    pub t: f64,
+    /// DGMPM's front width (cells).
+    pub dgmpm_front: Option<f64>,
+    /// MPM's front width (cells).
+    pub mpm_front: Option<f64>,
+    /// DGMPM's overshoot (% of the jump).
+    pub dgmpm_overshoot: Option<f64>,
+    /// MPM's overshoot (% of the jump).
+    pub mpm_overshoot: Option<f64>,
+    /// The verdict.
+    pub verdict: Verdict,
+}
+
+/// The gate's outcome.
+#[derive(Debug, Clone)]
+pub struct CheckReport {
+    /// DGMPM's configuration.
+    pub dgmpm: MethodConfig,
+    /// MPM's configuration.
+    pub mpm: MethodConfig,
+    /// DGMPM's run.
+    pub dgmpm_record: RunRecord,
+    /// MPM's run.
+    pub mpm_record: RunRecord,
+    /// One row per output time.
+    pub rows: Vec<CheckRow>,
+    /// Whether the gate passes.
+    pub pass: bool,
+}
+
+/// The pass/fail rule on two runs: `has_front(t)` tells whether the reference has a front
+/// at `t`. An undefined width or overshoot counts as infinitely bad. The gate passes when
+/// both runs reached every output time, at least one time was compared, and every
+/// compared time passes.
+pub fn judge(
+    dgmpm: &RunRecord,
+    mpm: &RunRecord,
+    has_front: impl Fn(f64) -> bool,
+) -> (Vec<CheckRow>, bool) {
+    let mut ok = dgmpm.error.is_none() && mpm.error.is_none();
+    let worse = |v: Option<f64>| v.unwrap_or(f64::INFINITY);
+    let n = dgmpm.times.len().max(mpm.times.len());
+    let mut compared = 0;
+    let mut rows = Vec::with_capacity(n);
+    for k in 0..n {
+        let (d, m) = (dgmpm.times.get(k), mpm.times.get(k));
+        let t = d.or(m).map_or(0.0, |x| x.t);
+        let row = |verdict| CheckRow {
+            t,
+            dgmpm_front: d.and_then(|x| x.front_width_cells),
+            mpm_front: m.and_then(|x| x.front_width_cells),
+            dgmpm_overshoot: d.and_then(|x| x.overshoot_pct),
+            mpm_overshoot: m.and_then(|x| x.overshoot_pct),
+            verdict,
+        };
+        let mut r = row(Verdict::NoFront);
+        r.verdict = if d.is_none() || m.is_none() {
+            Verdict::RunStopped
+        } else if !has_front(t) {
+            Verdict::NoFront
+        } else {
+            compared += 1;
+            if worse(r.dgmpm_front) < worse(r.mpm_front)
+                && worse(r.dgmpm_overshoot) < worse(r.mpm_overshoot)
+            {
+                Verdict::Pass
+            } else {
+                Verdict::Fail
+            }
+        };
+        ok &= matches!(r.verdict, Verdict::Pass | Verdict::NoFront);
+        rows.push(r);
+    }
+    (rows, ok && compared > 0)
+}
+
+/// Run the gate on `study` in dimension `D`.
+pub fn check_study<const D: usize>(study: &Study) -> Result<CheckReport> {
+    let problem = study.problem::<D>()?;
+    let reference = crate::reference_for(&problem, false)?.with_context(|| {
+        format!(
+            "scene {} has no reference to measure fronts against",
+            study.name()
+        )
+    })?;
+    let dgmpm = study.config(MethodKind::Dgmpm);
+    let mpm = study.scene_config(MethodKind::Mpm);
+    let (dgmpm_record, _) = run_method(&problem, dgmpm, Some(&reference), &mut Silent)?;
+    let (mpm_record, _) = run_method(&problem, mpm, Some(&reference), &mut Silent)?;
+    let (rows, pass) = judge(&dgmpm_record, &mpm_record, |t| reference.front(t).is_some());
+    Ok(CheckReport {
+        dgmpm,
+        mpm,
+        dgmpm_record,
+        mpm_record,
+        rows,
+        pass,
+    })
+}

@@ -1,0 +1,206 @@
+//! A [`Study`]: one scene and the command-line [`Overrides`], validated once, from which
+//! every command takes its problem and method configurations.
+use impact_core::method::{
+    Integrator, LoadDirection, MethodConfig, MethodKind, MpmFrame, PointUpdate, RiemannSolver,
+    StressUpdate, TransverseFlux,
+};
+use impact_core::scene::{check_courant, check_points_per_cell, Scene, MAX_POINTS};
+use impact_core::{CoreError, Problem, SceneError};
+
+/// Command-line overrides of a scene (each `None` keeps the scene's value). The option
+/// flags take the core enums directly (their names are spelled once, in
+/// [`impact_core::options`]).
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct Overrides {
+    /// Cells along x (other axes scaled to keep the cell shape).
+    #[arg(long)]
+    pub cells: Option<usize>,
+    /// Courant number c·Δt/Δx, in (0, 2].
+    #[arg(long, allow_negative_numbers = true)]
+    pub courant: Option<f64>,
+    /// Material points per cell (1D: 1..64; 2D: 1, 4, 9, ...).
+    #[arg(long)]
+    pub points_per_cell: Option<usize>,
+    /// DGMPM time integrator.
+    #[arg(long, value_enum)]
+    pub integrator: Option<Integrator>,
+    /// DGMPM point update after the nodal solve.
+    #[arg(long, value_enum)]
+    pub update: Option<PointUpdate>,
+    /// MPM stress update.
+    #[arg(long, value_enum)]
+    pub stress_update: Option<StressUpdate>,
+    /// MPM frame: shape functions at reference (total) or current (updated) positions.
+    #[arg(long, value_enum)]
+    pub frame: Option<MpmFrame>,
+    /// DGMPM transverse flux in 2D: donor-cell upwind or corner transport upwind.
+    #[arg(long, value_enum)]
+    pub flux: Option<TransverseFlux>,
+    /// DGMPM Riemann solver for Saint-Venant-Kirchhoff.
+    #[arg(long, value_enum)]
+    pub riemann: Option<RiemannSolver>,
+    /// Direction of the pressure load on the loaded end.
+    #[arg(long = "load", value_enum)]
+    pub load: Option<LoadDirection>,
+    /// Magnitude of the pressure load in Pa (keeps the direction unless --load is given).
+    #[arg(long, allow_negative_numbers = true)]
+    pub load_magnitude: Option<f64>,
+    /// End time in seconds (outputs after it are dropped; it becomes the last output).
+    #[arg(long, allow_negative_numbers = true)]
+    pub t_end: Option<f64>,
+    /// Output times in seconds, comma-separated and increasing.
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    pub output_times: Option<Vec<f64>>,
+}
+
+impl Overrides {
+    /// Apply the scene-level overrides (cells, load) to `scene`, checking each value
+    /// (points per cell is checked against the scene's dimension but applied per method).
+    fn apply_to_scene(&self, scene: &mut Scene) -> Result<(), SceneError> {
+        if self.load.is_some() || self.load_magnitude.is_some() {
+            let edge = [&mut scene.boundary.left, &mut scene.boundary.right]
+                .into_iter()
+                .flatten()
+                .find(|e| e.kind == "pressure")
+                .ok_or_else(|| {
+                    SceneError::new("--load", "given", "a scene with a pressure-loaded end")
+                })?;
+            let current = edge.value.unwrap_or(0.0);
+            let magnitude = self.load_magnitude.unwrap_or(current.abs());
+            if !(magnitude.is_finite() && magnitude > 0.0) {
+                return Err(SceneError::new(
+                    "--load-magnitude",
+                    magnitude,
+                    "a positive finite pressure in Pa",
+                ));
+            }
+            let compression = match self.load {
+                Some(direction) => direction == LoadDirection::Compression,
+                None => current >= 0.0,
+            };
+            edge.value = Some(if compression { magnitude } else { -magnitude });
+        }
+        if let (Some(flux), 1) = (self.flux, scene.dim) {
+            return Err(SceneError::new(
+                "--flux",
+                flux,
+                "a transverse flux only in 2D scenes",
+            ));
+        }
+        if let Some(cells) = self.cells {
+            if cells == 0 || cells > 100_000_000 {
+                return Err(SceneError::new(
+                    "--cells",
+                    cells,
+                    "at least 1 cell (at most 1e8)",
+                ));
+            }
+            let ratio = cells as f64 / scene.domain.cells[0] as f64;
+            for (l, n) in scene.domain.cells.iter_mut().enumerate() {
+                *n = if l == 0 {
+                    cells
+                } else {
+                    ((*n as f64) * ratio).round().max(1.0) as usize
+                };
+            }
+        }
+        let per_cell = self
+            .points_per_cell
+            .unwrap_or(1)
+            .max(scene.domain.points_per_cell) as f64;
+        let total: f64 = scene
+            .domain
+            .cells
+            .iter()
+            .map(|&n| n as f64)
+            .product::<f64>()
+            * per_cell;
+        if total > MAX_POINTS {
+            return Err(SceneError::new(
+                "--cells/--points-per-cell",
+                format!("{:?} cells", scene.domain.cells),
+                format!("at most {MAX_POINTS:.0e} cells × points per cell in total"),
+            ));
+        }
+        if let Some(ppc) = self.points_per_cell {
+            // checked here against the scene's dimension; applied per method
+            check_points_per_cell(scene.dim, ppc).map_err(|mut e| {
+                e.field = "--points-per-cell".into();
+                e
+            })?;
+        }
+        if let Some(c) = self.courant {
+            check_courant("--courant", c)?;
+        }
+        Ok(())
+    }
+
+    /// Apply the method-level overrides to `config` (each to the method it belongs to).
+    pub fn apply_to_config(&self, config: &mut MethodConfig) {
+        if let Some(c) = self.courant {
+            config.courant = c;
+        }
+        if let Some(ppc) = self.points_per_cell {
+            config.points_per_cell = ppc;
+        }
+        if let Some(o) = config.dgmpm_mut() {
+            o.integrator = self.integrator.unwrap_or(o.integrator);
+            o.update = self.update.unwrap_or(o.update);
+            o.flux = self.flux.unwrap_or(o.flux);
+            o.riemann = self.riemann.unwrap_or(o.riemann);
+        }
+        if let Some(o) = config.mpm_mut() {
+            o.stress_update = self.stress_update.unwrap_or(o.stress_update);
+            o.frame = self.frame.unwrap_or(o.frame);
+        }
+    }
+}
+
+/// A scene with its overrides applied, validated once: the problem and the method
+/// configurations of every command come from here.
+#[derive(Debug, Clone)]
+pub struct Study {
+    /// The scene, overrides applied (cells, load).
+    pub scene: Scene,
+    /// The overrides (method options and schedule are applied on demand).
+    pub overrides: Overrides,
+}
+
+impl Study {
+    /// Apply `overrides` to `scene` (parsed, not yet validated) and validate the result.
+    pub fn new(mut scene: Scene, overrides: Overrides) -> Result<Self, SceneError> {
+        overrides.apply_to_scene(&mut scene)?;
+        scene.validate()?;
+        Ok(Self { scene, overrides })
+    }
+
+    /// Scene name.
+    pub fn name(&self) -> &str {
+        &self.scene.name
+    }
+
+    /// Spatial dimension.
+    pub fn dim(&self) -> usize {
+        self.scene.dim
+    }
+
+    /// The configuration of `kind`: the scene's, with the method overrides.
+    pub fn config(&self, kind: MethodKind) -> MethodConfig {
+        let mut config = self.scene.method_config(kind);
+        self.overrides.apply_to_config(&mut config);
+        config
+    }
+
+    /// The configuration of `kind` as the scene states it (no method override).
+    pub fn scene_config(&self, kind: MethodKind) -> MethodConfig {
+        self.scene.method_config(kind)
+    }
+
+    /// The problem in dimension `D`, with the schedule overrides (`--t-end`,
+    /// `--output-times`).
+    pub fn problem<const D: usize>(&self) -> Result<Problem<D>, CoreError> {
+        let mut problem = Problem::<D>::from_valid_scene(&self.scene)?;
+        problem.set_schedule(self.overrides.output_times.clone(), self.overrides.t_end)?;
+        Ok(problem)
+    }
+}
