@@ -342,10 +342,16 @@ impl Svk {
     }
 }
 
-/// Smallest and largest eigenvalue of a symmetric 1×1 or 2×2 tensor (closed form).
+/// Smallest and largest eigenvalue of a symmetric `D×D` tensor: closed form in 1D and 2D,
+/// nalgebra's symmetric eigen-decomposition (of a dynamic copy: it allocates) from 3D on.
 fn symmetric_eigen_range<const D: usize>(a: &Tensor<D>) -> (f64, f64) {
     match D {
         1 => (a[(0, 0)], a[(0, 0)]),
+        3.. => {
+            let dynamic = nalgebra::DMatrix::from_iterator(D, D, a.iter().copied());
+            let values = dynamic.symmetric_eigenvalues();
+            (values.min(), values.max())
+        }
         _ => {
             let (p, q, r) = (a[(0, 0)], a[(1, 1)], a[(0, 1)]);
             let mean = 0.5 * (p + q);

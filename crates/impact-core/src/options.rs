@@ -36,13 +36,15 @@ macro_rules! option_enum {
             pub fn parse(text: &str) -> Option<Self> {
                 Self::ALL.iter().copied().find(|v| v.name() == text)
             }
-            /// The allowed names, quoted and comma-separated (for error messages).
+            /// The allowed names, quoted, as a list ending in "or" (for error messages).
             pub fn allowed() -> String {
-                Self::NAMES
-                    .iter()
-                    .map(|n| format!("\"{n}\""))
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                let quoted: Vec<String> = Self::NAMES.iter().map(|n| format!("\"{n}\"")).collect();
+                match quoted.split_last() {
+                    Some((last, rest)) if !rest.is_empty() => {
+                        format!("{} or {last}", rest.join(", "))
+                    }
+                    _ => quoted.concat(),
+                }
             }
         }
 
@@ -61,8 +63,12 @@ macro_rules! option_enum {
         impl<'de> Deserialize<'de> for $name {
             fn deserialize<De: serde::Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
                 let text = String::deserialize(d)?;
-                Self::parse(&text)
-                    .ok_or_else(|| serde::de::Error::unknown_variant(&text, Self::NAMES))
+                Self::parse(&text).ok_or_else(|| {
+                    serde::de::Error::custom(format!(
+                        "unknown value {text:?} (allowed: {})",
+                        Self::allowed()
+                    ))
+                })
             }
         }
 

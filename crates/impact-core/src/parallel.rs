@@ -20,6 +20,11 @@ pub fn worth_parallel(items: usize) -> bool {
     items >= PARALLEL_ITEMS && rayon::current_num_threads() > 1
 }
 
+/// Threads of rayon's current pool.
+pub fn threads() -> usize {
+    rayon::current_num_threads()
+}
+
 /// Something that splits into a run of equal chunks (the last may be shorter).
 pub trait Chunked: Sized + Send {
     /// One chunk.

@@ -276,15 +276,24 @@ impl Scene {
     /// Parse a scene from TOML text without checking its values (callers that change the
     /// scene before use validate it once afterwards, as [`Scene::validate`]).
     pub fn parse_toml(text: &str, origin: &str) -> Result<Self, CoreError> {
-        toml::from_str(text).map_err(|e| CoreError::Parse {
+        let parse_error = |message: String| CoreError::Parse {
             path: origin.to_string(),
-            message: e.message().to_string()
-                + &e.span()
-                    .map(|s| {
-                        let line = text[..s.start].matches('\n').count() + 1;
-                        format!(" (line {line})")
-                    })
-                    .unwrap_or_default(),
+            message,
+        };
+        let deserializer = toml::Deserializer::new(text);
+        serde_path_to_error::deserialize(deserializer).map_err(|e| {
+            let field = e.path().to_string();
+            let inner = e.into_inner();
+            let line = inner
+                .span()
+                .map(|s| format!(" (line {})", text[..s.start].matches('\n').count() + 1))
+                .unwrap_or_default();
+            let at = if field == "." || field.is_empty() {
+                String::new()
+            } else {
+                format!("`{field}`: ")
+            };
+            parse_error(format!("{at}{}{line}", inner.message()))
         })
     }
 

@@ -23,10 +23,13 @@
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
 use impact_core::method::{BadState, Method, MethodConfig, Model, Samples};
+use impact_core::parallel::{chunks, for_each_chunk, sum_chunks, threads, worth_parallel};
 use impact_core::problem::Boundary;
 use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
 
 const MAX_NODES: usize = 8;
+/// Nodes per chunk of the node loops.
+const CHUNK: usize = 4096;
 
 /// Nodal state of the FEM.
 #[derive(Debug, Clone)]
@@ -60,6 +63,10 @@ pub struct FemSolver<const D: usize> {
     /// Per node: 1 for a free component, 0 for a prescribed one.
     free_mask: Vec<Vector<D>>,
     force: Vec<Vector<D>>,
+    /// One partial internal force per part of the elements (parallel scatter; empty when
+    /// serial).
+    parts: Vec<Vec<Vector<D>>>,
+    parallel: bool,
     /// `∇N_a` at the Gauss points of an element (the mesh is regular): `gauss × 2^D`.
     gauss_gradient: Vec<Vector<D>>,
     gauss_weight: f64,
@@ -160,6 +167,7 @@ impl<const D: usize> Fem<D> {
         for &(node, axis, _) in &constraints {
             free_mask[node][axis] = 0.0;
         }
+        let parallel = worth_parallel(grid.cell_count());
         let mut solver = FemSolver {
             free_mask,
             config,
@@ -171,6 +179,14 @@ impl<const D: usize> Fem<D> {
             external,
             constraints,
             force: vec![Vector::<D>::zeros(); nodes],
+            parts: if parallel {
+                (0..threads())
+                    .map(|_| vec![Vector::<D>::zeros(); nodes])
+                    .collect()
+            } else {
+                Vec::new()
+            },
+            parallel,
             gauss_gradient,
             gauss_weight: 1.0 / gauss_count as f64,
             centre_gradient,
@@ -190,22 +206,52 @@ impl<const D: usize> Fem<D> {
 }
 
 impl<const D: usize> FemSolver<D> {
-    /// `f_int(u)` into the force buffer (module doc).
+    /// `f_int(u)` into the force buffer (module doc): each element adds
+    /// `Σ_g w_g V_e σ_g ∇N_a(ξ_g)` to its nodes; serially, or in parallel by parts of the
+    /// elements into partial forces added up node by node (disjoint writes, no lock).
     pub fn internal_forces_into(&mut self, displacement: &[Vector<D>]) {
+        let elements = self.grid.cell_count();
+        let zero = |f: &mut [Vector<D>]| f.iter_mut().for_each(|x| *x = Vector::<D>::zeros());
+        if self.parts.is_empty() {
+            let mut force = std::mem::take(&mut self.force);
+            zero(&mut force);
+            for c in 0..elements {
+                self.element_forces_into(displacement, c, &mut force);
+            }
+            self.force = force;
+            return;
+        }
+        let per_part = elements.div_ceil(self.parts.len());
+        let mut parts = std::mem::take(&mut self.parts);
+        let this = &*self;
+        for_each_chunk(true, 1, chunks(&mut parts, 1), |k, part| {
+            let force = &mut part[0];
+            zero(force);
+            for c in k * per_part..((k + 1) * per_part).min(elements) {
+                this.element_forces_into(displacement, c, force);
+            }
+        });
+        for_each_chunk(true, 1, chunks(&mut self.force, CHUNK), |r, force| {
+            for (j, f) in force.iter_mut().enumerate() {
+                let i = r * CHUNK + j;
+                *f = parts.iter().fold(Vector::<D>::zeros(), |a, p| a + p[i]);
+            }
+        });
+        self.parts = parts;
+    }
+
+    /// Add the internal force of element `c` to `force`.
+    #[inline]
+    fn element_forces_into(&self, displacement: &[Vector<D>], c: usize, force: &mut [Vector<D>]) {
         let npc = Grid::<D>::NODES_PER_CELL;
-        self.force
-            .iter_mut()
-            .for_each(|f| *f = Vector::<D>::zeros());
         let volume = self.grid.cell_volume() * self.gauss_weight;
-        for c in 0..self.grid.cell_count() {
-            let nodes = self.element_nodes(c);
-            for q in 0..npc {
-                let g = &self.gauss_gradient[q * npc..(q + 1) * npc];
-                let grad = Self::displacement_gradient(displacement, &nodes, g);
-                let stress = self.stress_of(&grad);
-                for a in 0..npc {
-                    self.force[nodes[a]] += (stress * g[a]) * volume;
-                }
+        let nodes = self.element_nodes(c);
+        for q in 0..npc {
+            let g = &self.gauss_gradient[q * npc..(q + 1) * npc];
+            let grad = Self::displacement_gradient(displacement, &nodes, g);
+            let stress = self.stress_of(&grad);
+            for a in 0..npc {
+                force[nodes[a]] += (stress * g[a]) * volume;
             }
         }
     }
@@ -257,18 +303,29 @@ impl<const D: usize> FemSolver<D> {
 
     /// `a = M⁻¹ (f_ext - f_int)` from the force buffer.
     fn acceleration_into(&self, acceleration: &mut [Vector<D>]) {
-        for (i, a) in acceleration.iter_mut().enumerate() {
-            *a = (self.external[i] - self.force[i]) / self.mass[i];
-        }
+        for_each_chunk(self.parallel, 1, chunks(acceleration, CHUNK), |r, acc| {
+            for (j, a) in acc.iter_mut().enumerate() {
+                let i = r * CHUNK + j;
+                *a = (self.external[i] - self.force[i]) / self.mass[i];
+            }
+        });
     }
 
     /// `v^{n+1/2} = v^{n-1/2} + Δt_avg a^n`, then the prescribed velocities. Returns the
     /// work of the constraint reactions over the step.
     pub fn velocity_update(&self, state: &mut FemState<D>, dt: f64) -> f64 {
         let dt_avg = 0.5 * (state.last_dt + dt);
-        for (v, a) in state.velocity_half.iter_mut().zip(&state.acceleration) {
-            *v += a * dt_avg;
-        }
+        let acceleration = &state.acceleration;
+        for_each_chunk(
+            self.parallel,
+            1,
+            chunks(&mut state.velocity_half, CHUNK),
+            |r, velocity| {
+                for (j, v) in velocity.iter_mut().enumerate() {
+                    *v += acceleration[r * CHUNK + j] * dt_avg;
+                }
+            },
+        );
         for f in &self.external {
             state.impulse += f * dt_avg;
         }
@@ -285,12 +342,21 @@ impl<const D: usize> FemSolver<D> {
     /// `u^{n+1} = u^n + Δt v^{n+1/2}`; returns the work of the external forces,
     /// `Δt f_ext · v^{n+1/2}`.
     pub fn displacement_update(&self, state: &mut FemState<D>, dt: f64) -> f64 {
-        let mut work = 0.0;
-        for i in 0..state.displacement.len() {
-            state.displacement[i] += state.velocity_half[i] * dt;
-            work += dt * self.external[i].dot(&state.velocity_half[i]);
-        }
-        work
+        let velocity = &state.velocity_half;
+        sum_chunks(
+            self.parallel,
+            1,
+            chunks(&mut state.displacement, CHUNK),
+            |r, displacement| {
+                let mut work = 0.0;
+                for (j, u) in displacement.iter_mut().enumerate() {
+                    let i = r * CHUNK + j;
+                    *u += velocity[i] * dt;
+                    work += dt * self.external[i].dot(&velocity[i]);
+                }
+                work
+            },
+        )
     }
 
     /// One step (module doc).

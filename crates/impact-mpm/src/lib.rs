@@ -41,12 +41,14 @@
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
-use impact_core::method::{
-    BadState, Method, MethodConfig, Model, MpmFrame, MpmOptions, Samples, StressUpdate,
-};
+mod grid_update;
+mod method;
+mod transfer;
+use impact_core::method::{MethodConfig, Model, MpmFrame, MpmOptions, StressUpdate};
+use impact_core::parallel::worth_parallel;
 use impact_core::points::MaterialPoints;
 use impact_core::problem::Boundary;
-use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
+use impact_core::{CoreError, Grid, LinearElastic, Problem, Vector};
 
 /// Cells added on every side of the body's grid for the background grid.
 pub const PADDING: usize = 4;
@@ -85,6 +87,27 @@ struct VelocityEdge {
     symmetry: bool,
 }
 
+/// Nodal sums of the background grid (struct of arrays).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct NodeSums<const D: usize> {
+    /// `m_i`.
+    pub mass: Vec<f64>,
+    /// `p_i`.
+    pub momentum: Vec<Vector<D>>,
+    /// `f_i`.
+    pub force: Vec<Vector<D>>,
+}
+
+impl<const D: usize> NodeSums<D> {
+    fn new(nodes: usize) -> Self {
+        Self {
+            mass: vec![0.0; nodes],
+            momentum: vec![Vector::<D>::zeros(); nodes],
+            force: vec![Vector::<D>::zeros(); nodes],
+        }
+    }
+}
+
 /// Configuration and buffers of USL MPM.
 #[derive(Debug, Clone)]
 pub struct MpmSolver<const D: usize> {
@@ -97,10 +120,15 @@ pub struct MpmSolver<const D: usize> {
     /// Largest wave speed the loads can produce (time step).
     wave_speed: f64,
     loads: Vec<SurfaceLoad<D>>,
-    velocity_edges: Vec<VelocityEdge>,
-    node_mass: Vec<f64>,
-    node_momentum: Vec<Vector<D>>,
-    node_force: Vec<Vector<D>>,
+    /// Prescribed nodal velocity components `(node, axis, value)` (velocity and symmetry
+    /// edges), found once.
+    node_constraints: Vec<(usize, usize, f64)>,
+    /// Prescribed point velocity components `(point, axis, value)` (velocity edges).
+    point_constraints: Vec<(usize, usize, f64)>,
+    nodes: NodeSums<D>,
+    /// One partial nodal sum per part of the points (parallel scatter; empty when serial).
+    parts: Vec<NodeSums<D>>,
+    parallel: bool,
     /// Per point: its cell in the background grid, shape values and gradients.
     point_cell: Vec<usize>,
     shape: Vec<f64>,
@@ -203,6 +231,16 @@ impl<const D: usize> Mpm<D> {
         }
         let nodes = grid.vertex_count();
         let np = points.len();
+        let node_constraints = node_constraints(&grid, &velocity_edges);
+        let point_constraints = point_constraints(&body, &points, &velocity_edges);
+        let parallel = worth_parallel(np);
+        let parts = if parallel {
+            (0..impact_core::parallel::threads())
+                .map(|_| NodeSums::new(nodes))
+                .collect()
+        } else {
+            Vec::new()
+        };
         let mut mpm = Self {
             solver: MpmSolver {
                 config,
@@ -212,10 +250,11 @@ impl<const D: usize> Mpm<D> {
                 model: problem.model,
                 wave_speed: problem.max_wave_speed(),
                 loads,
-                velocity_edges,
-                node_mass: vec![0.0; nodes],
-                node_momentum: vec![Vector::<D>::zeros(); nodes],
-                node_force: vec![Vector::<D>::zeros(); nodes],
+                node_constraints,
+                point_constraints,
+                nodes: NodeSums::new(nodes),
+                parts,
+                parallel,
                 point_cell: vec![0; np],
                 shape: vec![0.0; np * npc],
                 shape_gradient: vec![Vector::<D>::zeros(); np * npc],
@@ -234,261 +273,55 @@ impl<const D: usize> Mpm<D> {
     }
 }
 
+/// The prescribed nodal velocity components of the velocity and symmetry edges:
+/// `(node, axis, value)` for every node of the edge's layer inside its segment.
+fn node_constraints<const D: usize>(
+    grid: &Grid<D>,
+    edges: &[VelocityEdge],
+) -> Vec<(usize, usize, f64)> {
+    let counts = grid.vertex_counts();
+    let mut out = Vec::new();
+    for e in edges {
+        for v in 0..grid.vertex_count() {
+            let along = (0..e.axis).fold(v, |rest, k| rest / counts[k]) % counts[e.axis];
+            let s = Grid::<D>::segment_axis(e.axis).map_or(0.0, |k| grid.vertex_position(v)[k]);
+            if along == e.node_layer && Boundary::acts_at(e.segment, s) {
+                out.push((v, e.axis, e.value));
+            }
+        }
+    }
+    out
+}
+
+/// The prescribed point velocity components (velocity edges, as the paper does): points
+/// whose domain touches the edge, inside its segment.
+fn point_constraints<const D: usize>(
+    body: &Grid<D>,
+    points: &MaterialPoints<D>,
+    edges: &[VelocityEdge],
+) -> Vec<(usize, usize, f64)> {
+    let mut out = Vec::new();
+    for e in edges.iter().filter(|e| !e.symmetry) {
+        let low = e.node_layer == PADDING;
+        let (edge, sign) = if low {
+            (body.origin[e.axis], -1.0)
+        } else {
+            (body.upper()[e.axis], 1.0)
+        };
+        for p in 0..points.len() {
+            let (x, h) = (points.reference[p], points.half_size[p]);
+            let touches =
+                ((x[e.axis] + sign * h[e.axis]) - edge).abs() <= 1e-9 * body.spacing[e.axis];
+            let s = Grid::<D>::segment_axis(e.axis).map_or(0.0, |k| x[k]);
+            if touches && Boundary::acts_at(e.segment, s) {
+                out.push((p, e.axis, e.value));
+            }
+        }
+    }
+    out
+}
+
 impl<const D: usize> MpmSolver<D> {
-    /// Whether vertex `v` lies on velocity edge `e` (and inside its segment).
-    fn on_edge(&self, e: &VelocityEdge, v: usize) -> bool {
-        let counts = self.grid.vertex_counts();
-        let mut rest = v;
-        let mut idx = [0usize; D];
-        for k in 0..D {
-            idx[k] = rest % counts[k];
-            rest /= counts[k];
-        }
-        if idx[e.axis] != e.node_layer {
-            return false;
-        }
-        let s = Grid::<D>::segment_axis(e.axis).map_or(0.0, |k| self.grid.vertex_position(v)[k]);
-        Boundary::acts_at(e.segment, s)
-    }
-
-    /// Points on a velocity edge take the prescribed normal velocity (as the paper does).
-    /// Returns the impulse this gives them, `Σ m_p Δv_p`.
-    fn impose_point_velocities(&self, points: &mut MaterialPoints<D>) -> Vector<D> {
-        let mut kick = Vector::<D>::zeros();
-        for e in self.velocity_edges.iter().filter(|e| !e.symmetry) {
-            let side_is_low = e.node_layer == PADDING;
-            let edge = if side_is_low {
-                self.body.origin[e.axis]
-            } else {
-                self.body.upper()[e.axis]
-            };
-            for p in 0..points.len() {
-                let x = points.reference[p];
-                let h = points.half_size[p];
-                let sign = if side_is_low { -1.0 } else { 1.0 };
-                if ((x[e.axis] + sign * h[e.axis]) - edge).abs() > 1e-9 * self.body.spacing[e.axis]
-                {
-                    continue;
-                }
-                let s = Grid::<D>::segment_axis(e.axis).map_or(0.0, |k| x[k]);
-                if Boundary::acts_at(e.segment, s) {
-                    kick[e.axis] += points.mass[p] * (e.value - points.velocity[p][e.axis]);
-                    points.velocity[p][e.axis] = e.value;
-                }
-            }
-        }
-        kick
-    }
-
-    /// Phase 1: shape functions at the current positions, then mass, momentum and forces
-    /// on the grid.
-    pub fn particles_to_grid(&mut self, points: &MaterialPoints<D>, with_internal: bool) {
-        let npc = Grid::<D>::NODES_PER_CELL;
-        self.node_mass.iter_mut().for_each(|m| *m = 0.0);
-        self.node_momentum
-            .iter_mut()
-            .for_each(|m| *m = Vector::<D>::zeros());
-        self.node_force
-            .iter_mut()
-            .for_each(|m| *m = Vector::<D>::zeros());
-        let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
-        for p in 0..points.len() {
-            if moving || !self.shapes_ready {
-                let x = if moving {
-                    &points.position[p]
-                } else {
-                    &points.reference[p]
-                };
-                // a point outside the padded grid is reported by check_finite
-                let (c, xi) = self
-                    .grid
-                    .locate(x)
-                    .unwrap_or((self.point_cell[p], Vector::<D>::from_element(0.5)));
-                self.point_cell[p] = c;
-                self.grid.shape(
-                    &xi,
-                    &mut self.shape[p * npc..(p + 1) * npc],
-                    &mut self.shape_gradient[p * npc..(p + 1) * npc],
-                );
-            }
-            let c = self.point_cell[p];
-            let (s, g) = (
-                &self.shape[p * npc..(p + 1) * npc],
-                &self.shape_gradient[p * npc..(p + 1) * npc],
-            );
-            for a in 0..npc {
-                let i = self.grid.vertex_of(c, a);
-                let w = s[a] * points.mass[p];
-                self.node_mass[i] += w;
-                self.node_momentum[i] += points.velocity[p] * w;
-                if with_internal {
-                    self.node_force[i] -= (points.stress[p] * g[a]) * points.volume[p];
-                }
-            }
-        }
-    }
-
-    /// Internal forces only (USF computes them after its stress update).
-    fn internal_forces(&mut self, points: &MaterialPoints<D>) {
-        let npc = Grid::<D>::NODES_PER_CELL;
-        for p in 0..points.len() {
-            let c = self.point_cell[p];
-            for a in 0..npc {
-                let i = self.grid.vertex_of(c, a);
-                self.node_force[i] -=
-                    (points.stress[p] * self.shape_gradient[p * npc + a]) * points.volume[p];
-            }
-        }
-    }
-
-    /// External surface loads as nodal forces at the current surface positions.
-    fn external_forces(&mut self, points: &MaterialPoints<D>) {
-        let npc = Grid::<D>::NODES_PER_CELL;
-        let mut s = [0.0; MAX_NODES];
-        let mut g = [Vector::<D>::zeros(); MAX_NODES];
-        for k in 0..self.loads.len() {
-            let load = self.loads[k];
-            let x = match self.options.frame {
-                MpmFrame::TotalLagrangian => points.reference[load.point],
-                MpmFrame::UpdatedLagrangian => points.position[load.point],
-            } + load.offset;
-            let Some((c, xi)) = self.grid.locate(&x) else {
-                continue;
-            };
-            self.grid.shape(&xi, &mut s[..npc], &mut g[..npc]);
-            // only nodes with mass can take the load: renormalise over them so the
-            // whole force reaches the body (momentum is conserved)
-            let mut total = 0.0;
-            for a in 0..npc {
-                if self.node_mass[self.grid.vertex_of(c, a)] > 0.0 {
-                    total += s[a];
-                }
-            }
-            if total <= 0.0 {
-                continue;
-            }
-            for a in 0..npc {
-                let i = self.grid.vertex_of(c, a);
-                if self.node_mass[i] > 0.0 {
-                    self.node_force[i] += load.force * (s[a] / total);
-                }
-            }
-        }
-    }
-
-    /// Power of the surface loads, `Σ F · v_p` with `v_p` the velocity of the loaded point.
-    fn load_power(&self, points: &MaterialPoints<D>) -> f64 {
-        self.loads
-            .iter()
-            .map(|l| l.force.dot(&points.velocity[l.point]))
-            .sum()
-    }
-
-    /// Phase 2: `p_i += Δt f_i`, then prescribed nodal velocities. Returns the work done
-    /// in the step by the velocity constraints, `Δt Σ r · v_d`, and the impulse of the
-    /// external and reaction forces, `Δt Σ (f_ext + r)`.
-    pub fn grid_update(&mut self, dt: f64) -> (f64, Vector<D>) {
-        let mut impulse = Vector::<D>::zeros();
-        for i in 0..self.node_mass.len() {
-            if self.node_mass[i] > 0.0 {
-                self.node_momentum[i] += self.node_force[i] * dt;
-            }
-        }
-        let mut work = 0.0;
-        for k in 0..self.velocity_edges.len() {
-            let e = self.velocity_edges[k];
-            for v in 0..self.node_mass.len() {
-                if self.node_mass[v] > 0.0 && self.on_edge(&e, v) {
-                    let m = self.node_mass[v];
-                    let old = self.node_momentum[v][e.axis];
-                    self.node_momentum[v][e.axis] = e.value * m;
-                    // reaction force of the constraint, kept in the force for the FLIP update
-                    let reaction = (e.value * m - old) / dt;
-                    self.node_force[v][e.axis] += reaction;
-                    work += dt * reaction * e.value;
-                    impulse[e.axis] += dt * reaction;
-                }
-            }
-        }
-        (work, impulse)
-    }
-
-    /// Phase 3: FLIP velocity update and position update from the nodal velocity.
-    pub fn grid_to_particles(&self, points: &mut MaterialPoints<D>, dt: f64) {
-        let npc = Grid::<D>::NODES_PER_CELL;
-        for p in 0..points.len() {
-            let c = self.point_cell[p];
-            let mut dv = Vector::<D>::zeros();
-            let mut v = Vector::<D>::zeros();
-            for a in 0..npc {
-                let i = self.grid.vertex_of(c, a);
-                let m = self.node_mass[i];
-                if m > 0.0 {
-                    let s = self.shape[p * npc + a];
-                    dv += self.node_force[i] * (s * dt / m);
-                    v += self.node_momentum[i] * (s / m);
-                }
-            }
-            points.velocity[p] += dv;
-            points.position[p] += v * dt;
-        }
-    }
-
-    /// Phase 4: nodal momentum mapped again from the updated point velocities (with the
-    /// shape functions of the start of the step), then the prescribed nodal velocities.
-    pub fn remap_momentum(&mut self, points: &MaterialPoints<D>) {
-        let npc = Grid::<D>::NODES_PER_CELL;
-        self.node_momentum
-            .iter_mut()
-            .for_each(|m| *m = Vector::<D>::zeros());
-        for p in 0..points.len() {
-            let c = self.point_cell[p];
-            for a in 0..npc {
-                let i = self.grid.vertex_of(c, a);
-                self.node_momentum[i] +=
-                    points.velocity[p] * (self.shape[p * npc + a] * points.mass[p]);
-            }
-        }
-        for k in 0..self.velocity_edges.len() {
-            let e = self.velocity_edges[k];
-            for v in 0..self.node_mass.len() {
-                if self.node_mass[v] > 0.0 && self.on_edge(&e, v) {
-                    self.node_momentum[v][e.axis] = e.value * self.node_mass[v];
-                }
-            }
-        }
-    }
-
-    /// Phase 5: stress and volume update from the nodal velocity (linear elasticity), or
-    /// `F += Δt ∇_X v`, `Π = Π(F)` (Saint-Venant–Kirchhoff, total Lagrangian).
-    pub fn update_stress(&self, points: &mut MaterialPoints<D>, dt: f64) {
-        let npc = Grid::<D>::NODES_PER_CELL;
-        for p in 0..points.len() {
-            let c = self.point_cell[p];
-            // velocity gradient ∇v = Σ_i v_i ⊗ ∇N_ip (∇_X in the total Lagrangian frame)
-            let mut l = Tensor::<D>::zeros();
-            for a in 0..npc {
-                let i = self.grid.vertex_of(c, a);
-                let m = self.node_mass[i];
-                if m > 0.0 {
-                    l += (self.node_momentum[i] / m) * self.shape_gradient[p * npc + a].transpose();
-                }
-            }
-            match self.model {
-                Model::LinearElastic => {
-                    points.stress[p] += self.material.stress(&((l + l.transpose()) * 0.5)) * dt;
-                }
-                Model::Svk(svk) => {
-                    points.deformation[p] += l * dt;
-                    points.stress[p] = svk.piola(&points.deformation[p]);
-                }
-            }
-            if self.options.frame == MpmFrame::UpdatedLagrangian {
-                points.volume[p] *= 1.0 + dt * l.trace();
-            }
-        }
-    }
-
     /// One step (module doc).
     pub fn step(&mut self, state: &mut MpmState<D>, dt: f64) {
         let usl = self.options.stress_update != StressUpdate::Usf;
@@ -516,82 +349,5 @@ impl<const D: usize> MpmSolver<D> {
         if usl {
             self.update_stress(&mut state.points, dt);
         }
-    }
-}
-
-impl<const D: usize> Method<D> for Mpm<D> {
-    fn config(&self) -> &MethodConfig {
-        &self.solver.config
-    }
-    fn stable_dt(&self) -> f64 {
-        self.solver.config.courant * self.solver.body.min_spacing() / self.solver.wave_speed
-    }
-    fn step(&mut self, _t: f64, dt: f64) {
-        self.solver.step(&mut self.state, dt);
-    }
-    fn sample_into(&self, out: &mut Samples<D>) {
-        self.state.points.sample_into(out);
-    }
-    fn energy(&self) -> f64 {
-        let p = &self.state.points;
-        let m = &self.solver.material;
-        p.energy(|i| match self.solver.model {
-            Model::LinearElastic => m.energy_density(&p.stress[i]),
-            Model::Svk(svk) => svk.energy_density(&p.deformation[i]),
-        })
-    }
-    fn external_work(&self) -> f64 {
-        self.state.work
-    }
-    fn momentum(&self) -> Vector<D> {
-        self.state.points.momentum()
-    }
-    fn external_impulse(&self) -> Vector<D> {
-        self.state.impulse
-    }
-    fn check_finite(&self) -> Result<(), BadState<D>> {
-        let p = &self.state.points;
-        for i in 0..p.len() {
-            let finite = p.stress[i].iter().all(|x| x.is_finite())
-                && p.velocity[i].iter().all(|x| x.is_finite())
-                && p.position[i].iter().all(|x| x.is_finite());
-            if !finite {
-                return Err(BadState {
-                    place: p.reference[i],
-                    reason: "non-finite stress, velocity or position at a material point".into(),
-                });
-            }
-            if let Model::Svk(svk) = self.solver.model {
-                if !svk.admissible(&p.deformation[i], self.solver.wave_speed) {
-                    return Err(BadState {
-                        place: p.reference[i],
-                        reason: impact_core::material::Svk::inadmissible_reason(&p.deformation[i]),
-                    });
-                }
-            }
-            let moving = self.solver.options.frame == MpmFrame::UpdatedLagrangian;
-            if moving && self.solver.grid.locate(&p.position[i]).is_none() {
-                return Err(BadState {
-                    place: p.reference[i],
-                    reason: format!(
-                        "material point left the background grid (x = {:?})",
-                        p.position[i].as_slice()
-                    ),
-                });
-            }
-        }
-        Ok(())
-    }
-    fn hottest_place(&self) -> Vector<D> {
-        self.state.points.hottest_place()
-    }
-    fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
-        self.state.points.perturb_velocity(kick);
-    }
-    fn cells(&self) -> usize {
-        self.solver.body.cell_count()
-    }
-    fn updates_per_step(&self) -> usize {
-        self.state.points.len()
     }
 }

@@ -73,6 +73,7 @@ pub fn fluctuations<const D: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::riemann::test_support::steel;
     use approx::assert_relative_eq;
 
     fn s1(t: f64, v: f64) -> FaceState<1> {

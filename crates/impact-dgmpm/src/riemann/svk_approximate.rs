@@ -139,7 +139,7 @@ pub fn acoustic_star_tv<const D: usize>(
 #[cfg(test)]
 mod svk_tests {
     use crate::riemann::svk::*;
-    use crate::riemann::{linear_elastic_star, FaceState, GhostCondition, Impedances};
+    use crate::riemann::{linear_elastic_star, FaceState, Impedances};
     use approx::assert_relative_eq;
     use impact_core::material::{LinearElastic, Svk};
     use impact_core::{Tensor, Vector};
@@ -148,7 +148,7 @@ mod svk_tests {
         Svk::new(LinearElastic::new(2e11, 0.3, 7800.0))
     }
 
-    #[test]
+    /// At F = 1 the acoustic solver is the linear one.
     #[test]
     fn acoustic_solver_is_linear_at_rest() {
         let svk = m();

@@ -149,10 +149,10 @@ pub fn exact_boundary_1d(
 #[cfg(test)]
 mod svk_tests {
     use crate::riemann::svk::*;
-    use crate::riemann::{linear_elastic_star, FaceState, GhostCondition, Impedances};
+    use crate::riemann::GhostCondition;
     use approx::assert_relative_eq;
     use impact_core::material::{LinearElastic, Svk};
-    use impact_core::{Tensor, Vector};
+    use impact_core::Vector;
 
     fn m() -> Svk {
         Svk::new(LinearElastic::new(2e11, 0.3, 7800.0))

@@ -95,6 +95,7 @@ pub fn transverse_into_face<const D: usize>(
 mod tests {
     use super::*;
     use crate::riemann::test_support::{sample, steel};
+    use crate::riemann::{normal_flux, FaceState};
     use approx::assert_relative_eq;
 
     /// `transverse_into_face(b, a) = B⁺b + B⁻a` from the full split.

@@ -1,0 +1,81 @@
+//! MPM as a [`Method`].
+use crate::Mpm;
+use impact_core::method::{BadState, Method, MethodConfig, Model, MpmFrame, Samples};
+use impact_core::Vector;
+
+impl<const D: usize> Method<D> for Mpm<D> {
+    fn config(&self) -> &MethodConfig {
+        &self.solver.config
+    }
+    fn stable_dt(&self) -> f64 {
+        self.solver.config.courant * self.solver.body.min_spacing() / self.solver.wave_speed
+    }
+    fn step(&mut self, _t: f64, dt: f64) {
+        self.solver.step(&mut self.state, dt);
+    }
+    fn sample_into(&self, out: &mut Samples<D>) {
+        self.state.points.sample_into(out);
+    }
+    fn energy(&self) -> f64 {
+        let p = &self.state.points;
+        let m = &self.solver.material;
+        p.energy(|i| match self.solver.model {
+            Model::LinearElastic => m.energy_density(&p.stress[i]),
+            Model::Svk(svk) => svk.energy_density(&p.deformation[i]),
+        })
+    }
+    fn external_work(&self) -> f64 {
+        self.state.work
+    }
+    fn momentum(&self) -> Vector<D> {
+        self.state.points.momentum()
+    }
+    fn external_impulse(&self) -> Vector<D> {
+        self.state.impulse
+    }
+    fn check_finite(&self) -> Result<(), BadState<D>> {
+        let p = &self.state.points;
+        for i in 0..p.len() {
+            let finite = p.stress[i].iter().all(|x| x.is_finite())
+                && p.velocity[i].iter().all(|x| x.is_finite())
+                && p.position[i].iter().all(|x| x.is_finite());
+            if !finite {
+                return Err(BadState {
+                    place: p.reference[i],
+                    reason: "non-finite stress, velocity or position at a material point".into(),
+                });
+            }
+            if let Model::Svk(svk) = self.solver.model {
+                if !svk.admissible(&p.deformation[i], self.solver.wave_speed) {
+                    return Err(BadState {
+                        place: p.reference[i],
+                        reason: impact_core::material::Svk::inadmissible_reason(&p.deformation[i]),
+                    });
+                }
+            }
+            let moving = self.solver.options.frame == MpmFrame::UpdatedLagrangian;
+            if moving && self.solver.grid.locate(&p.position[i]).is_none() {
+                return Err(BadState {
+                    place: p.reference[i],
+                    reason: format!(
+                        "material point left the background grid (x = {:?})",
+                        p.position[i].as_slice()
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+    fn hottest_place(&self) -> Vector<D> {
+        self.state.points.hottest_place()
+    }
+    fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
+        self.state.points.perturb_velocity(kick);
+    }
+    fn cells(&self) -> usize {
+        self.solver.body.cell_count()
+    }
+    fn updates_per_step(&self) -> usize {
+        self.state.points.len()
+    }
+}

@@ -1,0 +1,326 @@
+//! Transfers between points and grid: phase 1 (particles→grid, internal and external
+//! forces), phase 3 (grid→particles), phase 4 (the MUSL remap), phase 5 (stress update)
+//! and the prescribed point velocities.
+//!
+//! Scatters (points adding to the nodes of their cell) run serially into the nodal sums,
+//! or in parallel: each part of the points (one per rayon thread, contiguous) adds into its
+//! own full-size partial sum, and the partial sums are then added up node by node (disjoint
+//! writes, no lock, no unsafe). Point loops write disjoint points.
+use crate::{MpmSolver, NodeSums, MAX_NODES};
+use impact_core::method::{Model, MpmFrame};
+use impact_core::parallel::{chunks, for_each_chunk};
+use impact_core::points::MaterialPoints;
+use impact_core::{Grid, Tensor, Vector};
+
+/// Points (or nodes) per chunk of the point and node loops.
+const CHUNK: usize = 2048;
+
+/// Which nodal sums a scatter fills.
+#[derive(Clone, Copy)]
+struct Fill {
+    mass: bool,
+    momentum: bool,
+    force: bool,
+}
+
+impl<const D: usize> MpmSolver<D> {
+    /// Shape functions at the current (updated Lagrangian) or reference (total
+    /// Lagrangian, computed once) positions.
+    fn update_shapes(&mut self, points: &MaterialPoints<D>) {
+        let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
+        if !moving && self.shapes_ready {
+            return;
+        }
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let grid = &self.grid;
+        let parts = (
+            chunks(&mut self.point_cell, CHUNK),
+            chunks(&mut self.shape, CHUNK * npc),
+            chunks(&mut self.shape_gradient, CHUNK * npc),
+        );
+        for_each_chunk(self.parallel, 1, parts, |r, (cells, shape, gradient)| {
+            for (j, cell) in cells.iter_mut().enumerate() {
+                let p = r * CHUNK + j;
+                let x = if moving {
+                    &points.position[p]
+                } else {
+                    &points.reference[p]
+                };
+                // a point outside the padded grid is reported by check_finite
+                let (c, xi) = grid
+                    .locate(x)
+                    .unwrap_or((*cell, Vector::<D>::from_element(0.5)));
+                *cell = c;
+                let range = j * npc..(j + 1) * npc;
+                grid.shape(&xi, &mut shape[range.clone()], &mut gradient[range]);
+            }
+        });
+    }
+
+    /// Add `contribution(p, sums)` of every point to the nodal sums named by `fill` (which
+    /// are zeroed first): serially, or by parts and then node by node (module doc).
+    fn scatter(
+        &mut self,
+        points: usize,
+        fill: Fill,
+        contribution: impl Fn(usize, &mut NodeSums<D>) + Sync,
+    ) {
+        let zero = |sums: &mut NodeSums<D>| {
+            if fill.mass {
+                sums.mass.iter_mut().for_each(|m| *m = 0.0);
+            }
+            if fill.momentum {
+                sums.momentum
+                    .iter_mut()
+                    .for_each(|m| *m = Vector::<D>::zeros());
+            }
+            if fill.force {
+                sums.force
+                    .iter_mut()
+                    .for_each(|f| *f = Vector::<D>::zeros());
+            }
+        };
+        if self.parts.is_empty() {
+            zero(&mut self.nodes);
+            for p in 0..points {
+                contribution(p, &mut self.nodes);
+            }
+            return;
+        }
+        let per_part = points.div_ceil(self.parts.len());
+        let mut parts = std::mem::take(&mut self.parts);
+        for_each_chunk(true, 1, chunks(&mut parts, 1), |k, part| {
+            let sums = &mut part[0];
+            zero(sums);
+            for p in k * per_part..((k + 1) * per_part).min(points) {
+                contribution(p, sums);
+            }
+        });
+        let nodes = &mut self.nodes;
+        let all = (
+            chunks(&mut nodes.mass, CHUNK),
+            chunks(&mut nodes.momentum, CHUNK),
+            chunks(&mut nodes.force, CHUNK),
+        );
+        for_each_chunk(true, 1, all, |r, (mass, momentum, force)| {
+            for j in 0..mass.len() {
+                let i = r * CHUNK + j;
+                if fill.mass {
+                    mass[j] = parts.iter().map(|s| s.mass[i]).sum();
+                }
+                if fill.momentum {
+                    momentum[j] = parts
+                        .iter()
+                        .fold(Vector::<D>::zeros(), |a, s| a + s.momentum[i]);
+                }
+                if fill.force {
+                    force[j] = parts
+                        .iter()
+                        .fold(Vector::<D>::zeros(), |a, s| a + s.force[i]);
+                }
+            }
+        });
+        self.parts = parts;
+    }
+
+    /// Phase 1: shape functions, then mass `m_i = Σ_p N_ip m_p`, momentum
+    /// `p_i = Σ_p N_ip m_p v_p` and (with `with_internal`) the internal force
+    /// `f_i = -Σ_p V_p σ_p ∇N_ip` on the grid.
+    pub fn particles_to_grid(&mut self, points: &MaterialPoints<D>, with_internal: bool) {
+        self.update_shapes(points);
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let fill = Fill {
+            mass: true,
+            momentum: true,
+            force: true,
+        };
+        let (grid, cells) = (self.grid.clone(), std::mem::take(&mut self.point_cell));
+        let (shape, gradient) = (
+            std::mem::take(&mut self.shape),
+            std::mem::take(&mut self.shape_gradient),
+        );
+        self.scatter(points.len(), fill, |p, sums| {
+            let c = cells[p];
+            for a in 0..npc {
+                let i = grid.vertex_of(c, a);
+                let w = shape[p * npc + a] * points.mass[p];
+                sums.mass[i] += w;
+                sums.momentum[i] += points.velocity[p] * w;
+                if with_internal {
+                    sums.force[i] -= (points.stress[p] * gradient[p * npc + a]) * points.volume[p];
+                }
+            }
+        });
+        (self.point_cell, self.shape, self.shape_gradient) = (cells, shape, gradient);
+    }
+
+    /// Internal forces only (USF computes them after its stress update).
+    pub(crate) fn internal_forces(&mut self, points: &MaterialPoints<D>) {
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let fill = Fill {
+            mass: false,
+            momentum: false,
+            force: true,
+        };
+        let (grid, cells) = (self.grid.clone(), std::mem::take(&mut self.point_cell));
+        let gradient = std::mem::take(&mut self.shape_gradient);
+        self.scatter(points.len(), fill, |p, sums| {
+            for a in 0..npc {
+                let i = grid.vertex_of(cells[p], a);
+                sums.force[i] -= (points.stress[p] * gradient[p * npc + a]) * points.volume[p];
+            }
+        });
+        (self.point_cell, self.shape_gradient) = (cells, gradient);
+    }
+
+    /// External surface loads as nodal forces at the current surface positions: a load is
+    /// spread over the nodes of its cell that carry mass (renormalised shape functions), so
+    /// the whole force reaches the body.
+    pub(crate) fn external_forces(&mut self, points: &MaterialPoints<D>) {
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let mut s = [0.0; MAX_NODES];
+        let mut g = [Vector::<D>::zeros(); MAX_NODES];
+        for load in &self.loads {
+            let x = match self.options.frame {
+                MpmFrame::TotalLagrangian => points.reference[load.point],
+                MpmFrame::UpdatedLagrangian => points.position[load.point],
+            } + load.offset;
+            let Some((c, xi)) = self.grid.locate(&x) else {
+                continue;
+            };
+            self.grid.shape(&xi, &mut s[..npc], &mut g[..npc]);
+            let with_mass = |a: usize| self.nodes.mass[self.grid.vertex_of(c, a)] > 0.0;
+            let total: f64 = (0..npc).filter(|&a| with_mass(a)).map(|a| s[a]).sum();
+            if total <= 0.0 {
+                continue;
+            }
+            for a in 0..npc {
+                let i = self.grid.vertex_of(c, a);
+                if self.nodes.mass[i] > 0.0 {
+                    self.nodes.force[i] += load.force * (s[a] / total);
+                }
+            }
+        }
+    }
+
+    /// Power of the surface loads, `Σ F · v_p` with `v_p` the velocity of the loaded point.
+    pub(crate) fn load_power(&self, points: &MaterialPoints<D>) -> f64 {
+        self.loads
+            .iter()
+            .map(|l| l.force.dot(&points.velocity[l.point]))
+            .sum()
+    }
+
+    /// Phase 3: FLIP velocity update `v_p += Δt Σ_i N_ip f_i/m_i` and position update
+    /// `x_p += Δt Σ_i N_ip p_i/m_i`.
+    pub fn grid_to_particles(&self, points: &mut MaterialPoints<D>, dt: f64) {
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let nodes = &self.nodes;
+        let parts = (
+            chunks(&mut points.velocity, CHUNK),
+            chunks(&mut points.position, CHUNK),
+        );
+        for_each_chunk(self.parallel, 1, parts, |r, (velocity, position)| {
+            for (j, (vp, xp)) in velocity.iter_mut().zip(position.iter_mut()).enumerate() {
+                let p = r * CHUNK + j;
+                let c = self.point_cell[p];
+                let mut dv = Vector::<D>::zeros();
+                let mut v = Vector::<D>::zeros();
+                for a in 0..npc {
+                    let i = self.grid.vertex_of(c, a);
+                    let m = nodes.mass[i];
+                    if m > 0.0 {
+                        let s = self.shape[p * npc + a];
+                        dv += nodes.force[i] * (s * dt / m);
+                        v += nodes.momentum[i] * (s / m);
+                    }
+                }
+                *vp += dv;
+                *xp += v * dt;
+            }
+        });
+    }
+
+    /// Phase 4 (MUSL): nodal momentum mapped again from the updated point velocities (with
+    /// the shape functions of the start of the step), then the prescribed nodal velocities.
+    pub fn remap_momentum(&mut self, points: &MaterialPoints<D>) {
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let fill = Fill {
+            mass: false,
+            momentum: true,
+            force: false,
+        };
+        let (grid, cells) = (self.grid.clone(), std::mem::take(&mut self.point_cell));
+        let shape = std::mem::take(&mut self.shape);
+        self.scatter(points.len(), fill, |p, sums| {
+            for a in 0..npc {
+                let i = grid.vertex_of(cells[p], a);
+                sums.momentum[i] += points.velocity[p] * (shape[p * npc + a] * points.mass[p]);
+            }
+        });
+        (self.point_cell, self.shape) = (cells, shape);
+        self.constrain_momentum();
+    }
+
+    /// Velocity gradient `∇v = Σ_i v_i ⊗ ∇N_ip` at point `p` (`∇_X` in the total
+    /// Lagrangian frame), `v_i = p_i/m_i`.
+    fn velocity_gradient(&self, p: usize) -> Tensor<D> {
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let mut l = Tensor::<D>::zeros();
+        for a in 0..npc {
+            let i = self.grid.vertex_of(self.point_cell[p], a);
+            let m = self.nodes.mass[i];
+            if m > 0.0 {
+                l += (self.nodes.momentum[i] / m) * self.shape_gradient[p * npc + a].transpose();
+            }
+        }
+        l
+    }
+
+    /// Phase 5: `σ_p += Δt C : sym(∇v)` (and `V_p *= 1 + Δt tr ∇v` in the updated
+    /// Lagrangian frame), or `F_p += Δt ∇_X v`, `Π_p = Π(F_p)` (Saint-Venant–Kirchhoff).
+    pub fn update_stress(&self, points: &mut MaterialPoints<D>, dt: f64) {
+        let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
+        let parts = (
+            chunks(&mut points.stress, CHUNK),
+            chunks(&mut points.volume, CHUNK),
+        );
+        match self.model {
+            Model::LinearElastic => {
+                for_each_chunk(self.parallel, 1, parts, |r, (stress, volume)| {
+                    for (j, (s, vol)) in stress.iter_mut().zip(volume.iter_mut()).enumerate() {
+                        let l = self.velocity_gradient(r * CHUNK + j);
+                        *s += self.material.stress(&((l + l.transpose()) * 0.5)) * dt;
+                        if moving {
+                            *vol *= 1.0 + dt * l.trace();
+                        }
+                    }
+                });
+            }
+            Model::Svk(svk) => {
+                // the total Lagrangian frame only (checked at construction)
+                let both = (
+                    chunks(&mut points.deformation, CHUNK),
+                    chunks(&mut points.stress, CHUNK),
+                );
+                for_each_chunk(self.parallel, 1, both, |r, (deformation, piola)| {
+                    for (j, (f, s)) in deformation.iter_mut().zip(piola.iter_mut()).enumerate() {
+                        *f += self.velocity_gradient(r * CHUNK + j) * dt;
+                        *s = svk.piola(f);
+                    }
+                });
+            }
+        }
+    }
+
+    /// Points on a velocity edge take the prescribed normal velocity (as the paper does).
+    /// Returns the impulse this gives them, `Σ m_p Δv_p`.
+    pub(crate) fn impose_point_velocities(&self, points: &mut MaterialPoints<D>) -> Vector<D> {
+        let mut kick = Vector::<D>::zeros();
+        for &(p, axis, value) in &self.point_constraints {
+            kick[axis] += points.mass[p] * (value - points.velocity[p][axis]);
+            points.velocity[p][axis] = value;
+        }
+        kick
+    }
+}
