@@ -26,11 +26,11 @@ def test_grid_sampled_over_the_bottom_row_matches_the_csv(plate_out, method):
         assert grid.n_cells == NX * NY
         line = grid.sample_over_line((0.5 * dx, 0.5 * dy, 0.0), (L - 0.5 * dx, 0.5 * dy, 0.0),
                                      resolution=NX - 1)
-        sampled = np.asarray(line["stress"])[:, 0]
+        sampled = np.asarray(line["cauchy_stress"])[:, 0]
         profile = read_csv(plate_out / f"{method}_t{k}.csv")
-        scale = np.abs(profile["stress_xx"]).max()
+        scale = np.abs(profile["cauchy_stress_xx"]).max()
         assert scale > 1e7
-        np.testing.assert_allclose(sampled, profile["stress_xx"], rtol=0, atol=1e-10 * scale)
+        np.testing.assert_allclose(sampled, profile["cauchy_stress_xx"], rtol=0, atol=1e-10 * scale)
 
 
 @pytest.mark.parametrize("method", METHODS)
@@ -40,10 +40,10 @@ def test_sample_files_match_the_csv(plate_out, method):
         ref = np.asarray(points["reference"])
         bottom = ref[:, 1] <= ref[:, 1].min() + 1e-9
         order = np.argsort(ref[bottom, 0])
-        sxx = np.asarray(points["stress"])[bottom, 0][order]
+        sxx = np.asarray(points["cauchy_stress"])[bottom, 0][order]
         profile = read_csv(plate_out / f"{method}_t{k}.csv")
         np.testing.assert_allclose(ref[bottom, 0][order], profile["x"], rtol=0, atol=1e-12)
-        np.testing.assert_allclose(sxx, profile["stress_xx"], rtol=1e-11, atol=1e-3)
+        np.testing.assert_allclose(sxx, profile["cauchy_stress_xx"], rtol=1e-11, atol=1e-3)
 
 
 @pytest.mark.skipif(os.environ.get("IMPACT_HAS_HDF5") != "1", reason="impact built without the hdf5 feature")
@@ -61,6 +61,6 @@ def test_hdf5_series_matches_the_vtu_samples(plate_out, plate_summary, method):
             assert abs(step.attrs["time"] - t) <= 1e-12 * t
             points = pv.read(plate_out / f"{method}_t{k}.vtu")
             np.testing.assert_allclose(step["points"][:], np.asarray(points.points), rtol=1e-11, atol=1e-12)
-            np.testing.assert_allclose(step["stress"][:], np.asarray(points["stress"]), rtol=1e-11, atol=1e-3)
+            np.testing.assert_allclose(step["cauchy_stress"][:], np.asarray(points["cauchy_stress"]), rtol=1e-11, atol=1e-3)
             np.testing.assert_allclose(step["velocity"][:], np.asarray(points["velocity"]), rtol=1e-11, atol=1e-12)
-            assert f"{h5.name}:/step_{k}/stress" in xdmf
+            assert f"{h5.name}:/step_{k}/cauchy_stress" in xdmf

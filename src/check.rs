@@ -114,6 +114,7 @@ pub fn judge(
 
 /// Run the gate on `study` in dimension `D`.
 pub fn check_study<const D: usize>(study: &Study) -> Result<CheckReport> {
+    study.check_work(&[MethodKind::Dgmpm, MethodKind::Mpm])?;
     let problem = study.problem::<D>()?;
     let reference = crate::reference_for(&problem, false)?.with_context(|| {
         format!(

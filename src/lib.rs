@@ -7,7 +7,9 @@
 //! stability sweeps and work-precision ladders. `src/main.rs` only parses arguments and
 //! prints.
 pub mod check;
+pub mod interrupt;
 pub mod output;
+pub mod plots;
 pub mod reference;
 pub mod run;
 pub mod stability;

@@ -205,6 +205,7 @@ fn run_command(args: &RunArgs) -> Result<()> {
 }
 
 fn run_scene<const D: usize>(study: &Study, args: &RunArgs) -> Result<()> {
+    study.check_work(&args.method)?;
     let problem = study.problem::<D>()?;
     say!(
         "scene {} ({}D, {} cells, output times {:?} ms)",
@@ -414,6 +415,10 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
 
 fn main() {
     let cli = Cli::parse();
+    if let Err(e) = impact::interrupt::install() {
+        eprintln!("error: cannot install the SIGINT/SIGTERM handlers: {e}");
+        std::process::exit(2);
+    }
     let result = match &cli.command {
         Command::Run(a) => run_command(a).map(|_| true),
         Command::Check(a) => check_command(a),
@@ -445,7 +450,8 @@ fn main() {
         Ok(false) => std::process::exit(1),
         Err(e) => {
             eprintln!("error: {e:#}");
-            std::process::exit(2);
+            let interrupted = e.downcast_ref::<impact::interrupt::Interrupted>().is_some();
+            std::process::exit(if interrupted { 130 } else { 2 });
         }
     }
 }

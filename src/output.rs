@@ -1,4 +1,8 @@
-//! Writing a run's files: per method and output time a CSV profile (σ_xx and v_x along x;
+//! Writing a run's files. Stress arrays and columns are named by the measure the method
+//! carries ([`StressMeasure`]): `cauchy_stress` in small strain, `piola_stress` (first
+//! Piola–Kirchhoff) under Saint-Venant–Kirchhoff.
+//!
+//! Per method and output time a CSV profile (stress xx and v_x along x;
 //! the bottom row in 2D; with the reference as columns) and two `.vtu` files (the samples
 //! as vertices; the grid cells, or the FEM mesh, with their fields); per method a `.pvd`
 //! collection of each; with the `hdf5` feature a `<method>.h5` + `.xdmf` time series of the
@@ -8,8 +12,7 @@ use crate::run::{Observer, RunRecord};
 use anyhow::Context;
 use impact_core::method::Samples;
 use impact_core::reference::{bottom_row, Reference, TimeMetrics};
-use impact_core::{Grid, Method, Vector};
-use impact_io::plot::{colour_maps, line_panels, MapPanel, Panel, Series};
+use impact_core::{Grid, Method, StressMeasure, Vector};
 use impact_io::vtu::{write_pvd, write_vtu, CellType, DataArray, UnstructuredGrid};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -66,6 +69,8 @@ pub struct FileWriter<'a, const D: usize> {
     /// 3×3 stress tensors (`None`: the zz slot is 0: the 1D bar, and SVK, whose `Π_zz` is
     /// not tracked).
     pub plane_strain: Option<impact_core::LinearElastic>,
+    /// Which stress the samples carry: names the arrays and columns.
+    pub measure: StressMeasure,
     /// The `.h5` time series (feature `hdf5`), opened at the first output.
     #[cfg(feature = "hdf5")]
     h5: Option<impact_io::h5::TimeSeries>,
@@ -96,6 +101,7 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             t_end,
             files: true,
             plane_strain: None,
+            measure: StressMeasure::Cauchy,
             #[cfg(feature = "hdf5")]
             h5: None,
         }
@@ -172,7 +178,9 @@ impl<const D: usize> FileWriter<'_, D> {
         let sxx = col(&|i| s.stress[i][(0, 0)]);
         let vx = col(&|i| s.velocity[i][0]);
         let path = self.dir.join(format!("{}_t{}.csv", self.method, index));
-        let mut header = vec!["x", "x_current", "stress_xx", "velocity_x"];
+        let stress_column = self.measure.xx_column();
+        let reference_column = format!("reference_{stress_column}");
+        let mut header = vec!["x", "x_current", stress_column, "velocity_x"];
         let mut columns: Vec<Vec<f64>> = vec![x.clone(), xc, sxx.clone(), vx];
         if let Some(r) = self.reference {
             let exact: Vec<(f64, f64)> = order
@@ -182,7 +190,7 @@ impl<const D: usize> FileWriter<'_, D> {
                     r.averages(&(c - h), &(c + h), t)
                 })
                 .collect();
-            header.extend(["reference_stress_xx", "reference_velocity_x"]);
+            header.extend([reference_column.as_str(), "reference_velocity_x"]);
             columns.push(exact.iter().map(|e| e.0).collect());
             columns.push(exact.iter().map(|e| e.1).collect());
         }
@@ -217,7 +225,7 @@ impl<const D: usize> FileWriter<'_, D> {
                 cell_type: CellType::Vertex,
                 point_data: vec![
                     DataArray {
-                        name: "stress",
+                        name: self.measure.array_name(),
                         components: 9,
                         values: &stress,
                     },
@@ -241,7 +249,8 @@ impl<const D: usize> FileWriter<'_, D> {
         {
             if self.h5.is_none() {
                 let path = self.dir.join(format!("{}.h5", self.method));
-                self.h5 = Some(impact_io::h5::TimeSeries::create(&path)?);
+                let name = self.measure.array_name();
+                self.h5 = Some(impact_io::h5::TimeSeries::create(&path, name)?);
             }
             if let Some(series) = self.h5.as_mut() {
                 series.write_step(t, &points, &stress, &velocity)?;
@@ -319,7 +328,7 @@ impl<const D: usize> FileWriter<'_, D> {
                 point_data,
                 cell_data: vec![
                     DataArray {
-                        name: "stress",
+                        name: self.measure.array_name(),
                         components: 9,
                         values: &cell_stress,
                     },
@@ -360,161 +369,4 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         self.write_grid(method, index, t)?;
         Ok(())
     }
-}
-
-/// The reference's σ_xx along x at `t` (averaged over cells of `length/1000` and, in 2D,
-/// over the bottom band `[0, band]`), labelled `exact` or `reference`.
-fn reference_series(r: &Reference, t: f64, length: f64, band: f64) -> Series {
-    let n = 1000;
-    let dx = length / n as f64;
-    let points = (0..n)
-        .map(|i| {
-            let x = (i as f64 + 0.5) * dx;
-            let lo = Vector::<2>::new(x - 0.5 * dx, 0.0);
-            let hi = Vector::<2>::new(x + 0.5 * dx, band);
-            (x, r.averages(&lo, &hi, t).0)
-        })
-        .filter(|p| p.1.is_finite())
-        .collect();
-    let label = match r {
-        Reference::Bar(_) | Reference::SvkBar(_) => "exact",
-        Reference::Converged(_) => "reference",
-    };
-    Series {
-        label: label.into(),
-        points,
-        colour: 0,
-        reference: true,
-    }
-}
-
-/// Every method's profile at output time `t`.
-fn method_series(writers: &[(String, Profiles)], t: f64) -> Vec<Series> {
-    writers
-        .iter()
-        .enumerate()
-        .filter_map(|(m, (name, profiles))| {
-            profiles
-                .iter()
-                .find(|p| (p.0 - t).abs() <= 1e-12 * t.max(1e-30))
-                .map(|(_, pts)| Series {
-                    label: name.clone(),
-                    points: pts.clone(),
-                    colour: m + 1,
-                    reference: false,
-                })
-        })
-        .collect()
-}
-
-/// `stress.png`: one panel per output time (at most three), the reference and every
-/// method's σ_xx along x (the bottom row in 2D: the reference averaged over `band`).
-pub fn stress_plot(
-    path: &Path,
-    scene: &str,
-    writers: &[(String, Profiles)],
-    reference: Option<&Reference>,
-    length: f64,
-    band: f64,
-) -> anyhow::Result<()> {
-    let times: Vec<f64> = writers
-        .iter()
-        .map(|w| w.1.iter().map(|p| p.0).collect::<Vec<_>>())
-        .max_by_key(|t| t.len())
-        .unwrap_or_default();
-    let picks: Vec<usize> = match times.len() {
-        0..=3 => (0..times.len()).collect(),
-        n => vec![0, n / 2, n - 1],
-    };
-    let mut panels = Vec::new();
-    for &k in &picks {
-        let t = times[k];
-        let mut series: Vec<Series> = reference
-            .map(|r| reference_series(r, t, length, band))
-            .into_iter()
-            .collect();
-        series.extend(method_series(writers, t));
-        panels.push(Panel {
-            title: format!("{scene}: t = {:.4} ms", t * 1e3),
-            series,
-            y_label: None,
-        });
-    }
-    let y_label = if band > 0.0 {
-        "stress_xx along the bottom (Pa)"
-    } else {
-        "stress_xx (Pa)"
-    };
-    line_panels(path, &panels, "x (m)", y_label)?;
-    Ok(())
-}
-
-/// `svk.png` (large strain, 1D; the paper's Fig. 6): the current positions of DGMPM's
-/// points at each output time (top) and the first Piola–Kirchhoff stress of every method
-/// against the exact solution at the last output time (bottom).
-pub fn svk_plot(
-    path: &Path,
-    scene: &str,
-    positions: &[(f64, Vec<f64>)],
-    writers: &[(String, Profiles)],
-    reference: Option<&Reference>,
-    length: f64,
-) -> anyhow::Result<()> {
-    let mut top = Vec::new();
-    for (k, (t, xs)) in positions.iter().enumerate() {
-        top.push(Series {
-            label: format!("t = {:.4} ms", t * 1e3),
-            points: xs.iter().map(|&x| (x, t * 1e3)).collect(),
-            colour: k + 1,
-            reference: false,
-        });
-    }
-    let last = positions.last().map_or(0.0, |p| p.0);
-    let mut bottom: Vec<Series> = reference
-        .map(|r| reference_series(r, last, length, 0.0))
-        .into_iter()
-        .collect();
-    bottom.extend(method_series(writers, last));
-    let panels = [
-        Panel {
-            title: format!("{scene}: DGMPM point positions (time in ms on the vertical axis)"),
-            series: top,
-            y_label: Some("t (ms)".into()),
-        },
-        Panel {
-            title: format!(
-                "{scene}: first Piola-Kirchhoff stress at t = {:.4} ms",
-                last * 1e3
-            ),
-            series: bottom,
-            y_label: Some("Pi_xx (Pa)".into()),
-        },
-    ];
-    line_panels(path, &panels, "x (m)", "Pi_xx (Pa)")?;
-    Ok(())
-}
-
-/// `stress_map.png`: σ_xx per grid cell of each method at its last output time.
-pub fn stress_map(path: &Path, grid: &Grid<2>, maps: &[(String, CellMap)]) -> anyhow::Result<()> {
-    let upper = grid.upper();
-    let mut range: f64 = 0.0;
-    let mut panels = Vec::new();
-    for (name, map) in maps {
-        let Some((t, values)) = map else { continue };
-        range = values
-            .iter()
-            .filter(|v| v.is_finite())
-            .fold(range, |m, v| m.max(v.abs()));
-        panels.push(MapPanel {
-            title: format!("{name}: t = {:.4} ms", t * 1e3),
-            cells: grid.cells,
-            extent: [grid.origin[0], upper[0], grid.origin[1], upper[1]],
-            values: values.clone(),
-        });
-    }
-    if panels.is_empty() {
-        return Ok(());
-    }
-    colour_maps(path, &panels, range.max(1e-300), "stress_xx (Pa)")?;
-    Ok(())
 }

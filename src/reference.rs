@@ -39,28 +39,8 @@ pub fn reference_for<const D: usize>(
         fine.grid.cells[l] *= r;
         fine.grid.spacing[l] /= r as f64;
     }
-    // CTU at Courant 1 for linear elasticity; donor-cell with RK2 at Courant 0.9 for SVK
-    // (CTU is implemented for linear elasticity only; RK2 with donor-cell is stable to 1.0,
-    // and 0.9 ran bounded on the 132x100 SVK plate for 1 ms; at 0.5 it smears twice as much)
-    let linear = fine.model == impact_core::method::Model::LinearElastic;
-    let options = DgmpmOptions {
-        integrator: if linear {
-            Integrator::Euler
-        } else {
-            Integrator::Rk2
-        },
-        flux: if linear {
-            TransverseFlux::Ctu
-        } else {
-            TransverseFlux::DonorCell
-        },
-        ..DgmpmOptions::default()
-    };
-    let config = MethodConfig {
-        courant: if linear { 1.0 } else { 0.9 },
-        points_per_cell: 1,
-        options: MethodOptions::Dgmpm(options),
-    };
+    let config = converged_config(fine.model == impact_core::method::Model::LinearElastic);
+    let options = *config.dgmpm().expect("internal: a DGMPM configuration");
     let description = format!(
         "converged reference: DGMPM (1 ppc, {}, {}, Courant {}) on a {}x{} grid ({}x finer)",
         options.flux.name().to_uppercase(),
@@ -75,10 +55,58 @@ pub fn reference_for<const D: usize>(
         // a closed pipe only loses this line
         let _ = writeln!(std::io::stdout(), "computing the {description}");
     }
-    let mut method = crate::build(&fine, config)?;
+    let (stress_xx, velocity_x, work) = converged_run(problem, &fine, config)?;
+    let cells = fine.grid.cells;
+    Ok(Some(Reference::Converged(Box::new(Converged {
+        description,
+        cells: [cells[0], cells[D - 1]],
+        spacing: [fine.grid.spacing[0], fine.grid.spacing[D - 1]],
+        times: problem.output_times.clone(),
+        stress_xx,
+        velocity_x,
+        speed: problem.material.p_wave_speed::<D>(),
+        length: problem.grid.upper()[0] - problem.grid.origin[0],
+        coarse_dx: problem.grid.spacing[0],
+        work,
+    }))))
+}
+
+/// The converged reference's configuration.
+fn converged_config(linear: bool) -> MethodConfig {
+    // CTU at Courant 1 for linear elasticity; donor-cell with RK2 at Courant 0.9 for SVK
+    // (CTU is implemented for linear elasticity only; RK2 with donor-cell is stable to 1.0,
+    // and 0.9 ran bounded on the 132x100 SVK plate for 1 ms; at 0.5 it smears twice as much)
+    let options = DgmpmOptions {
+        integrator: if linear {
+            Integrator::Euler
+        } else {
+            Integrator::Rk2
+        },
+        flux: if linear {
+            TransverseFlux::Ctu
+        } else {
+            TransverseFlux::DonorCell
+        },
+        ..DgmpmOptions::default()
+    };
+    MethodConfig {
+        courant: if linear { 1.0 } else { 0.9 },
+        points_per_cell: 1,
+        options: MethodOptions::Dgmpm(options),
+    }
+}
+
+/// Step the fine `problem` to the coarse problem's output times, keeping σ_xx, v_x (one
+/// point per cell, stored cell by cell) and the external work at each.
+#[allow(clippy::type_complexity)]
+fn converged_run<const D: usize>(
+    problem: &Problem<D>,
+    fine: &Problem<D>,
+    config: MethodConfig,
+) -> anyhow::Result<(Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<f64>)> {
+    let mut method = crate::build(fine, config)?;
     let mut samples = impact_core::method::Samples::<D>::default();
     let (mut stress_xx, mut velocity_x, mut work) = (Vec::new(), Vec::new(), Vec::new());
-    let cells = fine.grid.cells;
     impact_core::controller::run::<D, dyn Method<D>, std::convert::Infallible>(
         method.as_mut(),
         &problem.output_times,
@@ -94,16 +122,5 @@ pub fn reference_for<const D: usize>(
         |_| {},
     )
     .map_err(|e| anyhow::anyhow!("the reference run failed: {e}"))?;
-    Ok(Some(Reference::Converged(Box::new(Converged {
-        description,
-        cells: [cells[0], cells[D - 1]],
-        spacing: [fine.grid.spacing[0], fine.grid.spacing[D - 1]],
-        times: problem.output_times.clone(),
-        stress_xx,
-        velocity_x,
-        speed: problem.material.p_wave_speed::<D>(),
-        length: problem.grid.upper()[0] - problem.grid.origin[0],
-        coarse_dx: problem.grid.spacing[0],
-        work,
-    }))))
+    Ok((stress_xx, velocity_x, work))
 }

@@ -1,6 +1,6 @@
 //! Running methods on a problem: the controller, metrics at every output time, and
 //! (optionally) the output files; [`run_study`] is `impact run`.
-use impact_core::controller::{self, Guard, RunError};
+use impact_core::controller::{self, RunError};
 use impact_core::method::{MethodConfig, Samples};
 use impact_core::reference::{Reference, TimeMetrics};
 use impact_core::{Blowup, Method, Problem};
@@ -70,7 +70,7 @@ pub fn run_method<const D: usize>(
     let result = controller::run::<D, dyn Method<D>, anyhow::Error>(
         method.as_mut(),
         &problem.output_times,
-        Guard::default(),
+        crate::interrupt::guard(),
         |m, index, t, steps| {
             let metrics = match reference {
                 Some(r) => r.evaluate(m, &mut samples, t, dx),
@@ -120,6 +120,9 @@ pub fn run_method<const D: usize>(
             Ok((record, Some(b)))
         }
         Err(RunError::Output(e)) => Err(e),
+        Err(e @ RunError::Interrupted { .. }) => {
+            Err(crate::interrupt::Interrupted(format!("{}: {e}", record.method)).into())
+        }
     }
 }
 
@@ -150,12 +153,13 @@ pub fn run_study<const D: usize>(
     kinds: &[impact_core::MethodKind],
     options: &RunOptions,
 ) -> anyhow::Result<RunReport> {
-    use crate::output::{stress_map, stress_plot, svk_plot, CellMap, FileWriter, Summary};
+    use crate::output::{CellMap, FileWriter, Summary};
     use impact_core::method::{MethodKind, Model};
+    study.check_work(kinds)?;
     let problem = study.problem::<D>()?;
+    let folder = impact_io::folder::OutputFolder::open(&options.out)?;
+    let dir = &folder.path().to_path_buf();
     let reference = crate::reference_for(&problem, !options.quiet)?;
-    let dir = &options.out;
-    impact_io::create_dir(dir)?;
     let mut summary = Summary {
         scene: study.name().to_string(),
         dim: D,
@@ -184,15 +188,12 @@ pub fn run_study<const D: usize>(
             problem.t_end,
         );
         writer.files = !options.no_files;
+        writer.measure = problem.model.stress_measure();
         if D == 2 && problem.model == Model::LinearElastic {
             writer.plane_strain = Some(problem.material);
         }
-        let (record, blowup) = run_method(
-            &problem,
-            study.config(kind),
-            reference.as_ref(),
-            &mut writer,
-        )?;
+        let config = study.config(kind);
+        let (mut record, blowup) = run_method(&problem, config, reference.as_ref(), &mut writer)?;
         writer.finish()?;
         if kind == MethodKind::Dgmpm {
             dgmpm_positions = std::mem::take(&mut writer.positions);
@@ -202,48 +203,73 @@ pub fn run_study<const D: usize>(
             kind.name().to_string(),
             std::mem::take(&mut writer.profiles),
         ));
-        failures.extend(blowup.map(|b| b.to_string()));
+        if let Some(b) = blowup {
+            let cause = crate::stability::diagnose_blowup(&problem, config)
+                .map_or(String::new(), |c| format!("; {c}"));
+            let message = format!("{b}{cause}");
+            record.error = Some(message.clone());
+            failures.push(message);
+        }
         summary.runs.push(record);
     }
     summary.peak_rss_mib = crate::output::peak_rss_mib();
     impact_io::write_json(&dir.join("summary.json"), &summary)?;
     if !options.no_files {
-        let length = problem.grid.upper()[0] - problem.grid.origin[0];
-        let band = if D > 1 { problem.grid.spacing[1] } else { 0.0 };
-        let name = study.name();
-        stress_plot(
-            &dir.join("stress.png"),
-            name,
-            &plots,
+        write_figures(
+            study.name(),
+            &problem,
             reference.as_ref(),
-            length,
-            band,
+            dir,
+            &plots,
+            &maps,
+            &dgmpm_positions,
         )?;
-        if D == 1 && matches!(problem.model, Model::Svk(_)) {
-            let svk = dir.join("svk.png");
-            svk_plot(
-                &svk,
-                name,
-                &dgmpm_positions,
-                &plots,
-                reference.as_ref(),
-                length,
-            )?;
-        }
-        if D == 2 {
-            let g = &problem.grid;
-            let grid2 = impact_core::Grid::<2> {
-                origin: impact_core::Vector::<2>::new(g.origin[0], g.origin[D - 1]),
-                spacing: impact_core::Vector::<2>::new(g.spacing[0], g.spacing[D - 1]),
-                cells: [g.cells[0], g.cells[D - 1]],
-            };
-            stress_map(&dir.join("stress_map.png"), &grid2, &maps)?;
-        }
     }
+    crate::interrupt::check()?;
+    folder.commit(concat!("impact ", env!("CARGO_PKG_VERSION")))?;
     Ok(RunReport {
         records: summary.runs,
         failures,
     })
+}
+
+/// The run's figures: `stress.png`, `svk.png` (1D SVK) and `stress_map.png` (2D).
+fn write_figures<const D: usize>(
+    name: &str,
+    problem: &impact_core::Problem<D>,
+    reference: Option<&impact_core::reference::Reference>,
+    dir: &std::path::Path,
+    plots: &[(String, crate::output::Profiles)],
+    maps: &[(String, crate::output::CellMap)],
+    dgmpm_positions: &[(f64, Vec<f64>)],
+) -> anyhow::Result<()> {
+    use crate::plots::{stress_map, stress_plot, svk_plot};
+    use impact_core::method::Model;
+    let length = problem.grid.upper()[0] - problem.grid.origin[0];
+    let band = if D > 1 { problem.grid.spacing[1] } else { 0.0 };
+    stress_plot(
+        &dir.join("stress.png"),
+        name,
+        problem.model.stress_measure(),
+        plots,
+        reference,
+        length,
+        band,
+    )?;
+    if D == 1 && matches!(problem.model, Model::Svk(_)) {
+        let svk = dir.join("svk.png");
+        svk_plot(&svk, name, dgmpm_positions, plots, reference, length)?;
+    }
+    if D == 2 {
+        let g = &problem.grid;
+        let grid2 = impact_core::Grid::<2> {
+            origin: impact_core::Vector::<2>::new(g.origin[0], g.origin[D - 1]),
+            spacing: impact_core::Vector::<2>::new(g.spacing[0], g.spacing[D - 1]),
+            cells: [g.cells[0], g.cells[D - 1]],
+        };
+        stress_map(&dir.join("stress_map.png"), &grid2, maps)?;
+    }
+    Ok(())
 }
 
 fn progress_bar(prefix: &'static str) -> indicatif::ProgressBar {

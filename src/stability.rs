@@ -449,3 +449,34 @@ pub fn write(dir: &std::path::Path, rows: &[StabilityRow]) -> anyhow::Result<()>
     )?;
     Ok(())
 }
+
+/// Why a run of `config` on `problem` may have blown up: when its Courant number is above
+/// the limit the stability test measures for the same configuration, material and cell
+/// size (the unloaded body of [`empirical_limit`], cut to 40 cells in 1D and 16×12 in 2D,
+/// 2000 or 500 steps), a sentence naming that limit; `None` when the Courant number is
+/// within it (the cause lies elsewhere: the load, the model).
+pub fn diagnose_blowup<const D: usize>(problem: &Problem<D>, config: MethodConfig) -> Option<String> {
+    let mut body = problem.clone();
+    let small = if D == 1 { [40, 1] } else { [16, 12] };
+    for l in 0..D {
+        body.grid.cells[l] = body.grid.cells[l].min(small[l.min(1)]);
+    }
+    let steps = if D == 1 { 2000 } else { 500 };
+    let limit = empirical_limit(&body, config, steps);
+    (config.courant > limit).then(|| {
+        format!(
+            "the Courant number {} is above {limit:.3}, the stability limit measured for this \
+             configuration ({}, {} points per cell, {}; the test of `impact stability`: {steps} \
+             steps of the unloaded body from a random perturbation): lower --courant{}",
+            config.courant,
+            config.kind(),
+            config.points_per_cell,
+            config.integrator_label(),
+            if config.dgmpm().is_some() {
+                " or use --integrator rk2"
+            } else {
+                ""
+            }
+        )
+    })
+}

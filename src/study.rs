@@ -1,10 +1,13 @@
 //! A [`Study`]: one scene and the command-line [`Overrides`], validated once, from which
 //! every command takes its problem and method configurations.
 use impact_core::method::{
-    Integrator, LoadDirection, MethodConfig, MethodKind, MpmFrame, PointUpdate, RiemannSolver,
-    StressUpdate, TransverseFlux,
+    EdgeKind, Integrator, LoadDirection, MethodConfig, MethodKind, MpmFrame, PointUpdate,
+    RiemannSolver, StressUpdate, TransverseFlux,
 };
-use impact_core::scene::{check_courant, check_points_per_cell, Scene, MAX_POINTS};
+use impact_core::scene::{
+    check_courant, check_output_times, check_points_per_cell, check_work, Scene,
+    DEFAULT_WORK_BUDGET, MAX_POINTS,
+};
 use impact_core::{CoreError, Problem, SceneError};
 
 /// Command-line overrides of a scene (each `None` keeps the scene's value). The option
@@ -45,12 +48,18 @@ pub struct Overrides {
     /// Magnitude of the pressure load in Pa (keeps the direction unless --load is given).
     #[arg(long, allow_negative_numbers = true)]
     pub load_magnitude: Option<f64>,
-    /// End time in seconds (outputs after it are dropped; it becomes the last output).
+    /// End time in seconds. With the scene's output times, those after it are dropped and
+    /// it becomes the last output; with --output-times, none may lie after it.
     #[arg(long, allow_negative_numbers = true)]
     pub t_end: Option<f64>,
     /// Output times in seconds, comma-separated and increasing.
     #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     pub output_times: Option<Vec<f64>>,
+    /// Largest work one method run may take, in point-updates (cells × points per cell ×
+    /// steps; default 1e11, about an hour on one core). Runs estimated above it are refused
+    /// before they start.
+    #[arg(long, allow_negative_numbers = true)]
+    pub work_budget: Option<f64>,
 }
 
 impl Overrides {
@@ -61,7 +70,7 @@ impl Overrides {
             let edge = [&mut scene.boundary.left, &mut scene.boundary.right]
                 .into_iter()
                 .flatten()
-                .find(|e| e.kind == "pressure")
+                .find(|e| e.kind == EdgeKind::Pressure)
                 .ok_or_else(|| {
                     SceneError::new("--load", "given", "a scene with a pressure-loaded end")
                 })?;
@@ -132,6 +141,43 @@ impl Overrides {
         if let Some(c) = self.courant {
             check_courant("--courant", c)?;
         }
+        self.apply_schedule(scene)
+    }
+
+    /// Apply `--output-times` and `--t-end` to the (validated) scene's time section.
+    fn apply_schedule(&self, scene: &mut Scene) -> Result<(), SceneError> {
+        if let Some(times) = &self.output_times {
+            check_output_times("--output-times", times)?;
+            scene.time.output_times = Some(times.clone());
+            scene.time.output_transits = None;
+            scene.time.t_end = None;
+        }
+        if let Some(t_end) = self.t_end {
+            if !(t_end.is_finite() && t_end > 0.0) {
+                return Err(SceneError::new(
+                    "--t-end",
+                    t_end,
+                    "a positive finite time in s",
+                ));
+            }
+            if self.output_times.is_none() {
+                let (mut times, _) = scene.schedule_seconds();
+                times.retain(|&t| t < t_end * (1.0 - 1e-12));
+                times.push(t_end);
+                scene.time.output_times = Some(times);
+                scene.time.output_transits = None;
+            }
+            scene.time.t_end = Some(t_end);
+        }
+        if let Some(budget) = self.work_budget {
+            if !(budget.is_finite() && budget >= 1.0) {
+                return Err(SceneError::new(
+                    "--work-budget",
+                    budget,
+                    "a finite number of point-updates, at least 1",
+                ));
+            }
+        }
         Ok(())
     }
 
@@ -167,11 +213,27 @@ pub struct Study {
 }
 
 impl Study {
-    /// Apply `overrides` to `scene` (parsed, not yet validated) and validate the result.
+    /// Validate `scene` (parsed, not yet validated: errors name its fields), apply
+    /// `overrides` (errors name the flags) and validate the result again (errors name the
+    /// field and say the overrides are in effect).
     pub fn new(mut scene: Scene, overrides: Overrides) -> Result<Self, SceneError> {
-        overrides.apply_to_scene(&mut scene)?;
         scene.validate()?;
+        overrides.apply_to_scene(&mut scene)?;
+        scene.validate().map_err(|mut e| {
+            e.field = format!("{} (with the command-line overrides)", e.field);
+            e
+        })?;
         Ok(Self { scene, overrides })
+    }
+
+    /// Refuse, before anything is allocated, a run of `kinds` whose estimated work exceeds
+    /// the budget (`--work-budget`, default [`DEFAULT_WORK_BUDGET`]).
+    pub fn check_work(&self, kinds: &[MethodKind]) -> Result<(), SceneError> {
+        let budget = self.overrides.work_budget.unwrap_or(DEFAULT_WORK_BUDGET);
+        for &kind in kinds {
+            check_work(&self.scene.work_estimate(&self.config(kind)), budget)?;
+        }
+        Ok(())
     }
 
     /// Scene name.
@@ -196,11 +258,8 @@ impl Study {
         self.scene.method_config(kind)
     }
 
-    /// The problem in dimension `D`, with the schedule overrides (`--t-end`,
-    /// `--output-times`).
+    /// The problem in dimension `D` (the schedule overrides are in the scene).
     pub fn problem<const D: usize>(&self) -> Result<Problem<D>, CoreError> {
-        let mut problem = Problem::<D>::from_valid_scene(&self.scene)?;
-        problem.set_schedule(self.overrides.output_times.clone(), self.overrides.t_end)?;
-        Ok(problem)
+        Problem::<D>::from_valid_scene(&self.scene)
     }
 }

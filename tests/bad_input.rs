@@ -1,120 +1,57 @@
 //! Every bad scene value and flag gets an error naming the field, the value and what is
-//! allowed; never a panic.
+//! allowed, before anything is allocated or written; never a panic. Valid edge cases run.
 use impact_core::Scene;
 use std::process::Command;
 
 const BAR: &str = include_str!("../scenes/bar.toml");
 
-fn expect_scene_error(edit: impl Fn(&str) -> String, fragments: &[&str]) {
-    let text = edit(BAR);
-    let err = Scene::from_toml(&text, "test.toml")
-        .expect_err("must be rejected")
-        .to_string();
-    for f in fragments {
-        assert!(err.contains(f), "error {err:?} should contain {f:?}");
-    }
+/// The `impact` binary on `args`, with its output folder under a fresh temporary path.
+fn impact(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_impact"))
+        .args(args)
+        .output()
+        .expect("run impact")
 }
 
+/// Every file of `tests/bad-scenes/` is refused before anything is written, with exit
+/// status 2, no panic, and a message holding each fragment of its `# expect:` line
+/// (fragments separated by `|`: the field path, the value, what is allowed).
 #[test]
-fn bad_scene_values_are_named() {
-    // (text replaced in the paper's bar, its replacement, fragments the error must hold)
-    let cases: &[(&str, &str, &[&str])] = &[
-        ("dim = 1", "dim = 3", &["`dim`", "3", "1 or 2"]),
-        (
-            "length = [6.0]",
-            "length = [-6.0]",
-            &["domain.length[0]", "-6", "positive"],
-        ),
-        (
-            "cells = [150]",
-            "cells = [0]",
-            &["domain.cells[0]", "0", "at least 1"],
-        ),
-        (
-            "cells = [150]",
-            "cells = [150, 4]",
-            &["domain.cells", "1 cell counts"],
-        ),
-        (
-            "poisson = 0.3",
-            "poisson = 0.5",
-            &["material.poisson", "0.5", "(-1, 0.5)"],
-        ),
-        (
-            "density = 7800.0",
-            "density = 0.0",
-            &["material.density", "0", "positive"],
-        ),
-        (
-            "young = 2.0e11",
-            "young = -1.0",
-            &["material.young", "-1", "positive"],
-        ),
-        (
-            "\"linear-elastic\"",
-            "\"plastic\"",
-            &["material.model", "plastic", "linear-elastic"],
-        ),
-        (
-            "[dgmpm]\ncourant = 1.0",
-            "[dgmpm]\ncourant = 2.5",
-            &["dgmpm.courant", "2.5", "(0, 2]"],
-        ),
-        (
-            "[mpm]\ncourant = 0.5",
-            "[mpm]\ncourant = 0.0",
-            &["mpm.courant", "0", "(0, 2]"],
-        ),
-        (
-            "points_per_cell = 1 ",
-            "points_per_cell = 0 ",
-            &["domain.points_per_cell", "0", "1 to 64"],
-        ),
-        (
-            "{ kind = \"free\" }",
-            "{ kind = \"clamped\" }",
-            &["boundary.right.kind", "clamped", "\"free\""],
-        ),
-        (
-            "kind = \"pressure\", value = 1.0e9",
-            "kind = \"pressure\"",
-            &["boundary.left.value", "missing", "finite"],
-        ),
-        (
-            "right = { kind = \"free\" }",
-            "right = { kind = \"free\" }\nbottom = { kind = \"free\" }",
-            &["boundary.bottom", "only `left` and `right` in 1D"],
-        ),
-        (
-            "[50, 100, 200]",
-            "[100, 50]",
-            &["time.output_transits", "increasing"],
-        ),
-        (
-            "output_transits = [50, 100, 200]",
-            "output_transits = [50]\noutput_times = [1e-3]",
-            &["`time`", "one of"],
-        ),
-        (
-            "integrator = \"euler\"",
-            "integrator = \"rk4\"",
-            &["dgmpm.integrator", "rk4", "\"euler\" or \"rk2\""],
-        ),
-        (
-            "update = \"nodal\"",
-            "update = \"flip\"",
-            &["dgmpm.update", "flip", "\"nodal\" or \"increment\""],
-        ),
-        (
-            "name = \"bar\"",
-            "name = \"my bar!\"",
-            &["`name`", "letters, digits"],
-        ),
-    ];
-    assert_eq!(cases.len(), 19);
-    for (from, to, fragments) in cases {
-        assert!(BAR.contains(from), "the case must edit the scene: {from:?}");
-        expect_scene_error(|s| s.replace(from, to), fragments);
+fn every_bad_scene_is_refused_with_its_field_value_and_range() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad-scenes");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 60, "{} bad scenes", files.len());
+    let out = std::env::temp_dir().join(format!("impact-bad-{}", std::process::id()));
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        let expect = text
+            .lines()
+            .next()
+            .and_then(|l| l.strip_prefix("# expect: "))
+            .unwrap_or_else(|| panic!("{}: first line must be `# expect: ...`", file.display()));
+        let o = impact(&[
+            "run",
+            file.to_str().unwrap(),
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        let name = file.file_name().unwrap().to_string_lossy();
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert!(!err.contains("panicked"), "{name}: {err}");
+        assert!(!out.exists(), "{name}: refused input must write nothing");
+        for fragment in expect.split('|').map(str::trim) {
+            assert!(
+                err.contains(fragment),
+                "{name}: {err:?} should contain {fragment:?}"
+            );
+        }
     }
 }
 
@@ -184,7 +121,70 @@ fn bad_flags_are_named() {
     );
     cli_error(
         &["run", "bar", "--t-end", "-1"],
-        &["t_end", "-1", "positive"],
+        &["--t-end", "-1", "positive"],
+    );
+    cli_error(
+        &["run", "bar", "--t-end", "1e300"],
+        &["work of dgmpm", "point-updates", "--work-budget"],
+    );
+    cli_error(
+        &["run", "bar", "--courant", "1e-300"],
+        &["work of dgmpm", "--work-budget"],
+    );
+    cli_error(
+        &["run", "bar", "--work-budget", "0"],
+        &["--work-budget", "0", "at least 1"],
+    );
+    cli_error(
+        &["run", "bar", "--work-budget", "1000"],
+        &["work of dgmpm", "at most 1.0e3 point-updates"],
+    );
+    cli_error(
+        &[
+            "run",
+            "bar",
+            "--output-times",
+            "1e-4,2e-3",
+            "--t-end",
+            "1e-3",
+        ],
+        &[
+            "time.output_times (with the command-line overrides)",
+            "after time.t_end",
+        ],
+    );
+    cli_error(
+        &["run", "bar", "--output-times", "5e-324"],
+        &["time.output_times", "5e-324", "finite normal"],
+    );
+    cli_error(
+        &["run", "bar", "--load-magnitude", "1e11"],
+        &[
+            "boundary.left.value (with the command-line overrides)",
+            "strain of at most 0.1",
+        ],
+    );
+    cli_error(
+        &["run", "bar", "--load-magnitude", "0"],
+        &["--load-magnitude", "0", "positive"],
+    );
+    cli_error(
+        &["run", "plate", "--load", "tension"],
+        &["--load", "pressure-loaded end"],
+    );
+    cli_error(&["run", "bar", "--flux", "ctu"], &["--flux", "only in 2D"]);
+    cli_error(
+        &["run", "plate", "--points-per-cell", "2"],
+        &["--points-per-cell", "2", "square number"],
+    );
+    cli_error(
+        &["run", "bar", "--cells", "18446744073709551616"],
+        &["--cells", "18446744073709551616"],
+    );
+    cli_error(&["run", "bar", "--courant", "inf"], &["--courant", "inf"]);
+    cli_error(
+        &["run", "bar", "--out", "/proc/impact-cannot-write-here"],
+        &["cannot write /proc/.impact-cannot-write-here.lock", "(os error"],
     );
     cli_error(
         &["run", "plate-of-gold"],
@@ -195,4 +195,175 @@ fn bad_flags_are_named() {
         &["cannot read scene file", "no/such/file.toml"],
     );
     cli_error(&["check", "bar", "--courant", "nan"], &["--courant", "NaN"]);
+}
+
+/// Edge cases at the ends of the allowed ranges run to completion (exit 0) with finite
+/// metrics.
+#[test]
+fn valid_edge_cases_run() {
+    let plate = include_str!("../scenes/plate.toml");
+    let svk = include_str!("../scenes/svk-bar.toml");
+    let r = |base: &str, from: &str, to: &str| {
+        assert!(base.contains(from), "{from}");
+        base.replacen(from, to, 1)
+    };
+    let cases: Vec<(&str, String, Vec<&str>)> = vec![
+        ("one cell", r(BAR, "cells = [150]", "cells = [1]"), vec![]),
+        (
+            "two cells in 2D",
+            r(plate, "cells = [33, 25]", "cells = [2, 2]")
+                .replace("from = 0.0, to = 1.0", "from = 0.0, to = 1.5"),
+            vec![],
+        ),
+        (
+            "largest strain",
+            r(BAR, "value = 1.0e9", "value = 2.0e10"),
+            vec![],
+        ),
+        (
+            "64 points per cell in 1D",
+            r(BAR, "points_per_cell = 1 ", "points_per_cell = 64 "),
+            vec!["--cells", "10", "--courant", "0.4"],
+        ),
+        (
+            "64 points per cell in 2D",
+            r(plate, "points_per_cell = 1 ", "points_per_cell = 64 "),
+            vec!["--cells", "6", "--courant", "0.4"],
+        ),
+        (
+            "segment of one face",
+            r(plate, "from = 0.0, to = 1.0", "from = 0.05, to = 0.07"),
+            vec![],
+        ),
+        (
+            "nondimensional",
+            r(
+                &r(
+                    &r(BAR, "young = 2.0e11", "young = 1.0"),
+                    "density = 7800.0",
+                    "density = 1.0",
+                ),
+                "value = 1.0e9",
+                "value = 0.01",
+            ),
+            vec![],
+        ),
+        (
+            "extreme but consistent units",
+            r(
+                &r(
+                    &r(BAR, "young = 2.0e11", "young = 1e-30"),
+                    "density = 7800.0",
+                    "density = 1e-30",
+                ),
+                "value = 1.0e9",
+                "value = 1e-33",
+            ),
+            vec![],
+        ),
+        (
+            "nearly incompressible",
+            r(plate, "poisson = 0.3", "poisson = 0.499"),
+            vec![],
+        ),
+        (
+            "1000 outputs",
+            r(
+                BAR,
+                "[50, 100, 200]",
+                &format!(
+                    "[{}]",
+                    (1..=1000)
+                        .map(|k| k.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ),
+            vec!["--cells", "20"],
+        ),
+        (
+            "output at the end time",
+            r(
+                BAR,
+                "output_transits = [50, 100, 200]",
+                "output_times = [1e-4, 2e-4]\nt_end = 2e-4",
+            ),
+            vec![],
+        ),
+        (
+            "fixed wall",
+            r(
+                BAR,
+                "right = { kind = \"free\" }",
+                "right = { kind = \"velocity\", value = 0.0 }",
+            ),
+            vec![],
+        ),
+        (
+            "SVK at 90 % of the hyperbolicity limit",
+            r(svk, "value = 8.0e8", "value = 1.7e10"),
+            vec!["--method", "dgmpm"],
+        ),
+    ];
+    assert!(cases.len() >= 10);
+    let base = std::env::temp_dir().join(format!("impact-edge-{}", std::process::id()));
+    std::fs::create_dir_all(&base).unwrap();
+    for (k, (what, scene, extra)) in cases.iter().enumerate() {
+        let file = base.join(format!("edge{k}.toml"));
+        std::fs::write(&file, scene).unwrap();
+        let out = base.join(format!("out{k}"));
+        let mut args = vec![
+            "run",
+            file.to_str().unwrap(),
+            "--quiet",
+            "--no-files",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend(extra.iter().copied());
+        let o = impact(&args);
+        assert!(
+            o.status.success(),
+            "{what}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        for run in summary["runs"].as_array().unwrap() {
+            for t in run["times"].as_array().unwrap() {
+                assert!(t["energy_rel"].is_number(), "{what}: {t}");
+            }
+        }
+    }
+}
+
+/// An end time of exactly one stable step takes one step, and DGMPM at Courant 1 is exact
+/// after it.
+#[test]
+fn an_end_time_of_one_step_takes_one_step() {
+    let scene = Scene::builtin("bar").unwrap();
+    let problem = impact_core::Problem::<1>::from_scene(&scene).unwrap();
+    let transit = problem.cell_transit_time();
+    let out = std::env::temp_dir().join(format!("impact-one-step-{}", std::process::id()));
+    let t_end = format!("{transit:e}");
+    let o = impact(&[
+        "run",
+        "bar",
+        "--method",
+        "dgmpm",
+        "--t-end",
+        &t_end,
+        "--quiet",
+        "--no-files",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let run = &summary["runs"][0];
+    assert_eq!(run["steps"], 1, "{run}");
+    let l1 = run["times"][0]["l1_rel"].as_f64().unwrap();
+    assert!(l1 < 1e-12, "{l1}");
 }

@@ -81,11 +81,13 @@ fn run_bar_writes_every_output_and_the_table() {
         for k in 0..3 {
             let csv = std::fs::read_to_string(out.join(format!("{m}_t{k}.csv"))).unwrap();
             assert!(csv.starts_with(
-                "x,x_current,stress_xx,velocity_x,reference_stress_xx,reference_velocity_x"
+                "x,x_current,cauchy_stress_xx,velocity_x,reference_cauchy_stress_xx,reference_velocity_x"
             ));
             assert_eq!(csv.lines().count(), 151);
             let vtu = std::fs::read_to_string(out.join(format!("{m}_t{k}.vtu"))).unwrap();
-            assert!(vtu.contains("NumberOfPoints=\"150\"") && vtu.contains("Name=\"stress\""));
+            assert!(
+                vtu.contains("NumberOfPoints=\"150\"") && vtu.contains("Name=\"cauchy_stress\"")
+            );
         }
         assert!(out.join(format!("{m}.pvd")).exists());
         assert!(out.join(format!("{m}_grid.pvd")).exists());
@@ -338,4 +340,39 @@ fn a_fine_plate_runs_without_a_reference_it_cannot_afford() {
     assert!(s["reference"].as_str().unwrap().starts_with("none"));
     assert_eq!(s["runs"][0]["cells"], 1000 * 758);
     std::fs::remove_dir_all(&out).unwrap();
+}
+
+/// Under Saint-Venant–Kirchhoff the files name the first Piola–Kirchhoff stress, and the
+/// column holds it: it matches the exact `P` of the reference column away from the fronts.
+#[test]
+fn svk_outputs_name_and_hold_the_first_piola_kirchhoff_stress() {
+    let out = tmp("svk-names");
+    let o = impact(&[
+        "run",
+        "svk-bar",
+        "--method",
+        "dgmpm",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let csv = std::fs::read_to_string(out.join("dgmpm_t0.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    assert_eq!(header[2], "piola_stress_xx");
+    assert_eq!(header[4], "reference_piola_stress_xx");
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let scale = rows.iter().fold(0.0f64, |m, r| m.max(r[4].abs()));
+    assert!(scale > 0.0);
+    let close = rows
+        .iter()
+        .filter(|r| (r[2] - r[4]).abs() < 0.05 * scale)
+        .count();
+    assert!(close * 10 >= rows.len() * 8, "{close} of {}", rows.len());
+    let vtu = std::fs::read_to_string(out.join("dgmpm_t0.vtu")).unwrap();
+    assert!(vtu.contains("Name=\"piola_stress\"") && !vtu.contains("Name=\"cauchy_stress\""));
 }

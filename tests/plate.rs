@@ -188,8 +188,8 @@ fn centred_impact_stays_mirror_symmetric() {
     let mut sc = scene("plate-wave");
     sc.boundary.left.as_mut().unwrap().from = Some(1.0);
     sc.boundary.left.as_mut().unwrap().to = Some(2.0);
-    sc.boundary.bottom.as_mut().unwrap().kind = "free".into();
-    sc.boundary.top.as_mut().unwrap().kind = "free".into();
+    sc.boundary.bottom.as_mut().unwrap().kind = impact_core::method::EdgeKind::Free;
+    sc.boundary.top.as_mut().unwrap().kind = impact_core::method::EdgeKind::Free;
     let problem = Problem::<2>::from_scene(&sc).unwrap();
     let scale_s = problem.material.density * problem.material.p_wave_speed::<2>() * 5.0;
     let cases = [

@@ -126,18 +126,22 @@ fn dgmpm_error_is_below_mpm_on_both_loads() {
     }
 }
 
-/// A velocity impact strong enough to compress past F = 1/√3 is stopped by the guard in
+/// A velocity impact strong enough to compress past F = 1/√3 is refused by the scene check,
+/// naming the limit; behind that check (a scene built without it), the guard stops it in
 /// every method, with the step, time and place, and the reason.
 #[test]
 fn a_run_that_loses_hyperbolicity_is_stopped() {
     let mut scene = Scene::builtin("svk-bar").unwrap();
     scene.boundary.left = Some(impact_core::scene::EdgeSpec {
-        kind: "velocity".into(),
+        kind: impact_core::method::EdgeKind::Velocity,
         value: Some(3000.0),
         from: None,
         to: None,
     });
-    let problem = Problem::<1>::from_scene(&scene).unwrap();
+    let refused = scene.validate().unwrap_err();
+    assert_eq!(refused.field, "boundary.left.value");
+    assert!(refused.allowed.contains("hyperbolicity"), "{refused}");
+    let problem = Problem::<1>::from_valid_scene(&scene).unwrap();
     for kind in MethodKind::ALL {
         let (_, err) = run_method(&problem, scene.method_config(kind), None, &mut Silent).unwrap();
         let err = err.unwrap_or_else(|| panic!("{kind:?} must be stopped"));

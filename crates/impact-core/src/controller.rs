@@ -19,6 +19,9 @@ pub struct Guard {
     pub check_every: usize,
     /// Stop when `energy > growth · (work + initial energy) + floor`.
     pub growth: f64,
+    /// Stop (with [`RunError::Interrupted`]) once this flag is set: read after every step
+    /// (the CLI sets it on SIGINT and SIGTERM).
+    pub stop: Option<&'static std::sync::atomic::AtomicBool>,
 }
 
 impl Default for Guard {
@@ -26,6 +29,7 @@ impl Default for Guard {
         Self {
             check_every: 10,
             growth: 10.0,
+            stop: None,
         }
     }
 }
@@ -46,6 +50,13 @@ pub enum RunError<E> {
     Blowup(Blowup),
     /// The output callback failed.
     Output(E),
+    /// The stop flag was set.
+    Interrupted {
+        /// Steps taken.
+        step: usize,
+        /// Time reached (s).
+        time: f64,
+    },
 }
 
 impl<E: std::fmt::Display> std::fmt::Display for RunError<E> {
@@ -53,6 +64,9 @@ impl<E: std::fmt::Display> std::fmt::Display for RunError<E> {
         match self {
             RunError::Blowup(b) => write!(f, "{b}"),
             RunError::Output(e) => write!(f, "output failed: {e}"),
+            RunError::Interrupted { step, time } => {
+                write!(f, "interrupted at step {step}, t = {time:.6e} s")
+            }
         }
     }
 }
@@ -140,6 +154,15 @@ where
                     check(method, steps, t1).map_err(RunError::Blowup)?;
                 }
                 on_progress(t1);
+                if guard
+                    .stop
+                    .is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed))
+                {
+                    return Err(RunError::Interrupted {
+                        step: steps,
+                        time: t1,
+                    });
+                }
             }
             wall += start.elapsed().as_secs_f64();
             t = t_out;

@@ -18,10 +18,20 @@ impl SceneError {
     pub fn new(field: impl Into<String>, value: impl ToString, allowed: impl Into<String>) -> Self {
         Self {
             field: field.into(),
-            value: value.to_string(),
+            value: readable(value.to_string()),
             allowed: allowed.into(),
         }
     }
+}
+
+/// A number too long to read as written (`1e300` prints 301 digits) in scientific form.
+fn readable(value: String) -> String {
+    if value.len() > 16 && !value.contains('e') {
+        if let Ok(v) = value.parse::<f64>() {
+            return format!("{v:e}");
+        }
+    }
+    value
 }
 
 /// Errors of the core library.
@@ -39,7 +49,7 @@ pub enum CoreError {
         message: String,
     },
     /// The scene file could not be read.
-    #[error("cannot read scene file {path}: {source}")]
+    #[error("cannot read scene file {path}")]
     Io {
         /// File path.
         path: String,

@@ -29,7 +29,7 @@ pub use error::{CoreError, SceneError};
 pub use grid::Grid;
 pub use material::{Lame, LinearElastic, YoungPoisson};
 pub use method::{Blowup, Method, MethodKind, Samples};
-pub use problem::{Boundary, Problem};
+pub use problem::{Boundary, Problem, StressMeasure};
 pub use scene::Scene;
 
 /// Vector of dimension `D`.

@@ -1,7 +1,8 @@
 //! The [`Method`] trait shared by DGMPM, MPM and FEM, and the sampled fields they return.
 pub use crate::options::{
-    DgmpmOptions, FemOptions, Integrator, LoadDirection, MethodConfig, MethodKind, MethodOptions,
-    MpmFrame, MpmOptions, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
+    DgmpmOptions, EdgeKind, FemOptions, Integrator, LoadDirection, MaterialModel, MethodConfig,
+    MethodKind, MethodOptions, MpmFrame, MpmOptions, PointUpdate, RiemannSolver, StressUpdate,
+    TransverseFlux,
 };
 pub use crate::problem::Model;
 use crate::{Tensor, Vector};
@@ -42,9 +43,14 @@ impl<const D: usize> Samples<D> {
     }
 }
 
+fn show_place(place: &[f64]) -> String {
+    let parts: Vec<String> = place.iter().map(|x| format!("{x:.6}")).collect();
+    format!("({})", parts.join(", "))
+}
+
 /// A run stopped by the stability guard: which method, when and where.
 #[derive(Debug, Clone, PartialEq, Error)]
-#[error("{method} blew up at step {step}, t = {time:.6e} s, near x = {place:?}: {reason}")]
+#[error("{method} blew up at step {step}, t = {time:.6e} s, near x = {} m: {reason}", show_place(place))]
 pub struct Blowup {
     /// Method name.
     pub method: String,

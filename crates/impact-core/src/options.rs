@@ -173,6 +173,30 @@ option_enum! {
     }
 }
 
+option_enum! {
+    /// Constitutive model of a scene (`material.model`).
+    MaterialModel {
+        /// Small-strain linear elasticity: Cauchy stress, points fixed in the reference grid.
+        LinearElastic = "linear-elastic",
+        /// Saint-Venant–Kirchhoff, total Lagrangian (large strain; paper §5.3).
+        Svk = "svk",
+    }
+}
+
+option_enum! {
+    /// Condition on one edge of the body (`boundary.<edge>.kind`).
+    EdgeKind {
+        /// Traction-free.
+        Free = "free",
+        /// Normal pressure `value` (Pa, positive in compression) on the segment.
+        Pressure = "pressure",
+        /// Normal velocity `value` (m/s, into the body) on the segment.
+        Velocity = "velocity",
+        /// Zero normal velocity and zero shear traction (a mirror plane).
+        Symmetry = "symmetry",
+    }
+}
+
 /// DGMPM's options.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct DgmpmOptions {

@@ -1,6 +1,7 @@
 //! A validated scene turned into typed data for dimension `D`: grid, material, boundary
 //! conditions (one per side of each axis) and the output schedule.
 use crate::error::{CoreError, SceneError};
+use crate::options::{EdgeKind, MaterialModel};
 use crate::scene::{points_per_axis, EdgeSpec, Scene};
 use crate::{Grid, LinearElastic, Tensor, Vector};
 
@@ -45,6 +46,54 @@ pub enum Model {
     LinearElastic,
     /// Saint-Venant–Kirchhoff, total Lagrangian (deformation gradient `F`, stress `Π`).
     Svk(crate::material::Svk),
+}
+
+impl Model {
+    /// Which stress the model's points carry and the outputs write.
+    pub fn stress_measure(&self) -> StressMeasure {
+        match self {
+            Model::LinearElastic => StressMeasure::Cauchy,
+            Model::Svk(_) => StressMeasure::FirstPiola,
+        }
+    }
+}
+
+/// The stress measure in a run's outputs: the Cauchy stress `σ` in small strain (where it
+/// equals every other measure to first order), the first Piola–Kirchhoff stress
+/// `P = Π = F·S` in large strain (total Lagrangian: force per reference area, the paper's
+/// eq. (2)). Array and column names carry it, so a file never says `stress` alone.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StressMeasure {
+    /// Cauchy stress `σ` (linear elasticity).
+    Cauchy,
+    /// First Piola–Kirchhoff stress `P` (Saint-Venant–Kirchhoff).
+    FirstPiola,
+}
+
+impl StressMeasure {
+    /// The array name in VTU, HDF5 and XDMF: `cauchy_stress` or `piola_stress`.
+    pub fn array_name(self) -> &'static str {
+        match self {
+            StressMeasure::Cauchy => "cauchy_stress",
+            StressMeasure::FirstPiola => "piola_stress",
+        }
+    }
+
+    /// The CSV column of the xx component: `cauchy_stress_xx` or `piola_stress_xx`.
+    pub fn xx_column(self) -> &'static str {
+        match self {
+            StressMeasure::Cauchy => "cauchy_stress_xx",
+            StressMeasure::FirstPiola => "piola_stress_xx",
+        }
+    }
+
+    /// A plot label for the xx component.
+    pub fn xx_label(self) -> &'static str {
+        match self {
+            StressMeasure::Cauchy => "Cauchy stress σ_xx",
+            StressMeasure::FirstPiola => "first Piola–Kirchhoff stress P_xx",
+        }
+    }
 }
 
 /// A scene in typed form for dimension `D`.
@@ -93,49 +142,20 @@ impl<const D: usize> Problem<D> {
         };
         let m = &scene.material;
         let material = LinearElastic::new(m.young, m.poisson, m.density);
-        let model = match m.model.as_str() {
-            "svk" => Model::Svk(crate::material::Svk::new(material)),
-            _ => Model::LinearElastic,
+        let model = match m.model {
+            MaterialModel::Svk => Model::Svk(crate::material::Svk::new(material)),
+            MaterialModel::LinearElastic => Model::LinearElastic,
         };
         let b = &scene.boundary;
         let sides = [[&b.left, &b.right], [&b.bottom, &b.top]];
         let mut boundaries = [[Boundary::Free; 2]; D];
         for (l, pair) in boundaries.iter_mut().enumerate() {
             for (side, bc) in pair.iter_mut().enumerate() {
-                *bc = sides[l][side].as_ref().map_or(Boundary::Free, to_boundary);
+                let spec = sides.get(l).and_then(|pair| pair[side].as_ref());
+                *bc = spec.map_or(Boundary::Free, to_boundary);
             }
         }
-        let transit = grid.min_spacing() / material.p_wave_speed::<D>();
-        let output_times: Vec<f64> = match (&scene.time.output_times, &scene.time.output_transits) {
-            (Some(t), _) => t.clone(),
-            (None, Some(n)) => n.iter().map(|n| n * transit).collect(),
-            (None, None) => unreachable!("internal: validated scene has output times"),
-        };
-        let last = *output_times.last().expect("internal: validated non-empty");
-        let t_end = scene.time.t_end.unwrap_or(last);
-        if let Model::Svk(svk) = model {
-            let (f_lim, pi_lim) = svk.hyperbolicity_limit_1d();
-            for (name, e) in [
-                ("left", &b.left),
-                ("right", &b.right),
-                ("bottom", &b.bottom),
-                ("top", &b.top),
-            ] {
-                let Some(e) = e else { continue };
-                if e.kind == "pressure" && e.value.unwrap_or(0.0) >= -pi_lim {
-                    return Err(SceneError::new(
-                        format!("boundary.{name}.value"),
-                        e.value.unwrap_or(0.0),
-                        format!(
-                            "a compression below the SVK hyperbolicity limit E/(3√3) = {:.4e} Pa \
-                             (uniaxial F = 1/√3 = {f_lim:.4}, where Π' = 0)",
-                            -pi_lim
-                        ),
-                    )
-                    .into());
-                }
-            }
-        }
+        let (output_times, t_end) = scene.schedule_seconds();
         let mut problem = Self {
             name: scene.name.clone(),
             grid,
@@ -240,16 +260,16 @@ fn to_boundary(e: &EdgeSpec) -> Boundary {
         (None, None) => None,
         (a, b) => Some((a.unwrap_or(f64::NEG_INFINITY), b.unwrap_or(f64::INFINITY))),
     };
-    match e.kind.as_str() {
-        "pressure" => Boundary::Pressure {
+    match e.kind {
+        EdgeKind::Pressure => Boundary::Pressure {
             value: e.value.unwrap_or_default(),
             segment,
         },
-        "velocity" => Boundary::Velocity {
+        EdgeKind::Velocity => Boundary::Velocity {
             value: e.value.unwrap_or_default(),
             segment,
         },
-        "symmetry" => Boundary::Symmetry,
-        _ => Boundary::Free,
+        EdgeKind::Symmetry => Boundary::Symmetry,
+        EdgeKind::Free => Boundary::Free,
     }
 }

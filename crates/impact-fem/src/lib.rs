@@ -22,10 +22,12 @@
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
-use impact_core::method::{BadState, Method, MethodConfig, Model, Samples};
+use impact_core::method::{MethodConfig, Model};
 use impact_core::parallel::{chunks, for_each_chunk, sum_chunks, threads, worth_parallel};
 use impact_core::problem::Boundary;
 use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
+
+mod method;
 
 const MAX_NODES: usize = 8;
 /// Nodes per chunk of the node loops.
@@ -88,81 +90,11 @@ impl<const D: usize> Fem<D> {
     pub fn new(problem: &Problem<D>, config: MethodConfig) -> Result<Self, CoreError> {
         impact_core::scene::check_courant("courant", config.courant)?;
         let grid = problem.grid.clone();
-        let npc = Grid::<D>::NODES_PER_CELL;
         let nodes = grid.vertex_count();
-        let mut mass = vec![0.0; nodes];
-        let element_mass = problem.material.density * grid.cell_volume();
-        for c in 0..grid.cell_count() {
-            for a in 0..npc {
-                mass[grid.vertex_of(c, a)] += element_mass / npc as f64;
-            }
-        }
-        // Gauss points ξ = ½ ± 1/(2√3) per axis
-        let g = 0.5 / 3f64.sqrt();
-        let gauss_count = npc;
-        let mut gauss_gradient = vec![Vector::<D>::zeros(); gauss_count * npc];
-        let mut values = [0.0; MAX_NODES];
-        for q in 0..gauss_count {
-            let xi = Vector::<D>::from_fn(|l, _| if (q >> l) & 1 == 1 { 0.5 + g } else { 0.5 - g });
-            grid.shape(
-                &xi,
-                &mut values[..npc],
-                &mut gauss_gradient[q * npc..(q + 1) * npc],
-            );
-        }
-        let mut centre_gradient = [Vector::<D>::zeros(); MAX_NODES];
-        grid.shape(
-            &Vector::<D>::from_element(0.5),
-            &mut values[..npc],
-            &mut centre_gradient[..npc],
-        );
-        // external nodal forces and constraints on boundary nodes
-        let mut external = vec![Vector::<D>::zeros(); nodes];
-        let mut constraints = Vec::new();
-        let counts = grid.vertex_counts();
-        for v in 0..nodes {
-            let x = grid.vertex_position(v);
-            let mut rest = v;
-            let mut idx = [0usize; D];
-            for k in 0..D {
-                idx[k] = rest % counts[k];
-                rest /= counts[k];
-            }
-            for l in 0..D {
-                for side in 0..2 {
-                    if idx[l] != side * grid.cells[l] {
-                        continue;
-                    }
-                    let sign = if side == 0 { -1.0 } else { 1.0 };
-                    let s = Grid::<D>::segment_axis(l).map_or(0.0, |k| x[k]);
-                    // tributary length of the node along the edge (1 in 1D)
-                    let tributary: f64 = Grid::<D>::tangent_axes(l)
-                        .map(|k| {
-                            let h = grid.spacing[k];
-                            if idx[k] == 0 || idx[k] == grid.cells[k] {
-                                0.5 * h
-                            } else {
-                                h
-                            }
-                        })
-                        .product();
-                    match problem.boundaries[l][side] {
-                        Boundary::Free => {}
-                        Boundary::Pressure { value, segment } => {
-                            if Boundary::acts_at(segment, s) {
-                                external[v][l] += -sign * value * tributary;
-                            }
-                        }
-                        Boundary::Velocity { value, segment } => {
-                            if Boundary::acts_at(segment, s) {
-                                constraints.push((v, l, -sign * value));
-                            }
-                        }
-                        Boundary::Symmetry => constraints.push((v, l, 0.0)),
-                    }
-                }
-            }
-        }
+        let mass = lumped_mass(&grid, problem.material.density);
+        let (gauss_gradient, centre_gradient) = shape_gradients(&grid);
+        let gauss_count = Grid::<D>::NODES_PER_CELL;
+        let (external, constraints) = boundary_loads(problem);
         let mut free_mask = vec![Vector::<D>::from_element(1.0); nodes];
         for &(node, axis, _) in &constraints {
             free_mask[node][axis] = 0.0;
@@ -203,6 +135,100 @@ impl<const D: usize> Fem<D> {
         solver.acceleration_into(&mut state.acceleration);
         Ok(Self { solver, state })
     }
+}
+
+/// Row-sum lumped mass: each element's `ρ V_e` shared equally among its nodes.
+fn lumped_mass<const D: usize>(grid: &Grid<D>, density: f64) -> Vec<f64> {
+    let npc = Grid::<D>::NODES_PER_CELL;
+    let mut mass = vec![0.0; grid.vertex_count()];
+    let element_mass = density * grid.cell_volume();
+    for c in 0..grid.cell_count() {
+        for a in 0..npc {
+            mass[grid.vertex_of(c, a)] += element_mass / npc as f64;
+        }
+    }
+    mass
+}
+
+/// Shape-function gradients at the `2^D` Gauss points `ξ = ½ ± 1/(2√3)` per axis (node
+/// `a` of point `q` at `[q·npc + a]`) and at the element centre.
+fn shape_gradients<const D: usize>(grid: &Grid<D>) -> (Vec<Vector<D>>, [Vector<D>; MAX_NODES]) {
+    let npc = Grid::<D>::NODES_PER_CELL;
+    let g = 0.5 / 3f64.sqrt();
+    let mut gauss_gradient = vec![Vector::<D>::zeros(); npc * npc];
+    let mut values = [0.0; MAX_NODES];
+    for q in 0..npc {
+        let xi = Vector::<D>::from_fn(|l, _| if (q >> l) & 1 == 1 { 0.5 + g } else { 0.5 - g });
+        grid.shape(
+            &xi,
+            &mut values[..npc],
+            &mut gauss_gradient[q * npc..(q + 1) * npc],
+        );
+    }
+    let mut centre_gradient = [Vector::<D>::zeros(); MAX_NODES];
+    grid.shape(
+        &Vector::<D>::from_element(0.5),
+        &mut values[..npc],
+        &mut centre_gradient[..npc],
+    );
+    (gauss_gradient, centre_gradient)
+}
+
+/// Nodal external forces (a pressure's consistent force: `p` times the node's tributary
+/// length along the edge) and velocity constraints `(node, axis, value)` of the edges.
+#[allow(clippy::type_complexity)]
+fn boundary_loads<const D: usize>(
+    problem: &Problem<D>,
+) -> (Vec<Vector<D>>, Vec<(usize, usize, f64)>) {
+    let grid = &problem.grid;
+    let nodes = grid.vertex_count();
+    let mut external = vec![Vector::<D>::zeros(); nodes];
+    let mut constraints = Vec::new();
+    let counts = grid.vertex_counts();
+    for v in 0..nodes {
+        let x = grid.vertex_position(v);
+        let mut rest = v;
+        let mut idx = [0usize; D];
+        for k in 0..D {
+            idx[k] = rest % counts[k];
+            rest /= counts[k];
+        }
+        for l in 0..D {
+            for side in 0..2 {
+                if idx[l] != side * grid.cells[l] {
+                    continue;
+                }
+                let sign = if side == 0 { -1.0 } else { 1.0 };
+                let s = Grid::<D>::segment_axis(l).map_or(0.0, |k| x[k]);
+                // tributary length of the node along the edge (1 in 1D)
+                let tributary: f64 = Grid::<D>::tangent_axes(l)
+                    .map(|k| {
+                        let h = grid.spacing[k];
+                        if idx[k] == 0 || idx[k] == grid.cells[k] {
+                            0.5 * h
+                        } else {
+                            h
+                        }
+                    })
+                    .product();
+                match problem.boundaries[l][side] {
+                    Boundary::Free => {}
+                    Boundary::Pressure { value, segment } => {
+                        if Boundary::acts_at(segment, s) {
+                            external[v][l] += -sign * value * tributary;
+                        }
+                    }
+                    Boundary::Velocity { value, segment } => {
+                        if Boundary::acts_at(segment, s) {
+                            constraints.push((v, l, -sign * value));
+                        }
+                    }
+                    Boundary::Symmetry => constraints.push((v, l, 0.0)),
+                }
+            }
+        }
+    }
+    (external, constraints)
 }
 
 impl<const D: usize> FemSolver<D> {
@@ -400,122 +426,5 @@ impl<const D: usize> Fem<D> {
         (0..self.state.displacement.len())
             .map(|i| self.solver.full_velocity(&self.state, i))
             .collect()
-    }
-}
-
-impl<const D: usize> Method<D> for Fem<D> {
-    fn config(&self) -> &MethodConfig {
-        &self.solver.config
-    }
-    fn stable_dt(&self) -> f64 {
-        self.solver.config.courant * self.solver.grid.min_spacing() / self.solver.wave_speed
-    }
-    fn step(&mut self, _t: f64, dt: f64) {
-        self.solver.step(&mut self.state, dt);
-    }
-    fn sample_into(&self, out: &mut Samples<D>) {
-        out.clear();
-        let grid = &self.solver.grid;
-        let npc = Grid::<D>::NODES_PER_CELL;
-        for c in 0..grid.cell_count() {
-            let centre = grid.cell_centre(c);
-            let mut u = Vector::<D>::zeros();
-            let mut v = Vector::<D>::zeros();
-            for a in 0..npc {
-                let i = grid.vertex_of(c, a);
-                u += self.state.displacement[i] / npc as f64;
-                v += self.solver.full_velocity(&self.state, i) / npc as f64;
-            }
-            out.reference.push(centre);
-            out.position.push(centre + u);
-            out.half_size.push(grid.spacing * 0.5);
-            out.stress.push(self.solver.centre_stress(&self.state, c));
-            out.velocity.push(v);
-        }
-    }
-    fn energy(&self) -> f64 {
-        let s = &self.solver;
-        let npc = Grid::<D>::NODES_PER_CELL;
-        let mut kinetic = 0.0;
-        for i in 0..s.mass.len() {
-            kinetic += 0.5 * s.mass[i] * s.full_velocity(&self.state, i).norm_squared();
-        }
-        let volume = s.grid.cell_volume() * s.gauss_weight;
-        let mut strain_energy = 0.0;
-        for c in 0..s.grid.cell_count() {
-            let nodes = s.element_nodes(c);
-            for q in 0..npc {
-                let g = &s.gauss_gradient[q * npc..(q + 1) * npc];
-                let grad = FemSolver::displacement_gradient(&self.state.displacement, &nodes, g);
-                strain_energy += volume * s.energy_of(&grad);
-            }
-        }
-        kinetic + strain_energy
-    }
-    fn external_work(&self) -> f64 {
-        self.state.work
-    }
-    /// `Σ m_i v_i^{n-1/2}`: central differences conserve the mid-step momentum exactly.
-    fn momentum(&self) -> Vector<D> {
-        let s = &self.solver;
-        (0..s.mass.len()).fold(Vector::<D>::zeros(), |m, i| {
-            m + self.state.velocity_half[i] * s.mass[i]
-        })
-    }
-    fn external_impulse(&self) -> Vector<D> {
-        self.state.impulse
-    }
-    fn check_finite(&self) -> Result<(), BadState<D>> {
-        for i in 0..self.state.displacement.len() {
-            let ok = self.state.displacement[i].iter().all(|x| x.is_finite())
-                && self.state.velocity_half[i].iter().all(|x| x.is_finite());
-            if !ok {
-                return Err(BadState {
-                    place: self.solver.grid.vertex_position(i),
-                    reason: "non-finite displacement or velocity at a node".into(),
-                });
-            }
-        }
-        if let Model::Svk(svk) = self.solver.model {
-            let npc = Grid::<D>::NODES_PER_CELL;
-            let g = &self.solver.grid;
-            for c in 0..g.cell_count() {
-                let grad = FemSolver::displacement_gradient(
-                    &self.state.displacement,
-                    &self.solver.element_nodes(c),
-                    &self.solver.centre_gradient[..npc],
-                );
-                let f = Tensor::<D>::identity() + grad;
-                if !svk.admissible(&f, self.solver.wave_speed) {
-                    return Err(BadState {
-                        place: g.cell_centre(c),
-                        reason: impact_core::material::Svk::inadmissible_reason(&f),
-                    });
-                }
-            }
-        }
-        Ok(())
-    }
-    fn hottest_place(&self) -> Vector<D> {
-        let v = &self.state.velocity_half;
-        let i = (0..v.len())
-            .max_by(|&a, &b| v[a].norm().total_cmp(&v[b].norm()))
-            .unwrap_or(0);
-        self.solver.grid.vertex_position(i)
-    }
-    fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
-        for i in 0..self.state.velocity_half.len() {
-            let x = self.solver.grid().vertex_position(i);
-            self.state.velocity_half[i] += kick(i, &x);
-        }
-    }
-    fn cells(&self) -> usize {
-        self.solver.grid.cell_count()
-    }
-    fn updates_per_step(&self) -> usize {
-        self.solver.grid.cell_count()
-    }
-    fn mesh_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {
-        Some((self.nodal_velocities(), self.state.displacement.clone()))
     }
 }

@@ -1,5 +1,5 @@
 //! HDF5 + XDMF time series (feature `hdf5`). One `<name>.h5` per method holds a group
-//! `step_<k>` per output time with the datasets `points` (n×3), `stress` (n×9) and
+//! `step_<k>` per output time with the datasets `points` (n×3), `cauchy_stress` or `piola_stress` (n×9) and
 //! `velocity` (n×3) and the attribute `time`; `<name>.xdmf` describes them as a temporal
 //! collection of poly-vertex grids (ParaView: open the `.xdmf` with the Xdmf3 reader).
 //! The `.h5` is written under a temporary name and renamed by [`TimeSeries::finish`].
@@ -12,6 +12,7 @@ pub struct TimeSeries {
     tmp: PathBuf,
     file: Option<hdf5::File>,
     steps: Vec<(f64, usize)>,
+    stress_name: &'static str,
 }
 
 fn h5_error(path: &Path) -> impl Fn(hdf5::Error) -> IoError + '_ {
@@ -22,8 +23,9 @@ fn h5_error(path: &Path) -> impl Fn(hdf5::Error) -> IoError + '_ {
 }
 
 impl TimeSeries {
-    /// Start a series at `path` (`.h5`).
-    pub fn create(path: &Path) -> Result<Self, IoError> {
+    /// Start a series at `path` (`.h5`) whose stress dataset is named `stress_name`
+    /// (`cauchy_stress` or `piola_stress`).
+    pub fn create(path: &Path, stress_name: &'static str) -> Result<Self, IoError> {
         let tmp = crate::temporary_path(path);
         let file = hdf5::File::create(&tmp).map_err(h5_error(path))?;
         Ok(Self {
@@ -31,6 +33,7 @@ impl TimeSeries {
             tmp,
             file: Some(file),
             steps: Vec::new(),
+            stress_name,
         })
     }
 
@@ -50,7 +53,7 @@ impl TimeSeries {
             .map_err(&err)?;
         for (name, data, cols) in [
             ("points", points, 3),
-            ("stress", stress, 9),
+            (self.stress_name, stress, 9),
             ("velocity", velocity, 3),
         ] {
             let ds = group
@@ -107,7 +110,8 @@ impl TimeSeries {
                     "        <Geometry GeometryType=\"XYZ\">{}</Geometry>",
                     item("points", 3)
                 )?;
-                writeln!(w, "        <Attribute Name=\"stress\" AttributeType=\"Tensor\" Center=\"Node\">{}</Attribute>", item("stress", 9))?;
+                let stress = self.stress_name;
+                writeln!(w, "        <Attribute Name=\"{stress}\" AttributeType=\"Tensor\" Center=\"Node\">{}</Attribute>", item(stress, 9))?;
                 writeln!(w, "        <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">{}</Attribute>", item("velocity", 3))?;
                 writeln!(w, "      </Grid>")?;
             }

@@ -1,6 +1,7 @@
 //! Output files: CSV profiles, VTK unstructured grids (`.vtu`), PNG plots and JSON. Every
 //! file is written to a temporary name beside its target and renamed when complete, so
 //! an output file is never left half-written.
+pub mod folder;
 #[cfg(feature = "hdf5")]
 pub mod h5;
 pub mod plot;
@@ -14,7 +15,7 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 pub enum IoError {
     /// File system error, with the path.
-    #[error("cannot write {path}: {source}")]
+    #[error("cannot write {path}")]
     File {
         /// Target path.
         path: PathBuf,
@@ -27,6 +28,14 @@ pub enum IoError {
         /// Target path.
         path: PathBuf,
         /// Cause.
+        message: String,
+    },
+    /// The output folder cannot be used.
+    #[error("cannot write into {path}: {message}")]
+    Refused {
+        /// Target folder.
+        path: PathBuf,
+        /// Why.
         message: String,
     },
     /// Serialisation error.
@@ -46,10 +55,18 @@ fn file_error(path: &Path) -> impl FnOnce(std::io::Error) -> IoError + '_ {
     }
 }
 
-/// The temporary name used while `path` is written.
+/// The temporary name used while `path` is written: hidden, unique to this process and
+/// this write (`.<name>.<pid>.<n>.tmp`), so two writers never share one.
 pub fn temporary_path(path: &Path) -> PathBuf {
-    let mut name = path.file_name().unwrap_or_default().to_os_string();
-    name.push(".tmp");
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static COUNT: AtomicUsize = AtomicUsize::new(0);
+    let mut name = std::ffi::OsString::from(".");
+    name.push(path.file_name().unwrap_or_default());
+    name.push(format!(
+        ".{}.{}.tmp",
+        std::process::id(),
+        COUNT.fetch_add(1, Ordering::Relaxed)
+    ));
     path.with_file_name(name)
 }
 

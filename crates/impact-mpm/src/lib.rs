@@ -178,57 +178,7 @@ impl<const D: usize> Mpm<D> {
             cells,
         };
         let npc = Grid::<D>::NODES_PER_CELL;
-        let mut loads = Vec::new();
-        let mut velocity_edges = Vec::new();
-        let upper = body.upper();
-        for l in 0..D {
-            for side in 0..2 {
-                let sign = if side == 0 { -1.0 } else { 1.0 };
-                let edge = if side == 0 { body.origin[l] } else { upper[l] };
-                let outward = Vector::<D>::from_fn(|k, _| if k == l { sign } else { 0.0 });
-                let node_layer = PADDING + side * body.cells[l];
-                match problem.boundaries[l][side] {
-                    Boundary::Free => {}
-                    Boundary::Pressure { value, segment } => {
-                        // points whose domain touches the edge carry its load
-                        for p in 0..points.len() {
-                            let x = points.reference[p];
-                            let h = points.half_size[p];
-                            if ((x[l] + sign * h[l]) - edge).abs() > 1e-9 * body.spacing[l] {
-                                continue;
-                            }
-                            let s = Grid::<D>::segment_axis(l).map_or(0.0, |k| x[k]);
-                            if !Boundary::acts_at(segment, s) {
-                                continue;
-                            }
-                            let area: f64 =
-                                Grid::<D>::tangent_axes(l).map(|k| 2.0 * h[k]).product();
-                            let mut offset = Vector::<D>::zeros();
-                            offset[l] = sign * h[l];
-                            loads.push(SurfaceLoad {
-                                point: p,
-                                offset,
-                                force: outward * (-value * area),
-                            });
-                        }
-                    }
-                    Boundary::Velocity { value, segment } => velocity_edges.push(VelocityEdge {
-                        axis: l,
-                        node_layer,
-                        value: -sign * value,
-                        segment,
-                        symmetry: false,
-                    }),
-                    Boundary::Symmetry => velocity_edges.push(VelocityEdge {
-                        axis: l,
-                        node_layer,
-                        value: 0.0,
-                        segment: None,
-                        symmetry: true,
-                    }),
-                }
-            }
-        }
+        let (loads, velocity_edges) = edge_conditions(problem, &points);
         let nodes = grid.vertex_count();
         let np = points.len();
         let node_constraints = node_constraints(&grid, &velocity_edges);
@@ -271,6 +221,66 @@ impl<const D: usize> Mpm<D> {
         mpm.state.impulse += kick;
         Ok(mpm)
     }
+}
+
+/// The surface loads of the pressure edges (on the points whose domain touches the edge,
+/// at the domain's edge midpoint, force `-p A n`) and the velocity and symmetry edges.
+fn edge_conditions<const D: usize>(
+    problem: &Problem<D>,
+    points: &MaterialPoints<D>,
+) -> (Vec<SurfaceLoad<D>>, Vec<VelocityEdge>) {
+    let body = &problem.grid;
+    let mut loads = Vec::new();
+    let mut velocity_edges = Vec::new();
+    let upper = body.upper();
+    for l in 0..D {
+        for side in 0..2 {
+            let sign = if side == 0 { -1.0 } else { 1.0 };
+            let edge = if side == 0 { body.origin[l] } else { upper[l] };
+            let outward = Vector::<D>::from_fn(|k, _| if k == l { sign } else { 0.0 });
+            let node_layer = PADDING + side * body.cells[l];
+            match problem.boundaries[l][side] {
+                Boundary::Free => {}
+                Boundary::Pressure { value, segment } => {
+                    // points whose domain touches the edge carry its load
+                    for p in 0..points.len() {
+                        let x = points.reference[p];
+                        let h = points.half_size[p];
+                        if ((x[l] + sign * h[l]) - edge).abs() > 1e-9 * body.spacing[l] {
+                            continue;
+                        }
+                        let s = Grid::<D>::segment_axis(l).map_or(0.0, |k| x[k]);
+                        if !Boundary::acts_at(segment, s) {
+                            continue;
+                        }
+                        let area: f64 = Grid::<D>::tangent_axes(l).map(|k| 2.0 * h[k]).product();
+                        let mut offset = Vector::<D>::zeros();
+                        offset[l] = sign * h[l];
+                        loads.push(SurfaceLoad {
+                            point: p,
+                            offset,
+                            force: outward * (-value * area),
+                        });
+                    }
+                }
+                Boundary::Velocity { value, segment } => velocity_edges.push(VelocityEdge {
+                    axis: l,
+                    node_layer,
+                    value: -sign * value,
+                    segment,
+                    symmetry: false,
+                }),
+                Boundary::Symmetry => velocity_edges.push(VelocityEdge {
+                    axis: l,
+                    node_layer,
+                    value: 0.0,
+                    segment: None,
+                    symmetry: true,
+                }),
+            }
+        }
+    }
+    (loads, velocity_edges)
 }
 
 /// The prescribed nodal velocity components of the velocity and symmetry edges:

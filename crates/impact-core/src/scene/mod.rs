@@ -1,0 +1,379 @@
+//! Scene files (TOML). Unknown fields are rejected by the parser, whose errors name the
+//! field path and the expected type; every value is then checked by [`Scene::validate`]
+//! (file `validate.rs`), whose errors name the field, the value and what is allowed.
+//! A new scene is a TOML file under `scenes/`, listed in [`BUILTIN`].
+//!
+//! ```toml
+//! name = "bar"
+//! dim = 1
+//! [domain]
+//! length = [6.0]
+//! cells = [150]
+//! points_per_cell = 1
+//! [material]
+//! model = "linear-elastic"
+//! young = 2.0e11
+//! poisson = 0.3
+//! density = 7800.0
+//! [boundary]
+//! left = { kind = "pressure", value = 1.0e9 }
+//! right = { kind = "free" }
+//! [time]
+//! output_transits = [50, 100, 200]
+//! [dgmpm]
+//! courant = 1.0
+//! integrator = "euler"
+//! ```
+use crate::error::CoreError;
+use crate::options::{
+    DgmpmOptions, EdgeKind, Integrator, MaterialModel, MethodConfig, MethodKind, MethodOptions,
+    MpmFrame, MpmOptions, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
+};
+
+mod validate;
+use serde::{Deserialize, Serialize};
+pub use validate::{
+    check_courant, check_output_times, check_points_per_cell, check_work, points_per_axis,
+    WorkEstimate, COURANT_RANGE, DEFAULT_WORK_BUDGET, MAX_POINTS, MAX_STRAIN, SI_RANGE,
+};
+
+/// A whole scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Scene name (used for the output folder).
+    pub name: String,
+    /// Spatial dimension, 1 or 2.
+    pub dim: usize,
+    /// Geometry and discretisation.
+    pub domain: Domain,
+    /// Material.
+    pub material: MaterialSpec,
+    /// Boundary conditions per edge.
+    pub boundary: BoundarySpec,
+    /// Time and output schedule.
+    pub time: TimeSpec,
+    /// DGMPM options.
+    #[serde(default)]
+    pub dgmpm: DgmpmSpec,
+    /// MPM options.
+    #[serde(default)]
+    pub mpm: MpmSpec,
+    /// FEM options.
+    #[serde(default)]
+    pub fem: FemSpec,
+}
+
+/// Geometry: a box `[0, length]` meshed by `cells` regular cells.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Domain {
+    /// Edge lengths (m), one per axis.
+    pub length: Vec<f64>,
+    /// Cells per axis.
+    pub cells: Vec<usize>,
+    /// Material points per cell (`n^dim` for an `n`-per-axis layout).
+    #[serde(default = "one")]
+    pub points_per_cell: usize,
+}
+
+fn one() -> usize {
+    1
+}
+
+/// Material parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// Constitutive model: `linear-elastic` or `svk` (Saint-Venant–Kirchhoff, large strain).
+    pub model: MaterialModel,
+    /// Young's modulus (Pa).
+    pub young: f64,
+    /// Poisson's ratio (unused by the 1D bar, which is in uniaxial stress).
+    #[serde(default)]
+    pub poisson: f64,
+    /// Density (kg/m³).
+    pub density: f64,
+}
+
+/// One edge's condition.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EdgeSpec {
+    /// `free`, `pressure` (normal pressure, positive in compression), `velocity` (normal
+    /// velocity into the body) or `symmetry` (zero normal velocity and shear traction).
+    pub kind: EdgeKind,
+    /// Magnitude for `pressure` (Pa) and `velocity` (m/s).
+    #[serde(default)]
+    pub value: Option<f64>,
+    /// Start of the loaded segment along the edge (2D; default: whole edge).
+    #[serde(default)]
+    pub from: Option<f64>,
+    /// End of the loaded segment along the edge (2D; default: whole edge).
+    #[serde(default)]
+    pub to: Option<f64>,
+}
+
+/// Conditions on each edge; edges not given are free.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundarySpec {
+    /// Edge `x = 0`.
+    pub left: Option<EdgeSpec>,
+    /// Edge `x = length[0]`.
+    pub right: Option<EdgeSpec>,
+    /// Edge `y = 0` (2D).
+    pub bottom: Option<EdgeSpec>,
+    /// Edge `y = length[1]` (2D).
+    pub top: Option<EdgeSpec>,
+}
+
+/// Output schedule: give `output_times` (s) or `output_transits` (multiples of the
+/// time a P wave takes to cross the smallest cell, `Δx/c_p`), not both.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeSpec {
+    /// Output times in seconds.
+    #[serde(default)]
+    pub output_times: Option<Vec<f64>>,
+    /// Output times as whole numbers of cell transits `n·Δx/c_p`.
+    #[serde(default)]
+    pub output_transits: Option<Vec<f64>>,
+    /// End time (default: the last output time).
+    #[serde(default)]
+    pub t_end: Option<f64>,
+}
+
+/// DGMPM's section: Courant number and options (each absent option takes its default,
+/// [`DgmpmOptions::default`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DgmpmSpec {
+    /// Courant number `c_p Δt / Δx_min` (default 1, the paper's).
+    #[serde(default = "courant_one")]
+    pub courant: f64,
+    /// Time integrator.
+    #[serde(default)]
+    pub integrator: Option<Integrator>,
+    /// Point update after the nodal solve.
+    #[serde(default)]
+    pub update: Option<PointUpdate>,
+    /// Transverse flux (2D only).
+    #[serde(default)]
+    pub flux: Option<TransverseFlux>,
+    /// Riemann solver (Saint-Venant–Kirchhoff).
+    #[serde(default)]
+    pub riemann: Option<RiemannSolver>,
+}
+
+/// MPM's section.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MpmSpec {
+    /// Courant number (default 0.5, the paper's).
+    #[serde(default = "courant_half")]
+    pub courant: f64,
+    /// Stress update.
+    #[serde(default)]
+    pub stress_update: Option<StressUpdate>,
+    /// Frame of the shape functions.
+    #[serde(default)]
+    pub frame: Option<MpmFrame>,
+}
+
+/// FEM's section.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FemSpec {
+    /// Courant number (default 0.9, the paper's).
+    #[serde(default = "courant_fem")]
+    pub courant: f64,
+}
+
+fn courant_one() -> f64 {
+    1.0
+}
+fn courant_half() -> f64 {
+    0.5
+}
+fn courant_fem() -> f64 {
+    0.9
+}
+
+impl Default for DgmpmSpec {
+    fn default() -> Self {
+        Self {
+            courant: courant_one(),
+            integrator: None,
+            update: None,
+            flux: None,
+            riemann: None,
+        }
+    }
+}
+
+impl Default for MpmSpec {
+    fn default() -> Self {
+        Self {
+            courant: courant_half(),
+            stress_update: None,
+            frame: None,
+        }
+    }
+}
+
+impl Default for FemSpec {
+    fn default() -> Self {
+        Self {
+            courant: courant_fem(),
+        }
+    }
+}
+
+impl Scene {
+    /// The configuration of `kind` written in this scene (absent options at their
+    /// defaults).
+    pub fn method_config(&self, kind: MethodKind) -> MethodConfig {
+        let ppc = self.domain.points_per_cell;
+        match kind {
+            MethodKind::Dgmpm => {
+                let s = &self.dgmpm;
+                let d = DgmpmOptions::default();
+                MethodConfig {
+                    courant: s.courant,
+                    points_per_cell: ppc,
+                    options: MethodOptions::Dgmpm(DgmpmOptions {
+                        integrator: s.integrator.unwrap_or(d.integrator),
+                        update: s.update.unwrap_or(d.update),
+                        flux: s.flux.unwrap_or(d.flux),
+                        riemann: s.riemann.unwrap_or(d.riemann),
+                    }),
+                }
+            }
+            MethodKind::Mpm => {
+                let s = &self.mpm;
+                let d = MpmOptions::default();
+                MethodConfig {
+                    courant: s.courant,
+                    points_per_cell: ppc,
+                    options: MethodOptions::Mpm(MpmOptions {
+                        stress_update: s.stress_update.unwrap_or(d.stress_update),
+                        frame: s.frame.unwrap_or(d.frame),
+                    }),
+                }
+            }
+            MethodKind::Fem => MethodConfig::new(MethodKind::Fem, self.fem.courant, ppc),
+        }
+    }
+}
+
+impl Scene {
+    /// Parse and validate a scene from TOML text; `origin` names the source in errors.
+    pub fn from_toml(text: &str, origin: &str) -> Result<Self, CoreError> {
+        let scene = Self::parse_toml(text, origin)?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Parse a scene from TOML text without checking its values (callers that change the
+    /// scene before use validate it once afterwards, as [`Scene::validate`]).
+    pub fn parse_toml(text: &str, origin: &str) -> Result<Self, CoreError> {
+        let parse_error = |message: String| CoreError::Parse {
+            path: origin.to_string(),
+            message,
+        };
+        let deserializer = toml::Deserializer::new(text);
+        serde_path_to_error::deserialize(deserializer).map_err(|e| {
+            let mut field = e.path().to_string();
+            let inner = e.into_inner();
+            let line_number = inner
+                .span()
+                .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
+            if field == "." || field.is_empty() {
+                // the parser failed before serde saw a field: name the key on that line
+                field = line_number
+                    .and_then(|n| key_at_line(text, n))
+                    .unwrap_or_default();
+            }
+            let line = line_number
+                .map(|n| format!(" (line {n})"))
+                .unwrap_or_default();
+            let at = if field.is_empty() {
+                String::new()
+            } else {
+                format!("`{field}`: ")
+            };
+            let value = line_number
+                .and_then(|n| text.lines().nth(n - 1))
+                .and_then(|l| l.split_once('='))
+                .map(|(_, v)| v.split('#').next().unwrap_or("").trim())
+                .filter(|v| !v.is_empty() && v.len() <= 80)
+                .map(|v| format!(" (written {v})"))
+                .unwrap_or_default();
+            parse_error(format!("{at}{}{value}{line}", inner.message()))
+        })
+    }
+
+    /// Read, parse and validate a scene file.
+    pub fn from_file(path: &std::path::Path) -> Result<Self, CoreError> {
+        let scene = Self::parse_file(path)?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Read and parse a scene file without checking its values (see [`Self::parse_toml`]).
+    pub fn parse_file(path: &std::path::Path) -> Result<Self, CoreError> {
+        let text = std::fs::read_to_string(path).map_err(|source| CoreError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::parse_toml(&text, &path.display().to_string())
+    }
+}
+
+/// The dotted path of the key written on line `number` (1-based) of a TOML text: the key
+/// before its `=`, under the last `[section]` header above it.
+fn key_at_line(text: &str, number: usize) -> Option<String> {
+    let lines: Vec<&str> = text.lines().collect();
+    let line = lines.get(number.checked_sub(1)?)?;
+    let (key, _) = line.split_once('=')?;
+    let key = key.trim();
+    if key.is_empty() || key.contains(['[', '"', ' ']) {
+        return None;
+    }
+    let section = lines[..number - 1]
+        .iter()
+        .rev()
+        .map(|l| l.trim())
+        .find(|l| l.starts_with('[') && l.ends_with(']'))
+        .map(|l| l.trim_matches(|c| c == '[' || c == ']').trim().to_string());
+    Some(match section {
+        Some(section) if !section.is_empty() => format!("{section}.{key}"),
+        _ => key.to_string(),
+    })
+}
+
+/// Names of the scenes shipped with impact (files under `scenes/`).
+pub const BUILTIN: &[&str] = &["bar", "plate", "plate-wave", "svk-bar", "svk-plate"];
+
+/// TOML text of a shipped scene.
+pub fn builtin(name: &str) -> Option<&'static str> {
+    match name {
+        "bar" => Some(include_str!("../../../../scenes/bar.toml")),
+        "plate" => Some(include_str!("../../../../scenes/plate.toml")),
+        "plate-wave" => Some(include_str!("../../../../scenes/plate-wave.toml")),
+        "svk-bar" => Some(include_str!("../../../../scenes/svk-bar.toml")),
+        "svk-plate" => Some(include_str!("../../../../scenes/svk-plate.toml")),
+        _ => None,
+    }
+}
+
+impl Scene {
+    /// A shipped scene by name (see [`BUILTIN`]).
+    pub fn builtin(name: &str) -> Option<Self> {
+        builtin(name).map(|text| {
+            Self::from_toml(text, &format!("scenes/{name}.toml"))
+                .expect("internal: shipped scenes are valid")
+        })
+    }
+}

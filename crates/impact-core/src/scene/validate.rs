@@ -1,0 +1,552 @@
+//! Checking a scene before anything is allocated or stepped.
+//!
+//! [`Scene::validate`] checks each field against a documented range, then the quantities
+//! derived from them, so that nothing downstream can overflow, underflow, divide by zero
+//! or loop without end:
+//! - lengths, Young's modulus and density are positive SI values in [`SI_RANGE`]
+//!   (`[1e-30, 1e30]`: wide enough for nondimensional runs, narrow enough that products of
+//!   a few of them stay finite and normal);
+//! - the cell size `h = L/N`, the P-wave speed `c_p = sqrt(M/ρ)` (`M = E` in 1D,
+//!   `λ + 2μ` in 2D plane strain), the transit time `h/c_p` and the output times in seconds
+//!   must be finite normal numbers;
+//! - loads stay within the model: linear elasticity is a small-strain model, so the strain a
+//!   load imposes on the incident wave (`|p|/M`, or `|v|/c_p`) is at most [`MAX_STRAIN`];
+//!   Saint-Venant–Kirchhoff compression must stay below the hyperbolicity limit
+//!   `E/(3√3)` (uniaxial `F = 1/√3`, where `Π' = 0`), its tension below `Π(F = 2) = 3E`,
+//!   and a velocity load below `0.4 c_p` (uniaxial stretch above `0.6 > 1/√3`);
+//! - a loaded segment lies on its edge and covers at least one face centre;
+//! - no output time lies after `t_end`.
+//!
+//! The work a method configuration implies is estimated by [`Scene::work_estimate`] and
+//! refused past a budget by [`check_work`] (the CLI's `--work-budget`).
+use super::{EdgeSpec, Scene};
+use crate::error::SceneError;
+use crate::material::{LinearElastic, Svk};
+use crate::options::{EdgeKind, MaterialModel, MethodConfig, MethodKind};
+
+/// Largest number of cells × points per cell a scene may ask for.
+pub const MAX_POINTS: f64 = 1e7;
+
+/// Allowed range of the Courant number.
+pub const COURANT_RANGE: &str = "a number in (0, 2]";
+
+/// Range of a positive SI value (length, modulus, density).
+pub const SI_RANGE: (f64, f64) = (1e-30, 1e30);
+
+/// Largest strain a load may impose on linear elasticity (a small-strain model: at 10 %
+/// strain its stress is about 10 % off any finite-strain model; use `svk` beyond).
+pub const MAX_STRAIN: f64 = 0.1;
+
+/// Default work budget of one method run, in point-updates (cells × points per cell ×
+/// steps): about an hour on one core at the slowest method's 3e7 updates/s.
+pub const DEFAULT_WORK_BUDGET: f64 = 1e11;
+
+/// Largest number of output times.
+pub const MAX_OUTPUTS: usize = 1000;
+
+/// Largest cell count along one axis.
+pub const MAX_CELLS_PER_AXIS: usize = 100_000_000;
+
+fn positive(field: &str, value: f64, allowed: &str) -> Result<(), SceneError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(SceneError::new(field, value, allowed))
+    }
+}
+
+fn si_value(field: &str, value: f64, unit: &str) -> Result<(), SceneError> {
+    let (lo, hi) = SI_RANGE;
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(SceneError::new(
+            field,
+            value,
+            format!("a positive number in {unit} from {lo:e} to {hi:e}"),
+        ))
+    }
+}
+
+/// A derived quantity must be a finite normal positive number.
+fn derived(field: &str, what: &str, value: f64) -> Result<(), SceneError> {
+    if value.is_finite() && value.is_normal() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(SceneError::new(
+            field,
+            format!("{what} = {value:e}"),
+            "values whose derived quantities are finite normal numbers",
+        ))
+    }
+}
+
+/// Check a Courant number (also used for CLI flags).
+pub fn check_courant(field: &str, courant: f64) -> Result<(), SceneError> {
+    if courant.is_finite() && courant > 0.0 && courant <= 2.0 {
+        Ok(())
+    } else {
+        Err(SceneError::new(field, courant, COURANT_RANGE))
+    }
+}
+
+/// Check a points-per-cell count for dimension `dim` (also used for CLI flags).
+pub fn check_points_per_cell(dim: usize, ppc: usize) -> Result<(), SceneError> {
+    let per_axis = points_per_axis(dim, ppc);
+    if ppc == 0 || ppc > 64 || per_axis.is_none() {
+        let allowed = if dim == 1 {
+            "a whole number from 1 to 64".to_string()
+        } else {
+            "a square number (1, 4, 9, 16, ...) up to 64 in 2D".to_string()
+        };
+        return Err(SceneError::new("domain.points_per_cell", ppc, allowed));
+    }
+    Ok(())
+}
+
+/// Points per axis for `ppc` points per cell, if `ppc` is an exact `dim`-th power.
+pub fn points_per_axis(dim: usize, ppc: usize) -> Option<usize> {
+    let power = u32::try_from(dim).ok()?;
+    (1..=64usize).find(|n| n.checked_pow(power) == Some(ppc))
+}
+
+/// Check output times (also used for CLI flags): at most [`MAX_OUTPUTS`], positive,
+/// finite, strictly increasing.
+pub fn check_output_times(field: &str, times: &[f64]) -> Result<(), SceneError> {
+    if times.is_empty() || times.len() > MAX_OUTPUTS {
+        return Err(SceneError::new(
+            field,
+            format!("{} times", times.len()),
+            format!("from 1 to {MAX_OUTPUTS} output times"),
+        ));
+    }
+    let mut last = 0.0;
+    for &t in times {
+        if !(t.is_finite() && t > last) {
+            return Err(SceneError::new(
+                field,
+                format!("{times:?}"),
+                "positive, finite, strictly increasing times",
+            ));
+        }
+        last = t;
+    }
+    Ok(())
+}
+
+/// The work one method run implies: at least `steps` steps (Courant number over the
+/// P-wave transit time) over `points` points (cells × points per cell; nodes for FEM).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WorkEstimate {
+    /// Method.
+    pub kind: MethodKind,
+    /// Points (or cells) updated per step.
+    pub points: f64,
+    /// Number of steps (a lower bound: large-strain wave speeds shorten the step).
+    pub steps: f64,
+}
+
+impl WorkEstimate {
+    /// Point-updates: `points × steps`.
+    pub fn point_updates(&self) -> f64 {
+        self.points * self.steps
+    }
+}
+
+/// Refuse a run whose estimated work exceeds `budget` point-updates.
+pub fn check_work(estimate: &WorkEstimate, budget: f64) -> Result<(), SceneError> {
+    let work = estimate.point_updates();
+    if work.is_finite() && work <= budget {
+        return Ok(());
+    }
+    Err(SceneError::new(
+        format!("work of {}", estimate.kind),
+        format!(
+            "{:.3e} points × {:.3e} steps = {work:.3e} point-updates",
+            estimate.points, estimate.steps
+        ),
+        format!(
+            "at most {budget:.1e} point-updates (lower the end time or the resolution, raise \
+             the Courant number, or raise the budget with --work-budget)"
+        ),
+    ))
+}
+
+impl Scene {
+    /// Check every value and derived quantity; the first problem found is returned.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        self.check_name()?;
+        self.check_domain()?;
+        self.check_material()?;
+        self.check_time()?;
+        self.check_methods()?;
+        self.check_derived()?;
+        self.check_boundaries()
+    }
+
+    fn check_name(&self) -> Result<(), SceneError> {
+        let ok = |c: char| c.is_ascii_alphanumeric() || c == '-' || c == '_';
+        if self.name.is_empty() || self.name.len() > 64 || !self.name.chars().all(ok) {
+            return Err(SceneError::new(
+                "name",
+                format!("{:?}", self.name),
+                "a name of 1 to 64 letters, digits, '-' and '_'",
+            ));
+        }
+        Ok(())
+    }
+
+    fn check_domain(&self) -> Result<(), SceneError> {
+        if !(self.dim == 1 || self.dim == 2) {
+            return Err(SceneError::new("dim", self.dim, "1 or 2"));
+        }
+        let d = &self.domain;
+        if d.length.len() != self.dim {
+            return Err(SceneError::new(
+                "domain.length",
+                format!("{:?}", d.length),
+                format!("{} lengths (one per axis)", self.dim),
+            ));
+        }
+        for (l, &len) in d.length.iter().enumerate() {
+            si_value(&format!("domain.length[{l}]"), len, "m")?;
+        }
+        if d.cells.len() != self.dim {
+            return Err(SceneError::new(
+                "domain.cells",
+                format!("{:?}", d.cells),
+                format!("{} cell counts (one per axis)", self.dim),
+            ));
+        }
+        for (l, &n) in d.cells.iter().enumerate() {
+            if n == 0 || n > MAX_CELLS_PER_AXIS {
+                return Err(SceneError::new(
+                    format!("domain.cells[{l}]"),
+                    n,
+                    format!("from 1 to {MAX_CELLS_PER_AXIS:.0e} cells"),
+                ));
+            }
+        }
+        check_points_per_cell(self.dim, d.points_per_cell)?;
+        let total = d.cells.iter().map(|&n| n as f64).product::<f64>() * d.points_per_cell as f64;
+        if total > MAX_POINTS {
+            return Err(SceneError::new(
+                "domain.cells",
+                format!("{:?} × {} points per cell", d.cells, d.points_per_cell),
+                format!(
+                    "at most {MAX_POINTS:.0e} cells × points per cell in total (about 1.2 kB per cell \
+                     in 2D: larger grids do not fit in memory here)"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    fn check_material(&self) -> Result<(), SceneError> {
+        let m = &self.material;
+        si_value("material.young", m.young, "Pa")?;
+        si_value("material.density", m.density, "kg/m³")?;
+        if !(m.poisson > -1.0 && m.poisson < 0.5) {
+            return Err(SceneError::new(
+                "material.poisson",
+                m.poisson,
+                "a number in (-1, 0.5)",
+            ));
+        }
+        Ok(())
+    }
+
+    fn check_time(&self) -> Result<(), SceneError> {
+        let t = &self.time;
+        let (field, times) = match (&t.output_times, &t.output_transits) {
+            (Some(_), Some(_)) => {
+                return Err(SceneError::new(
+                    "time",
+                    "both output_times and output_transits",
+                    "one of `output_times` and `output_transits`",
+                ))
+            }
+            (Some(v), None) => ("time.output_times", v),
+            (None, Some(v)) => ("time.output_transits", v),
+            (None, None) => {
+                return Err(SceneError::new(
+                    "time",
+                    "no output times",
+                    "`output_times` (s) or `output_transits` (multiples of Δx/c)",
+                ))
+            }
+        };
+        check_output_times(field, times)?;
+        if let Some(t_end) = t.t_end {
+            positive("time.t_end", t_end, "a positive finite time in s")?;
+        }
+        Ok(())
+    }
+
+    fn check_methods(&self) -> Result<(), SceneError> {
+        check_courant("dgmpm.courant", self.dgmpm.courant)?;
+        check_courant("mpm.courant", self.mpm.courant)?;
+        check_courant("fem.courant", self.fem.courant)?;
+        if let (Some(f), 1) = (self.dgmpm.flux, self.dim) {
+            return Err(SceneError::new(
+                "dgmpm.flux",
+                format!("{:?}", f.name()),
+                "no transverse flux in 1D (DGMPM in 2D only)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The linear-elastic material and its P-wave modulus `M` in this scene's dimension.
+    fn p_modulus(&self) -> (LinearElastic, f64) {
+        let m = &self.material;
+        let material = LinearElastic::new(m.young, m.poisson, m.density);
+        let modulus = if self.dim == 1 {
+            m.young
+        } else {
+            material.p_modulus::<2>()
+        };
+        (material, modulus)
+    }
+
+    /// Smallest cell size and the time a P wave takes to cross it.
+    fn transit(&self) -> (f64, f64) {
+        let d = &self.domain;
+        let spacing = d
+            .length
+            .iter()
+            .zip(&d.cells)
+            .map(|(&len, &n)| len / n as f64)
+            .fold(f64::INFINITY, f64::min);
+        let (_, modulus) = self.p_modulus();
+        let speed = (modulus / self.material.density).sqrt();
+        (spacing, spacing / speed)
+    }
+
+    /// The output times in seconds and the end time.
+    pub fn schedule_seconds(&self) -> (Vec<f64>, f64) {
+        let (_, transit) = self.transit();
+        let times: Vec<f64> = match (&self.time.output_times, &self.time.output_transits) {
+            (Some(t), _) => t.clone(),
+            (None, Some(n)) => n.iter().map(|n| n * transit).collect(),
+            (None, None) => Vec::new(),
+        };
+        let last = times.last().copied().unwrap_or(0.0);
+        (times, self.time.t_end.unwrap_or(last))
+    }
+
+    fn check_derived(&self) -> Result<(), SceneError> {
+        let d = &self.domain;
+        for (l, (&len, &n)) in d.length.iter().zip(&d.cells).enumerate() {
+            derived(&format!("domain.cells[{l}]"), "cell size", len / n as f64)?;
+        }
+        let (_, modulus) = self.p_modulus();
+        derived("material", "P-wave modulus", modulus)?;
+        derived(
+            "material",
+            "P-wave speed",
+            (modulus / self.material.density).sqrt(),
+        )?;
+        let (_, transit) = self.transit();
+        derived("domain", "cell transit time h/c_p", transit)?;
+        let (times, t_end) = self.schedule_seconds();
+        let field = if self.time.output_times.is_some() {
+            "time.output_times"
+        } else {
+            "time.output_transits"
+        };
+        for &t in &times {
+            derived(field, "output time (s)", t)?;
+        }
+        derived("time.t_end", "end time (s)", t_end)?;
+        if let Some(&late) = times.iter().find(|&&t| t > t_end * (1.0 + 1e-12)) {
+            return Err(SceneError::new(
+                field,
+                format!("an output at {late:e} s, after time.t_end = {t_end:e} s"),
+                "output times at or before the end time",
+            ));
+        }
+        Ok(())
+    }
+
+    fn edges(&self) -> [(&'static str, &Option<EdgeSpec>, usize); 4] {
+        let b = &self.boundary;
+        [
+            ("left", &b.left, 1),
+            ("right", &b.right, 1),
+            ("bottom", &b.bottom, 0),
+            ("top", &b.top, 0),
+        ]
+    }
+
+    fn check_boundaries(&self) -> Result<(), SceneError> {
+        for (name, edge, tangent) in self.edges() {
+            let Some(edge) = edge else { continue };
+            let field = format!("boundary.{name}");
+            if self.dim == 1 && matches!(name, "bottom" | "top") {
+                return Err(SceneError::new(
+                    field,
+                    edge.kind,
+                    "only `left` and `right` in 1D",
+                ));
+            }
+            self.check_edge_value(&field, edge)?;
+            self.check_segment(&field, edge, tangent)?;
+        }
+        Ok(())
+    }
+
+    fn check_edge_value(&self, field: &str, edge: &EdgeSpec) -> Result<(), SceneError> {
+        let value_field = format!("{field}.value");
+        let value = match (edge.kind, edge.value) {
+            (EdgeKind::Free | EdgeKind::Symmetry, None) => return Ok(()),
+            (EdgeKind::Free | EdgeKind::Symmetry, Some(v)) => {
+                return Err(SceneError::new(
+                    value_field,
+                    v,
+                    format!("no value for a `{}` edge", edge.kind),
+                ))
+            }
+            (kind, None) => {
+                return Err(SceneError::new(
+                    value_field,
+                    "missing",
+                    format!("a finite number for a `{kind}` edge"),
+                ))
+            }
+            (_, Some(v)) => v,
+        };
+        if edge.kind == EdgeKind::Pressure && value == 0.0 {
+            return Err(SceneError::new(
+                value_field,
+                value,
+                "a nonzero pressure (a zero pressure is a `free` edge)",
+            ));
+        }
+        let (allowed, fits) = self.load_bound(edge.kind, value);
+        if !(value.is_finite() && fits) {
+            return Err(SceneError::new(value_field, value, allowed));
+        }
+        Ok(())
+    }
+
+    /// What a load of `kind` and `value` may be under this scene's model, and whether
+    /// `value` is within it.
+    fn load_bound(&self, kind: EdgeKind, value: f64) -> (String, bool) {
+        let (material, modulus) = self.p_modulus();
+        let speed = (modulus / material.density).sqrt();
+        match (self.material.model, kind) {
+            (MaterialModel::LinearElastic, EdgeKind::Pressure) => {
+                let limit = MAX_STRAIN * modulus;
+                (
+                    format!(
+                        "|p| ≤ {limit:.4e} Pa: a strain of at most {MAX_STRAIN} under small-strain \
+                         linear elasticity (|p|/M, M = {modulus:.4e} Pa; use model = \"svk\" beyond)"
+                    ),
+                    value.abs() <= limit,
+                )
+            }
+            (MaterialModel::LinearElastic, _) => {
+                let limit = MAX_STRAIN * speed;
+                (
+                    format!(
+                        "|v| ≤ {limit:.4e} m/s: a strain of at most {MAX_STRAIN} under small-strain \
+                         linear elasticity (|v|/c_p, c_p = {speed:.4e} m/s; use model = \"svk\" beyond)"
+                    ),
+                    value.abs() <= limit,
+                )
+            }
+            (MaterialModel::Svk, EdgeKind::Pressure) => {
+                let svk = Svk::new(material);
+                let (f_lim, pi_lim) = svk.hyperbolicity_limit_1d();
+                let tension = 3.0 * self.material.young;
+                (
+                    format!(
+                        "a compression below the SVK hyperbolicity limit E/(3√3) = {:.4e} Pa \
+                         (uniaxial F = 1/√3 = {f_lim:.4}, where Π' = 0) and a tension of at most \
+                         Π(F = 2) = 3E = {tension:.4e} Pa",
+                        -pi_lim
+                    ),
+                    value < -pi_lim && value >= -tension,
+                )
+            }
+            (MaterialModel::Svk, _) => {
+                let limit = 0.4 * speed;
+                (
+                    format!(
+                        "|v| ≤ 0.4 c_p = {limit:.4e} m/s (a uniaxial stretch above 0.6, clear of \
+                         the SVK hyperbolicity limit F = 1/√3)"
+                    ),
+                    value.abs() <= limit,
+                )
+            }
+        }
+    }
+
+    /// A segment lies on its edge (2D), `from < to`, and covers a face centre.
+    fn check_segment(
+        &self,
+        field: &str,
+        edge: &EdgeSpec,
+        tangent: usize,
+    ) -> Result<(), SceneError> {
+        if edge.from.is_none() && edge.to.is_none() {
+            return Ok(());
+        }
+        if self.dim == 1 {
+            return Err(SceneError::new(
+                format!("{field}.from"),
+                "a segment",
+                "no segment in 1D (an end is a point)",
+            ));
+        }
+        let extent = self.domain.length[tangent];
+        let (from, to) = (edge.from.unwrap_or(0.0), edge.to.unwrap_or(extent));
+        for (key, v) in [("from", from), ("to", to)] {
+            if !(v.is_finite() && (0.0..=extent).contains(&v)) {
+                return Err(SceneError::new(
+                    format!("{field}.{key}"),
+                    v,
+                    format!("a position along the edge, in [0, {extent}] m"),
+                ));
+            }
+        }
+        if from >= to {
+            return Err(SceneError::new(
+                format!("{field}.to"),
+                to,
+                format!("a position after `from` = {from} m"),
+            ));
+        }
+        let cells = self.domain.cells[tangent];
+        let h = extent / cells as f64;
+        let first = ((from / h) - 0.5).ceil().max(0.0);
+        if (first + 0.5) * h > to * (1.0 + 1e-12) + 1e-12 * h {
+            return Err(SceneError::new(
+                format!("{field}.from/to"),
+                format!("{from}..{to} m"),
+                format!(
+                    "a segment that covers at least one face centre (faces are {h:e} m wide); \
+                     a shorter segment loads no face"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The work `config` implies on this scene (validated).
+    pub fn work_estimate(&self, config: &MethodConfig) -> WorkEstimate {
+        let cells: f64 = self.domain.cells.iter().map(|&n| n as f64).product();
+        let points = match config.kind() {
+            MethodKind::Fem => cells,
+            _ => cells * config.points_per_cell as f64,
+        };
+        let (_, transit) = self.transit();
+        let (_, t_end) = self.schedule_seconds();
+        WorkEstimate {
+            kind: config.kind(),
+            points,
+            steps: (t_end / (config.courant * transit)).ceil(),
+        }
+    }
+}

@@ -1,0 +1,122 @@
+//! The [`Method`] impl of FEM: stepping, sampling at element centres, energy, momentum,
+//! the stability guard's checks.
+use crate::{Fem, FemSolver};
+use impact_core::method::{BadState, Method, MethodConfig, Model, Samples};
+use impact_core::{Grid, Tensor, Vector};
+
+impl<const D: usize> Method<D> for Fem<D> {
+    fn config(&self) -> &MethodConfig {
+        &self.solver.config
+    }
+    fn stable_dt(&self) -> f64 {
+        self.solver.config.courant * self.solver.grid.min_spacing() / self.solver.wave_speed
+    }
+    fn step(&mut self, _t: f64, dt: f64) {
+        self.solver.step(&mut self.state, dt);
+    }
+    fn sample_into(&self, out: &mut Samples<D>) {
+        out.clear();
+        let grid = &self.solver.grid;
+        let npc = Grid::<D>::NODES_PER_CELL;
+        for c in 0..grid.cell_count() {
+            let centre = grid.cell_centre(c);
+            let mut u = Vector::<D>::zeros();
+            let mut v = Vector::<D>::zeros();
+            for a in 0..npc {
+                let i = grid.vertex_of(c, a);
+                u += self.state.displacement[i] / npc as f64;
+                v += self.solver.full_velocity(&self.state, i) / npc as f64;
+            }
+            out.reference.push(centre);
+            out.position.push(centre + u);
+            out.half_size.push(grid.spacing * 0.5);
+            out.stress.push(self.solver.centre_stress(&self.state, c));
+            out.velocity.push(v);
+        }
+    }
+    fn energy(&self) -> f64 {
+        let s = &self.solver;
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let mut kinetic = 0.0;
+        for i in 0..s.mass.len() {
+            kinetic += 0.5 * s.mass[i] * s.full_velocity(&self.state, i).norm_squared();
+        }
+        let volume = s.grid.cell_volume() * s.gauss_weight;
+        let mut strain_energy = 0.0;
+        for c in 0..s.grid.cell_count() {
+            let nodes = s.element_nodes(c);
+            for q in 0..npc {
+                let g = &s.gauss_gradient[q * npc..(q + 1) * npc];
+                let grad = FemSolver::displacement_gradient(&self.state.displacement, &nodes, g);
+                strain_energy += volume * s.energy_of(&grad);
+            }
+        }
+        kinetic + strain_energy
+    }
+    fn external_work(&self) -> f64 {
+        self.state.work
+    }
+    /// `Σ m_i v_i^{n-1/2}`: central differences conserve the mid-step momentum exactly.
+    fn momentum(&self) -> Vector<D> {
+        let s = &self.solver;
+        (0..s.mass.len()).fold(Vector::<D>::zeros(), |m, i| {
+            m + self.state.velocity_half[i] * s.mass[i]
+        })
+    }
+    fn external_impulse(&self) -> Vector<D> {
+        self.state.impulse
+    }
+    fn check_finite(&self) -> Result<(), BadState<D>> {
+        for i in 0..self.state.displacement.len() {
+            let ok = self.state.displacement[i].iter().all(|x| x.is_finite())
+                && self.state.velocity_half[i].iter().all(|x| x.is_finite());
+            if !ok {
+                return Err(BadState {
+                    place: self.solver.grid.vertex_position(i),
+                    reason: "non-finite displacement or velocity at a node".into(),
+                });
+            }
+        }
+        if let Model::Svk(svk) = self.solver.model {
+            let npc = Grid::<D>::NODES_PER_CELL;
+            let g = &self.solver.grid;
+            for c in 0..g.cell_count() {
+                let grad = FemSolver::displacement_gradient(
+                    &self.state.displacement,
+                    &self.solver.element_nodes(c),
+                    &self.solver.centre_gradient[..npc],
+                );
+                let f = Tensor::<D>::identity() + grad;
+                if !svk.admissible(&f, self.solver.wave_speed) {
+                    return Err(BadState {
+                        place: g.cell_centre(c),
+                        reason: impact_core::material::Svk::inadmissible_reason(&f),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+    fn hottest_place(&self) -> Vector<D> {
+        let v = &self.state.velocity_half;
+        let i = (0..v.len())
+            .max_by(|&a, &b| v[a].norm().total_cmp(&v[b].norm()))
+            .unwrap_or(0);
+        self.solver.grid.vertex_position(i)
+    }
+    fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
+        for i in 0..self.state.velocity_half.len() {
+            let x = self.solver.grid().vertex_position(i);
+            self.state.velocity_half[i] += kick(i, &x);
+        }
+    }
+    fn cells(&self) -> usize {
+        self.solver.grid.cell_count()
+    }
+    fn updates_per_step(&self) -> usize {
+        self.solver.grid.cell_count()
+    }
+    fn mesh_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {
+        Some((self.nodal_velocities(), self.state.displacement.clone()))
+    }
+}
