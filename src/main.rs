@@ -6,6 +6,7 @@ use impact::check::{check_study, Verdict};
 use impact::run::{run_study, RunOptions, RunRecord};
 use impact::{Overrides, Study};
 use impact_core::method::MethodKind;
+use impact_core::metrics::{ErrorBasis, FrontStatus};
 use impact_core::{Problem, Scene};
 use std::path::PathBuf;
 
@@ -170,10 +171,20 @@ fn print_header() {
     );
 }
 
+/// An error in its basis: relative as `1.234e-2`, absolute as `1.234e5Pa`, none as `-`.
+fn fmt_error(value: f64, basis: ErrorBasis) -> String {
+    match basis {
+        ErrorBasis::Relative => format!("{value:.3e}"),
+        ErrorBasis::AbsoluteZeroReference => format!("{value:.2e}Pa"),
+        ErrorBasis::NoReference => "-".into(),
+    }
+}
+
 fn print_rows(r: &RunRecord) {
+    let mut notes: Vec<&str> = Vec::new();
     for t in &r.times {
         say!(
-            "{:<6} {:>7.3} {:>4} {:>8} {:>6} {:>8.4} {:>10.4} {:>10.3e} {:>10.3e} {:>11} {:>10} {:>11.3e} {:>8} {:>8}",
+            "{:<6} {:>7.3} {:>4} {:>8} {:>6} {:>8.4} {:>10.4} {:>10} {:>10} {:>11} {:>10} {:>11} {:>8} {:>8}",
             r.method,
             r.courant,
             r.points_per_cell,
@@ -181,14 +192,34 @@ fn print_rows(r: &RunRecord) {
             r.steps,
             r.wall_s,
             t.t * 1e3,
-            t.l1_rel,
-            t.linf_rel,
+            fmt_error(t.l1, t.errors),
+            fmt_error(t.linf, t.errors),
             fmt_opt(t.front_width_cells, 2),
             fmt_opt(t.overshoot_pct, 2),
-            t.energy_rel,
+            if t.energy_relative {
+                format!("{:.3e}", t.energy_error)
+            } else {
+                format!("{:.2e}J", t.energy_error)
+            },
             fmt_opt(t.front_position, 3),
             fmt_opt(t.front_exact, 3)
         );
+        for note in [
+            (t.errors != ErrorBasis::Relative).then(|| t.errors.describe()),
+            (t.front != FrontStatus::Measured).then(|| t.front.describe()),
+            (!t.energy_relative)
+                .then_some("energy_rel: the loads did no work, so the energy column is E_h in J"),
+        ]
+        .into_iter()
+        .flatten()
+        {
+            if !notes.contains(&note) {
+                notes.push(note);
+            }
+        }
+    }
+    for note in notes {
+        say!("{:<6} note: {note}", r.method);
     }
     if let Some(e) = &r.error {
         say!("{:<6} stopped: {e}", r.method);
@@ -373,7 +404,7 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
     if args.steps_1d == 0 || args.steps_2d == 0 {
         bail!("--steps-1d/--steps-2d must be at least 1");
     }
-    impact_io::create_dir(&args.out)?;
+    let folder = impact_io::folder::OutputFolder::open(&args.out)?;
     say!(
         "{:>3} {:<6} {:>4} {:>8} {:>5} {:>10} {:>12}",
         "dim",
@@ -408,7 +439,10 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
         let problem = Problem::<2>::from_scene(&scene)?;
         rows.extend(sweep(&problem, &scene, args.steps_2d, print));
     }
-    impact::stability::write(&args.out, &rows)?;
+    impact::interrupt::check()?;
+    impact::stability::write(folder.path(), &rows)?;
+    impact::interrupt::check()?;
+    folder.commit(concat!("impact ", env!("CARGO_PKG_VERSION")))?;
     say!("wrote {}", args.out.display());
     Ok(())
 }

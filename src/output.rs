@@ -29,6 +29,7 @@ pub struct Summary {
     /// One entry per method.
     pub runs: Vec<RunRecord>,
     /// Peak resident memory of the process (MiB, Linux `VmHWM`), if known.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub peak_rss_mib: Option<f64>,
 }
 

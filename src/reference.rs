@@ -110,7 +110,7 @@ fn converged_run<const D: usize>(
     impact_core::controller::run::<D, dyn Method<D>, std::convert::Infallible>(
         method.as_mut(),
         &problem.output_times,
-        impact_core::controller::Guard::default(),
+        crate::interrupt::guard(),
         |m, _, _, _| {
             m.sample_into(&mut samples);
             // one point per cell, stored cell by cell: sample i is cell i
@@ -121,6 +121,11 @@ fn converged_run<const D: usize>(
         },
         |_| {},
     )
-    .map_err(|e| anyhow::anyhow!("the reference run failed: {e}"))?;
+    .map_err(|e| match e {
+        impact_core::controller::RunError::Interrupted { .. } => {
+            crate::interrupt::Interrupted(format!("the converged reference: {e}")).into()
+        }
+        e => anyhow::anyhow!("the reference run failed: {e}"),
+    })?;
     Ok((stress_xx, velocity_x, work))
 }

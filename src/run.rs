@@ -25,7 +25,8 @@ pub struct RunRecord {
     pub wall_s: f64,
     /// Metrics at every output time reached.
     pub times: Vec<TimeMetrics>,
-    /// The blow-up that stopped the run, if any.
+    /// The blow-up that stopped the run, if any (absent when the run completed).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
 }
 
@@ -74,16 +75,7 @@ pub fn run_method<const D: usize>(
         |m, index, t, steps| {
             let metrics = match reference {
                 Some(r) => r.evaluate(m, &mut samples, t, dx),
-                None => TimeMetrics {
-                    t,
-                    l1_rel: f64::NAN,
-                    linf_rel: f64::NAN,
-                    front_width_cells: None,
-                    overshoot_pct: None,
-                    front_position: None,
-                    front_exact: None,
-                    energy_rel: impact_core::metrics::energy_rel(m.energy(), m.external_work()),
-                },
+                None => TimeMetrics::without_reference(t, m.energy(), m.external_work()),
             };
             steps_at_output = steps;
             times.push(metrics);

@@ -105,7 +105,7 @@ fn stays_bounded<const D: usize>(body: &Problem<D>, config: MethodConfig, steps:
     let result = impact_core::controller::run::<D, dyn Method<D>, std::convert::Infallible>(
         method.as_mut(),
         &run.output_times,
-        impact_core::controller::Guard::default(),
+        crate::interrupt::guard(),
         |_, _, _, _| Ok(()),
         |_| {},
     );
@@ -455,7 +455,10 @@ pub fn write(dir: &std::path::Path, rows: &[StabilityRow]) -> anyhow::Result<()>
 /// size (the unloaded body of [`empirical_limit`], cut to 40 cells in 1D and 16×12 in 2D,
 /// 2000 or 500 steps), a sentence naming that limit; `None` when the Courant number is
 /// within it (the cause lies elsewhere: the load, the model).
-pub fn diagnose_blowup<const D: usize>(problem: &Problem<D>, config: MethodConfig) -> Option<String> {
+pub fn diagnose_blowup<const D: usize>(
+    problem: &Problem<D>,
+    config: MethodConfig,
+) -> Option<String> {
     let mut body = problem.clone();
     let small = if D == 1 { [40, 1] } else { [16, 12] };
     for l in 0..D {

@@ -50,10 +50,21 @@ pub struct Point {
     pub updates_per_s: f64,
     /// Peak resident memory of the run's process (MiB).
     pub peak_rss_mib: f64,
-    /// Relative L1 error at the fixed time.
+    /// Relative L1 error at the fixed time (left out of the JSON when the run has none:
+    /// `error` then says why).
+    #[serde(skip_serializing_if = "not_finite", default = "not_measured")]
     pub l1_rel: f64,
-    /// Error text if the run stopped.
+    /// Error text if the run stopped or measured no relative error.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
+}
+
+fn not_finite(value: &f64) -> bool {
+    !value.is_finite()
+}
+
+fn not_measured() -> f64 {
+    f64::NAN
 }
 
 /// The configurations of the ladder for `scene`: DGMPM Euler and RK2 × points per cell
@@ -141,7 +152,8 @@ fn run_one(
     t: f64,
     dir: &Path,
 ) -> Result<Point> {
-    let out = dir.join(format!("run-{}-{k}", c.label.replace(' ', "_")));
+    let name = format!("run-{}-{k}", c.label.replace(' ', "_"));
+    let out = dir.join(&name);
     let nx = cells_x(dim, k);
     let mut cmd = Command::new(exe);
     cmd.args(["run", scene, "--quiet", "--no-files"])
@@ -171,6 +183,7 @@ fn run_one(
     let cells = r["cells"].as_u64().unwrap_or(0) as usize;
     let wall = r["wall_s"].as_f64().unwrap_or(f64::NAN);
     let _ = std::fs::remove_dir_all(&out);
+    let _ = std::fs::remove_file(dir.join(format!(".{name}.lock")));
     Ok(Point {
         scene: scene.into(),
         config: c.label.clone(),
@@ -181,7 +194,11 @@ fn run_one(
         updates_per_s: cells as f64 * steps as f64 / wall,
         peak_rss_mib: s["peak_rss_mib"].as_f64().unwrap_or(f64::NAN),
         l1_rel: r["times"][0]["l1_rel"].as_f64().unwrap_or(f64::NAN),
-        error: r["error"].as_str().map(String::from),
+        error: r["error"].as_str().map(String::from).or_else(|| {
+            r["times"][0]["l1_rel"]
+                .is_null()
+                .then(|| format!("no relative error: {}", r["times"][0]["errors"]))
+        }),
     })
 }
 
@@ -236,16 +253,18 @@ pub fn run(
         1 => impact_core::Problem::<1>::from_scene(&s)?.output_times[0],
         _ => impact_core::Problem::<2>::from_scene(&s)?.output_times[0],
     };
-    impact_io::create_dir(out)?;
+    let folder = impact_io::folder::OutputFolder::open(out)?;
     let mut points = Vec::new();
     for c in configurations(&s) {
         for k in 0..levels {
-            let p = run_one(exe, scene, s.dim, &c, k, t, out)?;
+            let p = run_one(exe, scene, s.dim, &c, k, t, folder.path())?;
             progress(&p);
             points.push(p);
         }
     }
-    write(out, scene, &points)?;
+    write(folder.path(), scene, &points)?;
+    crate::interrupt::check()?;
+    folder.commit(concat!("impact ", env!("CARGO_PKG_VERSION")))?;
     let sentence = summarize(scene, &points);
     Ok((points, sentence))
 }

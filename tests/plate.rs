@@ -302,9 +302,9 @@ fn ctu_is_stable_at_courant_one_and_donor_cell_is_not() {
     assert_eq!(rec.steps, 2000);
     for t in &rec.times {
         assert!(
-            t.energy_rel < 1e-9,
+            t.energy_error < 1e-9,
             "energy above the work done: {}",
-            t.energy_rel
+            t.energy_error
         );
     }
     let dcu = |c: f64| {

@@ -50,7 +50,10 @@ fn show_place(place: &[f64]) -> String {
 
 /// A run stopped by the stability guard: which method, when and where.
 #[derive(Debug, Clone, PartialEq, Error)]
-#[error("{method} blew up at step {step}, t = {time:.6e} s, near x = {} m: {reason}", show_place(place))]
+#[error(
+    "{method} blew up at step {step}, t = {time:.6e} s, near x = {} m: {reason}",
+    show_place(place)
+)]
 pub struct Blowup {
     /// Method name.
     pub method: String,

@@ -47,6 +47,65 @@ pub struct ProfileMetrics {
     pub front_width_cells: Option<f64>,
     /// Overshoot in % of the jump.
     pub overshoot_pct: Option<f64>,
+    /// What `l1_rel` and `linf_rel` hold.
+    pub errors: ErrorBasis,
+}
+
+/// What the stress error fields hold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ErrorBasis {
+    /// Relative errors: `Σ w|σ_h − σ_ref| / Σ w|σ_ref|` and `max|σ_h − σ_ref| / max|σ_ref|`
+    /// (where the reference vanishes, over the load's stress scale).
+    Relative,
+    /// Absolute errors in Pa (width-weighted mean and maximum): the reference stress and
+    /// the load's scale are both zero, so no relative error is defined.
+    AbsoluteZeroReference,
+    /// No errors: the run has no reference (see `summary.json`'s `reference`).
+    NoReference,
+}
+
+impl ErrorBasis {
+    /// A sentence for tables.
+    pub fn describe(self) -> &'static str {
+        match self {
+            ErrorBasis::Relative => "relative to the reference",
+            ErrorBasis::AbsoluteZeroReference => {
+                "absolute errors in Pa: the reference stress is zero, a relative error is undefined"
+            }
+            ErrorBasis::NoReference => "not computed: this run has no reference",
+        }
+    }
+}
+
+/// Why the front metrics hold what they hold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FrontStatus {
+    /// Width, overshoot and position measured.
+    Measured,
+    /// The profile does not cross both 10 % and 90 % (or 50 %) of the jump near the front:
+    /// the width (or the position) is undefined, the overshoot is measured.
+    NotCrossed,
+    /// The reference has no single front at this time (none yet, several after reflections,
+    /// a vanishing jump, or no reference).
+    NoFront,
+}
+
+impl FrontStatus {
+    /// A sentence for tables.
+    pub fn describe(self) -> &'static str {
+        match self {
+            FrontStatus::Measured => "measured",
+            FrontStatus::NotCrossed => {
+                "front width or position undefined: the profile does not cross 10 %, 50 % and 90 % \
+                 of the jump near the front"
+            }
+            FrontStatus::NoFront => {
+                "no front metrics: the reference has no single front at this time"
+            }
+        }
+    }
 }
 
 impl Profile {
@@ -63,7 +122,7 @@ impl Profile {
 
     /// Relative L1 and L∞ errors against the exact averages. If the exact profile is
     /// zero everywhere, the errors are relative to `scale`.
-    pub fn errors(&self, scale: f64) -> (f64, f64) {
+    pub fn errors(&self, scale: f64) -> (f64, f64, ErrorBasis) {
         let mut num1 = 0.0;
         let mut den1 = 0.0;
         let mut numi: f64 = 0.0;
@@ -75,12 +134,17 @@ impl Profile {
             numi = numi.max(e);
             deni = deni.max(self.exact[i].abs());
         }
+        let total: f64 = self.width.iter().sum();
         if den1 == 0.0 {
-            let total: f64 = self.width.iter().sum();
             den1 = scale * total;
             deni = scale;
         }
-        (num1 / den1, numi / deni)
+        if den1 > 0.0 && deni > 0.0 && den1.is_finite() && deni.is_finite() {
+            (num1 / den1, numi / deni, ErrorBasis::Relative)
+        } else {
+            let mean = if total > 0.0 { num1 / total } else { numi };
+            (mean, numi, ErrorBasis::AbsoluteZeroReference)
+        }
     }
 
     /// Samples in the window around `front`, ordered from its undisturbed side.
@@ -149,7 +213,7 @@ impl Profile {
 
     /// All metrics at once.
     pub fn metrics(&self, front: Option<&Front>, dx: f64, scale: f64) -> ProfileMetrics {
-        let (l1_rel, linf_rel) = self.errors(scale);
+        let (l1_rel, linf_rel, errors) = self.errors(scale);
         let (front_width_cells, overshoot_pct) = match front {
             Some(f) => self.front(f, dx),
             None => (None, None),
@@ -159,16 +223,19 @@ impl Profile {
             linf_rel,
             front_width_cells,
             overshoot_pct,
+            errors,
         }
     }
 }
 
-/// Relative energy error `(E_h - W)/W` of a discrete energy `E_h` against the work `W`.
-pub fn energy_rel(energy: f64, work: f64) -> f64 {
-    if work == 0.0 {
-        energy
+/// Energy error `(E_h - W)/W` of a discrete energy `E_h` against the work `W`, or, where
+/// no work was done (`W = 0`, relative error undefined), `E_h` itself in J; the flag says
+/// which (`true`: relative).
+pub fn energy_error(energy: f64, work: f64) -> (f64, bool) {
+    if work == 0.0 || !work.is_finite() {
+        (energy, false)
     } else {
-        (energy - work) / work
+        ((energy - work) / work, true)
     }
 }
 

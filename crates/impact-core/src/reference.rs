@@ -12,7 +12,7 @@
 //!   with the jump from 0 to the reference's average over the cell just behind the front.
 use crate::exact::{BarExact, EndLoad, Front, SvkBarExact};
 use crate::method::{Method, Samples};
-use crate::metrics::{energy_rel, Profile, ProfileMetrics};
+use crate::metrics::{energy_error, ErrorBasis, FrontStatus, Profile, ProfileMetrics};
 use crate::problem::{Boundary, Problem};
 use crate::Vector;
 use serde::Serialize;
@@ -93,14 +93,22 @@ fn overlap(i: usize, h: f64, lo: f64, hi: f64) -> f64 {
 }
 
 /// Metrics of one method at one output time (a row of the table and of `summary.json`).
-#[derive(Debug, Clone, Copy, Serialize)]
+///
+/// No field is ever NaN in the outputs: where a relative error is undefined the absolute
+/// one is reported, and each group says what it holds ([`ErrorBasis`], [`FrontStatus`],
+/// `energy_relative`). In `summary.json` the keys name the basis (`l1_rel` or
+/// `l1_abs_pa`, `energy_rel` or `energy_abs_j`); a metric that is undefined is left out,
+/// and the status field beside it says why.
+#[derive(Debug, Clone, Copy)]
 pub struct TimeMetrics {
     /// Time (s).
     pub t: f64,
-    /// Relative L1 error of `σ_xx`.
-    pub l1_rel: f64,
-    /// Relative L∞ error of `σ_xx`.
-    pub linf_rel: f64,
+    /// L1 error of `σ_xx` in the basis `errors`.
+    pub l1: f64,
+    /// L∞ error of `σ_xx` in the basis `errors`.
+    pub linf: f64,
+    /// What `l1` and `linf` hold.
+    pub errors: ErrorBasis,
     /// Front width in cells.
     pub front_width_cells: Option<f64>,
     /// Overshoot in % of the jump.
@@ -109,8 +117,74 @@ pub struct TimeMetrics {
     pub front_position: Option<f64>,
     /// Position of the exact front (m).
     pub front_exact: Option<f64>,
-    /// `(E_h - W)/W` with `W` the exact work of the load (the method's own if no exact).
-    pub energy_rel: f64,
+    /// Why the front metrics are or are not there.
+    pub front: FrontStatus,
+    /// `(E_h - W)/W` with `W` the exact work of the load (the method's own if no exact);
+    /// `E_h` in J where `W = 0` (`energy_relative` false).
+    pub energy_error: f64,
+    /// Whether `energy_error` is relative.
+    pub energy_relative: bool,
+}
+
+impl TimeMetrics {
+    /// Metrics of a run without a reference: the energy balance against the method's own
+    /// external work only.
+    pub fn without_reference(t: f64, energy: f64, work: f64) -> Self {
+        let (energy_error, energy_relative) = energy_error(energy, work);
+        Self {
+            t,
+            l1: 0.0,
+            linf: 0.0,
+            errors: ErrorBasis::NoReference,
+            front_width_cells: None,
+            overshoot_pct: None,
+            front_position: None,
+            front_exact: None,
+            front: FrontStatus::NoFront,
+            energy_error,
+            energy_relative,
+        }
+    }
+}
+
+impl Serialize for TimeMetrics {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = s.serialize_map(None)?;
+        map.serialize_entry("t", &self.t)?;
+        match self.errors {
+            ErrorBasis::Relative => {
+                map.serialize_entry("l1_rel", &self.l1)?;
+                map.serialize_entry("linf_rel", &self.linf)?;
+            }
+            ErrorBasis::AbsoluteZeroReference => {
+                map.serialize_entry("l1_abs_pa", &self.l1)?;
+                map.serialize_entry("linf_abs_pa", &self.linf)?;
+            }
+            ErrorBasis::NoReference => {}
+        }
+        map.serialize_entry("errors", &self.errors)?;
+        for (key, value) in [
+            ("front_width_cells", self.front_width_cells),
+            ("overshoot_pct", self.overshoot_pct),
+            ("front_position", self.front_position),
+            ("front_exact", self.front_exact),
+        ] {
+            if let Some(v) = value.filter(|v| v.is_finite()) {
+                map.serialize_entry(key, &v)?;
+            }
+        }
+        map.serialize_entry("front", &self.front)?;
+        let key = if self.energy_relative {
+            "energy_rel"
+        } else {
+            "energy_abs_j"
+        };
+        if self.energy_error.is_finite() {
+            map.serialize_entry(key, &self.energy_error)?;
+        }
+        map.end()
+    }
 }
 
 impl Reference {
@@ -287,12 +361,14 @@ impl Reference {
     ) -> TimeMetrics {
         method.sample_into(samples);
         let profile = self.profile(samples, t);
-        let front = self.front(t);
+        // a front without a jump (a zero load) has nothing to measure
+        let front = self.front(t).filter(|f| f.behind != f.ahead);
         let ProfileMetrics {
             l1_rel,
             linf_rel,
             front_width_cells,
             overshoot_pct,
+            errors,
         } = profile.metrics(front.as_ref(), dx, self.scale());
         // the exact plane-wave work is per unit height; the converged one is the total
         let work = match self {
@@ -302,15 +378,25 @@ impl Reference {
             Reference::Converged(_) => self.work(t),
         }
         .unwrap_or(method.external_work());
+        let front_position = front.as_ref().and_then(|f| profile.crossing(f, 0.5, dx));
+        let status = match (&front, front_width_cells, front_position) {
+            (None, _, _) => FrontStatus::NoFront,
+            (Some(_), Some(_), Some(_)) => FrontStatus::Measured,
+            (Some(_), _, _) => FrontStatus::NotCrossed,
+        };
+        let (energy_error, energy_relative) = energy_error(method.energy(), work);
         TimeMetrics {
             t,
-            l1_rel,
-            linf_rel,
+            l1: l1_rel,
+            linf: linf_rel,
+            errors,
             front_width_cells,
             overshoot_pct,
-            front_position: front.as_ref().and_then(|f| profile.crossing(f, 0.5, dx)),
+            front_position,
             front_exact: front.map(|f| f.position),
-            energy_rel: energy_rel(method.energy(), work),
+            front: status,
+            energy_error,
+            energy_relative,
         }
     }
 }

@@ -23,7 +23,7 @@
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
 use impact_core::method::{MethodConfig, Model};
-use impact_core::parallel::{chunks, for_each_chunk, sum_chunks, threads, worth_parallel};
+use impact_core::parallel::{chunks, for_each_chunk, sum_chunks, worth_parallel};
 use impact_core::problem::Boundary;
 use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
 
@@ -65,9 +65,6 @@ pub struct FemSolver<const D: usize> {
     /// Per node: 1 for a free component, 0 for a prescribed one.
     free_mask: Vec<Vector<D>>,
     force: Vec<Vector<D>>,
-    /// One partial internal force per part of the elements (parallel scatter; empty when
-    /// serial).
-    parts: Vec<Vec<Vector<D>>>,
     parallel: bool,
     /// `∇N_a` at the Gauss points of an element (the mesh is regular): `gauss × 2^D`.
     gauss_gradient: Vec<Vector<D>>,
@@ -111,13 +108,6 @@ impl<const D: usize> Fem<D> {
             external,
             constraints,
             force: vec![Vector::<D>::zeros(); nodes],
-            parts: if parallel {
-                (0..threads())
-                    .map(|_| vec![Vector::<D>::zeros(); nodes])
-                    .collect()
-            } else {
-                Vec::new()
-            },
             parallel,
             gauss_gradient,
             gauss_weight: 1.0 / gauss_count as f64,
@@ -233,42 +223,53 @@ fn boundary_loads<const D: usize>(
 
 impl<const D: usize> FemSolver<D> {
     /// `f_int(u)` into the force buffer (module doc): each element adds
-    /// `Σ_g w_g V_e σ_g ∇N_a(ξ_g)` to its nodes; serially, or in parallel by parts of the
-    /// elements into partial forces added up node by node (disjoint writes, no lock).
+    /// `Σ_g w_g V_e σ_g ∇N_a(ξ_g)` to its nodes.
+    ///
+    /// The elements of layer `j` along the last axis write node layers `j` and `j + 1`
+    /// only, so the even layers write disjoint bands of two node layers, and so do the odd
+    /// ones: two colour passes, each over disjoint chunks of the force array (in parallel
+    /// when worth it), with no partial sums, locks or unsafe code. Serial and parallel runs
+    /// add in the same order, so their forces agree bit for bit.
     pub fn internal_forces_into(&mut self, displacement: &[Vector<D>]) {
-        let elements = self.grid.cell_count();
-        let zero = |f: &mut [Vector<D>]| f.iter_mut().for_each(|x| *x = Vector::<D>::zeros());
-        if self.parts.is_empty() {
-            let mut force = std::mem::take(&mut self.force);
-            zero(&mut force);
-            for c in 0..elements {
-                self.element_forces_into(displacement, c, &mut force);
-            }
-            self.force = force;
-            return;
+        let layer_nodes: usize = self.grid.cells[..D - 1].iter().map(|n| n + 1).product();
+        let layer_elements: usize = self.grid.cells[..D - 1].iter().product();
+        let layers = self.grid.cells[D - 1];
+        let mut force = std::mem::take(&mut self.force);
+        let grain = (CHUNK / (2 * layer_nodes)).max(1);
+        for_each_chunk(self.parallel, 1, chunks(&mut force, CHUNK), |_, f| {
+            f.iter_mut().for_each(|x| *x = Vector::<D>::zeros());
+        });
+        for colour in 0..2 {
+            let band = &mut force[colour * layer_nodes..];
+            for_each_chunk(
+                self.parallel,
+                grain,
+                chunks(band, 2 * layer_nodes),
+                |r, f| {
+                    let layer = colour + 2 * r;
+                    if layer >= layers {
+                        return;
+                    }
+                    let offset = layer * layer_nodes;
+                    for c in layer * layer_elements..(layer + 1) * layer_elements {
+                        self.element_forces_into(displacement, c, f, offset);
+                    }
+                },
+            );
         }
-        let per_part = elements.div_ceil(self.parts.len());
-        let mut parts = std::mem::take(&mut self.parts);
-        let this = &*self;
-        for_each_chunk(true, 1, chunks(&mut parts, 1), |k, part| {
-            let force = &mut part[0];
-            zero(force);
-            for c in k * per_part..((k + 1) * per_part).min(elements) {
-                this.element_forces_into(displacement, c, force);
-            }
-        });
-        for_each_chunk(true, 1, chunks(&mut self.force, CHUNK), |r, force| {
-            for (j, f) in force.iter_mut().enumerate() {
-                let i = r * CHUNK + j;
-                *f = parts.iter().fold(Vector::<D>::zeros(), |a, p| a + p[i]);
-            }
-        });
-        self.parts = parts;
+        self.force = force;
     }
 
-    /// Add the internal force of element `c` to `force`.
+    /// Add the internal force of element `c` to `force`, which holds the nodes from
+    /// `offset` on.
     #[inline]
-    fn element_forces_into(&self, displacement: &[Vector<D>], c: usize, force: &mut [Vector<D>]) {
+    fn element_forces_into(
+        &self,
+        displacement: &[Vector<D>],
+        c: usize,
+        force: &mut [Vector<D>],
+        offset: usize,
+    ) {
         let npc = Grid::<D>::NODES_PER_CELL;
         let volume = self.grid.cell_volume() * self.gauss_weight;
         let nodes = self.element_nodes(c);
@@ -277,7 +278,7 @@ impl<const D: usize> FemSolver<D> {
             let grad = Self::displacement_gradient(displacement, &nodes, g);
             let stress = self.stress_of(&grad);
             for a in 0..npc {
-                force[nodes[a]] += (stress * g[a]) * volume;
+                force[nodes[a] - offset] += (stress * g[a]) * volume;
             }
         }
     }

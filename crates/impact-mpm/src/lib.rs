@@ -98,6 +98,19 @@ pub(crate) struct NodeSums<const D: usize> {
     pub force: Vec<Vector<D>>,
 }
 
+/// A band of the nodal sums (two node layers of a colour pass) that a scatter writes:
+/// node `i` is entry `i - offset`.
+pub(crate) struct Band<'a, const D: usize> {
+    /// `m_i`.
+    pub mass: &'a mut [f64],
+    /// `p_i`.
+    pub momentum: &'a mut [Vector<D>],
+    /// `f_i`.
+    pub force: &'a mut [Vector<D>],
+    /// The first node of the band.
+    pub offset: usize,
+}
+
 impl<const D: usize> NodeSums<D> {
     fn new(nodes: usize) -> Self {
         Self {
@@ -126,8 +139,10 @@ pub struct MpmSolver<const D: usize> {
     /// Prescribed point velocity components `(point, axis, value)` (velocity edges).
     point_constraints: Vec<(usize, usize, f64)>,
     nodes: NodeSums<D>,
-    /// One partial nodal sum per part of the points (parallel scatter; empty when serial).
-    parts: Vec<NodeSums<D>>,
+    /// The points sorted by the layer (along the last axis) of their cell, and where each
+    /// layer starts in that order (`layers + 1` entries): the colouring of the scatters.
+    layer_order: Vec<usize>,
+    layer_start: Vec<usize>,
     parallel: bool,
     /// Per point: its cell in the background grid, shape values and gradients.
     point_cell: Vec<usize>,
@@ -184,13 +199,6 @@ impl<const D: usize> Mpm<D> {
         let node_constraints = node_constraints(&grid, &velocity_edges);
         let point_constraints = point_constraints(&body, &points, &velocity_edges);
         let parallel = worth_parallel(np);
-        let parts = if parallel {
-            (0..impact_core::parallel::threads())
-                .map(|_| NodeSums::new(nodes))
-                .collect()
-        } else {
-            Vec::new()
-        };
         let mut mpm = Self {
             solver: MpmSolver {
                 config,
@@ -203,7 +211,8 @@ impl<const D: usize> Mpm<D> {
                 node_constraints,
                 point_constraints,
                 nodes: NodeSums::new(nodes),
-                parts,
+                layer_order: vec![0; np],
+                layer_start: vec![0; grid.cells[D - 1] + 1],
                 parallel,
                 point_cell: vec![0; np],
                 shape: vec![0.0; np * npc],

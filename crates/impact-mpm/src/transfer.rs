@@ -2,11 +2,13 @@
 //! forces), phase 3 (grid→particles), phase 4 (the MUSL remap), phase 5 (stress update)
 //! and the prescribed point velocities.
 //!
-//! Scatters (points adding to the nodes of their cell) run serially into the nodal sums,
-//! or in parallel: each part of the points (one per rayon thread, contiguous) adds into its
-//! own full-size partial sum, and the partial sums are then added up node by node (disjoint
-//! writes, no lock, no unsafe). Point loops write disjoint points.
-use crate::{MpmSolver, NodeSums, MAX_NODES};
+//! Scatters (points adding to the nodes of their cell) are coloured by cell layer along the
+//! last axis: a point of cell layer `j` writes node layers `j` and `j + 1` only, so the
+//! even layers, then the odd ones, write disjoint bands of the nodal arrays, each band on
+//! its own rayon task (disjoint writes through `split_at_mut`, no partial sums, no lock,
+//! no unsafe). The points are counting-sorted by layer when their cells change (once in the
+//! total Lagrangian frame). Point loops write disjoint points.
+use crate::{Band, MpmSolver, MAX_NODES};
 use impact_core::method::{Model, MpmFrame};
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
@@ -55,72 +57,98 @@ impl<const D: usize> MpmSolver<D> {
                 grid.shape(&xi, &mut shape[range.clone()], &mut gradient[range]);
             }
         });
+        self.sort_by_layer();
     }
 
-    /// Add `contribution(p, sums)` of every point to the nodal sums named by `fill` (which
-    /// are zeroed first): serially, or by parts and then node by node (module doc).
-    fn scatter(
-        &mut self,
-        points: usize,
-        fill: Fill,
-        contribution: impl Fn(usize, &mut NodeSums<D>) + Sync,
-    ) {
-        let zero = |sums: &mut NodeSums<D>| {
-            if fill.mass {
-                sums.mass.iter_mut().for_each(|m| *m = 0.0);
-            }
-            if fill.momentum {
-                sums.momentum
-                    .iter_mut()
-                    .for_each(|m| *m = Vector::<D>::zeros());
-            }
-            if fill.force {
-                sums.force
-                    .iter_mut()
-                    .for_each(|f| *f = Vector::<D>::zeros());
-            }
-        };
-        if self.parts.is_empty() {
-            zero(&mut self.nodes);
-            for p in 0..points {
-                contribution(p, &mut self.nodes);
-            }
-            return;
+    /// Sort the points by the layer (along the last axis) of their cell into
+    /// `layer_order` (a counting sort, stable: points already in cell order keep it).
+    fn sort_by_layer(&mut self) {
+        let layer_cells: usize = self.grid.cells[..D - 1].iter().product();
+        let starts = &mut self.layer_start;
+        starts.iter_mut().for_each(|s| *s = 0);
+        for &c in &self.point_cell {
+            starts[c / layer_cells + 1] += 1;
         }
-        let per_part = points.div_ceil(self.parts.len());
-        let mut parts = std::mem::take(&mut self.parts);
-        for_each_chunk(true, 1, chunks(&mut parts, 1), |k, part| {
-            let sums = &mut part[0];
-            zero(sums);
-            for p in k * per_part..((k + 1) * per_part).min(points) {
-                contribution(p, sums);
-            }
-        });
+        for k in 1..starts.len() {
+            starts[k] += starts[k - 1];
+        }
+        // `starts[k]` is the next free slot of layer k while filling; shifted back after
+        for (p, &c) in self.point_cell.iter().enumerate() {
+            let layer = c / layer_cells;
+            self.layer_order[starts[layer]] = p;
+            starts[layer] += 1;
+        }
+        for k in (1..starts.len()).rev() {
+            starts[k] = starts[k - 1];
+        }
+        starts[0] = 0;
+    }
+
+    /// Add `contribution(p, band)` of every point to the nodal sums named by `fill` (which
+    /// are zeroed first). The points of cell layer `j` write node layers `j` and `j + 1`
+    /// only, so the even layers write disjoint bands of two node layers, and so do the odd
+    /// ones: two colour passes over disjoint chunks of the nodal arrays (in parallel when
+    /// worth it; module doc). A serial run adds in point order instead (the same sums up to
+    /// round-off).
+    fn scatter(&mut self, fill: Fill, contribution: impl Fn(usize, &mut Band<'_, D>) + Sync) {
+        let layer_nodes: usize = self.grid.cells[..D - 1].iter().map(|n| n + 1).product();
+        let layers = self.grid.cells[D - 1];
+        let (order, starts) = (&self.layer_order, &self.layer_start);
         let nodes = &mut self.nodes;
         let all = (
             chunks(&mut nodes.mass, CHUNK),
             chunks(&mut nodes.momentum, CHUNK),
             chunks(&mut nodes.force, CHUNK),
         );
-        for_each_chunk(true, 1, all, |r, (mass, momentum, force)| {
-            for j in 0..mass.len() {
-                let i = r * CHUNK + j;
-                if fill.mass {
-                    mass[j] = parts.iter().map(|s| s.mass[i]).sum();
-                }
-                if fill.momentum {
-                    momentum[j] = parts
-                        .iter()
-                        .fold(Vector::<D>::zeros(), |a, s| a + s.momentum[i]);
-                }
-                if fill.force {
-                    force[j] = parts
-                        .iter()
-                        .fold(Vector::<D>::zeros(), |a, s| a + s.force[i]);
-                }
+        for_each_chunk(self.parallel, 1, all, |_, (mass, momentum, force)| {
+            if fill.mass {
+                mass.iter_mut().for_each(|m| *m = 0.0);
+            }
+            if fill.momentum {
+                momentum.iter_mut().for_each(|m| *m = Vector::<D>::zeros());
+            }
+            if fill.force {
+                force.iter_mut().for_each(|f| *f = Vector::<D>::zeros());
             }
         });
-        self.parts = parts;
+        if !self.parallel {
+            // one pass in point order (the colouring only serves the parallel passes)
+            let mut sums = Band {
+                mass: &mut nodes.mass,
+                momentum: &mut nodes.momentum,
+                force: &mut nodes.force,
+                offset: 0,
+            };
+            for p in 0..order.len() {
+                contribution(p, &mut sums);
+            }
+            return;
+        }
+        let band = 2 * layer_nodes;
+        let grain = (CHUNK / band).max(1);
+        for colour in 0..2 {
+            let from = colour * layer_nodes;
+            let bands = (
+                chunks(&mut nodes.mass[from..], band),
+                chunks(&mut nodes.momentum[from..], band),
+                chunks(&mut nodes.force[from..], band),
+            );
+            for_each_chunk(self.parallel, grain, bands, |r, (mass, momentum, force)| {
+                let layer = colour + 2 * r;
+                if layer >= layers {
+                    return;
+                }
+                let mut sums = Band {
+                    mass,
+                    momentum,
+                    force,
+                    offset: layer * layer_nodes,
+                };
+                for &p in &order[starts[layer]..starts[layer + 1]] {
+                    contribution(p, &mut sums);
+                }
+            });
+        }
     }
 
     /// Phase 1: shape functions, then mass `m_i = Σ_p N_ip m_p`, momentum
@@ -139,10 +167,10 @@ impl<const D: usize> MpmSolver<D> {
             std::mem::take(&mut self.shape),
             std::mem::take(&mut self.shape_gradient),
         );
-        self.scatter(points.len(), fill, |p, sums| {
+        self.scatter(fill, |p, sums| {
             let c = cells[p];
             for a in 0..npc {
-                let i = grid.vertex_of(c, a);
+                let i = grid.vertex_of(c, a) - sums.offset;
                 let w = shape[p * npc + a] * points.mass[p];
                 sums.mass[i] += w;
                 sums.momentum[i] += points.velocity[p] * w;
@@ -164,9 +192,9 @@ impl<const D: usize> MpmSolver<D> {
         };
         let (grid, cells) = (self.grid.clone(), std::mem::take(&mut self.point_cell));
         let gradient = std::mem::take(&mut self.shape_gradient);
-        self.scatter(points.len(), fill, |p, sums| {
+        self.scatter(fill, |p, sums| {
             for a in 0..npc {
-                let i = grid.vertex_of(cells[p], a);
+                let i = grid.vertex_of(cells[p], a) - sums.offset;
                 sums.force[i] -= (points.stress[p] * gradient[p * npc + a]) * points.volume[p];
             }
         });
@@ -252,9 +280,9 @@ impl<const D: usize> MpmSolver<D> {
         };
         let (grid, cells) = (self.grid.clone(), std::mem::take(&mut self.point_cell));
         let shape = std::mem::take(&mut self.shape);
-        self.scatter(points.len(), fill, |p, sums| {
+        self.scatter(fill, |p, sums| {
             for a in 0..npc {
-                let i = grid.vertex_of(cells[p], a);
+                let i = grid.vertex_of(cells[p], a) - sums.offset;
                 sums.momentum[i] += points.velocity[p] * (shape[p * npc + a] * points.mass[p]);
             }
         });
