@@ -401,8 +401,13 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
             bail!("--dim {d} is not supported (allowed: 1 and/or 2)");
         }
     }
-    if args.steps_1d == 0 || args.steps_2d == 0 {
-        bail!("--steps-1d/--steps-2d must be at least 1");
+    for (flag, steps, most) in [
+        ("--steps-1d", args.steps_1d, 1_000_000),
+        ("--steps-2d", args.steps_2d, 100_000),
+    ] {
+        if steps == 0 || steps > most {
+            bail!("invalid value for `{flag}`: {steps} (allowed: 1 to {most} steps per perturbed run)");
+        }
     }
     let folder = impact_io::folder::OutputFolder::open(&args.out)?;
     say!(

@@ -183,6 +183,22 @@ fn bad_flags_are_named() {
     );
     cli_error(&["run", "bar", "--courant", "inf"], &["--courant", "inf"]);
     cli_error(
+        &["stability", "--steps-1d", "99999999999"],
+        &["--steps-1d", "99999999999", "1 to 1000000"],
+    );
+    cli_error(&["stability", "--dim", "3"], &["--dim 3", "1 and/or 2"]);
+    cli_error(
+        &[
+            "bench",
+            "work-precision",
+            "--scene",
+            "bar",
+            "--levels",
+            "50",
+        ],
+        &["--levels 50", "1 to 10"],
+    );
+    cli_error(
         &["run", "bar", "--out", "/proc/impact-cannot-write-here"],
         &[
             "cannot write /proc/.impact-cannot-write-here.lock",

@@ -7,6 +7,12 @@
 //! (modulus `E`); in 2D it is in plane strain (moduli `λ`, `μ`).
 //!
 //! Sign conventions: tension positive; a `pressure` load is positive in compression.
+//!
+//! Layout: `grid` (cells, vertices, shape functions: a new MPM shape function goes beside
+//! `Grid::shape`), `points`, `material` (a new material: stateless, parameters apart, with
+//! its `Model` variant in `problem`), `scene/` (parsing; `validate.rs`, `boundary.rs`: every
+//! range), `options` (one enum per option), `exact/`, `reference`, `metrics`, `method` (the
+//! trait), `controller` (time loop, guard, stop flag), `parallel` (the chunk helper).
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]

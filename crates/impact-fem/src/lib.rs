@@ -19,6 +19,9 @@
 //! Loads: a pressure is the consistent nodal force of the loaded edge (in 1D `p A` on the
 //! end node); a prescribed velocity is imposed on the nodes of its edge segment (the
 //! paper's plate: nodes with `y ≤ 1 m`); a symmetry edge zeroes the normal velocity.
+//!
+//! Layout: this file holds the solver, its assembly (lumped mass, boundary loads, the
+//! coloured internal force) and the central-difference phases; `method.rs` the `Method` impl.
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]

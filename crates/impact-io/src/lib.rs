@@ -1,6 +1,9 @@
 //! Output files: CSV profiles, VTK unstructured grids (`.vtu`), PNG plots and JSON. Every
 //! file is written to a temporary name beside its target and renamed when complete, so
 //! an output file is never left half-written.
+//!
+//! Layout: `vtu` (VTK), `plot` (PNG), `h5` (feature `hdf5`), `folder` (a run's output folder:
+//! staged, locked, replaced as a whole with its manifest).
 pub mod folder;
 #[cfg(feature = "hdf5")]
 pub mod h5;

@@ -38,6 +38,10 @@
 //! nodes with no mass are skipped; a surface load is spread over the nodes of the
 //! surface's cell that carry mass (renormalised shape functions), so the whole load
 //! reaches the body when the outer node of that cell has lost its points.
+//!
+//! Layout: `transfer.rs` (phases 1, 3, 4, 5: the scatters, coloured by cell layer, and the
+//! gathers; a new shape function or transfer variant is selected there), `grid_update.rs`
+//! (phase 2), `method.rs` (the `Method` impl); this file holds the solver and its buffers.
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]

@@ -30,6 +30,7 @@ use crate::options::{
     MpmFrame, MpmOptions, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
 };
 
+mod boundary;
 mod validate;
 use serde::{Deserialize, Serialize};
 pub use validate::{

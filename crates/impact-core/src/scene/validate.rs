@@ -14,15 +14,16 @@
 //!   Saint-Venant–Kirchhoff compression must stay below the hyperbolicity limit
 //!   `E/(3√3)` (uniaxial `F = 1/√3`, where `Π' = 0`), its tension below `Π(F = 2) = 3E`,
 //!   and a velocity load below `0.4 c_p` (uniaxial stretch above `0.6 > 1/√3`);
-//! - a loaded segment lies on its edge and covers at least one face centre;
+//! - a loaded segment lies on its edge and covers at least one face centre (the edge
+//!   checks are in `boundary.rs`);
 //! - no output time lies after `t_end`.
 //!
 //! The work a method configuration implies is estimated by [`Scene::work_estimate`] and
 //! refused past a budget by [`check_work`] (the CLI's `--work-budget`).
-use super::{EdgeSpec, Scene};
+use super::Scene;
 use crate::error::SceneError;
-use crate::material::{LinearElastic, Svk};
-use crate::options::{EdgeKind, MaterialModel, MethodConfig, MethodKind};
+use crate::material::LinearElastic;
+use crate::options::{MethodConfig, MethodKind};
 
 /// Largest number of cells × points per cell a scene may ask for.
 pub const MAX_POINTS: f64 = 1e7;
@@ -298,7 +299,7 @@ impl Scene {
     }
 
     /// The linear-elastic material and its P-wave modulus `M` in this scene's dimension.
-    fn p_modulus(&self) -> (LinearElastic, f64) {
+    pub(super) fn p_modulus(&self) -> (LinearElastic, f64) {
         let m = &self.material;
         let material = LinearElastic::new(m.young, m.poisson, m.density);
         let modulus = if self.dim == 1 {
@@ -364,171 +365,6 @@ impl Scene {
                 field,
                 format!("an output at {late:e} s, after time.t_end = {t_end:e} s"),
                 "output times at or before the end time",
-            ));
-        }
-        Ok(())
-    }
-
-    fn edges(&self) -> [(&'static str, &Option<EdgeSpec>, usize); 4] {
-        let b = &self.boundary;
-        [
-            ("left", &b.left, 1),
-            ("right", &b.right, 1),
-            ("bottom", &b.bottom, 0),
-            ("top", &b.top, 0),
-        ]
-    }
-
-    fn check_boundaries(&self) -> Result<(), SceneError> {
-        for (name, edge, tangent) in self.edges() {
-            let Some(edge) = edge else { continue };
-            let field = format!("boundary.{name}");
-            if self.dim == 1 && matches!(name, "bottom" | "top") {
-                return Err(SceneError::new(
-                    field,
-                    edge.kind,
-                    "only `left` and `right` in 1D",
-                ));
-            }
-            self.check_edge_value(&field, edge)?;
-            self.check_segment(&field, edge, tangent)?;
-        }
-        Ok(())
-    }
-
-    fn check_edge_value(&self, field: &str, edge: &EdgeSpec) -> Result<(), SceneError> {
-        let value_field = format!("{field}.value");
-        let value = match (edge.kind, edge.value) {
-            (EdgeKind::Free | EdgeKind::Symmetry, None) => return Ok(()),
-            (EdgeKind::Free | EdgeKind::Symmetry, Some(v)) => {
-                return Err(SceneError::new(
-                    value_field,
-                    v,
-                    format!("no value for a `{}` edge", edge.kind),
-                ))
-            }
-            (kind, None) => {
-                return Err(SceneError::new(
-                    value_field,
-                    "missing",
-                    format!("a finite number for a `{kind}` edge"),
-                ))
-            }
-            (_, Some(v)) => v,
-        };
-        if edge.kind == EdgeKind::Pressure && value == 0.0 {
-            return Err(SceneError::new(
-                value_field,
-                value,
-                "a nonzero pressure (a zero pressure is a `free` edge)",
-            ));
-        }
-        let (allowed, fits) = self.load_bound(edge.kind, value);
-        if !(value.is_finite() && fits) {
-            return Err(SceneError::new(value_field, value, allowed));
-        }
-        Ok(())
-    }
-
-    /// What a load of `kind` and `value` may be under this scene's model, and whether
-    /// `value` is within it.
-    fn load_bound(&self, kind: EdgeKind, value: f64) -> (String, bool) {
-        let (material, modulus) = self.p_modulus();
-        let speed = (modulus / material.density).sqrt();
-        match (self.material.model, kind) {
-            (MaterialModel::LinearElastic, EdgeKind::Pressure) => {
-                let limit = MAX_STRAIN * modulus;
-                (
-                    format!(
-                        "|p| ≤ {limit:.4e} Pa: a strain of at most {MAX_STRAIN} under small-strain \
-                         linear elasticity (|p|/M, M = {modulus:.4e} Pa; use model = \"svk\" beyond)"
-                    ),
-                    value.abs() <= limit,
-                )
-            }
-            (MaterialModel::LinearElastic, _) => {
-                let limit = MAX_STRAIN * speed;
-                (
-                    format!(
-                        "|v| ≤ {limit:.4e} m/s: a strain of at most {MAX_STRAIN} under small-strain \
-                         linear elasticity (|v|/c_p, c_p = {speed:.4e} m/s; use model = \"svk\" beyond)"
-                    ),
-                    value.abs() <= limit,
-                )
-            }
-            (MaterialModel::Svk, EdgeKind::Pressure) => {
-                let svk = Svk::new(material);
-                let (f_lim, pi_lim) = svk.hyperbolicity_limit_1d();
-                let tension = 3.0 * self.material.young;
-                (
-                    format!(
-                        "a compression below the SVK hyperbolicity limit E/(3√3) = {:.4e} Pa \
-                         (uniaxial F = 1/√3 = {f_lim:.4}, where Π' = 0) and a tension of at most \
-                         Π(F = 2) = 3E = {tension:.4e} Pa",
-                        -pi_lim
-                    ),
-                    value < -pi_lim && value >= -tension,
-                )
-            }
-            (MaterialModel::Svk, _) => {
-                let limit = 0.4 * speed;
-                (
-                    format!(
-                        "|v| ≤ 0.4 c_p = {limit:.4e} m/s (a uniaxial stretch above 0.6, clear of \
-                         the SVK hyperbolicity limit F = 1/√3)"
-                    ),
-                    value.abs() <= limit,
-                )
-            }
-        }
-    }
-
-    /// A segment lies on its edge (2D), `from < to`, and covers a face centre.
-    fn check_segment(
-        &self,
-        field: &str,
-        edge: &EdgeSpec,
-        tangent: usize,
-    ) -> Result<(), SceneError> {
-        if edge.from.is_none() && edge.to.is_none() {
-            return Ok(());
-        }
-        if self.dim == 1 {
-            return Err(SceneError::new(
-                format!("{field}.from"),
-                "a segment",
-                "no segment in 1D (an end is a point)",
-            ));
-        }
-        let extent = self.domain.length[tangent];
-        let (from, to) = (edge.from.unwrap_or(0.0), edge.to.unwrap_or(extent));
-        for (key, v) in [("from", from), ("to", to)] {
-            if !(v.is_finite() && (0.0..=extent).contains(&v)) {
-                return Err(SceneError::new(
-                    format!("{field}.{key}"),
-                    v,
-                    format!("a position along the edge, in [0, {extent}] m"),
-                ));
-            }
-        }
-        if from >= to {
-            return Err(SceneError::new(
-                format!("{field}.to"),
-                to,
-                format!("a position after `from` = {from} m"),
-            ));
-        }
-        let cells = self.domain.cells[tangent];
-        let h = extent / cells as f64;
-        let first = ((from / h) - 0.5).ceil().max(0.0);
-        if (first + 0.5) * h > to * (1.0 + 1e-12) + 1e-12 * h {
-            return Err(SceneError::new(
-                format!("{field}.from/to"),
-                format!("{from}..{to} m"),
-                format!(
-                    "a segment that covers at least one face centre (faces are {h:e} m wide); \
-                     a shorter segment loads no face"
-                ),
             ));
         }
         Ok(())
