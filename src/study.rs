@@ -5,7 +5,7 @@ use impact_core::method::{
     RiemannSolver, StressUpdate, TransverseFlux,
 };
 use impact_core::scene::{
-    check_courant, check_output_times, check_points_per_cell, check_work, Scene,
+    check_courant, check_output_times, check_points_per_cell, check_work, Scene, WorkEstimate,
     DEFAULT_WORK_BUDGET, MAX_POINTS,
 };
 use impact_core::{CoreError, Problem, SceneError};
@@ -233,7 +233,35 @@ impl Study {
         for &kind in kinds {
             check_work(&self.scene.work_estimate(&self.config(kind)), budget)?;
         }
+        if let Some(reference) = self.reference_work()? {
+            check_work(&reference, budget)?;
+        }
         Ok(())
+    }
+
+    /// The work of the converged reference a 2D scene without an exact solution needs
+    /// (DGMPM on a grid [`crate::REFERENCE_REFINEMENT`] times finer: `r^2` the cells, `r`
+    /// the steps, at Courant 0.9, the lower of the two [`crate::reference_for`] uses);
+    /// `None` otherwise.
+    fn reference_work(&self) -> Result<Option<WorkEstimate>, SceneError> {
+        if self.dim() != 2 {
+            return Ok(None);
+        }
+        let problem = impact_core::Problem::<2>::from_valid_scene(&self.scene)
+            .map_err(|e| SceneError::new("scene", e, "a scene that builds its problem"))?;
+        if impact_core::reference::Reference::for_problem(&problem).is_some() {
+            return Ok(None);
+        }
+        let refinement = crate::REFERENCE_REFINEMENT as f64;
+        let mut config = self.scene.method_config(MethodKind::Dgmpm);
+        config.points_per_cell = 1;
+        config.courant = 0.9;
+        let coarse = self.scene.work_estimate(&config);
+        Ok(Some(WorkEstimate {
+            what: "the converged reference",
+            points: coarse.points * refinement * refinement,
+            steps: coarse.steps * refinement,
+        }))
     }
 
     /// Scene name.

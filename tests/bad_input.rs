@@ -131,6 +131,13 @@ fn bad_flags_are_named() {
         &["run", "bar", "--courant", "1e-300"],
         &["work of dgmpm", "--work-budget"],
     );
+    // the converged reference of a 2D scene counts too (16x the cells, 4x the steps)
+    cli_error(
+        &[
+            "run", "plate", "--cells", "400", "--t-end", "3e-2", "--method", "fem",
+        ],
+        &["work of the converged reference", "1.534e11 point-updates"],
+    );
     cli_error(
         &["run", "bar", "--work-budget", "0"],
         &["--work-budget", "0", "at least 1"],

@@ -139,8 +139,8 @@ pub fn check_output_times(field: &str, times: &[f64]) -> Result<(), SceneError> 
 /// P-wave transit time) over `points` points (cells × points per cell; nodes for FEM).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WorkEstimate {
-    /// Method.
-    pub kind: MethodKind,
+    /// What runs: a method's name, or `the converged reference`.
+    pub what: &'static str,
     /// Points (or cells) updated per step.
     pub points: f64,
     /// Number of steps (a lower bound: large-strain wave speeds shorten the step).
@@ -161,7 +161,7 @@ pub fn check_work(estimate: &WorkEstimate, budget: f64) -> Result<(), SceneError
         return Ok(());
     }
     Err(SceneError::new(
-        format!("work of {}", estimate.kind),
+        format!("work of {}", estimate.what),
         format!(
             "{:.3e} points × {:.3e} steps = {work:.3e} point-updates",
             estimate.points, estimate.steps
@@ -380,7 +380,7 @@ impl Scene {
         let (_, transit) = self.transit();
         let (_, t_end) = self.schedule_seconds();
         WorkEstimate {
-            kind: config.kind(),
+            what: config.kind().name(),
             points,
             steps: (t_end / (config.courant * transit)).ceil(),
         }
