@@ -5,7 +5,7 @@
 use crate::run::{run_method, RunRecord, Silent};
 use crate::study::Study;
 use anyhow::{Context, Result};
-use impact_core::method::{MethodConfig, MethodKind};
+use impact_core::method::{MethodConfig, MethodKind, MpmShape};
 
 /// The verdict at one output time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -112,8 +112,52 @@ pub fn judge(
     (rows, ok && compared > 0)
 }
 
-/// Run the gate on `study` in dimension `D`.
-pub fn check_study<const D: usize>(study: &Study) -> Result<CheckReport> {
+/// Which MPM the gate compares DGMPM with (`--against`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Against {
+    /// The scene's MPM configuration.
+    SceneMpm,
+    /// The scene's MPM with these shape functions.
+    Shape(MpmShape),
+    /// The scene's MPM with every shape function, one verdict each.
+    AllMpm,
+}
+
+impl Against {
+    /// Parse `--against`: `all-mpm` or a shape function's name.
+    pub fn parse(text: &str) -> Result<Self> {
+        if text == "all-mpm" {
+            return Ok(Against::AllMpm);
+        }
+        MpmShape::parse(text).map(Against::Shape).with_context(|| {
+            format!(
+                "invalid value for `--against`: {text:?} (allowed: \"all-mpm\" or an MPM shape \
+                 function: {})",
+                MpmShape::allowed()
+            )
+        })
+    }
+
+    /// The MPM configurations compared with, from the scene's.
+    fn configs(self, scene_mpm: MethodConfig) -> Vec<MethodConfig> {
+        let with = |shape: MpmShape| {
+            let mut c = scene_mpm;
+            if let Some(o) = c.mpm_mut() {
+                o.shape = shape;
+            }
+            c
+        };
+        match self {
+            Against::SceneMpm => vec![scene_mpm],
+            Against::Shape(shape) => vec![with(shape)],
+            Against::AllMpm => MpmShape::ALL.into_iter().map(with).collect(),
+        }
+    }
+}
+
+/// Run the gate on `study` in dimension `D`: DGMPM once, then each MPM of `against`; one
+/// report per MPM.
+pub fn check_study<const D: usize>(study: &Study, against: Against) -> Result<Vec<CheckReport>> {
     study.check_work(&[MethodKind::Dgmpm, MethodKind::Mpm])?;
     let problem = study.problem::<D>()?;
     let reference = crate::reference_for(&problem, false)?.with_context(|| {
@@ -123,16 +167,19 @@ pub fn check_study<const D: usize>(study: &Study) -> Result<CheckReport> {
         )
     })?;
     let dgmpm = study.config(MethodKind::Dgmpm);
-    let mpm = study.scene_config(MethodKind::Mpm);
     let (dgmpm_record, _) = run_method(&problem, dgmpm, Some(&reference), &mut Silent)?;
-    let (mpm_record, _) = run_method(&problem, mpm, Some(&reference), &mut Silent)?;
-    let (rows, pass) = judge(&dgmpm_record, &mpm_record, |t| reference.front(t).is_some());
-    Ok(CheckReport {
-        dgmpm,
-        mpm,
-        dgmpm_record,
-        mpm_record,
-        rows,
-        pass,
-    })
+    let mut reports = Vec::new();
+    for mpm in against.configs(study.scene_config(MethodKind::Mpm)) {
+        let (mpm_record, _) = run_method(&problem, mpm, Some(&reference), &mut Silent)?;
+        let (rows, pass) = judge(&dgmpm_record, &mpm_record, |t| reference.front(t).is_some());
+        reports.push(CheckReport {
+            dgmpm,
+            mpm,
+            dgmpm_record: dgmpm_record.clone(),
+            mpm_record,
+            rows,
+            pass,
+        });
+    }
+    Ok(reports)
 }

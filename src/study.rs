@@ -1,7 +1,7 @@
 //! A [`Study`]: one scene and the command-line [`Overrides`], validated once, from which
 //! every command takes its problem and method configurations.
 use impact_core::method::{
-    EdgeKind, Integrator, LoadDirection, MethodConfig, MethodKind, MpmFrame, PointUpdate,
+    EdgeKind, Integrator, LoadDirection, MethodConfig, MethodKind, MpmFrame, MpmShape, PointUpdate,
     RiemannSolver, StressUpdate, TransverseFlux,
 };
 use impact_core::scene::{
@@ -36,6 +36,9 @@ pub struct Overrides {
     /// MPM frame: shape functions at reference (total) or current (updated) positions.
     #[arg(long, value_enum)]
     pub frame: Option<MpmFrame>,
+    /// MPM shape functions: linear hats, uniform GIMP, quadratic or cubic B-splines.
+    #[arg(long, value_enum)]
+    pub shape: Option<MpmShape>,
     /// DGMPM transverse flux in 2D: donor-cell upwind or corner transport upwind.
     #[arg(long, value_enum)]
     pub flux: Option<TransverseFlux>,
@@ -198,6 +201,7 @@ impl Overrides {
         if let Some(o) = config.mpm_mut() {
             o.stress_update = self.stress_update.unwrap_or(o.stress_update);
             o.frame = self.frame.unwrap_or(o.frame);
+            o.shape = self.shape.unwrap_or(o.shape);
         }
     }
 }

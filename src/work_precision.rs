@@ -8,7 +8,7 @@
 //! (`impact stability`): DGMPM 1 point per cell Euler 1.0 (2D: CTU 1.0, DCU 0.6); several
 //! points per cell with Euler 0.6; RK2 1.0 (2D: DCU 0.95, CTU 0.7); MPM 0.5; FEM 0.9.
 use anyhow::{bail, Context, Result};
-use impact_core::method::{Integrator, MethodConfig, MethodKind, TransverseFlux};
+use impact_core::method::{Integrator, MethodConfig, MethodKind, MpmShape, TransverseFlux};
 use impact_core::Scene;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -121,6 +121,23 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
         (config.points_per_cell, config.courant) = (ppc, 0.5);
         out.push(Config {
             label: format!("mpm {ppc}ppc C0.5"),
+            config,
+        });
+    }
+    // the smooth shape functions (issue 11): at one point per cell in the total Lagrangian
+    // frame GIMP and the quadratic B-spline equal the hat, so they run at 4 points per cell
+    for (shape, ppc) in [
+        (MpmShape::Gimp, 4),
+        (MpmShape::Bspline2, 4),
+        (MpmShape::Bspline3, 1),
+    ] {
+        let mut config = scene.method_config(MethodKind::Mpm);
+        (config.points_per_cell, config.courant) = (ppc, 0.5);
+        if let Some(o) = config.mpm_mut() {
+            o.shape = shape;
+        }
+        out.push(Config {
+            label: format!("mpm {} {ppc}ppc C0.5", shape.name()),
             config,
         });
     }

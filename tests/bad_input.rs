@@ -190,6 +190,14 @@ fn bad_flags_are_named() {
     );
     cli_error(&["run", "bar", "--courant", "inf"], &["--courant", "inf"]);
     cli_error(
+        &["check", "bar", "--against", "sph"],
+        &["--against", "sph", "all-mpm", "\"gimp\""],
+    );
+    cli_error(
+        &["run", "bar", "--shape", "nurbs"],
+        &["--shape", "nurbs", "bspline3"],
+    );
+    cli_error(
         &["stability", "--steps-1d", "99999999999"],
         &["--steps-1d", "99999999999", "1 to 1000000"],
     );

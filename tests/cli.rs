@@ -376,3 +376,63 @@ fn svk_outputs_name_and_hold_the_first_piola_kirchhoff_stress() {
     let vtu = std::fs::read_to_string(out.join("dgmpm_t0.vtu")).unwrap();
     assert!(vtu.contains("Name=\"piola_stress\"") && !vtu.contains("Name=\"cauchy_stress\""));
 }
+
+/// `check --against all-mpm` prints one verdict per MPM shape function, and the MPM front
+/// widths it prints are those `impact run --method mpm --shape <shape>` records.
+#[test]
+fn check_against_all_mpm_prints_every_variant_with_the_run_figures() {
+    for scene in ["bar", "svk-bar", "plate"] {
+        let o = impact(&["check", scene, "--against", "all-mpm"]);
+        let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+        assert!(!stdout.is_empty(), "{}", text(&o));
+        let verdicts: Vec<&str> = stdout
+            .lines()
+            .filter(|l| l.starts_with("PASS") || l.starts_with("FAIL"))
+            .collect();
+        assert_eq!(verdicts.len(), 4, "{stdout}");
+        // the exit status is the conjunction of the verdicts
+        assert_eq!(
+            o.status.success(),
+            verdicts.iter().all(|v| v.starts_with("PASS")),
+            "{stdout}"
+        );
+        let blocks: Vec<&str> = stdout.split("check ").skip(1).collect();
+        for (block, shape) in blocks
+            .iter()
+            .zip(["linear", "gimp", "bspline2", "bspline3"])
+        {
+            assert!(block.contains(&format!("usl, {shape})")), "{block}");
+            let printed: Vec<String> = block
+                .lines()
+                .filter(|l| l.trim_start().starts_with(|c: char| c.is_ascii_digit()))
+                .map(|l| l.split_whitespace().nth(2).unwrap().to_string())
+                .collect();
+            let out = tmp(&format!("against-{scene}-{shape}"));
+            let r = impact(&[
+                "run",
+                scene,
+                "--method",
+                "mpm",
+                "--shape",
+                shape,
+                "--no-files",
+                "--quiet",
+                "--out",
+                out.to_str().unwrap(),
+            ]);
+            assert!(r.status.success(), "{}", text(&r));
+            let s = json(&out.join("summary.json"));
+            let recorded: Vec<String> = s["runs"][0]["times"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|t| {
+                    t["front_width_cells"]
+                        .as_f64()
+                        .map_or("-".into(), |w| format!("{w:.3}"))
+                })
+                .collect();
+            assert_eq!(printed, recorded, "{scene} {shape}");
+        }
+    }
+}

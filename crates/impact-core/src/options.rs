@@ -164,6 +164,22 @@ option_enum! {
 }
 
 option_enum! {
+    /// MPM shape functions (weights of a point on the background grid's nodes).
+    MpmShape {
+        /// Linear (1D) / multilinear hat functions: 2 nodes per axis (Sulsky et al. 1994).
+        Linear = "linear",
+        /// Uniform GIMP: the hat convolved with the point's domain of half a point spacing
+        /// (Bardenhagen & Kober 2004): 3 nodes per axis, C¹ across cell faces.
+        Gimp = "gimp",
+        /// Quadratic B-spline on the padded grid (Steffen, Kirby & Berzins 2008): 3 nodes per
+        /// axis, C¹.
+        Bspline2 = "bspline2",
+        /// Cubic B-spline on the padded grid: 4 nodes per axis, C².
+        Bspline3 = "bspline3",
+    }
+}
+
+option_enum! {
     /// Direction of a pressure load.
     LoadDirection {
         /// Pushing into the body (positive pressure).
@@ -229,14 +245,17 @@ pub struct MpmOptions {
     pub stress_update: StressUpdate,
     /// Frame of the shape functions.
     pub frame: MpmFrame,
+    /// Shape functions.
+    pub shape: MpmShape,
 }
 
 impl Default for MpmOptions {
-    /// USL in the total Lagrangian frame (the paper's comparisons, §5).
+    /// USL in the total Lagrangian frame with linear hats (the paper's comparisons, §5).
     fn default() -> Self {
         Self {
             stress_update: StressUpdate::Usl,
             frame: MpmFrame::TotalLagrangian,
+            shape: MpmShape::Linear,
         }
     }
 }
@@ -366,6 +385,7 @@ impl MethodConfig {
             MethodOptions::Mpm(o) => {
                 push("--stress-update", o.stress_update.name());
                 push("--frame", o.frame.name());
+                push("--shape", o.shape.name());
             }
             MethodOptions::Fem(_) => {}
         }

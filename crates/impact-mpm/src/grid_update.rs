@@ -12,6 +12,7 @@ impl<const D: usize> MpmSolver<D> {
     /// the impulse of the reaction forces, `Δt Σ r`.
     pub fn grid_update(&mut self, dt: f64) -> (f64, Vector<D>) {
         let nodes = &mut self.nodes;
+        let floor = self.empty_mass;
         let (mass, force) = (&nodes.mass, &nodes.force);
         for_each_chunk(
             self.parallel,
@@ -20,7 +21,7 @@ impl<const D: usize> MpmSolver<D> {
             |r, momentum| {
                 for (j, p) in momentum.iter_mut().enumerate() {
                     let i = r * CHUNK + j;
-                    if mass[i] > 0.0 {
+                    if mass[i] > floor {
                         *p += force[i] * dt;
                     }
                 }
@@ -30,7 +31,7 @@ impl<const D: usize> MpmSolver<D> {
         let mut impulse = Vector::<D>::zeros();
         for &(v, axis, value) in &self.node_constraints {
             let m = nodes.mass[v];
-            if m > 0.0 {
+            if m > floor {
                 let old = nodes.momentum[v][axis];
                 nodes.momentum[v][axis] = value * m;
                 // reaction force of the constraint, kept in the force for the FLIP update
@@ -45,9 +46,9 @@ impl<const D: usize> MpmSolver<D> {
 
     /// The prescribed nodal velocities on the momentum (after the MUSL remap).
     pub(crate) fn constrain_momentum(&mut self) {
-        let nodes = &mut self.nodes;
+        let (nodes, floor) = (&mut self.nodes, self.empty_mass);
         for &(v, axis, value) in &self.node_constraints {
-            if nodes.mass[v] > 0.0 {
+            if nodes.mass[v] > floor {
                 nodes.momentum[v][axis] = value * nodes.mass[v];
             }
         }

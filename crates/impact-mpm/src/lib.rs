@@ -1,5 +1,6 @@
-//! Update-stress-last material point method (Sulsky, Zhou & Schreyer 1995) with linear
-//! (1D) / bilinear (2D) shape functions on a fixed background grid.
+//! Update-stress-last material point method (Sulsky, Zhou & Schreyer 1995) on a fixed,
+//! padded background grid, with the shape functions of [`shape`] (linear hats by default;
+//! uniform GIMP, quadratic and cubic B-splines as options).
 //!
 //! One step, one phase per function:
 //! 1. [`MpmSolver::particles_to_grid`]: nodal mass `m_i = Σ_p N_ip m_p`, momentum
@@ -39,14 +40,15 @@
 //! surface's cell that carry mass (renormalised shape functions), so the whole load
 //! reaches the body when the outer node of that cell has lost its points.
 //!
-//! Layout: `transfer.rs` (phases 1, 3, 4, 5: the scatters, coloured by cell layer, and the
-//! gathers; a new shape function or transfer variant is selected there), `grid_update.rs`
+//! Layout: `shape.rs` (the shape functions and their stencils: a new one goes there),
+//! `transfer.rs` (phases 1, 3, 4, 5: the scatters, coloured by node layer, and the gathers), `grid_update.rs`
 //! (phase 2), `method.rs` (the `Method` impl); this file holds the solver and its buffers.
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
 mod grid_update;
 mod method;
+pub mod shape;
 mod transfer;
 use impact_core::method::{MethodConfig, Model, MpmFrame, MpmOptions, StressUpdate};
 use impact_core::parallel::worth_parallel;
@@ -148,8 +150,15 @@ pub struct MpmSolver<const D: usize> {
     layer_order: Vec<usize>,
     layer_start: Vec<usize>,
     parallel: bool,
-    /// Per point: its cell in the background grid, shape values and gradients.
-    point_cell: Vec<usize>,
+    /// Nodes holding at most this mass are empty: `1e-10` of the lightest point. A smooth
+    /// stencil (GIMP, B-splines) gives round-off weights (~1e-15) to nodes at its edge; with
+    /// USL their velocity `p_i/m_i` would be divided by that round-off.
+    empty_mass: f64,
+    /// The shape functions' stencil ([`shape`]).
+    stencil: shape::Stencil<D>,
+    /// Per point: the linear index of its stencil's base node, shape values and gradients
+    /// (`stencil.nodes` per point).
+    point_base: Vec<usize>,
     shape: Vec<f64>,
     shape_gradient: Vec<Vector<D>>,
     /// Whether the shape functions at the reference positions are cached (total Lagrangian).
@@ -196,7 +205,8 @@ impl<const D: usize> Mpm<D> {
             spacing: body.spacing,
             cells,
         };
-        let npc = Grid::<D>::NODES_PER_CELL;
+        let stencil = shape::Stencil::new(&grid, options.shape, per_axis);
+        let npc = stencil.nodes;
         let (loads, velocity_edges) = edge_conditions(problem, &points);
         let nodes = grid.vertex_count();
         let np = points.len();
@@ -216,9 +226,11 @@ impl<const D: usize> Mpm<D> {
                 point_constraints,
                 nodes: NodeSums::new(nodes),
                 layer_order: vec![0; np],
-                layer_start: vec![0; grid.cells[D - 1] + 1],
+                layer_start: vec![0; grid.cells[D - 1] + 2],
                 parallel,
-                point_cell: vec![0; np],
+                point_base: vec![0; np],
+                stencil,
+                empty_mass: 1e-10 * points.mass.iter().copied().fold(f64::INFINITY, f64::min),
                 shape: vec![0.0; np * npc],
                 shape_gradient: vec![Vector::<D>::zeros(); np * npc],
                 shapes_ready: false,
@@ -297,7 +309,8 @@ fn edge_conditions<const D: usize>(
 }
 
 /// The prescribed nodal velocity components of the velocity and symmetry edges:
-/// `(node, axis, value)` for every node of the edge's layer inside its segment.
+/// `(node, axis, value)` for every node of the edge's layer, and of the padding layers
+/// beyond it, inside its segment.
 fn node_constraints<const D: usize>(
     grid: &Grid<D>,
     edges: &[VelocityEdge],
@@ -308,7 +321,14 @@ fn node_constraints<const D: usize>(
         for v in 0..grid.vertex_count() {
             let along = (0..e.axis).fold(v, |rest, k| rest / counts[k]) % counts[e.axis];
             let s = Grid::<D>::segment_axis(e.axis).map_or(0.0, |k| grid.vertex_position(v)[k]);
-            if along == e.node_layer && Boundary::acts_at(e.segment, s) {
+            // the edge layer and the padding beyond it: smooth stencils (GIMP, B-splines)
+            // put mass on nodes outside the body, which move with the wall
+            let outside = if e.node_layer == PADDING {
+                along <= e.node_layer
+            } else {
+                along >= e.node_layer
+            };
+            if outside && Boundary::acts_at(e.segment, s) {
                 out.push((v, e.axis, e.value));
             }
         }

@@ -27,54 +27,55 @@ struct Fill {
 
 impl<const D: usize> MpmSolver<D> {
     /// Shape functions at the current (updated Lagrangian) or reference (total
-    /// Lagrangian, computed once) positions.
+    /// Lagrangian, computed once) positions ([`crate::shape`]).
     fn update_shapes(&mut self, points: &MaterialPoints<D>) {
         let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
         if !moving && self.shapes_ready {
             return;
         }
-        let npc = Grid::<D>::NODES_PER_CELL;
-        let grid = &self.grid;
+        let nodes = self.stencil.nodes;
+        let (grid, stencil) = (&self.grid, &self.stencil);
         let parts = (
-            chunks(&mut self.point_cell, CHUNK),
-            chunks(&mut self.shape, CHUNK * npc),
-            chunks(&mut self.shape_gradient, CHUNK * npc),
+            chunks(&mut self.point_base, CHUNK),
+            chunks(&mut self.shape, CHUNK * nodes),
+            chunks(&mut self.shape_gradient, CHUNK * nodes),
         );
-        for_each_chunk(self.parallel, 1, parts, |r, (cells, shape, gradient)| {
-            for (j, cell) in cells.iter_mut().enumerate() {
+        for_each_chunk(self.parallel, 1, parts, |r, (bases, shape, gradient)| {
+            for (j, base) in bases.iter_mut().enumerate() {
                 let p = r * CHUNK + j;
                 let x = if moving {
                     &points.position[p]
                 } else {
                     &points.reference[p]
                 };
-                // a point outside the padded grid is reported by check_finite
-                let (c, xi) = grid
-                    .locate(x)
-                    .unwrap_or((*cell, Vector::<D>::from_element(0.5)));
-                *cell = c;
-                let range = j * npc..(j + 1) * npc;
-                grid.shape(&xi, &mut shape[range.clone()], &mut gradient[range]);
+                let range = j * nodes..(j + 1) * nodes;
+                // a point whose stencil leaves the padded grid keeps its last stencil and
+                // weights; check_finite reports it
+                if let Some((b, _)) =
+                    stencil.evaluate(grid, x, &mut shape[range.clone()], &mut gradient[range])
+                {
+                    *base = b;
+                }
             }
         });
         self.sort_by_layer();
     }
 
-    /// Sort the points by the layer (along the last axis) of their cell into
+    /// Sort the points by the layer (along the last axis) of their stencil's base node into
     /// `layer_order` (a counting sort, stable: points already in cell order keep it).
     fn sort_by_layer(&mut self) {
-        let layer_cells: usize = self.grid.cells[..D - 1].iter().product();
+        let layer_nodes: usize = self.grid.cells[..D - 1].iter().map(|n| n + 1).product();
         let starts = &mut self.layer_start;
         starts.iter_mut().for_each(|s| *s = 0);
-        for &c in &self.point_cell {
-            starts[c / layer_cells + 1] += 1;
+        for &base in &self.point_base {
+            starts[base / layer_nodes + 1] += 1;
         }
         for k in 1..starts.len() {
             starts[k] += starts[k - 1];
         }
         // `starts[k]` is the next free slot of layer k while filling; shifted back after
-        for (p, &c) in self.point_cell.iter().enumerate() {
-            let layer = c / layer_cells;
+        for (p, &base) in self.point_base.iter().enumerate() {
+            let layer = base / layer_nodes;
             self.layer_order[starts[layer]] = p;
             starts[layer] += 1;
         }
@@ -85,14 +86,15 @@ impl<const D: usize> MpmSolver<D> {
     }
 
     /// Add `contribution(p, band)` of every point to the nodal sums named by `fill` (which
-    /// are zeroed first). The points of cell layer `j` write node layers `j` and `j + 1`
-    /// only, so the even layers write disjoint bands of two node layers, and so do the odd
-    /// ones: two colour passes over disjoint chunks of the nodal arrays (in parallel when
-    /// worth it; module doc). A serial run adds in point order instead (the same sums up to
-    /// round-off).
+    /// are zeroed first). A point whose stencil starts at node layer `j` (along the last
+    /// axis) writes node layers `j` to `j + w − 1` only (`w` nodes per axis), so the points
+    /// of layers `j ≡ c (mod w)` write disjoint bands of `w` node layers: `w` colour passes
+    /// over disjoint chunks of the nodal arrays (in parallel when worth it; module doc). A
+    /// serial run adds in point order instead (the same sums up to round-off).
     fn scatter(&mut self, fill: Fill, contribution: impl Fn(usize, &mut Band<'_, D>) + Sync) {
         let layer_nodes: usize = self.grid.cells[..D - 1].iter().map(|n| n + 1).product();
-        let layers = self.grid.cells[D - 1];
+        let layers = self.grid.cells[D - 1] + 1;
+        let width = self.stencil.width;
         let (order, starts) = (&self.layer_order, &self.layer_start);
         let nodes = &mut self.nodes;
         let all = (
@@ -124,9 +126,9 @@ impl<const D: usize> MpmSolver<D> {
             }
             return;
         }
-        let band = 2 * layer_nodes;
+        let band = width * layer_nodes;
         let grain = (CHUNK / band).max(1);
-        for colour in 0..2 {
+        for colour in 0..width {
             let from = colour * layer_nodes;
             let bands = (
                 chunks(&mut nodes.mass[from..], band),
@@ -134,7 +136,7 @@ impl<const D: usize> MpmSolver<D> {
                 chunks(&mut nodes.force[from..], band),
             );
             for_each_chunk(self.parallel, grain, bands, |r, (mass, momentum, force)| {
-                let layer = colour + 2 * r;
+                let layer = colour + width * r;
                 if layer >= layers {
                     return;
                 }
@@ -156,21 +158,24 @@ impl<const D: usize> MpmSolver<D> {
     /// `f_i = -Σ_p V_p σ_p ∇N_ip` on the grid.
     pub fn particles_to_grid(&mut self, points: &MaterialPoints<D>, with_internal: bool) {
         self.update_shapes(points);
-        let npc = Grid::<D>::NODES_PER_CELL;
+        let npc = self.stencil.nodes;
         let fill = Fill {
             mass: true,
             momentum: true,
             force: true,
         };
-        let (grid, cells) = (self.grid.clone(), std::mem::take(&mut self.point_cell));
+        let (offsets, bases) = (
+            std::mem::take(&mut self.stencil.offsets),
+            std::mem::take(&mut self.point_base),
+        );
         let (shape, gradient) = (
             std::mem::take(&mut self.shape),
             std::mem::take(&mut self.shape_gradient),
         );
         self.scatter(fill, |p, sums| {
-            let c = cells[p];
+            let base = bases[p];
             for a in 0..npc {
-                let i = grid.vertex_of(c, a) - sums.offset;
+                let i = base + offsets[a] - sums.offset;
                 let w = shape[p * npc + a] * points.mass[p];
                 sums.mass[i] += w;
                 sums.momentum[i] += points.velocity[p] * w;
@@ -179,26 +184,31 @@ impl<const D: usize> MpmSolver<D> {
                 }
             }
         });
-        (self.point_cell, self.shape, self.shape_gradient) = (cells, shape, gradient);
+        (self.point_base, self.shape, self.shape_gradient) = (bases, shape, gradient);
+        self.stencil.offsets = offsets;
     }
 
     /// Internal forces only (USF computes them after its stress update).
     pub(crate) fn internal_forces(&mut self, points: &MaterialPoints<D>) {
-        let npc = Grid::<D>::NODES_PER_CELL;
+        let npc = self.stencil.nodes;
         let fill = Fill {
             mass: false,
             momentum: false,
             force: true,
         };
-        let (grid, cells) = (self.grid.clone(), std::mem::take(&mut self.point_cell));
+        let (offsets, bases) = (
+            std::mem::take(&mut self.stencil.offsets),
+            std::mem::take(&mut self.point_base),
+        );
         let gradient = std::mem::take(&mut self.shape_gradient);
         self.scatter(fill, |p, sums| {
             for a in 0..npc {
-                let i = grid.vertex_of(cells[p], a) - sums.offset;
+                let i = bases[p] + offsets[a] - sums.offset;
                 sums.force[i] -= (points.stress[p] * gradient[p * npc + a]) * points.volume[p];
             }
         });
-        (self.point_cell, self.shape_gradient) = (cells, gradient);
+        (self.point_base, self.shape_gradient) = (bases, gradient);
+        self.stencil.offsets = offsets;
     }
 
     /// External surface loads as nodal forces at the current surface positions: a load is
@@ -217,14 +227,14 @@ impl<const D: usize> MpmSolver<D> {
                 continue;
             };
             self.grid.shape(&xi, &mut s[..npc], &mut g[..npc]);
-            let with_mass = |a: usize| self.nodes.mass[self.grid.vertex_of(c, a)] > 0.0;
+            let with_mass = |a: usize| self.nodes.mass[self.grid.vertex_of(c, a)] > self.empty_mass;
             let total: f64 = (0..npc).filter(|&a| with_mass(a)).map(|a| s[a]).sum();
             if total <= 0.0 {
                 continue;
             }
             for a in 0..npc {
                 let i = self.grid.vertex_of(c, a);
-                if self.nodes.mass[i] > 0.0 {
+                if self.nodes.mass[i] > self.empty_mass {
                     self.nodes.force[i] += load.force * (s[a] / total);
                 }
             }
@@ -242,7 +252,7 @@ impl<const D: usize> MpmSolver<D> {
     /// Phase 3: FLIP velocity update `v_p += Δt Σ_i N_ip f_i/m_i` and position update
     /// `x_p += Δt Σ_i N_ip p_i/m_i`.
     pub fn grid_to_particles(&self, points: &mut MaterialPoints<D>, dt: f64) {
-        let npc = Grid::<D>::NODES_PER_CELL;
+        let npc = self.stencil.nodes;
         let nodes = &self.nodes;
         let parts = (
             chunks(&mut points.velocity, CHUNK),
@@ -251,13 +261,13 @@ impl<const D: usize> MpmSolver<D> {
         for_each_chunk(self.parallel, 1, parts, |r, (velocity, position)| {
             for (j, (vp, xp)) in velocity.iter_mut().zip(position.iter_mut()).enumerate() {
                 let p = r * CHUNK + j;
-                let c = self.point_cell[p];
+                let base = self.point_base[p];
                 let mut dv = Vector::<D>::zeros();
                 let mut v = Vector::<D>::zeros();
                 for a in 0..npc {
-                    let i = self.grid.vertex_of(c, a);
+                    let i = base + self.stencil.offsets[a];
                     let m = nodes.mass[i];
-                    if m > 0.0 {
+                    if m > self.empty_mass {
                         let s = self.shape[p * npc + a];
                         dv += nodes.force[i] * (s * dt / m);
                         v += nodes.momentum[i] * (s / m);
@@ -272,33 +282,37 @@ impl<const D: usize> MpmSolver<D> {
     /// Phase 4 (MUSL): nodal momentum mapped again from the updated point velocities (with
     /// the shape functions of the start of the step), then the prescribed nodal velocities.
     pub fn remap_momentum(&mut self, points: &MaterialPoints<D>) {
-        let npc = Grid::<D>::NODES_PER_CELL;
+        let npc = self.stencil.nodes;
         let fill = Fill {
             mass: false,
             momentum: true,
             force: false,
         };
-        let (grid, cells) = (self.grid.clone(), std::mem::take(&mut self.point_cell));
+        let (offsets, bases) = (
+            std::mem::take(&mut self.stencil.offsets),
+            std::mem::take(&mut self.point_base),
+        );
         let shape = std::mem::take(&mut self.shape);
         self.scatter(fill, |p, sums| {
             for a in 0..npc {
-                let i = grid.vertex_of(cells[p], a) - sums.offset;
+                let i = bases[p] + offsets[a] - sums.offset;
                 sums.momentum[i] += points.velocity[p] * (shape[p * npc + a] * points.mass[p]);
             }
         });
-        (self.point_cell, self.shape) = (cells, shape);
+        (self.point_base, self.shape) = (bases, shape);
+        self.stencil.offsets = offsets;
         self.constrain_momentum();
     }
 
     /// Velocity gradient `∇v = Σ_i v_i ⊗ ∇N_ip` at point `p` (`∇_X` in the total
     /// Lagrangian frame), `v_i = p_i/m_i`.
     fn velocity_gradient(&self, p: usize) -> Tensor<D> {
-        let npc = Grid::<D>::NODES_PER_CELL;
+        let npc = self.stencil.nodes;
         let mut l = Tensor::<D>::zeros();
         for a in 0..npc {
-            let i = self.grid.vertex_of(self.point_cell[p], a);
+            let i = self.point_base[p] + self.stencil.offsets[a];
             let m = self.nodes.mass[i];
-            if m > 0.0 {
+            if m > self.empty_mass {
                 l += (self.nodes.momentum[i] / m) * self.shape_gradient[p * npc + a].transpose();
             }
         }

@@ -27,7 +27,7 @@
 use crate::error::CoreError;
 use crate::options::{
     DgmpmOptions, EdgeKind, Integrator, MaterialModel, MethodConfig, MethodKind, MethodOptions,
-    MpmFrame, MpmOptions, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
+    MpmFrame, MpmOptions, MpmShape, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
 };
 
 mod boundary;
@@ -180,6 +180,9 @@ pub struct MpmSpec {
     /// Frame of the shape functions.
     #[serde(default)]
     pub frame: Option<MpmFrame>,
+    /// Shape functions.
+    #[serde(default)]
+    pub shape: Option<MpmShape>,
 }
 
 /// FEM's section.
@@ -219,6 +222,7 @@ impl Default for MpmSpec {
             courant: courant_half(),
             stress_update: None,
             frame: None,
+            shape: None,
         }
     }
 }
@@ -260,6 +264,7 @@ impl Scene {
                     options: MethodOptions::Mpm(MpmOptions {
                         stress_update: s.stress_update.unwrap_or(d.stress_update),
                         frame: s.frame.unwrap_or(d.frame),
+                        shape: s.shape.unwrap_or(d.shape),
                     }),
                 }
             }
