@@ -18,7 +18,10 @@
 //! grid is padded by [`crate::PADDING`] cells on every side, so every stencil lies on the
 //! uniform grid and the weights keep the partition of unity `Σ φ = 1` and linear
 //! completeness `Σ φ_i x_i = x` up to the body's edges (tested). Nodes outside the body then
-//! carry mass, as in any padded-grid B-spline MPM.
+//! carry mass, as in any padded-grid B-spline MPM; velocity and symmetry edges prescribe the
+//! nodes on and beyond the edge. A pressure load is still spread over the nodes of the cell
+//! holding its application point with the hat's weights, whatever the shape (the whole force
+//! reaches the body either way).
 use impact_core::method::MpmShape;
 use impact_core::{Grid, Vector};
 
