@@ -323,3 +323,48 @@ fn ctu_is_stable_at_courant_one_and_donor_cell_is_not() {
     let (_, err) = run_method(&short, dcu(0.6), None, &mut Silent).unwrap();
     assert!(err.is_none(), "donor-cell at 0.6: {err:?}");
 }
+
+/// A bonded impactor (`velocity`) holds the tangential velocity of the impacted material at
+/// zero, a frictionless one (`normal-velocity`) lets it slide: along the impacted segment,
+/// the first column's |v_y| is much smaller bonded, in every method.
+#[test]
+fn a_bonded_impactor_stops_the_sliding_a_frictionless_one_allows() {
+    use impact_core::method::EdgeKind;
+    let mut sliding = Vec::new();
+    for kind in [EdgeKind::NormalVelocity, EdgeKind::Velocity] {
+        let mut scene = Scene::builtin("plate").unwrap();
+        scene.boundary.left.as_mut().unwrap().kind = kind;
+        let problem = Problem::<2>::from_scene(&scene).unwrap();
+        let mut row = Vec::new();
+        for method in MethodKind::ALL {
+            let mut m = impact::build(&problem, scene.method_config(method)).unwrap();
+            let dt = m.stable_dt();
+            let steps = (problem.output_times[0] / dt).ceil() as usize;
+            for n in 0..steps {
+                m.step(n as f64 * dt, dt);
+            }
+            let mut s = Samples::<2>::default();
+            m.sample_into(&mut s);
+            let h = problem.grid.spacing[0];
+            let vy = (0..s.len())
+                .filter(|&i| s.reference[i][0] < h && s.reference[i][1] < 0.9)
+                .map(|i| s.velocity[i][1].abs())
+                .fold(0.0, f64::max);
+            row.push(vy);
+        }
+        println!("{kind}: max |v_y| on the impacted column (dgmpm, mpm, fem) {row:.3?}");
+        sliding.push(row);
+    }
+    for (k, method) in MethodKind::ALL.iter().enumerate() {
+        assert!(
+            sliding[0][k] > 0.05,
+            "{method}: frictionless must slide: {sliding:?}"
+        );
+        assert!(
+            sliding[1][k] < 0.5 * sliding[0][k],
+            "{method}: bonded {} vs frictionless {}",
+            sliding[1][k],
+            sliding[0][k]
+        );
+    }
+}

@@ -206,8 +206,12 @@ option_enum! {
         Free = "free",
         /// Normal pressure `value` (Pa, positive in compression) on the segment.
         Pressure = "pressure",
-        /// Normal velocity `value` (m/s, into the body) on the segment.
+        /// An impactor bonded to the body: velocity `value` (m/s) into the body, zero
+        /// tangential velocity (no slip), on the segment.
         Velocity = "velocity",
+        /// A frictionless impactor: normal velocity `value` (m/s) into the body, zero shear
+        /// traction, on the segment.
+        NormalVelocity = "normal-velocity",
         /// Zero normal velocity and zero shear traction (a mirror plane).
         Symmetry = "symmetry",
     }

@@ -18,12 +18,16 @@ pub enum Boundary {
         /// Loaded segment along the edge (2D); outside it the edge is free.
         segment: Option<(f64, f64)>,
     },
-    /// Normal velocity `v_d` into the body (m/s); the tangential traction is zero.
+    /// An impactor moving at `v_d` into the body (m/s): bonded (the whole velocity vector
+    /// `v_d n_in` is imposed: no slip) or frictionless (the normal velocity only, zero
+    /// tangential traction).
     Velocity {
         /// Velocity magnitude, positive into the body.
         value: f64,
         /// Segment along the edge (2D); outside it the edge is free.
         segment: Option<(f64, f64)>,
+        /// Bonded (`velocity`) or frictionless (`normal-velocity`).
+        bonded: bool,
     },
     /// Zero normal velocity and zero shear traction (a mirror plane).
     Symmetry,
@@ -265,9 +269,10 @@ fn to_boundary(e: &EdgeSpec) -> Boundary {
             value: e.value.unwrap_or_default(),
             segment,
         },
-        EdgeKind::Velocity => Boundary::Velocity {
+        EdgeKind::Velocity | EdgeKind::NormalVelocity => Boundary::Velocity {
             value: e.value.unwrap_or_default(),
             segment,
+            bonded: e.kind == EdgeKind::Velocity,
         },
         EdgeKind::Symmetry => Boundary::Symmetry,
         EdgeKind::Free => Boundary::Free,

@@ -219,6 +219,7 @@ impl Reference {
             [Boundary::Velocity {
                 value,
                 segment: None,
+                ..
             }, Boundary::Free]
                 if plane =>
             {

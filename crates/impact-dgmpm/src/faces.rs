@@ -157,8 +157,14 @@ impl<const D: usize> DgmpmSolver<D> {
                     GhostCondition::Traction(Vector::<D>::zeros())
                 }
             }
-            Boundary::Velocity { value, segment } => {
-                if Boundary::acts_at(segment, s) {
+            Boundary::Velocity {
+                value,
+                segment,
+                bonded,
+            } => {
+                if Boundary::acts_at(segment, s) && bonded {
+                    GhostCondition::Velocity(outward * (-value))
+                } else if Boundary::acts_at(segment, s) {
                     GhostCondition::NormalVelocity(-value)
                 } else {
                     GhostCondition::Traction(Vector::<D>::zeros())

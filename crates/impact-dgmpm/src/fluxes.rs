@@ -97,6 +97,8 @@ impl<const D: usize> DgmpmSolver<D> {
                 let cond = match self.ghost_condition(l, side, s) {
                     GhostCondition::Traction(t) => GhostCondition::Traction(Vector::<1>::new(t[0])),
                     GhostCondition::NormalVelocity(v) => GhostCondition::NormalVelocity(v),
+                    // in 1D the velocity is the normal velocity (outward component)
+                    GhostCondition::Velocity(v) => GhostCondition::NormalVelocity(v[0] * outward),
                 };
                 riemann::svk::exact_boundary_1d(
                     svk,

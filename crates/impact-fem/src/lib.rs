@@ -211,9 +211,17 @@ fn boundary_loads<const D: usize>(
                             external[v][l] += -sign * value * tributary;
                         }
                     }
-                    Boundary::Velocity { value, segment } => {
+                    Boundary::Velocity {
+                        value,
+                        segment,
+                        bonded,
+                    } => {
                         if Boundary::acts_at(segment, s) {
                             constraints.push((v, l, -sign * value));
+                            if bonded {
+                                // no slip: the tangential velocity is zero too
+                                constraints.extend(Grid::<D>::tangent_axes(l).map(|k| (v, k, 0.0)));
+                            }
                         }
                     }
                     Boundary::Symmetry => constraints.push((v, l, 0.0)),

@@ -91,6 +91,8 @@ struct VelocityEdge {
     segment: Option<(f64, f64)>,
     /// Whether it is a symmetry edge (zero normal velocity, points untouched).
     symmetry: bool,
+    /// Bonded impactor: the tangential velocity is prescribed (zero) too.
+    bonded: bool,
 }
 
 /// Nodal sums of the background grid (struct of arrays).
@@ -288,12 +290,17 @@ fn edge_conditions<const D: usize>(
                         });
                     }
                 }
-                Boundary::Velocity { value, segment } => velocity_edges.push(VelocityEdge {
+                Boundary::Velocity {
+                    value,
+                    segment,
+                    bonded,
+                } => velocity_edges.push(VelocityEdge {
                     axis: l,
                     node_layer,
                     value: -sign * value,
                     segment,
                     symmetry: false,
+                    bonded,
                 }),
                 Boundary::Symmetry => velocity_edges.push(VelocityEdge {
                     axis: l,
@@ -301,6 +308,7 @@ fn edge_conditions<const D: usize>(
                     value: 0.0,
                     segment: None,
                     symmetry: true,
+                    bonded: false,
                 }),
             }
         }
@@ -330,6 +338,9 @@ fn node_constraints<const D: usize>(
             };
             if outside && Boundary::acts_at(e.segment, s) {
                 out.push((v, e.axis, e.value));
+                if e.bonded {
+                    out.extend(Grid::<D>::tangent_axes(e.axis).map(|k| (v, k, 0.0)));
+                }
             }
         }
     }
@@ -358,6 +369,9 @@ fn point_constraints<const D: usize>(
             let s = Grid::<D>::segment_axis(e.axis).map_or(0.0, |k| x[k]);
             if touches && Boundary::acts_at(e.segment, s) {
                 out.push((p, e.axis, e.value));
+                if e.bonded {
+                    out.extend(Grid::<D>::tangent_axes(e.axis).map(|k| (p, k, 0.0)));
+                }
             }
         }
     }

@@ -7,8 +7,11 @@ use impact_core::Vector;
 pub enum GhostCondition<const D: usize> {
     /// Prescribed traction `t_d` (traction-free: `t_d = 0`).
     Traction(Vector<D>),
-    /// Prescribed normal velocity `v_n` along the outward normal, zero shear traction.
+    /// Prescribed normal velocity `v_n` along the outward normal, zero shear traction
+    /// (a frictionless impactor or wall).
     NormalVelocity(f64),
+    /// Prescribed velocity vector `v_d` (a bonded impactor: no slip).
+    Velocity(Vector<D>),
 }
 
 /// Ghost state outside a boundary face (LeVeque 2002, §7.3): with `n` the outward normal
@@ -16,7 +19,8 @@ pub enum GhostCondition<const D: usize> {
 /// satisfy the condition exactly:
 /// - traction `t_d`: `t_g = 2 t_d - t_i`, `v_g = v_i` (then `t* = t_d`);
 /// - normal velocity `v_d`: `v_gn = 2 v_d - v_in`, `t_gn = t_in`, and `t_gt = -t_it`,
-///   `v_gt = v_it` (then `v_n* = v_d`, `t_t* = 0`).
+///   `v_gt = v_it` (then `v_n* = v_d`, `t_t* = 0`);
+/// - velocity vector `v_d`: `v_g = 2 v_d - v_i`, `t_g = t_i` (then `v* = v_d`).
 #[inline]
 pub fn ghost_state<const D: usize>(
     interior: &FaceState<D>,
@@ -38,6 +42,10 @@ pub fn ghost_state<const D: usize>(
                 velocity: outward * (2.0 * v_d - v_n) + v_t,
             }
         }
+        GhostCondition::Velocity(v_d) => FaceState {
+            traction: interior.traction,
+            velocity: v_d * 2.0 - interior.velocity,
+        },
     }
 }
 
@@ -67,7 +75,8 @@ pub fn ghost_full<const D: usize>(
 /// (the range of the normal Jacobian). Under a traction condition the traction is
 /// prescribed: `Δt = 0`. Under a normal-velocity condition the normal velocity and the
 /// shear traction are prescribed: the parts of the stress correction made by `Δv_n`
-/// (`nn` and `tt` components) and the tangential `Δt` vanish.
+/// (`nn` and `tt` components) and the tangential `Δt` vanish. Under a velocity-vector
+/// condition the whole velocity is prescribed: the stress correction vanishes, `Δt` stays.
 pub fn constrain_correction<const D: usize>(
     correction: &Conserved<D>,
     n: &Vector<D>,
@@ -88,6 +97,10 @@ pub fn constrain_correction<const D: usize>(
                 momentum: n * n.dot(&correction.momentum),
             }
         }
+        GhostCondition::Velocity(_) => Conserved {
+            tensor: impact_core::Tensor::<D>::zeros(),
+            momentum: correction.momentum,
+        },
     }
 }
 
@@ -118,6 +131,16 @@ mod tests {
             0.0,
             epsilon = 1e-12
         );
+        // a bonded impactor: the whole star velocity is the impactor's, and the star
+        // traction is the interior's plus the impedance times the velocity jump
+        let v_d = Vector::<2>::new(5.0, 0.0);
+        let g = ghost_state(&inner, &n, GhostCondition::Velocity(v_d));
+        let s = linear_elastic_star(&inner, &g, &n, z);
+        assert_relative_eq!(s.velocity, v_d, epsilon = 1e-12);
+        // outward n = -e_x: waves enter the interior to the right; t* = t_i + Z (v* - v_i)
+        let dv = v_d - inner.velocity;
+        let expected = inner.traction + Vector::<2>::new(z.p * dv[0], z.s * dv[1]);
+        assert_relative_eq!(s.traction, expected, epsilon = 1e-12);
     }
 
     /// The full ghost state's traction on the face is the face ghost state's.
@@ -131,6 +154,7 @@ mod tests {
             for c in [
                 GhostCondition::Traction(Vector::<2>::new(5e7, 0.0)),
                 GhostCondition::NormalVelocity(-5.0),
+                GhostCondition::Velocity(Vector::<2>::new(-5.0, 0.0)),
             ] {
                 let g = ghost_full(&inner, &n, c);
                 let face = ghost_state(&inner.on_face(&n), &n, c);

@@ -69,7 +69,7 @@ pub fn acoustic_star<const D: usize>(
 /// condition fixes `t* = t_d` (`v* = v_i + Z⁻¹ (t_d - t_i)`); a normal-velocity condition
 /// fixes `v*·n = v_d` and zero shear traction, which leaves the tangential velocity and the
 /// normal traction to solve for (exact for any symmetric `Z`, also when shear and normal
-/// waves couple at finite strain).
+/// waves couple at finite strain); a velocity-vector condition fixes `v* = v_d`.
 pub fn acoustic_boundary<const D: usize>(
     z: &Tensor<D>,
     interior: &FaceState<D>,
@@ -104,6 +104,10 @@ pub fn acoustic_boundary<const D: usize>(
                 velocity,
             }
         }
+        GhostCondition::Velocity(v_d) => FaceState {
+            traction: interior.traction + z * (v_d - interior.velocity),
+            velocity: v_d,
+        },
     };
     (state
         .traction

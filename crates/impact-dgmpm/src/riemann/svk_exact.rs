@@ -109,7 +109,8 @@ pub fn exact_star_1d(m: &Svk, left: (f64, f64), right: (f64, f64)) -> Option<(f6
 /// Exact 1D boundary problem: the interior state `(F, v)`, the outward normal sign
 /// `outward` (±1) and the condition give `(v*, Π*)`: a traction `t_d` fixes
 /// `Π* = t_d · outward` and `v*` follows from the interior's wave curve; a normal velocity
-/// fixes `v* = v_n · outward` and `Π*` is solved on that curve.
+/// fixes `v* = v_n · outward` and `Π*` is solved on that curve (a velocity vector is its
+/// normal component in 1D).
 pub fn exact_boundary_1d(
     m: &Svk,
     interior: (f64, f64),
@@ -119,6 +120,13 @@ pub fn exact_boundary_1d(
     // the interior is on the left of a right boundary (1-wave), on the right of a left one
     let interior_left = outward > 0.0;
     match condition {
+        // in 1D a prescribed velocity is a prescribed normal velocity
+        GhostCondition::Velocity(v) => exact_boundary_1d(
+            m,
+            interior,
+            outward,
+            GhostCondition::NormalVelocity(v[0] * outward),
+        ),
         GhostCondition::Traction(t) => {
             let pi = t[0] * outward;
             Some((
