@@ -14,8 +14,9 @@
 //! of a commit (no target, an `.old-` folder) it first puts the old complete folder back.
 //!
 //! An existing target is replaced only when it is empty or an impact output folder (it
-//! holds `manifest.json` or `summary.json`): anything else is refused, so `--out ~` cannot
-//! delete a home folder.
+//! holds `manifest.json`, or the `summary.json`, `stability.json` or `work_precision.json`
+//! of an earlier version): anything else is refused, so `--out ~` cannot delete a home
+//! folder.
 use crate::IoError;
 use serde::Serialize;
 use std::fs::File;
@@ -93,7 +94,15 @@ fn is_replaceable(target: &Path) -> Result<bool, IoError> {
     if entries.next().is_none() {
         return Ok(true);
     }
-    Ok(target.join(MANIFEST).is_file() || target.join("summary.json").is_file())
+    // earlier versions wrote no manifest: their summary files mark them as impact's
+    Ok([
+        MANIFEST,
+        "summary.json",
+        "stability.json",
+        "work_precision.json",
+    ]
+    .iter()
+    .any(|marker| target.join(marker).is_file()))
 }
 
 impl OutputFolder {
