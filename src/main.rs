@@ -426,24 +426,26 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
     }
     let folder = impact_io::folder::OutputFolder::open(&args.out)?;
     say!(
-        "{:>3} {:<6} {:>4} {:>8} {:>5} {:>10} {:>12} {:>9}",
+        "{:>3} {:<6} {:>4} {:>8} {:>5} {:>9} {:>10} {:>12} {:>9}",
         "dim",
         "method",
         "ppc",
         "integr.",
         "flux",
+        "update",
         "empirical",
         "von_neumann",
         "monotone"
     );
     let print = |r: &StabilityRow| {
         say!(
-            "{:>3} {:<6} {:>4} {:>8} {:>5} {:>10.4} {:>12} {:>9}",
+            "{:>3} {:<6} {:>4} {:>8} {:>5} {:>9} {:>10.4} {:>12} {:>9}",
             r.dim,
             r.method,
             r.points_per_cell,
             r.integrator,
             r.flux,
+            r.update,
             r.empirical,
             r.von_neumann.map_or("-".to_string(), |v| format!("{v:.4}")),
             r.monotone.map_or("-".to_string(), |v| format!("{v:.4}"))

@@ -21,7 +21,7 @@
 //!   so every unknown is a velocity. In Pa and m/s the matrices mixed entries about 4e7
 //!   apart, and their eigenvalues carried errors near 1e-6. That put the printed limits for
 //!   3 and 4 points per cell (0.6431, 0.6325) and for RK2 (0.994, 0.988) below their values.
-use impact_core::method::{Integrator, MethodConfig, MethodKind, TransverseFlux};
+use impact_core::method::{Integrator, MethodConfig, MethodKind, PointUpdate, TransverseFlux};
 use impact_core::{Method, Problem, Vector};
 use nalgebra::{Complex, DMatrix};
 use serde::Serialize;
@@ -39,6 +39,8 @@ pub struct StabilityRow {
     pub integrator: String,
     /// Transverse flux (2D DGMPM) or `-`.
     pub flux: String,
+    /// DGMPM's point update (`nodal` or `increment`) or `-`.
+    pub update: String,
     /// Empirical critical Courant number.
     pub empirical: f64,
     /// Von Neumann critical Courant number (DGMPM), if computed.
@@ -290,15 +292,14 @@ pub fn max_amplification<const D: usize>(
 }
 
 /// Von Neumann critical Courant number of DGMPM `config` (`NaN` if an eigenvalue
-/// computation failed).
+/// computation failed; 0 if unstable at every Courant number from 0.05).
 pub fn von_neumann_limit<const D: usize>(
     problem: &Problem<D>,
     config: MethodConfig,
     samples: usize,
 ) -> f64 {
     let failed = std::cell::Cell::new(false);
-    // 17 halvings of [0.05, 1.5]: a resolution of 1.1e-5
-    let limit = bisect(0.05, 1.5, 17, |c| {
+    let stable = |c: f64| {
         let mut cfg = config;
         cfg.courant = c;
         match max_amplification(problem, cfg, samples) {
@@ -308,7 +309,15 @@ pub fn von_neumann_limit<const D: usize>(
                 false
             }
         }
-    });
+    };
+    // unstable even at the bracket's low end: 0 (e.g. Euler with the increment update,
+    // whose excess amplification grows like C³ from 0)
+    let limit = if stable(0.05) {
+        // 17 halvings of [0.05, 1.5]: a resolution of 1.1e-5
+        bisect(0.05, 1.5, 17, stable)
+    } else {
+        0.0
+    };
     if failed.get() {
         f64::NAN
     } else {
@@ -332,6 +341,17 @@ pub fn configurations<const D: usize>(base: &impact_core::Scene) -> Vec<MethodCo
                 c.points_per_cell = ppc;
                 if let Some(o) = c.dgmpm_mut() {
                     (o.integrator, o.flux) = (integrator, flux);
+                }
+                out.push(c);
+            }
+        }
+        // 1D: the increment point update too (the thesis tabulates both)
+        if D == 1 && ppc > 1 {
+            for integrator in [Integrator::Euler, Integrator::Rk2] {
+                let mut c = base.method_config(MethodKind::Dgmpm);
+                c.points_per_cell = ppc;
+                if let Some(o) = c.dgmpm_mut() {
+                    (o.integrator, o.update) = (integrator, PointUpdate::Increment);
                 }
                 out.push(c);
             }
@@ -365,6 +385,7 @@ pub fn sweep<const D: usize>(
                 c.points_per_cell
             },
             integrator: c.integrator_label().into(),
+            update: c.dgmpm().map_or("-".into(), |o| o.update.name().into()),
             flux: match (c.dgmpm(), D) {
                 (Some(o), 2..) => o.flux.name().into(),
                 _ => "-".into(),
@@ -389,25 +410,26 @@ pub fn write(dir: &std::path::Path, rows: &[StabilityRow]) -> anyhow::Result<()>
     use impact_io::plot::{line_panels, Panel, Series};
     let label = |r: &StabilityRow| {
         format!(
-            "{}D {} {}ppc {} {}",
-            r.dim, r.method, r.points_per_cell, r.integrator, r.flux
+            "{}D {} {}ppc {} {} {}",
+            r.dim, r.method, r.points_per_cell, r.integrator, r.flux, r.update
         )
     };
     let csv_path = dir.join("stability.csv");
     impact_io::write_atomic(&csv_path, |w| {
         writeln!(
             w,
-            "dim,method,points_per_cell,integrator,flux,empirical,von_neumann,monotone"
+            "dim,method,points_per_cell,integrator,flux,update,empirical,von_neumann,monotone"
         )?;
         for r in rows {
             writeln!(
                 w,
-                "{},{},{},{},{},{:.6},{},{}",
+                "{},{},{},{},{},{},{:.6},{},{}",
                 r.dim,
                 r.method,
                 r.points_per_cell,
                 r.integrator,
                 r.flux,
+                r.update,
                 r.empirical,
                 r.von_neumann.map_or(String::new(), |v| format!("{v:.6}")),
                 r.monotone.map_or(String::new(), |v| format!("{v:.6}"))

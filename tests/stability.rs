@@ -152,3 +152,29 @@ fn monotonicity_limits_follow_the_thesis() {
         }
     }
 }
+
+/// With Euler, the increment point update is weakly unstable at every Courant number when
+/// points are added: the largest amplification exceeds 1 by an amount that grows with
+/// the Courant number (so the empirical limit depends on the number of steps), while RK2
+/// keeps it at 1.
+#[test]
+fn the_increment_update_with_euler_is_weakly_unstable() {
+    use impact::stability::max_amplification;
+    let (scene, problem) = bar();
+    let excess = |courant: f64, integrator: Integrator| {
+        let mut c = dgmpm(&scene, 2, integrator, TransverseFlux::DonorCell);
+        c.courant = courant;
+        c.dgmpm_mut().unwrap().update = PointUpdate::Increment;
+        max_amplification(&problem, c, 256).unwrap() - 1.0
+    };
+    let small: Vec<f64> = [0.05, 0.1, 0.2]
+        .iter()
+        .map(|&c| excess(c, Integrator::Euler))
+        .collect();
+    println!("increment euler 2 ppc: max ρ - 1 at Courant 0.05, 0.1, 0.2: {small:?}");
+    assert!(small[0] > 1e-8, "{small:?}");
+    assert!(small[1] > small[0] && small[2] > small[1], "{small:?}");
+    let rk2 = excess(0.5, Integrator::Rk2);
+    println!("increment rk2 2 ppc: max ρ - 1 at Courant 0.5: {rk2:.3e}");
+    assert!(rk2 <= 1e-9, "{rk2}");
+}
