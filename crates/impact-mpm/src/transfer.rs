@@ -25,6 +25,28 @@ struct Fill {
     force: bool,
 }
 
+/// The points' stencils as a scatter reads them: point `p`'s weights are entries
+/// `p·nodes .. (p+1)·nodes` of `shape` and `gradient`, on the nodes `bases[p] + offsets[a]`.
+struct Weights<'a, const D: usize> {
+    nodes: usize,
+    offsets: &'a [usize],
+    bases: &'a [usize],
+    shape: &'a [f64],
+    gradient: &'a [Vector<D>],
+}
+
+impl<const D: usize> Weights<'_, D> {
+    /// `(entry of p's weights, node − offset)` for each node of point `p`'s stencil.
+    #[inline]
+    fn nodes_of(&self, p: usize, offset: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+        let base = self.bases[p] - offset;
+        self.offsets
+            .iter()
+            .enumerate()
+            .map(move |(a, o)| (p * self.nodes + a, base + o))
+    }
+}
+
 impl<const D: usize> MpmSolver<D> {
     /// Shape functions at the current (updated Lagrangian) or reference (total
     /// Lagrangian, computed once) positions ([`crate::shape`]).
@@ -90,12 +112,25 @@ impl<const D: usize> MpmSolver<D> {
     /// axis) writes node layers `j` to `j + w − 1` only (`w` nodes per axis), so the points
     /// of layers `j ≡ c (mod w)` write disjoint bands of `w` node layers: `w` colour passes
     /// over disjoint chunks of the nodal arrays (in parallel when worth it; module doc). A
-    /// serial run adds in point order instead (the same sums up to round-off).
-    fn scatter(&mut self, fill: Fill, contribution: impl Fn(usize, &mut Band<'_, D>) + Sync) {
+    /// serial run adds in point order instead (the same sums up to round-off). The
+    /// contribution reads each point's stencil through [`Weights`].
+    fn scatter(
+        &mut self,
+        fill: Fill,
+        contribution: impl Fn(&Weights<'_, D>, usize, &mut Band<'_, D>) + Sync,
+    ) {
         let layer_nodes: usize = self.grid.cells[..D - 1].iter().map(|n| n + 1).product();
         let layers = self.grid.cells[D - 1] + 1;
         let width = self.stencil.width;
         let (order, starts) = (&self.layer_order, &self.layer_start);
+        let weights = Weights {
+            nodes: self.stencil.nodes,
+            offsets: &self.stencil.offsets,
+            bases: &self.point_base,
+            shape: &self.shape,
+            gradient: &self.shape_gradient,
+        };
+        let contribution = |p: usize, sums: &mut Band<'_, D>| contribution(&weights, p, sums);
         let nodes = &mut self.nodes;
         let all = (
             chunks(&mut nodes.mass, CHUNK),
@@ -158,57 +193,35 @@ impl<const D: usize> MpmSolver<D> {
     /// `f_i = -Σ_p V_p σ_p ∇N_ip` on the grid.
     pub fn particles_to_grid(&mut self, points: &MaterialPoints<D>, with_internal: bool) {
         self.update_shapes(points);
-        let npc = self.stencil.nodes;
         let fill = Fill {
             mass: true,
             momentum: true,
             force: true,
         };
-        let (offsets, bases) = (
-            std::mem::take(&mut self.stencil.offsets),
-            std::mem::take(&mut self.point_base),
-        );
-        let (shape, gradient) = (
-            std::mem::take(&mut self.shape),
-            std::mem::take(&mut self.shape_gradient),
-        );
-        self.scatter(fill, |p, sums| {
-            let base = bases[p];
-            for a in 0..npc {
-                let i = base + offsets[a] - sums.offset;
-                let w = shape[p * npc + a] * points.mass[p];
+        self.scatter(fill, |weights, p, sums| {
+            for (a, i) in weights.nodes_of(p, sums.offset) {
+                let w = weights.shape[a] * points.mass[p];
                 sums.mass[i] += w;
                 sums.momentum[i] += points.velocity[p] * w;
                 if with_internal {
-                    sums.force[i] -= (points.stress[p] * gradient[p * npc + a]) * points.volume[p];
+                    sums.force[i] -= (points.stress[p] * weights.gradient[a]) * points.volume[p];
                 }
             }
         });
-        (self.point_base, self.shape, self.shape_gradient) = (bases, shape, gradient);
-        self.stencil.offsets = offsets;
     }
 
     /// Internal forces only (USF computes them after its stress update).
     pub(crate) fn internal_forces(&mut self, points: &MaterialPoints<D>) {
-        let npc = self.stencil.nodes;
         let fill = Fill {
             mass: false,
             momentum: false,
             force: true,
         };
-        let (offsets, bases) = (
-            std::mem::take(&mut self.stencil.offsets),
-            std::mem::take(&mut self.point_base),
-        );
-        let gradient = std::mem::take(&mut self.shape_gradient);
-        self.scatter(fill, |p, sums| {
-            for a in 0..npc {
-                let i = bases[p] + offsets[a] - sums.offset;
-                sums.force[i] -= (points.stress[p] * gradient[p * npc + a]) * points.volume[p];
+        self.scatter(fill, |weights, p, sums| {
+            for (a, i) in weights.nodes_of(p, sums.offset) {
+                sums.force[i] -= (points.stress[p] * weights.gradient[a]) * points.volume[p];
             }
         });
-        (self.point_base, self.shape_gradient) = (bases, gradient);
-        self.stencil.offsets = offsets;
     }
 
     /// External surface loads as nodal forces at the current surface positions: a load is
@@ -282,25 +295,16 @@ impl<const D: usize> MpmSolver<D> {
     /// Phase 4 (MUSL): nodal momentum mapped again from the updated point velocities (with
     /// the shape functions of the start of the step), then the prescribed nodal velocities.
     pub fn remap_momentum(&mut self, points: &MaterialPoints<D>) {
-        let npc = self.stencil.nodes;
         let fill = Fill {
             mass: false,
             momentum: true,
             force: false,
         };
-        let (offsets, bases) = (
-            std::mem::take(&mut self.stencil.offsets),
-            std::mem::take(&mut self.point_base),
-        );
-        let shape = std::mem::take(&mut self.shape);
-        self.scatter(fill, |p, sums| {
-            for a in 0..npc {
-                let i = bases[p] + offsets[a] - sums.offset;
-                sums.momentum[i] += points.velocity[p] * (shape[p * npc + a] * points.mass[p]);
+        self.scatter(fill, |weights, p, sums| {
+            for (a, i) in weights.nodes_of(p, sums.offset) {
+                sums.momentum[i] += points.velocity[p] * (weights.shape[a] * points.mass[p]);
             }
         });
-        (self.point_base, self.shape) = (bases, shape);
-        self.stencil.offsets = offsets;
         self.constrain_momentum();
     }
 
