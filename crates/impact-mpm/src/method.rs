@@ -54,11 +54,12 @@ impl<const D: usize> Method<D> for Mpm<D> {
                 }
             }
             let moving = self.solver.options.frame == MpmFrame::UpdatedLagrangian;
-            if moving && self.solver.grid.locate(&p.position[i]).is_none() {
+            // the stencil, not just the point: a smooth stencil needs nodes around it
+            if moving && !self.solver.stencil.fits(&self.solver.grid, &p.position[i]) {
                 return Err(BadState {
                     place: p.reference[i],
                     reason: format!(
-                        "material point left the background grid (x = {:?})",
+                        "material point's stencil left the background grid (x = {:?})",
                         p.position[i].as_slice()
                     ),
                 });

@@ -135,6 +135,26 @@ impl<const D: usize> Stencil<D> {
         }
     }
 
+    /// The first node of the stencil along an axis at grid coordinate `u`, if the stencil
+    /// lies on the `cells` cells of that axis.
+    #[inline]
+    fn start(&self, u: f64, cells: usize) -> Option<f64> {
+        let start = match self.width {
+            2 => u.floor(),
+            3 => (u - 0.5).floor(),
+            _ => u.floor() - 1.0,
+        };
+        (start >= 0.0 && start + (self.width - 1) as f64 <= cells as f64).then_some(start)
+    }
+
+    /// Whether the stencil of a point at `x` lies on the grid.
+    pub fn fits(&self, grid: &Grid<D>, x: &Vector<D>) -> bool {
+        (0..D).all(|k| {
+            let u = (x[k] - grid.origin[k]) / grid.spacing[k];
+            self.start(u, grid.cells[k]).is_some()
+        })
+    }
+
     /// Weights and gradients of the stencil's nodes at `x` into `values` and `gradients`
     /// (`nodes` entries each); returns the base node's linear index and its layer along
     /// the last axis, or `None` if the stencil leaves the grid.
@@ -150,14 +170,7 @@ impl<const D: usize> Stencil<D> {
         let mut base = [0usize; D];
         for k in 0..D {
             let u = (x[k] - grid.origin[k]) / grid.spacing[k];
-            let start = match self.width {
-                2 => u.floor(),
-                3 => (u - 0.5).floor(),
-                _ => u.floor() - 1.0,
-            };
-            if !(start >= 0.0 && start + (self.width - 1) as f64 <= grid.cells[k] as f64) {
-                return None;
-            }
+            let start = self.start(u, grid.cells[k])?;
             base[k] = start as usize;
             for j in 0..self.width {
                 let (w, dw) = weight(self.shape, self.half, u - (start + j as f64));
@@ -227,8 +240,13 @@ mod tests {
                     } else {
                         x
                     };
-                    let Some((base, _)) = stencil.evaluate(&grid, &x, &mut values, &mut gradients)
-                    else {
+                    let evaluated = stencil.evaluate(&grid, &x, &mut values, &mut gradients);
+                    assert_eq!(
+                        evaluated.is_some(),
+                        stencil.fits(&grid, &x),
+                        "{shape:?} at {x}"
+                    );
+                    let Some((base, _)) = evaluated else {
                         continue;
                     };
                     tested += 1;
