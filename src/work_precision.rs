@@ -199,8 +199,8 @@ fn run_one(
     let steps = r["steps"].as_u64().unwrap_or(0) as usize;
     let cells = r["cells"].as_u64().unwrap_or(0) as usize;
     let wall = r["wall_s"].as_f64().unwrap_or(f64::NAN);
-    let _ = std::fs::remove_dir_all(&out);
-    let _ = std::fs::remove_file(dir.join(format!(".{name}.lock")));
+    // a scratch run: its numbers are read, its folder goes
+    let _ = impact_io::folder::remove(&out);
     Ok(Point {
         scene: scene.into(),
         config: c.label.clone(),

@@ -83,6 +83,25 @@ fn split(target: &Path) -> Result<(PathBuf, String), IoError> {
     Ok((parent, name.to_string()))
 }
 
+/// The lock file of `target`: `.<name>.lock` beside it.
+fn lock_path(target: &Path) -> Result<PathBuf, IoError> {
+    let (parent, name) = split(target)?;
+    Ok(parent.join(format!(".{name}.lock")))
+}
+
+/// Remove a finished output folder and its lock file (a caller's scratch run). Not for a
+/// folder another run may be writing.
+pub fn remove(target: &Path) -> Result<(), IoError> {
+    if target.exists() {
+        std::fs::remove_dir_all(target).map_err(io_error(target))?;
+    }
+    let lock = lock_path(target)?;
+    if lock.exists() {
+        std::fs::remove_file(&lock).map_err(io_error(&lock))?;
+    }
+    Ok(())
+}
+
 fn is_replaceable(target: &Path) -> Result<bool, IoError> {
     if !target.exists() {
         return Ok(true);
@@ -110,7 +129,7 @@ impl OutputFolder {
     pub fn open(target: &Path) -> Result<Self, IoError> {
         let (parent, name) = split(target)?;
         std::fs::create_dir_all(&parent).map_err(io_error(&parent))?;
-        let lock_path = parent.join(format!(".{name}.lock"));
+        let lock_path = lock_path(target)?;
         let lock = File::options()
             .create(true)
             .truncate(false)
