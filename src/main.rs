@@ -114,6 +114,19 @@ enum BenchCommand {
         #[arg(long, value_name = "DIR", conflicts_with_all = ["levels", "out"])]
         summarize: Option<PathBuf>,
     },
+    /// Observed orders of accuracy on smooth exact solutions (standing waves) for every
+    /// method and configuration; writes convergence.{csv,json,png,txt}.
+    Convergence {
+        /// Scene: smooth-bar or smooth-plate.
+        #[arg(long, default_value = "smooth-bar")]
+        scene: String,
+        /// Refinement levels k = 1..levels (1D: 75·2^k cells; 2D: 16·2^k × 12·2^k).
+        #[arg(long, default_value_t = 4)]
+        levels: usize,
+        /// Output folder (default: out/convergence-<scene>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
 }
 
 #[derive(Args)]
@@ -496,6 +509,17 @@ fn main() {
                 scene, levels, out, ..
             },
         } => work_precision_command(scene, *levels, out.clone()).map(|_| true),
+        Command::Bench {
+            what: BenchCommand::Convergence { scene, levels, out },
+        } => {
+            let out = out
+                .clone()
+                .unwrap_or_else(|| impact::convergence::default_out(scene));
+            impact::convergence::run(scene, *levels, &out).map(|table| {
+                say!("{table}wrote {}", out.display());
+                true
+            })
+        }
         Command::Scenes => {
             for name in impact_core::scene::BUILTIN {
                 say!("{name}");

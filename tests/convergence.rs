@@ -88,7 +88,7 @@ fn updated_lagrangian_mpm_does_not_converge_because_of_cell_crossing() {
 }
 
 /// The smooth shape functions cure the cell-crossing error: in the same updated
-/// Lagrangian MUSL setting as above, uniform GIMP and quadratic and cubic B-splines converge
+/// Lagrangian MUSL setting as above, uniform GIMP, quadratic and cubic B-splines and CPDI converge
 /// in L1 on the bar (the points cross cell faces without a jump in the weight gradients).
 /// With one point per cell uGIMP is the quadratic B-spline (its weights are `¾ − d²` and
 /// `½ (³⁄₂ − |d|)²` at `ℓ = ½`), so the two ladders agree; at two points per cell they do not.
@@ -119,6 +119,9 @@ fn updated_lagrangian_mpm_with_smooth_shapes_converges() {
     let quadratic2 = ladder(MpmShape::Bspline2, 2);
     assert!(gimp2 != quadratic2, "{gimp2:?}");
     assert_converges("mpm UL musl bspline2 2ppc", &quadratic2, 0.2, 1.2);
+    // CPDI1: the domain (here a segment) stretches with F, so points cross faces smoothly
+    let cpdi = ladder(MpmShape::Cpdi, 2);
+    assert_converges("mpm UL musl cpdi 2ppc", &cpdi, 0.2, 1.2);
 }
 
 /// DGMPM with the exact SVK solver converges to the exact fan at a fixed time (0.316 ms)

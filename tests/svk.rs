@@ -137,6 +137,9 @@ fn a_run_that_loses_hyperbolicity_is_stopped() {
         value: Some(3000.0),
         from: None,
         to: None,
+        cover: None,
+        history: None,
+        duration: None,
     });
     let refused = scene.validate().unwrap_err();
     assert_eq!(refused.field, "boundary.left.value");

@@ -21,6 +21,8 @@ pub mod controller;
 pub mod error;
 pub mod exact;
 pub mod grid;
+pub mod initial;
+pub mod load;
 pub mod material;
 pub mod method;
 pub mod metrics;
@@ -33,9 +35,10 @@ pub mod scene;
 
 pub use error::{CoreError, SceneError};
 pub use grid::Grid;
+pub use load::LoadHistory;
 pub use material::{Lame, LinearElastic, YoungPoisson};
 pub use method::{Blowup, Method, MethodKind, Samples};
-pub use problem::{Boundary, Problem, StressMeasure};
+pub use problem::{Boundary, Constraint, Load, Problem, Segment, StressMeasure};
 pub use scene::Scene;
 
 /// Vector of dimension `D`.

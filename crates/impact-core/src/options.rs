@@ -176,6 +176,10 @@ option_enum! {
         Bspline2 = "bspline2",
         /// Cubic B-spline on the padded grid: 4 nodes per axis, C².
         Bspline3 = "bspline3",
+        /// CPDI1 (Sadeghirad, Brannon & Burghardt 2011): the hat averaged over the point's
+        /// parallelogram domain, whose edge vectors follow `F`; in 1D the segment `x ± r`.
+        /// 4 nodes per axis.
+        Cpdi = "cpdi",
     }
 }
 
@@ -214,6 +218,32 @@ option_enum! {
         NormalVelocity = "normal-velocity",
         /// Zero normal velocity and zero shear traction (a mirror plane).
         Symmetry = "symmetry",
+    }
+}
+
+option_enum! {
+    /// Time history of a boundary load (`crate::load`): `g(t)` multiplies the edge's value.
+    LoadShape {
+        /// `g = 1` from `t = 0` on (the paper's loads).
+        Step = "step",
+        /// Linear rise over `duration`, then constant.
+        Ramp = "ramp",
+        /// `sin(2π t/duration)`.
+        Sine = "sine",
+        /// 1 for `t < duration`, then 0.
+        Pulse = "pulse",
+    }
+}
+
+option_enum! {
+    /// Which cells, faces or nodes a loaded segment acts on where its end cuts one.
+    SegmentCover {
+        /// All or nothing, by the centre of the face (DGMPM), of the point's face (MPM)
+        /// or by the node's position (FEM): Clawpack's and the paper's rule.
+        Centre = "centre",
+        /// In proportion to the covered fraction of the face or tributary length: the
+        /// load's resultant then equals value × segment length on any grid.
+        Fraction = "fraction",
     }
 }
 

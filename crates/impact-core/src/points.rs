@@ -23,6 +23,8 @@ pub struct MaterialPoints<const D: usize> {
     pub half_size: Vec<Vector<D>>,
     /// Deformation gradient `F` (large-strain models only; empty otherwise).
     pub deformation: Vec<Tensor<D>>,
+    /// Edge half-vectors of the point's domain as columns (CPDI only; empty otherwise).
+    pub domain: Vec<Tensor<D>>,
 }
 
 impl<const D: usize> MaterialPoints<D> {
@@ -31,10 +33,32 @@ impl<const D: usize> MaterialPoints<D> {
         self.mass.len()
     }
 
+    /// Allocate the domains (`R = diag(half-size)`) for CPDI.
+    pub fn with_domains(mut self) -> Self {
+        self.domain = self
+            .half_size
+            .iter()
+            .map(Tensor::<D>::from_diagonal)
+            .collect();
+        self
+    }
+
     /// Allocate the deformation gradients (`F = 1`) for a large-strain model.
     pub fn with_deformation(mut self) -> Self {
         self.deformation = vec![Tensor::<D>::identity(); self.len()];
         self
+    }
+
+    /// Set each point's velocity and stress to the initial state at its reference position.
+    pub fn apply_initial(&mut self, initial: &crate::initial::InitialState) {
+        if initial.is_rest() {
+            return;
+        }
+        for p in 0..self.len() {
+            let x = self.reference[p];
+            self.velocity[p] = initial.velocity(&x);
+            self.stress[p] = initial.stress(&x);
+        }
     }
 
     /// Copy the points' fields into `out` (the sampling of the point methods).
@@ -102,6 +126,7 @@ impl<const D: usize> MaterialPoints<D> {
             stress: vec![Tensor::<D>::zeros(); n],
             half_size: vec![sub * 0.5; n],
             deformation: Vec::new(),
+            domain: Vec::new(),
         };
         for c in 0..grid.cell_count() {
             let lower = grid.cell_lower(c);

@@ -1,31 +1,25 @@
 //! A validated scene turned into typed data for dimension `D`: grid, material, boundary
 //! conditions (one per side of each axis) and the output schedule.
 use crate::error::{CoreError, SceneError};
-use crate::options::{EdgeKind, MaterialModel};
+use crate::initial::InitialState;
+use crate::load::LoadHistory;
+use crate::options::{EdgeKind, MaterialModel, SegmentCover};
 use crate::scene::{points_per_axis, EdgeSpec, Scene};
 use crate::{Grid, LinearElastic, Tensor, Vector};
 
-/// Condition on one side of the box. Loads are step functions of time (applied from
-/// `t = 0` on), as in the paper's scenes.
+/// Condition on one side of the box.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Boundary {
     /// Traction-free.
     Free,
-    /// Normal pressure `p` (Pa, positive in compression): traction `t = -p n`.
-    Pressure {
-        /// Pressure magnitude.
-        value: f64,
-        /// Loaded segment along the edge (2D); outside it the edge is free.
-        segment: Option<(f64, f64)>,
-    },
-    /// An impactor moving at `v_d` into the body (m/s): bonded (the whole velocity vector
-    /// `v_d n_in` is imposed: no slip) or frictionless (the normal velocity only, zero
+    /// Normal pressure `p g(t)` (Pa, positive in compression): traction `t = -p g(t) n`.
+    Pressure(Load),
+    /// An impactor moving at `v_d g(t)` into the body (m/s): bonded (the whole velocity
+    /// vector `v_d n_in` is imposed: no slip) or frictionless (the normal velocity only, zero
     /// tangential traction).
     Velocity {
-        /// Velocity magnitude, positive into the body.
-        value: f64,
-        /// Segment along the edge (2D); outside it the edge is free.
-        segment: Option<(f64, f64)>,
+        /// Magnitude (positive into the body), segment and history.
+        load: Load,
         /// Bonded (`velocity`) or frictionless (`normal-velocity`).
         bonded: bool,
     },
@@ -33,12 +27,97 @@ pub enum Boundary {
     Symmetry,
 }
 
+/// A load on an edge: magnitude, where along the edge, and its time history.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Load {
+    /// Magnitude: pressure (Pa) or velocity (m/s).
+    pub value: f64,
+    /// Loaded segment along the edge (2D); outside it the edge is free.
+    pub segment: Option<Segment>,
+    /// Time history `g(t)` ([`crate::load`]).
+    pub history: LoadHistory,
+}
+
+/// A loaded segment `[from, to]` along an edge and how its ends cover a cut face.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Segment {
+    /// Start along the edge (m).
+    pub from: f64,
+    /// End along the edge (m).
+    pub to: f64,
+    /// All or nothing by centre, or by covered fraction.
+    pub cover: SegmentCover,
+}
+
+impl Load {
+    /// A step load on the whole edge.
+    pub fn step(value: f64) -> Self {
+        Self {
+            value,
+            segment: None,
+            history: LoadHistory::Step,
+        }
+    }
+
+    /// The magnitude at time `t`, `value · g(t)`.
+    #[inline]
+    pub fn at(&self, t: f64) -> f64 {
+        self.value * self.history.factor(t)
+    }
+
+    /// Share of `[centre - half_width, centre + half_width]` along the edge that the load
+    /// acts on: 1 without a segment; by [`SegmentCover::Centre`] 1 if the centre lies in
+    /// the segment (with a 1e-12 tolerance) and 0 otherwise; by
+    /// [`SegmentCover::Fraction`] the overlap length over `2 half_width` (the centre rule
+    /// when `half_width` is 0).
+    #[inline]
+    pub fn coverage(&self, centre: f64, half_width: f64) -> f64 {
+        let Some(seg) = self.segment else {
+            return 1.0;
+        };
+        let inside = centre >= seg.from - 1e-12 && centre <= seg.to + 1e-12;
+        if seg.cover == SegmentCover::Centre || half_width <= 0.0 {
+            return if inside { 1.0 } else { 0.0 };
+        }
+        let lo = (centre - half_width).max(seg.from);
+        let hi = (centre + half_width).min(seg.to);
+        ((hi - lo) / (2.0 * half_width)).clamp(0.0, 1.0)
+    }
+
+    /// Whether the load acts at all on the interval around `centre` (coverage above 0).
+    #[inline]
+    pub fn acts_on(&self, centre: f64, half_width: f64) -> bool {
+        self.coverage(centre, half_width) > 0.0
+    }
+}
+
+/// A prescribed velocity component of a node or point: `value · g(t)`.
+#[derive(Debug, Clone, Copy)]
+pub struct Constraint {
+    /// Node or point index.
+    pub carrier: usize,
+    /// Component.
+    pub axis: usize,
+    /// Magnitude.
+    pub value: f64,
+    /// Time history (a step for symmetry edges).
+    pub history: LoadHistory,
+}
+
+impl Constraint {
+    /// The prescribed value at time `t`.
+    #[inline]
+    pub fn at(&self, t: f64) -> f64 {
+        self.value * self.history.factor(t)
+    }
+}
+
 impl Boundary {
-    /// Whether the condition acts at the tangential coordinate `s` along the edge.
-    pub fn acts_at(segment: Option<(f64, f64)>, s: f64) -> bool {
-        match segment {
-            None => true,
-            Some((a, b)) => s >= a - 1e-12 && s <= b + 1e-12,
+    /// The load of a pressure or velocity edge.
+    pub fn load(&self) -> Option<&Load> {
+        match self {
+            Boundary::Pressure(load) | Boundary::Velocity { load, .. } => Some(load),
+            Boundary::Free | Boundary::Symmetry => None,
         }
     }
 }
@@ -115,6 +194,8 @@ pub struct Problem<const D: usize> {
     pub boundaries: [[Boundary; 2]; D],
     /// Points per cell from the scene.
     pub points_per_cell: usize,
+    /// State at `t = 0`.
+    pub initial: InitialState,
     /// Output times (s).
     pub output_times: Vec<f64>,
     /// End time (s).
@@ -167,6 +248,7 @@ impl<const D: usize> Problem<D> {
             model,
             boundaries,
             points_per_cell: d.points_per_cell,
+            initial: scene.initial_state(),
             output_times,
             t_end,
         };
@@ -219,14 +301,17 @@ impl<const D: usize> Problem<D> {
         for pair in &self.boundaries {
             for bc in pair {
                 let stretch = match *bc {
-                    Boundary::Pressure { value, .. } => {
+                    Boundary::Pressure(Load { value, .. }) => {
                         if D == 1 {
                             svk.stretch_for_1d(-value).unwrap_or(1.0)
                         } else {
                             1.0 - value / self.material.p_modulus::<D>()
                         }
                     }
-                    Boundary::Velocity { value, .. } => 1.0 - value.abs() / c_p,
+                    Boundary::Velocity {
+                        load: Load { value, .. },
+                        ..
+                    } => 1.0 - value.abs() / c_p,
                     _ => 1.0,
                 };
                 // 1D: the stretch the load produces; 2D: also its mirror (reflections, shear)
@@ -262,16 +347,24 @@ impl<const D: usize> Problem<D> {
 fn to_boundary(e: &EdgeSpec) -> Boundary {
     let segment = match (e.from, e.to) {
         (None, None) => None,
-        (a, b) => Some((a.unwrap_or(f64::NEG_INFINITY), b.unwrap_or(f64::INFINITY))),
+        (from, to) => Some(Segment {
+            from: from.unwrap_or(f64::NEG_INFINITY),
+            to: to.unwrap_or(f64::INFINITY),
+            cover: e.cover.unwrap_or(SegmentCover::Centre),
+        }),
+    };
+    let load = Load {
+        value: e.value.unwrap_or_default(),
+        segment,
+        history: LoadHistory::new(
+            e.history.unwrap_or(crate::options::LoadShape::Step),
+            e.duration.unwrap_or(0.0),
+        ),
     };
     match e.kind {
-        EdgeKind::Pressure => Boundary::Pressure {
-            value: e.value.unwrap_or_default(),
-            segment,
-        },
+        EdgeKind::Pressure => Boundary::Pressure(load),
         EdgeKind::Velocity | EdgeKind::NormalVelocity => Boundary::Velocity {
-            value: e.value.unwrap_or_default(),
-            segment,
+            load,
             bonded: e.kind == EdgeKind::Velocity,
         },
         EdgeKind::Symmetry => Boundary::Symmetry,

@@ -10,10 +10,12 @@
 //!   finer grid ([`Converged`], computed by the caller, e.g. DGMPM on a refined grid). The
 //!   samples are compared with its averages over their regions; the front is at `c_p t`,
 //!   with the jump from 0 to the reference's average over the cell just behind the front.
-use crate::exact::{BarExact, EndLoad, Front, SvkBarExact};
+use crate::exact::{BarExact, EndLoad, Front, StandingWave, SvkBarExact};
+use crate::initial::InitialState;
+use crate::load::LoadHistory;
 use crate::method::{Method, Samples};
 use crate::metrics::{energy_error, ErrorBasis, FrontStatus, Profile, ProfileMetrics};
-use crate::problem::{Boundary, Problem};
+use crate::problem::{Boundary, Load, Problem};
 use crate::Vector;
 use serde::Serialize;
 
@@ -26,6 +28,8 @@ pub enum Reference {
     Converged(Box<Converged>),
     /// Exact fan or shock of the Saint-Venant–Kirchhoff bar (until it reaches the free end).
     SvkBar(SvkBarExact),
+    /// The standing P mode of a box with `symmetry` edges (smooth; no front).
+    Standing(StandingWave),
 }
 
 /// A converged numerical solution: `σ_xx` and `v_x` per cell of a fine regular grid at
@@ -191,14 +195,28 @@ impl Reference {
     /// The reference of `problem`, if it has an exact solution.
     pub fn for_problem<const D: usize>(problem: &Problem<D>) -> Option<Self> {
         let m = problem.material;
+        let all_symmetry = problem
+            .boundaries
+            .iter()
+            .all(|pair| *pair == [Boundary::Symmetry; 2]);
+        match (&problem.initial, problem.model) {
+            (InitialState::Rest, _) => {}
+            (InitialState::StandingWave(w), crate::problem::Model::LinearElastic)
+                if all_symmetry =>
+            {
+                return Some(Reference::Standing(*w))
+            }
+            _ => return None,
+        }
         if let crate::problem::Model::Svk(svk) = problem.model {
             return match (D, problem.boundaries[0]) {
                 (
                     1,
-                    [Boundary::Pressure {
+                    [Boundary::Pressure(Load {
                         value,
                         segment: None,
-                    }, Boundary::Free],
+                        history: LoadHistory::Step,
+                    }), Boundary::Free],
                 ) => SvkBarExact::new(svk, problem.grid.upper()[0] - problem.grid.origin[0], value)
                     .map(Reference::SvkBar),
                 _ => None,
@@ -207,32 +225,34 @@ impl Reference {
         let length = problem.grid.upper()[0] - problem.grid.origin[0];
         let b = &problem.boundaries;
         let plane = (1..D).all(|k| b[k] == [Boundary::Symmetry; 2]);
-        let load = match b[0] {
-            [Boundary::Pressure {
+        let (load, history) = match b[0] {
+            [Boundary::Pressure(Load {
                 value,
                 segment: None,
-            }, Boundary::Free]
+                history,
+            }), Boundary::Free]
                 if plane =>
             {
-                EndLoad::Pressure(value)
+                (EndLoad::Pressure(value), history)
             }
             [Boundary::Velocity {
-                value,
-                segment: None,
+                load:
+                    Load {
+                        value,
+                        segment: None,
+                        history,
+                    },
                 ..
             }, Boundary::Free]
                 if plane =>
             {
-                EndLoad::Velocity(value)
+                (EndLoad::Velocity(value), history)
             }
             _ => return None,
         };
-        Some(Reference::Bar(BarExact::with_load(
-            length,
-            m.density,
-            m.p_modulus::<D>(),
-            load,
-        )))
+        Some(Reference::Bar(
+            BarExact::with_load(length, m.density, m.p_modulus::<D>(), load).with_history(history),
+        ))
     }
 
     /// Average of `σ_xx` and `v_x` over the box `[lo, hi]` (only x matters for the exact
@@ -244,6 +264,10 @@ impl Reference {
                 b.velocity_average(lo[0], hi[0], t),
             ),
             Reference::SvkBar(b) => b.averages(lo[0], hi[0], t),
+            Reference::Standing(w) => {
+                let y = |v: &Vector<D>, default: f64| if D > 1 { v[1] } else { default };
+                w.averages([lo[0], y(lo, 0.0)], [hi[0], y(hi, 1.0)], t)
+            }
             Reference::Converged(c) => {
                 let lo2 = [lo[0], if D > 1 { lo[1] } else { 0.0 }];
                 let hi2 = [hi[0], if D > 1 { hi[1] } else { c.spacing[1] }];
@@ -260,6 +284,7 @@ impl Reference {
         match self {
             Reference::Bar(b) => b.leading_front(t),
             Reference::SvkBar(b) => b.leading_front(t),
+            Reference::Standing(_) => None,
             Reference::Converged(c) => {
                 let position = c.speed * t;
                 if !(position > 1.5 * c.coarse_dx && position < c.length) {
@@ -286,6 +311,7 @@ impl Reference {
         match self {
             Reference::Bar(b) => Some(b.work(t)),
             Reference::SvkBar(b) => Some(b.work(t)),
+            Reference::Standing(_) => Some(0.0),
             Reference::Converged(c) => c
                 .times
                 .iter()
@@ -303,6 +329,10 @@ impl Reference {
                 if b.is_shock() { "shock" } else { "centred fan" },
                 b.valid_until()
             ),
+            Reference::Standing(w) => format!(
+                "exact standing P mode, ω = {:.6e} rad/s (averages over each sample's region)",
+                w.frequency
+            ),
             Reference::Converged(c) => c.description.clone(),
         }
     }
@@ -312,6 +342,7 @@ impl Reference {
         match self {
             Reference::Bar(b) => b.pressure.abs(),
             Reference::SvkBar(b) => b.pressure.abs(),
+            Reference::Standing(w) => w.peak_stress_xx(),
             Reference::Converged(c) => c
                 .stress_xx
                 .iter()
@@ -372,10 +403,13 @@ impl Reference {
             errors,
         } = profile.metrics(front.as_ref(), dx, self.scale());
         // the exact plane-wave work is per unit height; the converged one is the total
+        // the energy the discrete state should hold: the work done on it, and for the
+        // standing mode (no load) its constant energy
         let work = match self {
             Reference::Bar(_) | Reference::SvkBar(_) => {
                 self.work(t).map(|w| w * Self::work_scale(samples))
             }
+            Reference::Standing(w) => Some(w.energy(total_volume(samples))),
             Reference::Converged(_) => self.work(t),
         }
         .unwrap_or(method.external_work());
@@ -400,6 +434,15 @@ impl Reference {
             energy_relative,
         }
     }
+}
+
+/// Total volume (length in 1D, area in 2D) of the samples' regions.
+fn total_volume<const D: usize>(samples: &Samples<D>) -> f64 {
+    samples
+        .half_size
+        .iter()
+        .map(|h| h.iter().map(|x| 2.0 * x).product::<f64>())
+        .sum()
 }
 
 /// Which samples form the bottom row (all of them in 1D): those whose region touches the

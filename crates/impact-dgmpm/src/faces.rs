@@ -143,34 +143,51 @@ impl<const D: usize> DgmpmSolver<D> {
         }
     }
 
-    /// Ghost condition of the boundary at side `side` of axis `l`, at the tangential
-    /// coordinate `s` along the edge.
+    /// Ghost condition of the boundary at side `side` of axis `l`, for the face centred at
+    /// the tangential coordinate `s` along the edge, with the loads at their magnitudes at
+    /// the stage's time ([`Self::set_load_time`]). A segment end that cuts the face
+    /// decides by the face centre or, under `cover = "fraction"`, scales a pressure by the
+    /// covered share and blends an impactor with the free face
+    /// ([`GhostCondition::PartialVelocity`]).
     #[inline]
     pub(crate) fn ghost_condition(&self, l: usize, side: usize, s: f64) -> GhostCondition<D> {
         let outward = unit::<D>(l) * if side == 0 { -1.0 } else { 1.0 };
+        let half_width = Grid::<D>::segment_axis(l).map_or(0.0, |k| 0.5 * self.grid.spacing[k]);
+        let value = self.load_now[l][side];
         match self.boundaries[l][side] {
-            Boundary::Free => GhostCondition::Traction(Vector::<D>::zeros()),
-            Boundary::Pressure { value, segment } => {
-                if Boundary::acts_at(segment, s) {
-                    GhostCondition::Traction(outward * (-value))
-                } else {
-                    GhostCondition::Traction(Vector::<D>::zeros())
-                }
+            Boundary::Free => GhostCondition::free(),
+            Boundary::Pressure(load) => {
+                let share = load.coverage(s, half_width);
+                GhostCondition::Traction(outward * (-value * share))
             }
-            Boundary::Velocity {
-                value,
-                segment,
-                bonded,
-            } => {
-                if Boundary::acts_at(segment, s) && bonded {
-                    GhostCondition::Velocity(outward * (-value))
-                } else if Boundary::acts_at(segment, s) {
-                    GhostCondition::NormalVelocity(-value)
+            Boundary::Velocity { load, bonded } => {
+                let share = load.coverage(s, half_width);
+                let velocity = outward * (-value);
+                if share <= 0.0 {
+                    GhostCondition::free()
+                } else if share < 1.0 {
+                    GhostCondition::PartialVelocity {
+                        velocity,
+                        bonded,
+                        share,
+                    }
+                } else if bonded {
+                    GhostCondition::Velocity(velocity)
                 } else {
-                    GhostCondition::Traction(Vector::<D>::zeros())
+                    GhostCondition::NormalVelocity(-value)
                 }
             }
             Boundary::Symmetry => GhostCondition::NormalVelocity(0.0),
+        }
+    }
+
+    /// Set the loads' magnitudes to their values at time `t`, `p g(t)` (`crate::load`
+    /// of impact-core): the stage's flux time.
+    pub fn set_load_time(&mut self, t: f64) {
+        for (now, pair) in self.load_now.iter_mut().zip(&self.boundaries) {
+            for (value, bc) in now.iter_mut().zip(pair) {
+                *value = bc.load().map_or(0.0, |load| load.at(t));
+            }
         }
     }
 

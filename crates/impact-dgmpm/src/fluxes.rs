@@ -99,6 +99,15 @@ impl<const D: usize> DgmpmSolver<D> {
                     GhostCondition::NormalVelocity(v) => GhostCondition::NormalVelocity(v),
                     // in 1D the velocity is the normal velocity (outward component)
                     GhostCondition::Velocity(v) => GhostCondition::NormalVelocity(v[0] * outward),
+                    GhostCondition::PartialVelocity {
+                        velocity,
+                        bonded,
+                        share,
+                    } => GhostCondition::PartialVelocity {
+                        velocity: Vector::<1>::new(velocity[0]),
+                        bonded,
+                        share,
+                    },
                 };
                 riemann::svk::exact_boundary_1d(
                     svk,

@@ -166,8 +166,13 @@ impl<const D: usize> DgmpmSolver<D> {
     /// (Heun: `q¹ = q⁰ + Δt L(q⁰)`, `q = ½ q⁰ + ½ (q¹ + Δt L(q¹))`), then phase 5. Cell
     /// path: `interface_fluxes`, `transverse_corrections` (CTU), `boundary_force` and
     /// [`Self::cell_update`]. Adds the work and impulse of the loads to the state.
-    pub fn step(&mut self, state: &mut DgmpmState<D>, dt: f64) {
+    ///
+    /// Loads act at their magnitude at the flux time: `t + Δt/2` for one stage (at Courant
+    /// 1 in 1D the boundary cell then takes the load's average over the step to second
+    /// order, as the exact solution's cell average does), `t` and `t + Δt` for Heun's two.
+    pub fn step(&mut self, state: &mut DgmpmState<D>, t: f64, dt: f64) {
         if self.path == StepPath::Cell {
+            self.set_load_time(t + 0.5 * dt);
             let power = self.interface_fluxes(&state.points);
             if self.ctu() {
                 self.transverse_corrections(&state.points, dt);
@@ -186,6 +191,11 @@ impl<const D: usize> DgmpmSolver<D> {
             nodes.start_tensor.copy_from_slice(&nodes.tensor);
             nodes.start_velocity.copy_from_slice(&nodes.velocity);
         }
+        let first_time = match integrator {
+            Integrator::Euler => t + 0.5 * dt,
+            Integrator::Rk2 => t,
+        };
+        self.set_load_time(first_time);
         let (power, force) = self.stage(&state.points, dt, 0.0);
         match integrator {
             Integrator::Euler => {
@@ -193,6 +203,7 @@ impl<const D: usize> DgmpmSolver<D> {
                 state.impulse += force * dt;
             }
             Integrator::Rk2 => {
+                self.set_load_time(t + dt);
                 let (power2, force2) = self.stage(&state.points, dt, 0.5);
                 state.work += 0.5 * dt * (power + power2);
                 state.impulse += (force + force2) * (0.5 * dt);

@@ -206,6 +206,8 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) grid: Grid<D>,
     pub(crate) material: LinearElastic,
     pub(crate) boundaries: [[Boundary; 2]; D],
+    /// The loads' magnitudes at the current stage's time (`set_load_time`).
+    pub(crate) load_now: [[f64; 2]; D],
     pub(crate) points_per_cell: usize,
     pub(crate) parallel: bool,
     /// `S_iα` for point α and local node i, `points × 2^D`.
@@ -262,6 +264,7 @@ impl<const D: usize> Dgmpm<D> {
         impact_core::scene::check_courant("courant", config.courant)?;
         let grid = problem.grid.clone();
         let mut points = MaterialPoints::regular(&grid, per_axis, problem.material.density);
+        points.apply_initial(&problem.initial);
         if let Model::Svk(_) = problem.model {
             if D > 1 && options.flux == TransverseFlux::Ctu {
                 return Err(unsupported(
@@ -338,6 +341,7 @@ impl<const D: usize> DgmpmSolver<D> {
             parallel: worth_parallel(grid.cell_count()),
             material: problem.material,
             boundaries: problem.boundaries,
+            load_now: [[0.0; 2]; D],
             points_per_cell: config.points_per_cell,
             shape,
             shape_gradient,

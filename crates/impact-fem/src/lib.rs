@@ -25,10 +25,13 @@
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
+use impact_core::method::SegmentCover;
 use impact_core::method::{MethodConfig, Model};
 use impact_core::parallel::{chunks, for_each_chunk, sum_chunks, worth_parallel};
 use impact_core::problem::Boundary;
-use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
+use impact_core::{
+    Constraint, CoreError, Grid, LinearElastic, LoadHistory, Problem, Tensor, Vector,
+};
 
 mod method;
 
@@ -62,9 +65,13 @@ pub struct FemSolver<const D: usize> {
     model: Model,
     wave_speed: f64,
     mass: Vec<f64>,
+    /// `f_ext(t)` of the last [`FemSolver::set_load_time`].
     external: Vec<Vector<D>>,
-    /// `(node, axis, velocity)` prescribed.
-    constraints: Vec<(usize, usize, f64)>,
+    /// The loaded nodes' forces at full magnitude and their histories: `f_ext(t)` is
+    /// `Σ g(t) f` over them.
+    loaded: Vec<(usize, Vector<D>, LoadHistory)>,
+    /// Prescribed velocity components.
+    constraints: Vec<Constraint>,
     /// Per node: 1 for a free component, 0 for a prescribed one.
     free_mask: Vec<Vector<D>>,
     force: Vec<Vector<D>>,
@@ -89,15 +96,24 @@ impl<const D: usize> Fem<D> {
     /// Build the FEM for `problem`.
     pub fn new(problem: &Problem<D>, config: MethodConfig) -> Result<Self, CoreError> {
         impact_core::scene::check_courant("courant", config.courant)?;
+        if problem.initial.has_stress() {
+            return Err(CoreError::Unsupported {
+                method: "fem".into(),
+                message: "an initial stress by formula: FEM's state is its displacement, and a \
+                          stress field is not in general the stress of one (initial.stress; \
+                          run DGMPM and MPM with --method dgmpm,mpm)"
+                    .into(),
+            });
+        }
         let grid = problem.grid.clone();
         let nodes = grid.vertex_count();
         let mass = lumped_mass(&grid, problem.material.density);
         let (gauss_gradient, centre_gradient) = shape_gradients(&grid);
         let gauss_count = Grid::<D>::NODES_PER_CELL;
-        let (external, constraints) = boundary_loads(problem);
+        let (loaded, constraints) = boundary_loads(problem);
         let mut free_mask = vec![Vector::<D>::from_element(1.0); nodes];
-        for &(node, axis, _) in &constraints {
-            free_mask[node][axis] = 0.0;
+        for c in &constraints {
+            free_mask[c.carrier][c.axis] = 0.0;
         }
         let parallel = worth_parallel(grid.cell_count());
         let mut solver = FemSolver {
@@ -108,7 +124,8 @@ impl<const D: usize> Fem<D> {
             model: problem.model,
             wave_speed: problem.max_wave_speed(),
             mass,
-            external,
+            external: vec![Vector::<D>::zeros(); nodes],
+            loaded,
             constraints,
             force: vec![Vector::<D>::zeros(); nodes],
             parallel,
@@ -116,14 +133,19 @@ impl<const D: usize> Fem<D> {
             gauss_weight: 1.0 / gauss_count as f64,
             centre_gradient,
         };
+        // v^{-1/2} holds v(0): the first step's half step Δt/2 then gives v^{1/2}
+        let velocity_half = (0..nodes)
+            .map(|v| problem.initial.velocity(&solver.grid.vertex_position(v)))
+            .collect();
         let mut state = FemState {
             displacement: vec![Vector::<D>::zeros(); nodes],
-            velocity_half: vec![Vector::<D>::zeros(); nodes],
+            velocity_half,
             acceleration: vec![Vector::<D>::zeros(); nodes],
             last_dt: 0.0,
             work: 0.0,
             impulse: Vector::<D>::zeros(),
         };
+        solver.set_load_time(0.0);
         solver.internal_forces_into(&state.displacement);
         solver.acceleration_into(&mut state.acceleration);
         Ok(Self { solver, state })
@@ -168,14 +190,16 @@ fn shape_gradients<const D: usize>(grid: &Grid<D>) -> (Vec<Vector<D>>, [Vector<D
 }
 
 /// Nodal external forces (a pressure's consistent force: `p` times the node's tributary
-/// length along the edge) and velocity constraints `(node, axis, value)` of the edges.
+/// length along the edge, or under `cover = "fraction"` the part of it inside the segment)
+/// at full magnitude with their histories, and the prescribed velocity components of the
+/// edges (by the node's position).
 #[allow(clippy::type_complexity)]
 fn boundary_loads<const D: usize>(
     problem: &Problem<D>,
-) -> (Vec<Vector<D>>, Vec<(usize, usize, f64)>) {
+) -> (Vec<(usize, Vector<D>, LoadHistory)>, Vec<Constraint>) {
     let grid = &problem.grid;
     let nodes = grid.vertex_count();
-    let mut external = vec![Vector::<D>::zeros(); nodes];
+    let mut loaded = Vec::new();
     let mut constraints = Vec::new();
     let counts = grid.vertex_counts();
     for v in 0..nodes {
@@ -193,43 +217,65 @@ fn boundary_loads<const D: usize>(
                 }
                 let sign = if side == 0 { -1.0 } else { 1.0 };
                 let s = Grid::<D>::segment_axis(l).map_or(0.0, |k| x[k]);
-                // tributary length of the node along the edge (1 in 1D)
-                let tributary: f64 = Grid::<D>::tangent_axes(l)
-                    .map(|k| {
-                        let h = grid.spacing[k];
-                        if idx[k] == 0 || idx[k] == grid.cells[k] {
-                            0.5 * h
-                        } else {
-                            h
-                        }
-                    })
-                    .product();
+                // the node's tributary interval along the edge: [lo, hi] around s
+                let (lo, hi) = Grid::<D>::segment_axis(l).map_or((0.0, 0.0), |k| {
+                    let h = grid.spacing[k];
+                    let lo = if idx[k] == 0 { 0.0 } else { 0.5 * h };
+                    let hi = if idx[k] == grid.cells[k] {
+                        0.0
+                    } else {
+                        0.5 * h
+                    };
+                    (lo, hi)
+                });
+                let tributary = if D == 1 { 1.0 } else { lo + hi };
                 match problem.boundaries[l][side] {
                     Boundary::Free => {}
-                    Boundary::Pressure { value, segment } => {
-                        if Boundary::acts_at(segment, s) {
-                            external[v][l] += -sign * value * tributary;
+                    Boundary::Pressure(load) => {
+                        let centre = s + 0.5 * (hi - lo);
+                        let share = if load.segment.map(|g| g.cover) == Some(SegmentCover::Centre) {
+                            // all or nothing by the node's own position
+                            if load.acts_on(s, 0.0) {
+                                1.0
+                            } else {
+                                0.0
+                            }
+                        } else {
+                            load.coverage(centre, 0.5 * tributary)
+                        };
+                        if share > 0.0 {
+                            let mut force = Vector::<D>::zeros();
+                            force[l] = -sign * load.value * tributary * share;
+                            loaded.push((v, force, load.history));
                         }
                     }
-                    Boundary::Velocity {
-                        value,
-                        segment,
-                        bonded,
-                    } => {
-                        if Boundary::acts_at(segment, s) {
-                            constraints.push((v, l, -sign * value));
+                    Boundary::Velocity { load, bonded } => {
+                        if load.acts_on(s, 0.0) {
+                            let prescribe = |axis, value| Constraint {
+                                carrier: v,
+                                axis,
+                                value,
+                                history: load.history,
+                            };
+                            constraints.push(prescribe(l, -sign * load.value));
                             if bonded {
                                 // no slip: the tangential velocity is zero too
-                                constraints.extend(Grid::<D>::tangent_axes(l).map(|k| (v, k, 0.0)));
+                                constraints
+                                    .extend(Grid::<D>::tangent_axes(l).map(|k| prescribe(k, 0.0)));
                             }
                         }
                     }
-                    Boundary::Symmetry => constraints.push((v, l, 0.0)),
+                    Boundary::Symmetry => constraints.push(Constraint {
+                        carrier: v,
+                        axis: l,
+                        value: 0.0,
+                        history: LoadHistory::Step,
+                    }),
                 }
             }
         }
     }
-    (external, constraints)
+    (loaded, constraints)
 }
 
 impl<const D: usize> FemSolver<D> {
@@ -349,9 +395,19 @@ impl<const D: usize> FemSolver<D> {
         });
     }
 
-    /// `v^{n+1/2} = v^{n-1/2} + Δt_avg a^n`, then the prescribed velocities. Returns the
-    /// work of the constraint reactions over the step.
-    pub fn velocity_update(&self, state: &mut FemState<D>, dt: f64) -> f64 {
+    /// `f_ext` at time `t`: `Σ g(t) f` over the loaded nodes (the others stay zero).
+    pub fn set_load_time(&mut self, t: f64) {
+        for &(node, _, _) in &self.loaded {
+            self.external[node] = Vector::<D>::zeros();
+        }
+        for &(node, force, history) in &self.loaded {
+            self.external[node] += force * history.factor(t);
+        }
+    }
+
+    /// `v^{n+1/2} = v^{n-1/2} + Δt_avg a^n`, then the prescribed velocities at
+    /// `t_half = t^{n+1/2}`. Returns the work of the constraint reactions over the step.
+    pub fn velocity_update(&self, state: &mut FemState<D>, dt: f64, t_half: f64) -> f64 {
         let dt_avg = 0.5 * (state.last_dt + dt);
         let acceleration = &state.acceleration;
         for_each_chunk(
@@ -368,7 +424,8 @@ impl<const D: usize> FemSolver<D> {
             state.impulse += f * dt_avg;
         }
         let mut work = 0.0;
-        for &(node, axis, value) in &self.constraints {
+        for c in &self.constraints {
+            let (node, axis, value) = (c.carrier, c.axis, c.at(t_half));
             let reaction = self.mass[node] * (value - state.velocity_half[node][axis]) / dt_avg;
             state.velocity_half[node][axis] = value;
             work += dt * reaction * value;
@@ -397,10 +454,13 @@ impl<const D: usize> FemSolver<D> {
         )
     }
 
-    /// One step (module doc).
-    pub fn step(&mut self, state: &mut FemState<D>, dt: f64) {
-        state.work += self.velocity_update(state, dt);
+    /// One step (module doc) from `t^n = t` to `t^{n+1} = t + Δt`: `a^n` used by the
+    /// velocity update was computed with `f_ext(t^n)`; the new acceleration takes
+    /// `f_ext(t^{n+1})`, and prescribed velocities their value at `t^{n+1/2}`.
+    pub fn step(&mut self, state: &mut FemState<D>, t: f64, dt: f64) {
+        state.work += self.velocity_update(state, dt, t + 0.5 * dt);
         state.work += self.displacement_update(state, dt);
+        self.set_load_time(t + dt);
         self.internal_forces_into(&state.displacement);
         self.acceleration_into(&mut state.acceleration);
         state.last_dt = dt;

@@ -11,8 +11,8 @@ impl<const D: usize> Method<D> for Fem<D> {
     fn stable_dt(&self) -> f64 {
         self.solver.config.courant * self.solver.grid.min_spacing() / self.solver.wave_speed
     }
-    fn step(&mut self, _t: f64, dt: f64) {
-        self.solver.step(&mut self.state, dt);
+    fn step(&mut self, t: f64, dt: f64) {
+        self.solver.step(&mut self.state, t, dt);
     }
     fn sample_into(&self, out: &mut Samples<D>) {
         out.clear();

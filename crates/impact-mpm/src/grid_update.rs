@@ -7,10 +7,12 @@ use impact_core::Vector;
 const CHUNK: usize = 4096;
 
 impl<const D: usize> MpmSolver<D> {
-    /// Phase 2: `p_i += Δt f_i` (nodes with mass), then the prescribed nodal velocities.
+    /// Phase 2: `p_i += Δt f_i` (nodes with mass), then the prescribed nodal velocities at
+    /// `t_new`, the end of the step.
     /// Returns the work done in the step by the velocity constraints, `Δt Σ r · v_d`, and
     /// the impulse of the reaction forces, `Δt Σ r`.
-    pub fn grid_update(&mut self, dt: f64) -> (f64, Vector<D>) {
+    pub fn grid_update(&mut self, dt: f64, t_new: f64) -> (f64, Vector<D>) {
+        self.fold_padding(t_new);
         let nodes = &mut self.nodes;
         let floor = self.empty_mass;
         let (mass, force) = (&nodes.mass, &nodes.force);
@@ -29,7 +31,7 @@ impl<const D: usize> MpmSolver<D> {
         );
         let mut work = 0.0;
         let mut impulse = Vector::<D>::zeros();
-        for &(v, axis, value) in &self.node_constraints {
+        let mut hold = |nodes: &mut crate::NodeSums<D>, v: usize, axis: usize, value: f64| {
             let m = nodes.mass[v];
             if m > floor {
                 let old = nodes.momentum[v][axis];
@@ -40,17 +42,78 @@ impl<const D: usize> MpmSolver<D> {
                 work += dt * reaction * value;
                 impulse[axis] += dt * reaction;
             }
+        };
+        for c in &self.node_constraints {
+            hold(nodes, c.carrier, c.axis, c.at(t_new));
+        }
+        // the padding from the interior it mirrors (never itself constrained)
+        for c in &self.mirror_constraints {
+            let value = c.offset(t_new) + c.sign * velocity_of(nodes, c.mirror, c.axis, floor);
+            hold(nodes, c.node, c.axis, value);
         }
         (work, impulse)
     }
 
-    /// The prescribed nodal velocities on the momentum (after the MUSL remap).
-    pub(crate) fn constrain_momentum(&mut self) {
+    /// Fold the sums of the padding nodes beyond velocity and symmetry edges onto the
+    /// interior nodes they mirror (`edges` module doc): what the real points give node
+    /// `-j` is what their mirror images would give node `+j`, so node `+j` gains the mass,
+    /// and the momentum and force reflected like the velocity (odd normal component about
+    /// the wall's velocity `V`: `p_n += 2 V m - p_n`; even or odd tangential ones). Near
+    /// the wall the interior nodes then hold the full sums of a body mirrored across it.
+    pub(crate) fn fold_padding(&mut self, t: f64) {
         let (nodes, floor) = (&mut self.nodes, self.empty_mass);
-        for &(v, axis, value) in &self.node_constraints {
+        for c in &self.mirror_constraints {
+            let (from, to, axis) = (c.node, c.mirror, c.axis);
+            let mass = nodes.mass[from];
+            if axis == 0 {
+                nodes.mass[to] += mass;
+            }
+            nodes.momentum[to][axis] += c.offset(t) * mass + c.sign * nodes.momentum[from][axis];
+            nodes.force[to][axis] += c.sign * nodes.force[from][axis];
+        }
+        // the padding then starts from the mirror of the folded interior, so its update is
+        // the mirror of the interior's (no kick to the points near the wall when the
+        // constraints set it after the update)
+        for c in &self.mirror_constraints {
+            let (from, to, axis) = (c.node, c.mirror, c.axis);
+            let (m, m_to) = (nodes.mass[from], nodes.mass[to]);
+            if m > floor && m_to > floor {
+                let velocity = c.offset(t) + c.sign * nodes.momentum[to][axis] / m_to;
+                nodes.momentum[from][axis] = velocity * m;
+                nodes.force[from][axis] = c.sign * nodes.force[to][axis] * (m / m_to);
+            }
+        }
+    }
+
+    /// The prescribed nodal velocities on the momentum (after the MUSL remap).
+    pub(crate) fn constrain_momentum(&mut self, t: f64) {
+        let (nodes, floor) = (&mut self.nodes, self.empty_mass);
+        for c in &self.mirror_constraints {
+            let value = c.offset(t) + c.sign * velocity_of(nodes, c.mirror, c.axis, floor);
+            if nodes.mass[c.node] > floor {
+                nodes.momentum[c.node][c.axis] = value * nodes.mass[c.node];
+            }
+        }
+        for c in &self.node_constraints {
+            let (v, axis, value) = (c.carrier, c.axis, c.at(t));
             if nodes.mass[v] > floor {
                 nodes.momentum[v][axis] = value * nodes.mass[v];
             }
         }
+    }
+}
+
+/// Velocity component `p_i/m_i` of node `i` (0 for an empty node).
+#[inline]
+fn velocity_of<const D: usize>(
+    nodes: &crate::NodeSums<D>,
+    i: usize,
+    axis: usize,
+    floor: f64,
+) -> f64 {
+    if nodes.mass[i] > floor {
+        nodes.momentum[i][axis] / nodes.mass[i]
+    } else {
+        0.0
     }
 }

@@ -46,15 +46,17 @@
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
+mod cpdi;
+mod edges;
 mod grid_update;
 mod method;
 pub mod shape;
+use edges::{edge_conditions, node_constraints, point_constraints, MirrorConstraint, SurfaceLoad};
 mod transfer;
-use impact_core::method::{MethodConfig, Model, MpmFrame, MpmOptions, StressUpdate};
+use impact_core::method::{MethodConfig, Model, MpmFrame, MpmOptions, MpmShape, StressUpdate};
 use impact_core::parallel::worth_parallel;
 use impact_core::points::MaterialPoints;
-use impact_core::problem::Boundary;
-use impact_core::{CoreError, Grid, LinearElastic, Problem, Vector};
+use impact_core::{Constraint, CoreError, Grid, LinearElastic, Problem, Vector};
 
 /// Cells added on every side of the body's grid for the background grid.
 pub const PADDING: usize = 4;
@@ -69,30 +71,6 @@ pub struct MpmState<const D: usize> {
     pub work: f64,
     /// Impulse of the loads and of the prescribed velocities since `t = 0`.
     pub impulse: Vector<D>,
-}
-
-/// A load acting on a surface point of the body.
-#[derive(Debug, Clone, Copy)]
-struct SurfaceLoad<const D: usize> {
-    point: usize,
-    /// Offset from the point to the surface (reference configuration).
-    offset: Vector<D>,
-    /// Force (pressure × area), constant in time.
-    force: Vector<D>,
-}
-
-/// A prescribed normal velocity on the nodes and points near an edge.
-#[derive(Debug, Clone, Copy)]
-struct VelocityEdge {
-    axis: usize,
-    /// Nodes with this index along `axis` (background-grid numbering).
-    node_layer: usize,
-    value: f64,
-    segment: Option<(f64, f64)>,
-    /// Whether it is a symmetry edge (zero normal velocity, points untouched).
-    symmetry: bool,
-    /// Bonded impactor: the tangential velocity is prescribed (zero) too.
-    bonded: bool,
 }
 
 /// Nodal sums of the background grid (struct of arrays).
@@ -143,9 +121,12 @@ pub struct MpmSolver<const D: usize> {
     loads: Vec<SurfaceLoad<D>>,
     /// Prescribed nodal velocity components `(node, axis, value)` (velocity and symmetry
     /// edges), found once.
-    node_constraints: Vec<(usize, usize, f64)>,
-    /// Prescribed point velocity components `(point, axis, value)` (velocity edges).
-    point_constraints: Vec<(usize, usize, f64)>,
+    node_constraints: Vec<Constraint>,
+    /// Padding nodes beyond velocity and symmetry edges, mirrored from the interior
+    /// (`edges` module doc).
+    mirror_constraints: Vec<MirrorConstraint>,
+    /// Prescribed point velocity components (velocity edges).
+    point_constraints: Vec<Constraint>,
     nodes: NodeSums<D>,
     /// The points sorted by the layer (along the last axis) of their cell, and where each
     /// layer starts in that order (`layers + 1` entries): the colouring of the scatters.
@@ -187,6 +168,7 @@ impl<const D: usize> Mpm<D> {
         impact_core::scene::check_courant("courant", config.courant)?;
         let body = problem.grid.clone();
         let mut points = MaterialPoints::regular(&body, per_axis, problem.material.density);
+        points.apply_initial(&problem.initial);
         if let Model::Svk(_) = problem.model {
             if options.frame != MpmFrame::TotalLagrangian {
                 return Err(CoreError::Unsupported {
@@ -208,11 +190,14 @@ impl<const D: usize> Mpm<D> {
             cells,
         };
         let stencil = shape::Stencil::new(&grid, options.shape, per_axis);
+        if options.shape == MpmShape::Cpdi {
+            points = points.with_domains();
+        }
         let npc = stencil.nodes;
         let (loads, velocity_edges) = edge_conditions(problem, &points);
         let nodes = grid.vertex_count();
         let np = points.len();
-        let node_constraints = node_constraints(&grid, &velocity_edges);
+        let (node_constraints, mirror_constraints) = node_constraints(&grid, &velocity_edges);
         let point_constraints = point_constraints(&body, &points, &velocity_edges);
         let parallel = worth_parallel(np);
         let mut mpm = Self {
@@ -225,6 +210,7 @@ impl<const D: usize> Mpm<D> {
                 wave_speed: problem.max_wave_speed(),
                 loads,
                 node_constraints,
+                mirror_constraints,
                 point_constraints,
                 nodes: NodeSums::new(nodes),
                 layer_order: vec![0; np],
@@ -244,143 +230,20 @@ impl<const D: usize> Mpm<D> {
                 impulse: Vector::<D>::zeros(),
             },
         };
-        let kick = mpm.solver.impose_point_velocities(&mut mpm.state.points);
+        let kick = mpm
+            .solver
+            .impose_point_velocities(&mut mpm.state.points, 0.0);
         mpm.state.impulse += kick;
         Ok(mpm)
     }
 }
 
-/// The surface loads of the pressure edges (on the points whose domain touches the edge,
-/// at the domain's edge midpoint, force `-p A n`) and the velocity and symmetry edges.
-fn edge_conditions<const D: usize>(
-    problem: &Problem<D>,
-    points: &MaterialPoints<D>,
-) -> (Vec<SurfaceLoad<D>>, Vec<VelocityEdge>) {
-    let body = &problem.grid;
-    let mut loads = Vec::new();
-    let mut velocity_edges = Vec::new();
-    let upper = body.upper();
-    for l in 0..D {
-        for side in 0..2 {
-            let sign = if side == 0 { -1.0 } else { 1.0 };
-            let edge = if side == 0 { body.origin[l] } else { upper[l] };
-            let outward = Vector::<D>::from_fn(|k, _| if k == l { sign } else { 0.0 });
-            let node_layer = PADDING + side * body.cells[l];
-            match problem.boundaries[l][side] {
-                Boundary::Free => {}
-                Boundary::Pressure { value, segment } => {
-                    // points whose domain touches the edge carry its load
-                    for p in 0..points.len() {
-                        let x = points.reference[p];
-                        let h = points.half_size[p];
-                        if ((x[l] + sign * h[l]) - edge).abs() > 1e-9 * body.spacing[l] {
-                            continue;
-                        }
-                        let s = Grid::<D>::segment_axis(l).map_or(0.0, |k| x[k]);
-                        if !Boundary::acts_at(segment, s) {
-                            continue;
-                        }
-                        let area: f64 = Grid::<D>::tangent_axes(l).map(|k| 2.0 * h[k]).product();
-                        let mut offset = Vector::<D>::zeros();
-                        offset[l] = sign * h[l];
-                        loads.push(SurfaceLoad {
-                            point: p,
-                            offset,
-                            force: outward * (-value * area),
-                        });
-                    }
-                }
-                Boundary::Velocity {
-                    value,
-                    segment,
-                    bonded,
-                } => velocity_edges.push(VelocityEdge {
-                    axis: l,
-                    node_layer,
-                    value: -sign * value,
-                    segment,
-                    symmetry: false,
-                    bonded,
-                }),
-                Boundary::Symmetry => velocity_edges.push(VelocityEdge {
-                    axis: l,
-                    node_layer,
-                    value: 0.0,
-                    segment: None,
-                    symmetry: true,
-                    bonded: false,
-                }),
-            }
-        }
-    }
-    (loads, velocity_edges)
-}
-
-/// The prescribed nodal velocity components of the velocity and symmetry edges:
-/// `(node, axis, value)` for every node of the edge's layer, and of the padding layers
-/// beyond it, inside its segment.
-fn node_constraints<const D: usize>(
-    grid: &Grid<D>,
-    edges: &[VelocityEdge],
-) -> Vec<(usize, usize, f64)> {
-    let counts = grid.vertex_counts();
-    let mut out = Vec::new();
-    for e in edges {
-        for v in 0..grid.vertex_count() {
-            let along = (0..e.axis).fold(v, |rest, k| rest / counts[k]) % counts[e.axis];
-            let s = Grid::<D>::segment_axis(e.axis).map_or(0.0, |k| grid.vertex_position(v)[k]);
-            // the edge layer and the padding beyond it: smooth stencils (GIMP, B-splines)
-            // put mass on nodes outside the body, which move with the wall
-            let outside = if e.node_layer == PADDING {
-                along <= e.node_layer
-            } else {
-                along >= e.node_layer
-            };
-            if outside && Boundary::acts_at(e.segment, s) {
-                out.push((v, e.axis, e.value));
-                if e.bonded {
-                    out.extend(Grid::<D>::tangent_axes(e.axis).map(|k| (v, k, 0.0)));
-                }
-            }
-        }
-    }
-    out
-}
-
-/// The prescribed point velocity components (velocity edges, as the paper does): points
-/// whose domain touches the edge, inside its segment.
-fn point_constraints<const D: usize>(
-    body: &Grid<D>,
-    points: &MaterialPoints<D>,
-    edges: &[VelocityEdge],
-) -> Vec<(usize, usize, f64)> {
-    let mut out = Vec::new();
-    for e in edges.iter().filter(|e| !e.symmetry) {
-        let low = e.node_layer == PADDING;
-        let (edge, sign) = if low {
-            (body.origin[e.axis], -1.0)
-        } else {
-            (body.upper()[e.axis], 1.0)
-        };
-        for p in 0..points.len() {
-            let (x, h) = (points.reference[p], points.half_size[p]);
-            let touches =
-                ((x[e.axis] + sign * h[e.axis]) - edge).abs() <= 1e-9 * body.spacing[e.axis];
-            let s = Grid::<D>::segment_axis(e.axis).map_or(0.0, |k| x[k]);
-            if touches && Boundary::acts_at(e.segment, s) {
-                out.push((p, e.axis, e.value));
-                if e.bonded {
-                    out.extend(Grid::<D>::tangent_axes(e.axis).map(|k| (p, k, 0.0)));
-                }
-            }
-        }
-    }
-    out
-}
-
 impl<const D: usize> MpmSolver<D> {
-    /// One step (module doc).
-    pub fn step(&mut self, state: &mut MpmState<D>, dt: f64) {
+    /// One step (module doc) from `t` to `t + Δt`. Surface loads act at their magnitude at
+    /// `t + Δt/2` (the step's impulse to second order); prescribed velocities take their
+    /// value at `t + Δt`, the time of the velocities they set.
+    pub fn step(&mut self, state: &mut MpmState<D>, t: f64, dt: f64) {
+        let (mid, end) = (t + 0.5 * dt, t + dt);
         let usl = self.options.stress_update != StressUpdate::Usf;
         self.particles_to_grid(&state.points, usl);
         self.shapes_ready = true;
@@ -388,20 +251,20 @@ impl<const D: usize> MpmSolver<D> {
             self.update_stress(&mut state.points, dt);
             self.internal_forces(&state.points);
         }
-        self.external_forces(&state.points);
-        let power_start = self.load_power(&state.points);
+        self.external_forces(&state.points, mid);
+        let power_start = self.load_power(&state.points, mid);
         for load in &self.loads {
-            state.impulse += load.force * dt;
+            state.impulse += load.force * (load.history.factor(mid) * dt);
         }
-        let (work, impulse) = self.grid_update(dt);
+        let (work, impulse) = self.grid_update(dt, end);
         state.work += work;
         state.impulse += impulse;
         self.grid_to_particles(&mut state.points, dt);
         // trapezoidal work of the loads over the step
-        state.work += 0.5 * dt * (power_start + self.load_power(&state.points));
-        state.impulse += self.impose_point_velocities(&mut state.points);
+        state.work += 0.5 * dt * (power_start + self.load_power(&state.points, mid));
+        state.impulse += self.impose_point_velocities(&mut state.points, end);
         if self.options.stress_update == StressUpdate::Musl {
-            self.remap_momentum(&state.points);
+            self.remap_momentum(&state.points, end);
         }
         if usl {
             self.update_stress(&mut state.points, dt);

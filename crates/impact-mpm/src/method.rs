@@ -10,8 +10,8 @@ impl<const D: usize> Method<D> for Mpm<D> {
     fn stable_dt(&self) -> f64 {
         self.solver.config.courant * self.solver.body.min_spacing() / self.solver.wave_speed
     }
-    fn step(&mut self, _t: f64, dt: f64) {
-        self.solver.step(&mut self.state, dt);
+    fn step(&mut self, t: f64, dt: f64) {
+        self.solver.step(&mut self.state, t, dt);
     }
     fn sample_into(&self, out: &mut Samples<D>) {
         self.state.points.sample_into(out);
@@ -55,7 +55,15 @@ impl<const D: usize> Method<D> for Mpm<D> {
             }
             let moving = self.solver.options.frame == MpmFrame::UpdatedLagrangian;
             // the stencil, not just the point: a smooth stencil needs nodes around it
-            if moving && !self.solver.stencil.fits(&self.solver.grid, &p.position[i]) {
+            let fits = match p.domain.get(i) {
+                Some(domain) => {
+                    self.solver
+                        .stencil
+                        .fits_domain(&self.solver.grid, &p.position[i], domain)
+                }
+                None => self.solver.stencil.fits(&self.solver.grid, &p.position[i]),
+            };
+            if moving && !fits {
                 return Err(BadState {
                     place: p.reference[i],
                     reason: format!(

@@ -35,7 +35,8 @@ pub fn weight(shape: MpmShape, half: f64, d: f64) -> (f64, f64) {
     let a = d.abs();
     let sign = if d < 0.0 { -1.0 } else { 1.0 };
     match shape {
-        MpmShape::Linear => {
+        // CPDI evaluates hats at its domain's corners (`crate::cpdi`); alone, a hat
+        MpmShape::Linear | MpmShape::Cpdi => {
             // `≤`: a point on a node takes the one-sided slopes of the cell it lies in
             // (its stencil's nodes at d = 0 and d = -1)
             if a <= 1.0 {
@@ -96,7 +97,7 @@ pub struct Stencil<const D: usize> {
     /// Linear index offset of local node `a` (first axis fastest) from the base node.
     pub offsets: Vec<usize>,
     /// Linear index stride of each axis.
-    strides: [usize; D],
+    pub(crate) strides: [usize; D],
     /// GIMP's half domain in cells, `1/(2 n)` for `n` points per cell and axis.
     half: f64,
 }
@@ -107,7 +108,7 @@ impl<const D: usize> Stencil<D> {
         let width: usize = match shape {
             MpmShape::Linear => 2,
             MpmShape::Gimp | MpmShape::Bspline2 => 3,
-            MpmShape::Bspline3 => 4,
+            MpmShape::Bspline3 | MpmShape::Cpdi => 4,
         };
         let counts = grid.vertex_counts();
         let mut strides = [1usize; D];
@@ -135,6 +136,11 @@ impl<const D: usize> Stencil<D> {
         }
     }
 
+    /// A CPDI domain at rest: half a point spacing along each axis, `diag(ℓ h)`.
+    pub fn rest_domain(&self, grid: &Grid<D>) -> impact_core::Tensor<D> {
+        impact_core::Tensor::<D>::from_diagonal(&(grid.spacing * self.half))
+    }
+
     /// The first node of the stencil along an axis at grid coordinate `u`, if the stencil
     /// lies on the `cells` cells of that axis.
     #[inline]
@@ -149,6 +155,9 @@ impl<const D: usize> Stencil<D> {
 
     /// Whether the stencil of a point at `x` lies on the grid.
     pub fn fits(&self, grid: &Grid<D>, x: &Vector<D>) -> bool {
+        if self.shape == MpmShape::Cpdi {
+            return self.fits_domain(grid, x, &self.rest_domain(grid));
+        }
         (0..D).all(|k| {
             let u = (x[k] - grid.origin[k]) / grid.spacing[k];
             self.start(u, grid.cells[k]).is_some()
@@ -165,6 +174,9 @@ impl<const D: usize> Stencil<D> {
         values: &mut [f64],
         gradients: &mut [Vector<D>],
     ) -> Option<(usize, usize)> {
+        if self.shape == MpmShape::Cpdi {
+            return self.evaluate_domain(grid, x, &self.rest_domain(grid), values, gradients);
+        }
         let mut phi = [[0.0; MAX_WIDTH]; D];
         let mut dphi = [[0.0; MAX_WIDTH]; D];
         let mut base = [0usize; D];

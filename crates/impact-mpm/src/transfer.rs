@@ -71,11 +71,14 @@ impl<const D: usize> MpmSolver<D> {
                     &points.reference[p]
                 };
                 let range = j * nodes..(j + 1) * nodes;
+                let (values, gradients) = (&mut shape[range.clone()], &mut gradient[range]);
                 // a point whose stencil leaves the padded grid keeps its last stencil and
                 // weights; check_finite reports it
-                if let Some((b, _)) =
-                    stencil.evaluate(grid, x, &mut shape[range.clone()], &mut gradient[range])
-                {
+                let evaluated = match points.domain.get(p) {
+                    Some(domain) => stencil.evaluate_domain(grid, x, domain, values, gradients),
+                    None => stencil.evaluate(grid, x, values, gradients),
+                };
+                if let Some((b, _)) = evaluated {
                     *base = b;
                 }
             }
@@ -227,7 +230,7 @@ impl<const D: usize> MpmSolver<D> {
     /// External surface loads as nodal forces at the current surface positions: a load is
     /// spread over the nodes of its cell that carry mass (renormalised shape functions), so
     /// the whole force reaches the body.
-    pub(crate) fn external_forces(&mut self, points: &MaterialPoints<D>) {
+    pub(crate) fn external_forces(&mut self, points: &MaterialPoints<D>, t: f64) {
         let npc = Grid::<D>::NODES_PER_CELL;
         let mut s = [0.0; MAX_NODES];
         let mut g = [Vector::<D>::zeros(); MAX_NODES];
@@ -245,20 +248,22 @@ impl<const D: usize> MpmSolver<D> {
             if total <= 0.0 {
                 continue;
             }
+            let force = load.force * load.history.factor(t);
             for a in 0..npc {
                 let i = self.grid.vertex_of(c, a);
                 if self.nodes.mass[i] > self.empty_mass {
-                    self.nodes.force[i] += load.force * (s[a] / total);
+                    self.nodes.force[i] += force * (s[a] / total);
                 }
             }
         }
     }
 
-    /// Power of the surface loads, `Σ F · v_p` with `v_p` the velocity of the loaded point.
-    pub(crate) fn load_power(&self, points: &MaterialPoints<D>) -> f64 {
+    /// Power of the surface loads at time `t`, `Σ F g(t) · v_p` with `v_p` the velocity of
+    /// the loaded point.
+    pub(crate) fn load_power(&self, points: &MaterialPoints<D>, t: f64) -> f64 {
         self.loads
             .iter()
-            .map(|l| l.force.dot(&points.velocity[l.point]))
+            .map(|l| l.history.factor(t) * l.force.dot(&points.velocity[l.point]))
             .sum()
     }
 
@@ -294,7 +299,7 @@ impl<const D: usize> MpmSolver<D> {
 
     /// Phase 4 (MUSL): nodal momentum mapped again from the updated point velocities (with
     /// the shape functions of the start of the step), then the prescribed nodal velocities.
-    pub fn remap_momentum(&mut self, points: &MaterialPoints<D>) {
+    pub fn remap_momentum(&mut self, points: &MaterialPoints<D>, t: f64) {
         let fill = Fill {
             mass: false,
             momentum: true,
@@ -305,7 +310,7 @@ impl<const D: usize> MpmSolver<D> {
                 sums.momentum[i] += points.velocity[p] * (weights.shape[a] * points.mass[p]);
             }
         });
-        self.constrain_momentum();
+        self.constrain_momentum(t);
     }
 
     /// Velocity gradient `∇v = Σ_i v_i ⊗ ∇N_ip` at point `p` (`∇_X` in the total
@@ -327,6 +332,20 @@ impl<const D: usize> MpmSolver<D> {
     /// Lagrangian frame), or `F_p += Δt ∇_X v`, `Π_p = Π(F_p)` (Saint-Venant–Kirchhoff).
     pub fn update_stress(&self, points: &mut MaterialPoints<D>, dt: f64) {
         let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
+        if moving && !points.domain.is_empty() {
+            // CPDI: the domain follows the motion, R ← (I + Δt ∇v) R (`crate::cpdi`)
+            for_each_chunk(
+                self.parallel,
+                1,
+                chunks(&mut points.domain, CHUNK),
+                |r, domain| {
+                    for (j, rp) in domain.iter_mut().enumerate() {
+                        let l = self.velocity_gradient(r * CHUNK + j);
+                        *rp += l * *rp * dt;
+                    }
+                },
+            );
+        }
         let parts = (
             chunks(&mut points.stress, CHUNK),
             chunks(&mut points.volume, CHUNK),
@@ -359,11 +378,16 @@ impl<const D: usize> MpmSolver<D> {
         }
     }
 
-    /// Points on a velocity edge take the prescribed normal velocity (as the paper does).
-    /// Returns the impulse this gives them, `Σ m_p Δv_p`.
-    pub(crate) fn impose_point_velocities(&self, points: &mut MaterialPoints<D>) -> Vector<D> {
+    /// Points on a velocity edge take the prescribed velocity at time `t` (as the paper
+    /// does). Returns the impulse this gives them, `Σ m_p Δv_p`.
+    pub(crate) fn impose_point_velocities(
+        &self,
+        points: &mut MaterialPoints<D>,
+        t: f64,
+    ) -> Vector<D> {
         let mut kick = Vector::<D>::zeros();
-        for &(p, axis, value) in &self.point_constraints {
+        for c in &self.point_constraints {
+            let (p, axis, value) = (c.carrier, c.axis, c.at(t));
             kick[axis] += points.mass[p] * (value - points.velocity[p][axis]);
             points.velocity[p][axis] = value;
         }

@@ -4,7 +4,7 @@ use super::validate::MAX_STRAIN;
 use super::{EdgeSpec, Scene};
 use crate::error::SceneError;
 use crate::material::Svk;
-use crate::options::{EdgeKind, MaterialModel};
+use crate::options::{EdgeKind, LoadShape, MaterialModel};
 
 impl Scene {
     fn edges(&self) -> [(&'static str, &Option<EdgeSpec>, usize); 4] {
@@ -30,6 +30,7 @@ impl Scene {
             }
             self.check_edge_value(&field, edge)?;
             self.check_segment(&field, edge, tangent)?;
+            check_history(&field, edge)?;
         }
         Ok(())
     }
@@ -129,6 +130,13 @@ impl Scene {
         tangent: usize,
     ) -> Result<(), SceneError> {
         if edge.from.is_none() && edge.to.is_none() {
+            if let Some(cover) = edge.cover {
+                return Err(SceneError::new(
+                    format!("{field}.cover"),
+                    cover,
+                    "no `cover` without a segment (`from` or `to`)",
+                ));
+            }
             return Ok(());
         }
         if self.dim == 1 {
@@ -170,5 +178,49 @@ impl Scene {
             ));
         }
         Ok(())
+    }
+}
+
+/// A load history (`history`, `duration`) only on a loaded edge; `duration` exactly when
+/// the shape needs one, positive and finite.
+fn check_history(field: &str, edge: &EdgeSpec) -> Result<(), SceneError> {
+    let loaded = matches!(
+        edge.kind,
+        EdgeKind::Pressure | EdgeKind::Velocity | EdgeKind::NormalVelocity
+    );
+    if !loaded {
+        if let Some(shape) = edge.history {
+            return Err(SceneError::new(
+                format!("{field}.history"),
+                shape,
+                format!("no history for a `{}` edge", edge.kind),
+            ));
+        }
+    }
+    let shape = edge.history.unwrap_or(LoadShape::Step);
+    let duration_field = format!("{field}.duration");
+    match (shape, edge.duration) {
+        (LoadShape::Step, None) => Ok(()),
+        (LoadShape::Step, Some(d)) => Err(SceneError::new(
+            duration_field,
+            d,
+            "no duration for a step load (give `history = \"ramp\"`, \"sine\" or \"pulse\")",
+        )),
+        (shape, None) => Err(SceneError::new(
+            duration_field,
+            "missing",
+            format!("a positive time in s: the {shape} load's time scale"),
+        )),
+        (shape, Some(d)) => {
+            if d.is_finite() && d > 0.0 && d <= 1e30 {
+                Ok(())
+            } else {
+                Err(SceneError::new(
+                    duration_field,
+                    d,
+                    format!("a positive finite time in s (the {shape} load's time scale)"),
+                ))
+            }
+        }
     }
 }

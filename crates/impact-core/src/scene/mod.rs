@@ -26,11 +26,13 @@
 //! ```
 use crate::error::CoreError;
 use crate::options::{
-    DgmpmOptions, EdgeKind, Integrator, MaterialModel, MethodConfig, MethodKind, MethodOptions,
-    MpmFrame, MpmOptions, MpmShape, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
+    DgmpmOptions, EdgeKind, Integrator, LoadShape, MaterialModel, MethodConfig, MethodKind,
+    MethodOptions, MpmFrame, MpmOptions, MpmShape, PointUpdate, RiemannSolver, SegmentCover,
+    StressUpdate, TransverseFlux,
 };
 
 mod boundary;
+mod initial;
 mod validate;
 use serde::{Deserialize, Serialize};
 pub use validate::{
@@ -54,6 +56,9 @@ pub struct Scene {
     pub boundary: BoundarySpec,
     /// Time and output schedule.
     pub time: TimeSpec,
+    /// State at `t = 0` (default: at rest).
+    #[serde(default)]
+    pub initial: Option<InitialSpec>,
     /// DGMPM options.
     #[serde(default)]
     pub dgmpm: DgmpmSpec,
@@ -113,6 +118,42 @@ pub struct EdgeSpec {
     /// End of the loaded segment along the edge (2D; default: whole edge).
     #[serde(default)]
     pub to: Option<f64>,
+    /// Where a segment end cuts a face: `centre` (default) or `fraction`.
+    #[serde(default)]
+    pub cover: Option<SegmentCover>,
+    /// Time history of the load: `step` (default), `ramp`, `sine` or `pulse`.
+    #[serde(default)]
+    pub history: Option<LoadShape>,
+    /// Time scale of the history (s): rise time, period or pulse length.
+    #[serde(default)]
+    pub duration: Option<f64>,
+}
+
+/// The state at `t = 0` ([`crate::initial`]): a standing P mode with an exact solution,
+/// or velocity and stress by formula; not both.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSpec {
+    /// The standing P mode of [`crate::exact::StandingWave`] (exact with `symmetry` edges).
+    #[serde(default)]
+    pub standing_wave: Option<StandingWaveSpec>,
+    /// Velocity components (m/s) as formulas of `x` (and `y`), one per axis.
+    #[serde(default)]
+    pub velocity: Option<Vec<String>>,
+    /// Stress components (Pa) as formulas: `[xx]` in 1D, `[xx, yy, xy]` in 2D
+    /// (linear elasticity, DGMPM and MPM).
+    #[serde(default)]
+    pub stress: Option<Vec<String>>,
+}
+
+/// A standing P mode: peak speed and mode numbers.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StandingWaveSpec {
+    /// Peak speed `U` (m/s).
+    pub amplitude: f64,
+    /// Half wavelengths along each axis, `[m]` in 1D, `[m, n]` in 2D (`m ≥ 1`, `n ≥ 0`).
+    pub modes: Vec<u32>,
 }
 
 /// Conditions on each edge; edges not given are free.
@@ -360,12 +401,22 @@ fn key_at_line(text: &str, number: usize) -> Option<String> {
 }
 
 /// Names of the scenes shipped with impact (files under `scenes/`).
-pub const BUILTIN: &[&str] = &["bar", "plate", "plate-wave", "svk-bar", "svk-plate"];
+pub const BUILTIN: &[&str] = &[
+    "bar",
+    "plate",
+    "plate-wave",
+    "svk-bar",
+    "svk-plate",
+    "smooth-bar",
+    "smooth-plate",
+];
 
 /// TOML text of a shipped scene.
 pub fn builtin(name: &str) -> Option<&'static str> {
     match name {
         "bar" => Some(include_str!("../../../../scenes/bar.toml")),
+        "smooth-bar" => Some(include_str!("../../../../scenes/smooth-bar.toml")),
+        "smooth-plate" => Some(include_str!("../../../../scenes/smooth-plate.toml")),
         "plate" => Some(include_str!("../../../../scenes/plate.toml")),
         "plate-wave" => Some(include_str!("../../../../scenes/plate-wave.toml")),
         "svk-bar" => Some(include_str!("../../../../scenes/svk-bar.toml")),

@@ -12,6 +12,46 @@ pub enum GhostCondition<const D: usize> {
     NormalVelocity(f64),
     /// Prescribed velocity vector `v_d` (a bonded impactor: no slip).
     Velocity(Vector<D>),
+    /// An impactor that covers the share `share` ∈ (0, 1) of the face (a segment end under
+    /// `cover = "fraction"`): the ghost state is `share · ghost(impactor) + (1 - share) ·
+    /// ghost(free)`. The linear Riemann flux is linear in the ghost state, so the face then
+    /// carries the share-weighted average of the impactor's and the free face's fluxes.
+    PartialVelocity {
+        /// The impactor's velocity vector `v_d` (bonded) or `v_d n` (frictionless).
+        velocity: Vector<D>,
+        /// Bonded (the whole vector) or frictionless (its normal component).
+        bonded: bool,
+        /// Covered share of the face.
+        share: f64,
+    },
+}
+
+impl<const D: usize> GhostCondition<D> {
+    /// A partial condition as its full impactor condition and its share; `None` otherwise.
+    #[inline]
+    pub fn split(self, outward: &Vector<D>) -> Option<(GhostCondition<D>, f64)> {
+        match self {
+            GhostCondition::PartialVelocity {
+                velocity,
+                bonded,
+                share,
+            } => Some((
+                if bonded {
+                    GhostCondition::Velocity(velocity)
+                } else {
+                    GhostCondition::NormalVelocity(velocity.dot(outward))
+                },
+                share,
+            )),
+            _ => None,
+        }
+    }
+
+    /// The free condition (zero traction).
+    #[inline]
+    pub fn free() -> Self {
+        GhostCondition::Traction(Vector::<D>::zeros())
+    }
 }
 
 /// Ghost state outside a boundary face (LeVeque 2002, §7.3): with `n` the outward normal
@@ -27,6 +67,14 @@ pub fn ghost_state<const D: usize>(
     outward: &Vector<D>,
     condition: GhostCondition<D>,
 ) -> FaceState<D> {
+    if let Some((full, share)) = condition.split(outward) {
+        let covered = ghost_state(interior, outward, full);
+        let free = ghost_state(interior, outward, GhostCondition::free());
+        return FaceState {
+            traction: covered.traction * share + free.traction * (1.0 - share),
+            velocity: covered.velocity * share + free.velocity * (1.0 - share),
+        };
+    }
     match condition {
         GhostCondition::Traction(t_d) => FaceState {
             traction: t_d * 2.0 - interior.traction,
@@ -46,6 +94,7 @@ pub fn ghost_state<const D: usize>(
             traction: interior.traction,
             velocity: v_d * 2.0 - interior.velocity,
         },
+        GhostCondition::PartialVelocity { .. } => unreachable!("internal: split above"),
     }
 }
 
@@ -82,6 +131,13 @@ pub fn constrain_correction<const D: usize>(
     n: &Vector<D>,
     condition: GhostCondition<D>,
 ) -> Conserved<D> {
+    if let Some((full, share)) = condition.split(n) {
+        let covered = constrain_correction(correction, n, full);
+        let free = constrain_correction(correction, n, GhostCondition::free());
+        return covered
+            .add_scaled(&covered, share - 1.0)
+            .add_scaled(&free, 1.0 - share);
+    }
     match condition {
         GhostCondition::Traction(_) => Conserved {
             tensor: correction.tensor,
@@ -101,6 +157,7 @@ pub fn constrain_correction<const D: usize>(
             tensor: impact_core::Tensor::<D>::zeros(),
             momentum: correction.momentum,
         },
+        GhostCondition::PartialVelocity { .. } => unreachable!("internal: split above"),
     }
 }
 

@@ -76,6 +76,14 @@ pub fn acoustic_boundary<const D: usize>(
     n: &Vector<D>,
     condition: GhostCondition<D>,
 ) -> Option<FaceState<D>> {
+    if let Some((full, share)) = condition.split(n) {
+        let covered = acoustic_boundary(z, interior, n, full)?;
+        let free = acoustic_boundary(z, interior, n, GhostCondition::free())?;
+        return Some(FaceState {
+            traction: covered.traction * share + free.traction * (1.0 - share),
+            velocity: covered.velocity * share + free.velocity * (1.0 - share),
+        });
+    }
     let state = match condition {
         GhostCondition::Traction(t_d) => FaceState {
             traction: t_d,
@@ -108,6 +116,7 @@ pub fn acoustic_boundary<const D: usize>(
             traction: interior.traction + z * (v_d - interior.velocity),
             velocity: v_d,
         },
+        GhostCondition::PartialVelocity { .. } => unreachable!("internal: split above"),
     };
     (state
         .traction

@@ -119,6 +119,14 @@ pub fn exact_boundary_1d(
 ) -> Option<(f64, f64)> {
     // the interior is on the left of a right boundary (1-wave), on the right of a left one
     let interior_left = outward > 0.0;
+    if let Some((full, share)) = condition.split(&impact_core::Vector::<1>::new(outward)) {
+        let covered = exact_boundary_1d(m, interior, outward, full)?;
+        let free = exact_boundary_1d(m, interior, outward, GhostCondition::free())?;
+        return Some((
+            covered.0 * share + free.0 * (1.0 - share),
+            covered.1 * share + free.1 * (1.0 - share),
+        ));
+    }
     match condition {
         // in 1D a prescribed velocity is a prescribed normal velocity
         GhostCondition::Velocity(v) => exact_boundary_1d(
@@ -134,6 +142,7 @@ pub fn exact_boundary_1d(
                 pi,
             ))
         }
+        GhostCondition::PartialVelocity { .. } => unreachable!("internal: split above"),
         GhostCondition::NormalVelocity(vn) => {
             let v = vn * outward;
             let (_, pi_min) = m.hyperbolicity_limit_1d();

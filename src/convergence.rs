@@ -1,0 +1,271 @@
+//! `impact bench convergence`: observed orders of accuracy on smooth exact solutions.
+//!
+//! Scenes `smooth-bar` (1D standing wave, fixed ends) and `smooth-plate` (2D standing P
+//! mode (1, 1) with roller edges: four oblique plane waves), both with the exact solution
+//! [`impact_core::exact::StandingWave`]. Every configuration of the work-precision ladder
+//! ([`crate::work_precision::configurations`]) runs a refinement ladder (1D: 75·2^k cells,
+//! 2D: 16·2^k × 12·2^k, `k = 1..=levels`) to the scene's last output time, in this process.
+//!
+//! Errors are over the whole body, each sample against the exact average over its region
+//! (the cell average a finite-volume scheme carries; the point value differs from it by
+//! `O(h²)`), relative to the exact field's norm, for `σ_xx` and `v_x`:
+//! `L1 = Σ V_i |e_i| / Σ V_i |q_i|`, `L2 = sqrt(Σ V_i e_i² / Σ V_i q_i²)`. The observed
+//! order between levels is `log2(e_k / e_{k+1})`. The last output time is 3/8 of the
+//! mode's period, where neither field passes through zero.
+//!
+//! What it measures (`impact bench convergence --scene smooth-bar --levels 5`, and
+//! `--scene smooth-plate --levels 4`; BENCHMARKS.md has the tables):
+//! - FEM: order 2.00 in L1 and L2 of both fields, 1D and 2D.
+//! - DGMPM: about 1 in 2D (1 point per cell, CTU: 1.11 in σ, 1.04 in v); in 1D at Courant
+//!   1 the one-point scheme transports exactly and only the initial point values (centre
+//!   values, not cell averages) are in error, `O(h²)`. RK2 at Courant 1.0 sits on its von
+//!   Neumann limit and with 2 points per cell its error stalls between 1200 and 2400 cells
+//!   (3.27e-4, 3.23e-4); at Courant 0.9 it converges at first order.
+//! - MPM: stress at order 2 with B-splines (quadratic, 4 points per cell: 2.00 in L2) and
+//!   with hats at one point per cell in the total Lagrangian frame; 1 with hats or GIMP at
+//!   4 points per cell. Velocity at order 1 with every shape function and the same error:
+//!   USL's stress drives the velocity from `t_n` to `t_{n+1}` where leapfrog would take it
+//!   at `t_{n+1/2}`, an `O(Δt)` lag (halving the Courant number at 600 cells halves the
+//!   velocity error: 1.34e-3 to 6.98e-4).
+use crate::work_precision::{cells_x, configurations};
+use anyhow::{bail, Context, Result};
+use impact_core::controller;
+use impact_core::method::Samples;
+use impact_core::reference::Reference;
+use impact_core::{Method, Problem, Scene};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// Relative errors of one run.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct FieldErrors {
+    /// L1 of `σ_xx`.
+    pub l1_stress: f64,
+    /// L2 of `σ_xx`.
+    pub l2_stress: f64,
+    /// L1 of `v_x`.
+    pub l1_velocity: f64,
+    /// L2 of `v_x`.
+    pub l2_velocity: f64,
+}
+
+/// One run of the ladder.
+#[derive(Debug, Clone, Serialize)]
+pub struct Level {
+    /// Configuration label.
+    pub config: String,
+    /// Cells along x.
+    pub cells_x: usize,
+    /// Errors at the last output time.
+    #[serde(flatten)]
+    pub errors: FieldErrors,
+}
+
+/// The errors of `samples` against `reference` at `t` (module doc).
+pub fn field_errors<const D: usize>(
+    samples: &Samples<D>,
+    reference: &Reference,
+    t: f64,
+) -> FieldErrors {
+    let mut sums = [0.0f64; 8];
+    for i in 0..samples.len() {
+        let (x, h) = (samples.reference[i], samples.half_size[i]);
+        let volume: f64 = h.iter().map(|v| 2.0 * v).product();
+        let (stress, velocity) = reference.averages(&(x - h), &(x + h), t);
+        let e_stress = samples.stress[i][(0, 0)] - stress;
+        let e_velocity = samples.velocity[i][0] - velocity;
+        for (k, (e, q)) in [(e_stress, stress), (e_velocity, velocity)]
+            .iter()
+            .enumerate()
+        {
+            sums[4 * k] += volume * e.abs();
+            sums[4 * k + 1] += volume * q.abs();
+            sums[4 * k + 2] += volume * e * e;
+            sums[4 * k + 3] += volume * q * q;
+        }
+    }
+    FieldErrors {
+        l1_stress: sums[0] / sums[1],
+        l2_stress: (sums[2] / sums[3]).sqrt(),
+        l1_velocity: sums[4] / sums[5],
+        l2_velocity: (sums[6] / sums[7]).sqrt(),
+    }
+}
+
+/// Run one configuration on `problem` to its last output and measure it.
+fn run_level<const D: usize>(
+    problem: &Problem<D>,
+    config: impact_core::method::MethodConfig,
+    reference: &Reference,
+) -> Result<FieldErrors> {
+    let mut method = crate::build(problem, config)?;
+    let mut samples = Samples::<D>::default();
+    let mut errors = FieldErrors::default();
+    let last = problem.output_times.len() - 1;
+    controller::run::<D, dyn Method<D>, anyhow::Error>(
+        method.as_mut(),
+        &problem.output_times,
+        crate::interrupt::guard(),
+        |m, index, t, _| {
+            if index == last {
+                m.sample_into(&mut samples);
+                errors = field_errors(&samples, reference, t);
+            }
+            Ok(())
+        },
+        |_| {},
+    )
+    .map_err(|e| anyhow::anyhow!("{e}"))?;
+    Ok(errors)
+}
+
+/// The refinement ladder `k = 1..=levels` of each configuration on `scene` (dimension `D`).
+pub fn ladder<const D: usize>(
+    scene: &Scene,
+    configs: &[crate::work_precision::Config],
+    levels: usize,
+) -> Result<Vec<Level>> {
+    let mut out = Vec::new();
+    for config in configs {
+        for k in 1..=levels {
+            let mut s = scene.clone();
+            s.domain.cells = if D == 1 {
+                vec![cells_x(1, k)]
+            } else {
+                vec![cells_x(2, k), cells_x(2, k) * 3 / 4]
+            };
+            let problem = Problem::<D>::from_scene(&s)?;
+            let reference = Reference::for_problem(&problem)
+                .context("internal: a smooth scene has an exact solution")?;
+            let errors = run_level(&problem, config.config, &reference)
+                .with_context(|| format!("{} at {:?} cells", config.label, s.domain.cells))?;
+            eprintln!(
+                "{:<32} {:>5} cells: L2 σ {:.3e}, v {:.3e}",
+                config.label, s.domain.cells[0], errors.l2_stress, errors.l2_velocity
+            );
+            out.push(Level {
+                config: config.label.clone(),
+                cells_x: s.domain.cells[0],
+                errors,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// Run the ladders of `scene` (`smooth-bar` or `smooth-plate`) and write
+/// `convergence.{csv,json,png}` into `out`; returns the table printed.
+pub fn run(scene_name: &str, levels: usize, out: &Path) -> Result<String> {
+    if !(scene_name == "smooth-bar" || scene_name == "smooth-plate") {
+        bail!("--scene {scene_name:?}: allowed: \"smooth-bar\" or \"smooth-plate\"");
+    }
+    if !(2..=8).contains(&levels) {
+        bail!("--levels {levels}: allowed: 2 to 8 (at least 4 for the orders the issue asks)");
+    }
+    let scene = Scene::builtin(scene_name).context("internal: shipped scene")?;
+    let configs = configurations(&scene);
+    let runs = match scene.dim {
+        1 => ladder::<1>(&scene, &configs, levels)?,
+        _ => ladder::<2>(&scene, &configs, levels)?,
+    };
+    let table = table(&runs);
+    let folder = impact_io::folder::OutputFolder::open(out)?;
+    write(folder.path(), scene_name, &runs)?;
+    std::fs::write(folder.path().join("convergence.txt"), &table)?;
+    folder.commit("impact bench convergence")?;
+    Ok(table)
+}
+
+/// Observed orders `log2(e_k/e_{k+1})` of one error over a configuration's levels.
+pub fn orders(levels: &[&Level], error: impl Fn(&FieldErrors) -> f64) -> Vec<f64> {
+    impact_core::metrics::observed_orders(
+        &levels.iter().map(|l| error(&l.errors)).collect::<Vec<_>>(),
+    )
+}
+
+/// The table: per configuration, the finest errors and the mean observed orders of the
+/// last two refinements.
+pub fn table(runs: &[Level]) -> String {
+    let mut labels: Vec<&str> = runs.iter().map(|r| r.config.as_str()).collect();
+    labels.dedup();
+    let mut text = format!(
+        "{:<32} {:>10} {:>10} {:>10} {:>10}   orders (last two refinements, mean)\n{:<32} {:>10} {:>10} {:>10} {:>10}   L1σ   L2σ   L1v   L2v\n",
+        "configuration", "L1 σ_xx", "L2 σ_xx", "L1 v_x", "L2 v_x", "", "(finest)", "", "", ""
+    );
+    for label in labels {
+        let levels: Vec<&Level> = runs.iter().filter(|r| r.config == label).collect();
+        let last = levels.last().expect("internal: a label has runs").errors;
+        let mean = |f: fn(&FieldErrors) -> f64| {
+            let o = orders(&levels, f);
+            let tail = &o[o.len().saturating_sub(2)..];
+            tail.iter().sum::<f64>() / tail.len().max(1) as f64
+        };
+        text += &format!(
+            "{label:<32} {:>10.3e} {:>10.3e} {:>10.3e} {:>10.3e}   {:>4.2}  {:>4.2}  {:>4.2}  {:>4.2}\n",
+            last.l1_stress,
+            last.l2_stress,
+            last.l1_velocity,
+            last.l2_velocity,
+            mean(|e| e.l1_stress),
+            mean(|e| e.l2_stress),
+            mean(|e| e.l1_velocity),
+            mean(|e| e.l2_velocity),
+        );
+    }
+    text
+}
+
+fn write(out: &Path, scene: &str, runs: &[Level]) -> Result<()> {
+    use impact_io::plot::{line_panels, Panel, Series};
+    impact_io::write_atomic(&out.join("convergence.csv"), |w| {
+        writeln!(
+            w,
+            "scene,config,cells_x,l1_stress,l2_stress,l1_velocity,l2_velocity"
+        )?;
+        for r in runs {
+            let e = r.errors;
+            writeln!(
+                w,
+                "{scene},{},{},{:.6e},{:.6e},{:.6e},{:.6e}",
+                r.config, r.cells_x, e.l1_stress, e.l2_stress, e.l1_velocity, e.l2_velocity
+            )?;
+        }
+        Ok(())
+    })?;
+    impact_io::write_json(&out.join("convergence.json"), &runs)?;
+    let mut labels: Vec<&str> = runs.iter().map(|r| r.config.as_str()).collect();
+    labels.dedup();
+    let panel = |title: &str, error: fn(&FieldErrors) -> f64| Panel {
+        title: format!("{scene}: {title} (log10 relative error against log10 cells along x)"),
+        series: labels
+            .iter()
+            .enumerate()
+            .map(|(k, l)| Series {
+                label: l.to_string(),
+                points: runs
+                    .iter()
+                    .filter(|r| r.config == *l && error(&r.errors) > 0.0)
+                    .map(|r| ((r.cells_x as f64).log10(), error(&r.errors).log10()))
+                    .collect(),
+                colour: k + 1,
+                reference: false,
+            })
+            .collect(),
+        y_label: None,
+    };
+    line_panels(
+        &out.join("convergence.png"),
+        &[
+            panel("L2 of σ_xx", |e| e.l2_stress),
+            panel("L2 of v_x", |e| e.l2_velocity),
+        ],
+        "log10 cells along x",
+        "log10 relative L2 error",
+    )?;
+    Ok(())
+}
+
+/// Default output folder of a ladder.
+pub fn default_out(scene: &str) -> PathBuf {
+    PathBuf::from("out").join(format!("convergence-{scene}"))
+}

@@ -1,0 +1,71 @@
+//! The smooth-solution convergence suite (`impact bench convergence`): observed orders on
+//! the standing waves of `smooth-bar` and `smooth-plate` against their exact solution. The
+//! expected orders and why some fall below the scheme's formal order are in the module doc
+//! of `impact::convergence`.
+use impact::convergence::{ladder, orders, FieldErrors, Level};
+use impact::work_precision::configurations;
+use impact_core::Scene;
+
+/// Which error of a run.
+type Error = fn(&FieldErrors) -> f64;
+
+fn measured<const D: usize>(scene: &str, labels: &[&str], levels: usize) -> Vec<Level> {
+    let scene = Scene::builtin(scene).unwrap();
+    let configs: Vec<_> = configurations(&scene)
+        .into_iter()
+        .filter(|c| labels.contains(&c.label.as_str()))
+        .collect();
+    assert_eq!(
+        configs.len(),
+        labels.len(),
+        "unknown label among {labels:?}"
+    );
+    let runs = ladder::<D>(&scene, &configs, levels).unwrap();
+    print!("{}", impact::convergence::table(&runs));
+    runs
+}
+
+/// Mean observed order of the last two refinements of `label`'s `error`.
+fn order(runs: &[Level], label: &str, error: Error) -> f64 {
+    let levels: Vec<&Level> = runs.iter().filter(|r| r.config == label).collect();
+    let o = orders(&levels, error);
+    let tail = &o[o.len() - 2..];
+    tail.iter().sum::<f64>() / 2.0
+}
+
+#[test]
+fn smooth_bar_orders() {
+    let (fem, bspline, hat) = ("fem C0.9", "mpm bspline2 4ppc C0.5", "mpm 4ppc C0.5");
+    let runs = measured::<1>("smooth-bar", &[fem, bspline, hat], 4);
+    let pairs: [(Error, &str); 2] = [(|e| e.l2_stress, "L2 σ"), (|e| e.l2_velocity, "L2 v")];
+    for (error, name) in pairs {
+        let o = order(&runs, fem, error);
+        assert!((1.9..2.2).contains(&o), "FEM {name}: order {o}");
+    }
+    let o = order(&runs, bspline, |e| e.l2_stress);
+    assert!((1.8..2.3).contains(&o), "B-spline MPM L2 σ: order {o}");
+    // velocity: first order for every shape (USL's O(Δt) lag, module doc)
+    for label in [bspline, hat] {
+        let o = order(&runs, label, |e| e.l1_velocity);
+        assert!((0.9..1.5).contains(&o), "{label} L1 v: order {o}");
+    }
+}
+
+#[test]
+fn smooth_plate_orders() {
+    let (fem, bspline, dgmpm) = (
+        "fem C0.9",
+        "mpm bspline2 4ppc C0.5",
+        "dgmpm euler ctu 1ppc C1.0",
+    );
+    let runs = measured::<2>("smooth-plate", &[fem, bspline, dgmpm], 4);
+    let o = order(&runs, fem, |e| e.l2_stress);
+    assert!((1.9..2.2).contains(&o), "FEM L2 σ: order {o}");
+    let o = order(&runs, bspline, |e| e.l2_stress);
+    assert!((1.8..2.3).contains(&o), "B-spline MPM L2 σ: order {o}");
+    let pairs: [(Error, &str); 2] = [(|e| e.l1_stress, "L1 σ"), (|e| e.l1_velocity, "L1 v")];
+    for (error, name) in pairs {
+        let o = order(&runs, dgmpm, error);
+        assert!((0.85..1.4).contains(&o), "DGMPM {name}: order {o}");
+    }
+}
