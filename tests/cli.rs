@@ -389,7 +389,8 @@ fn check_against_all_mpm_prints_every_variant_with_the_run_figures() {
             .lines()
             .filter(|l| l.starts_with("PASS") || l.starts_with("FAIL"))
             .collect();
-        assert_eq!(verdicts.len(), 4, "{stdout}");
+        let shapes = impact_core::method::MpmShape::NAMES;
+        assert_eq!(verdicts.len(), shapes.len(), "{stdout}");
         // the exit status is the conjunction of the verdicts
         assert_eq!(
             o.status.success(),
@@ -397,10 +398,7 @@ fn check_against_all_mpm_prints_every_variant_with_the_run_figures() {
             "{stdout}"
         );
         let blocks: Vec<&str> = stdout.split("check ").skip(1).collect();
-        for (block, shape) in blocks
-            .iter()
-            .zip(["linear", "gimp", "bspline2", "bspline3"])
-        {
+        for (block, shape) in blocks.iter().zip(shapes.iter().copied()) {
             assert!(block.contains(&format!("usl, {shape})")), "{block}");
             let printed: Vec<String> = block
                 .lines()
