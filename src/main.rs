@@ -143,6 +143,38 @@ struct StabilityArgs {
     /// Output folder.
     #[arg(long, default_value = "out/stability")]
     out: PathBuf,
+    /// Where the points sit in a cell (DGMPM and MPM): centred sub-cells, shifted by
+    /// `--shift`, or at the 1D local `--positions`.
+    #[arg(long, value_enum, default_value = "centred")]
+    layout: impact_core::method::LayoutKind,
+    /// Shift of every point in sub-cell widths, |shift| < 0.5 (`--layout shifted`).
+    #[arg(long)]
+    shift: Option<f64>,
+    /// Local positions in (0, 1) of the points of a cell, comma-separated (`--layout
+    /// given`, 1D; only that number of points per cell is swept).
+    #[arg(long, value_delimiter = ',')]
+    positions: Option<Vec<f64>>,
+}
+
+impl StabilityArgs {
+    /// Put the layout flags on a scene (checked with the scene's validation).
+    fn layout_onto(&self, scene: &mut Scene) -> Result<()> {
+        use impact_core::method::LayoutKind;
+        scene.domain.layout = Some(self.layout);
+        scene.domain.shift = self.shift;
+        if let Some(list) = &self.positions {
+            if scene.dim != 1 {
+                bail!("--positions: 1D only (one local coordinate per point); run with --dim 1");
+            }
+            scene.domain.points_per_cell = list.len();
+            scene.domain.positions = Some(list.iter().map(|u| vec![*u]).collect());
+        } else if self.layout == LayoutKind::Given {
+            bail!("--layout given needs --positions (e.g. --positions 0.2,0.7)");
+        }
+        scene
+            .validate()
+            .map_err(|e| anyhow::anyhow!("{e} (from --layout, --shift or --positions)"))
+    }
 }
 
 impl SceneArgs {
@@ -466,13 +498,17 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
     };
     let mut rows = Vec::new();
     if args.dim.contains(&1) {
-        let scene = Scene::builtin("bar").expect("shipped scene");
+        let mut scene = Scene::builtin("bar").expect("shipped scene");
+        args.layout_onto(&mut scene)?;
         let problem = Problem::<1>::from_scene(&scene)?;
         rows.extend(sweep(&problem, &scene, args.steps_1d, print));
     }
     if args.dim.contains(&2) {
         let mut scene = Scene::builtin("plate-wave").expect("shipped scene");
         scene.domain.cells = vec![16, 12];
+        if args.positions.is_none() {
+            args.layout_onto(&mut scene)?;
+        }
         let problem = Problem::<2>::from_scene(&scene)?;
         rows.extend(sweep(&problem, &scene, args.steps_2d, print));
     }

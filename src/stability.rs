@@ -41,6 +41,8 @@ pub struct StabilityRow {
     pub flux: String,
     /// DGMPM's point update (`nodal` or `increment`) or `-`.
     pub update: String,
+    /// Where the points sit in a cell (`PointLayout::label`).
+    pub layout: String,
     /// Empirical critical Courant number.
     pub empirical: f64,
     /// Von Neumann critical Courant number (DGMPM), if computed.
@@ -374,7 +376,11 @@ pub fn sweep<const D: usize>(
     mut progress: impl FnMut(&StabilityRow),
 ) -> Vec<StabilityRow> {
     let mut rows = Vec::new();
+    let layout = problem.layout.label();
     for c in configurations::<D>(base) {
+        if !problem.layout.fits(c.points_per_cell) && c.kind() != MethodKind::Fem {
+            continue;
+        }
         let dgmpm = c.kind() == MethodKind::Dgmpm;
         let row = StabilityRow {
             dim: D,
@@ -386,6 +392,7 @@ pub fn sweep<const D: usize>(
             },
             integrator: c.integrator_label().into(),
             update: c.dgmpm().map_or("-".into(), |o| o.update.name().into()),
+            layout: layout.clone(),
             flux: match (c.dgmpm(), D) {
                 (Some(o), 2..) => o.flux.name().into(),
                 _ => "-".into(),
@@ -418,18 +425,19 @@ pub fn write(dir: &std::path::Path, rows: &[StabilityRow]) -> anyhow::Result<()>
     impact_io::write_atomic(&csv_path, |w| {
         writeln!(
             w,
-            "dim,method,points_per_cell,integrator,flux,update,empirical,von_neumann,monotone"
+            "dim,method,points_per_cell,integrator,flux,update,layout,empirical,von_neumann,monotone"
         )?;
         for r in rows {
             writeln!(
                 w,
-                "{},{},{},{},{},{},{:.6},{},{}",
+                "{},{},{},{},{},{},{},{:.6},{},{}",
                 r.dim,
                 r.method,
                 r.points_per_cell,
                 r.integrator,
                 r.flux,
                 r.update,
+                r.layout,
                 r.empirical,
                 r.von_neumann.map_or(String::new(), |v| format!("{v:.6}")),
                 r.monotone.map_or(String::new(), |v| format!("{v:.6}"))

@@ -236,6 +236,18 @@ option_enum! {
 }
 
 option_enum! {
+    /// Where the points of a cell sit (`crate::points::PointLayout`).
+    LayoutKind {
+        /// At the sub-cell centres.
+        Centred = "centred",
+        /// Every point shifted by `shift` sub-cell widths along each axis.
+        Shifted = "shifted",
+        /// At the given local `positions`.
+        Given = "given",
+    }
+}
+
+option_enum! {
     /// Which cells, faces or nodes a loaded segment acts on where its end cuts one.
     SegmentCover {
         /// All or nothing, by the centre of the face (DGMPM), of the point's face (MPM)

@@ -2,6 +2,74 @@
 use crate::method::Samples;
 use crate::{Grid, Tensor, Vector};
 
+/// Where the points of a cell sit, in the cell's local coordinates `[0, 1)^D`
+/// (`impact stability` compares them; the DGMPM thesis tabulates the natural layout).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum PointLayout {
+    /// At the centres of the `n^D` sub-cells: `(k + ½)/n` along each axis.
+    #[default]
+    Centred,
+    /// Every point moved by `shift` sub-cell widths along each axis:
+    /// `(k + ½ + shift)/n`, `|shift| < ½`.
+    Shifted(f64),
+    /// Given local positions, one per point of the cell (the first `D` coordinates used).
+    Given(Vec<Vec<f64>>),
+}
+
+impl PointLayout {
+    /// Whether the layout can seed `points_per_cell` points (a given layout: exactly its
+    /// count).
+    pub fn fits(&self, points_per_cell: usize) -> bool {
+        match self {
+            PointLayout::Given(list) => list.len() == points_per_cell,
+            _ => true,
+        }
+    }
+
+    /// A short label: `centred`, `shifted 0.25`, `given 0.2 0.7`.
+    pub fn label(&self) -> String {
+        match self {
+            PointLayout::Centred => "centred".into(),
+            PointLayout::Shifted(s) => format!("shifted {s}"),
+            PointLayout::Given(list) => {
+                let parts: Vec<String> = list
+                    .iter()
+                    .map(|p| {
+                        p.iter()
+                            .map(|u| u.to_string())
+                            .collect::<Vec<_>>()
+                            .join(":")
+                    })
+                    .collect();
+                format!("given {}", parts.join(" "))
+            }
+        }
+    }
+    /// The local positions of the `per_axis^D` points of a cell (first axis fastest).
+    pub fn local_positions<const D: usize>(&self, per_axis: usize) -> Vec<Vector<D>> {
+        if let PointLayout::Given(list) = self {
+            return list
+                .iter()
+                .map(|p| Vector::<D>::from_fn(|k, _| p[k]))
+                .collect();
+        }
+        let shift = match self {
+            PointLayout::Shifted(s) => *s,
+            _ => 0.0,
+        };
+        (0..per_axis.pow(D as u32))
+            .map(|k| {
+                let mut rest = k;
+                Vector::<D>::from_fn(|_, _| {
+                    let j = rest % per_axis;
+                    rest /= per_axis;
+                    (j as f64 + 0.5 + shift) / per_axis as f64
+                })
+            })
+            .collect()
+    }
+}
+
 /// Material points (struct of arrays). `reference` is the position in the reference
 /// configuration (the material coordinate `X`), `position` the current one.
 #[derive(Debug, Clone, Default)]
@@ -113,7 +181,14 @@ impl<const D: usize> MaterialPoints<D> {
     /// sub-cells, each carrying the sub-cell's mass `ρ V_cell / per_axis^D`. Points are
     /// stored cell by cell: the points of cell `c` are `c*n .. (c+1)*n` with `n = per_axis^D`.
     pub fn regular(grid: &Grid<D>, per_axis: usize, density: f64) -> Self {
+        Self::seeded(grid, per_axis, density, &PointLayout::Centred)
+    }
+
+    /// As [`Self::regular`] with the points of each cell placed by `layout` (equal masses
+    /// and volumes; `half_size` stays half the sub-cell).
+    pub fn seeded(grid: &Grid<D>, per_axis: usize, density: f64, layout: &PointLayout) -> Self {
         let per_cell = per_axis.pow(D as u32);
+        let local = layout.local_positions::<D>(per_axis);
         let n = grid.cell_count() * per_cell;
         let volume = grid.cell_volume() / per_cell as f64;
         let sub = grid.spacing / per_axis as f64;
@@ -130,13 +205,8 @@ impl<const D: usize> MaterialPoints<D> {
         };
         for c in 0..grid.cell_count() {
             let lower = grid.cell_lower(c);
-            for k in 0..per_cell {
-                let mut rest = k;
-                let mut x = lower;
-                for l in 0..D {
-                    x[l] += ((rest % per_axis) as f64 + 0.5) * sub[l];
-                    rest /= per_axis;
-                }
+            for u in &local {
+                let x = lower + grid.spacing.component_mul(u);
                 points.reference.push(x);
                 points.position.push(x);
             }

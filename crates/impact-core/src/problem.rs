@@ -196,6 +196,8 @@ pub struct Problem<const D: usize> {
     pub points_per_cell: usize,
     /// State at `t = 0`.
     pub initial: InitialState,
+    /// Where the points sit in a cell.
+    pub layout: crate::points::PointLayout,
     /// Output times (s).
     pub output_times: Vec<f64>,
     /// End time (s).
@@ -249,6 +251,7 @@ impl<const D: usize> Problem<D> {
             boundaries,
             points_per_cell: d.points_per_cell,
             initial: scene.initial_state(),
+            layout: scene.point_layout(),
             output_times,
             t_end,
         };

@@ -263,7 +263,18 @@ impl<const D: usize> Dgmpm<D> {
         let per_axis = problem.points_per_axis(config.points_per_cell)?;
         impact_core::scene::check_courant("courant", config.courant)?;
         let grid = problem.grid.clone();
-        let mut points = MaterialPoints::regular(&grid, per_axis, problem.material.density);
+        if !problem.layout.fits(config.points_per_cell) {
+            return Err(CoreError::Unsupported {
+                method: config.kind().name().into(),
+                message: format!(
+                    "the scene's point layout ({}) does not seed {} points per cell",
+                    problem.layout.label(),
+                    config.points_per_cell
+                ),
+            });
+        }
+        let mut points =
+            MaterialPoints::seeded(&grid, per_axis, problem.material.density, &problem.layout);
         points.apply_initial(&problem.initial);
         if let Model::Svk(_) = problem.model {
             if D > 1 && options.flux == TransverseFlux::Ctu {

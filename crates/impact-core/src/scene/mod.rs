@@ -26,13 +26,14 @@
 //! ```
 use crate::error::CoreError;
 use crate::options::{
-    DgmpmOptions, EdgeKind, Integrator, LoadShape, MaterialModel, MethodConfig, MethodKind,
-    MethodOptions, MpmFrame, MpmOptions, MpmShape, PointUpdate, RiemannSolver, SegmentCover,
-    StressUpdate, TransverseFlux,
+    DgmpmOptions, EdgeKind, Integrator, LayoutKind, LoadShape, MaterialModel, MethodConfig,
+    MethodKind, MethodOptions, MpmFrame, MpmOptions, MpmShape, PointUpdate, RiemannSolver,
+    SegmentCover, StressUpdate, TransverseFlux,
 };
 
 mod boundary;
 mod initial;
+mod layout;
 mod validate;
 use serde::{Deserialize, Serialize};
 pub use validate::{
@@ -81,6 +82,16 @@ pub struct Domain {
     /// Material points per cell (`n^dim` for an `n`-per-axis layout).
     #[serde(default = "one")]
     pub points_per_cell: usize,
+    /// Where the points sit in a cell: `centred` (default), `shifted` (by `shift`) or
+    /// `given` (at `positions`).
+    #[serde(default)]
+    pub layout: Option<LayoutKind>,
+    /// Shift of every point in sub-cell widths, `|shift| < ½` (`layout = "shifted"`).
+    #[serde(default)]
+    pub shift: Option<f64>,
+    /// Local positions in `(0, 1)^dim`, one per point of a cell (`layout = "given"`).
+    #[serde(default)]
+    pub positions: Option<Vec<Vec<f64>>>,
 }
 
 fn one() -> usize {

@@ -182,6 +182,7 @@ impl Scene {
         self.check_time()?;
         self.check_methods()?;
         self.check_derived()?;
+        self.check_layout()?;
         self.check_initial()?;
         self.check_boundaries()
     }
