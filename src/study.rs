@@ -1,8 +1,8 @@
 //! A [`Study`]: one scene and the command-line [`Overrides`], validated once, from which
 //! every command takes its problem and method configurations.
 use impact_core::method::{
-    EdgeKind, Integrator, LoadDirection, MethodConfig, MethodKind, MpmFrame, MpmShape, PointUpdate,
-    RiemannSolver, StressUpdate, TransverseFlux,
+    EdgeKind, EdgeTreatment, Integrator, LoadDirection, MethodConfig, MethodKind, MpmFrame,
+    MpmShape, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
 };
 use impact_core::scene::{
     check_courant, check_output_times, check_points_per_cell, check_work, Scene, WorkEstimate,
@@ -45,6 +45,10 @@ pub struct Overrides {
     /// DGMPM Riemann solver for Saint-Venant-Kirchhoff.
     #[arg(long, value_enum)]
     pub riemann: Option<RiemannSolver>,
+    /// DGMPM CTU edge treatment in 2D: restricted corrections (default) or ghost cells only
+    /// (Clawpack's).
+    #[arg(long, value_enum)]
+    pub edges: Option<EdgeTreatment>,
     /// Direction of the pressure load on the loaded end.
     #[arg(long = "load", value_enum)]
     pub load: Option<LoadDirection>,
@@ -97,6 +101,13 @@ impl Overrides {
                 "--flux",
                 flux,
                 "a transverse flux only in 2D scenes",
+            ));
+        }
+        if let (Some(edges), 1) = (self.edges, scene.dim) {
+            return Err(SceneError::new(
+                "--edges",
+                edges,
+                "an edge treatment only in 2D scenes (CTU)",
             ));
         }
         if let Some(cells) = self.cells {
@@ -197,6 +208,7 @@ impl Overrides {
             o.update = self.update.unwrap_or(o.update);
             o.flux = self.flux.unwrap_or(o.flux);
             o.riemann = self.riemann.unwrap_or(o.riemann);
+            o.edges = self.edges.unwrap_or(o.edges);
         }
         if let Some(o) = config.mpm_mut() {
             o.stress_update = self.stress_update.unwrap_or(o.stress_update);

@@ -1,8 +1,8 @@
 //! The [`Method`] trait shared by DGMPM, MPM and FEM, and the sampled fields they return.
 pub use crate::options::{
-    DgmpmOptions, EdgeKind, FemOptions, Integrator, LayoutKind, LoadDirection, LoadShape,
-    MaterialModel, MethodConfig, MethodKind, MethodOptions, MpmFrame, MpmOptions, MpmShape,
-    PointUpdate, RiemannSolver, SegmentCover, StressUpdate, TransverseFlux,
+    DgmpmOptions, EdgeKind, EdgeTreatment, FemOptions, Integrator, LayoutKind, LoadDirection,
+    LoadShape, MaterialModel, MethodConfig, MethodKind, MethodOptions, MpmFrame, MpmOptions,
+    MpmShape, PointUpdate, RiemannSolver, SegmentCover, StressUpdate, TransverseFlux,
 };
 pub use crate::problem::Model;
 use crate::{Tensor, Vector};

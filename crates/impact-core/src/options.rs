@@ -259,6 +259,19 @@ option_enum! {
     }
 }
 
+option_enum! {
+    /// How DGMPM's CTU treats the edges (2D).
+    EdgeTreatment {
+        /// Ghost cells, and the CTU corrections on edge faces restricted to what the edge's
+        /// condition leaves free (free edges stay exactly traction-free); no diagonal
+        /// ghost at a corner of two traction edges (default).
+        Restricted = "restricted",
+        /// Ghost cells only, as Clawpack: the corrections on edge faces are not restricted
+        /// and a traction corner's diagonal ghost is the ghost of the ghost cell.
+        Ghost = "ghost",
+    }
+}
+
 /// DGMPM's options.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct DgmpmOptions {
@@ -270,6 +283,8 @@ pub struct DgmpmOptions {
     pub flux: TransverseFlux,
     /// Riemann solver (Saint-Venant–Kirchhoff).
     pub riemann: RiemannSolver,
+    /// Edge treatment of CTU (2D).
+    pub edges: EdgeTreatment,
 }
 
 impl Default for DgmpmOptions {
@@ -280,6 +295,7 @@ impl Default for DgmpmOptions {
             update: PointUpdate::Nodal,
             flux: TransverseFlux::Ctu,
             riemann: RiemannSolver::Approximate,
+            edges: EdgeTreatment::Restricted,
         }
     }
 }
@@ -426,6 +442,7 @@ impl MethodConfig {
                 push("--riemann", o.riemann.name());
                 if dim > 1 {
                     push("--flux", o.flux.name());
+                    push("--edges", o.edges.name());
                 }
             }
             MethodOptions::Mpm(o) => {

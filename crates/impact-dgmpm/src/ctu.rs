@@ -5,6 +5,7 @@ use crate::riemann::{
     transverse_into_face, Conserved, FullState, GhostCondition,
 };
 use crate::{unit, DgmpmSolver, StepPath};
+use impact_core::method::EdgeTreatment;
 use impact_core::points::MaterialPoints;
 use impact_core::Grid;
 
@@ -106,8 +107,10 @@ impl<const D: usize> DgmpmSolver<D> {
                 }
                 let total = transverse_into_face(&w_side[0], &w_side[1], &n_k, &this.elastic);
                 let mut correction = Conserved::<D>::zeros().add_scaled(&total, -scale);
-                // on an edge, the correction must not undo the edge's condition
-                if idx[k] == 0 || idx[k] == this.grid.cells[k] {
+                // on an edge, the correction must not undo the edge's condition (Clawpack's
+                // ghost-cell-only treatment leaves it)
+                let on_edge = idx[k] == 0 || idx[k] == this.grid.cells[k];
+                if on_edge && this.options.edges == EdgeTreatment::Restricted {
                     let side = usize::from(idx[k] != 0);
                     let cond = this.ghost_condition(k, side, this.edge_coordinate(k, &idx));
                     correction = constrain_correction(&correction, &n_k, cond);
@@ -156,7 +159,9 @@ impl<const D: usize> DgmpmSolver<D> {
             let inner = fields.side(grid.cell_index(c), l, high);
             ghost_full(&inner, &outward, self.ghost_condition(k, side, s_edge))
         };
-        // tangential coordinate (along e_k) of the ghost cell, clamped into the edge
+        // coordinates of the ghost cell along each edge: along e_l (where edge k's condition
+        // is read) and along e_k, clamped into the edge (where edge l's is read)
+        let s_k = self.edge_coordinate(k, &cell);
         let s_l = self.edge_coordinate(l, &cell);
         let me_low = ghost_of(cell, false);
         let me_high = ghost_of(cell, true);
@@ -173,14 +178,19 @@ impl<const D: usize> DgmpmSolver<D> {
         // a corner where both edges prescribe a traction: the ghost of the ghost cell (the
         // diagonal neighbour) is not defined by either condition alone; its face carries no
         // fluctuation (measured: with it, CTU with free corners is unstable from Courant 0.99)
+        // (edge k's condition at the ghost cell's own position along it: read at s_l, the
+        // position along e_k, the top-left corner of the plate took the impact segment's
+        // condition, since x = h/2 lies in y ∈ [0, 1])
         let traction_corner = |l_side: usize| {
-            matches!(
-                self.ghost_condition(k, side, s_l),
-                GhostCondition::Traction(_)
-            ) && matches!(
-                self.ghost_condition(l, l_side, s_l),
-                GhostCondition::Traction(_)
-            )
+            self.options.edges == EdgeTreatment::Restricted
+                && matches!(
+                    self.ghost_condition(k, side, s_k),
+                    GhostCondition::Traction(_)
+                )
+                && matches!(
+                    self.ghost_condition(l, l_side, s_l),
+                    GhostCondition::Traction(_)
+                )
         };
         let plus_low = if left.is_none() && traction_corner(0) {
             Conserved::zeros()

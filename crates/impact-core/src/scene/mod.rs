@@ -26,9 +26,9 @@
 //! ```
 use crate::error::CoreError;
 use crate::options::{
-    DgmpmOptions, EdgeKind, Integrator, LayoutKind, LoadShape, MaterialModel, MethodConfig,
-    MethodKind, MethodOptions, MpmFrame, MpmOptions, MpmShape, PointUpdate, RiemannSolver,
-    SegmentCover, StressUpdate, TransverseFlux,
+    DgmpmOptions, EdgeKind, EdgeTreatment, Integrator, LayoutKind, LoadShape, MaterialModel,
+    MethodConfig, MethodKind, MethodOptions, MpmFrame, MpmOptions, MpmShape, PointUpdate,
+    RiemannSolver, SegmentCover, StressUpdate, TransverseFlux,
 };
 
 mod boundary;
@@ -217,6 +217,9 @@ pub struct DgmpmSpec {
     /// Riemann solver (Saint-Venant–Kirchhoff).
     #[serde(default)]
     pub riemann: Option<RiemannSolver>,
+    /// CTU's edge treatment (2D): `restricted` (default) or `ghost` (Clawpack's).
+    #[serde(default)]
+    pub edges: Option<EdgeTreatment>,
 }
 
 /// MPM's section.
@@ -264,6 +267,7 @@ impl Default for DgmpmSpec {
             update: None,
             flux: None,
             riemann: None,
+            edges: None,
         }
     }
 }
@@ -304,6 +308,7 @@ impl Scene {
                         update: s.update.unwrap_or(d.update),
                         flux: s.flux.unwrap_or(d.flux),
                         riemann: s.riemann.unwrap_or(d.riemann),
+                        edges: s.edges.unwrap_or(d.edges),
                     }),
                 }
             }

@@ -297,6 +297,13 @@ impl Scene {
                 "no transverse flux in 1D (DGMPM in 2D only)",
             ));
         }
+        if let (Some(e), 1) = (self.dgmpm.edges, self.dim) {
+            return Err(SceneError::new(
+                "dgmpm.edges",
+                format!("{:?}", e.name()),
+                "no CTU edge treatment in 1D (2D only)",
+            ));
+        }
         Ok(())
     }
 

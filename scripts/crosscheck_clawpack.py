@@ -1,0 +1,212 @@
+"""Cross-check of impact's DGMPM (1 point per cell, forward Euler, CTU) with Clawpack.
+
+PyClaw's classic 2D solver with the Fortran Riemann solvers `vc_elasticity_2D` (rpn2 and
+the transverse rpt2), first order (`order = 1`, no limiter, `transverse_waves = 2`: at first
+order the correction waves vanish, so this is the CTU of LeVeque 2002, §21.2), a fixed step
+`Δt = Δx_min / c_p` (Courant 1), runs the two plate scenes with boundary conditions written
+as PyClaw custom ghost cells that match impact's (LeVeque 2002, §7.3):
+
+- traction-free edge: the ghost negates the traction components (`σ_nn`, `σ_nt`) and keeps
+  the velocity;
+- symmetry edge: the ghost negates the normal velocity and `σ_nt`;
+- bonded impactor of velocity V into the body: `v_g = 2 V - v`, stress kept; a face is
+  impacted when its centre lies in the segment (impact's `cover = "centre"`).
+
+impact runs the same scenes with `--edges ghost` (Clawpack's ghost-cell-only treatment:
+corrections on edge faces unrestricted, the diagonal ghost kept at traction corners; impact's
+default restricts them) and the bonded impactor. Every cell, every output, all five fields
+(`σ_xx, σ_yy, σ_xy, u, v`) are compared relative to the field's largest magnitude:
+the plane wave to 1e-12, the partial plate to 1e-10.
+
+Clawpack builds Fortran at install time: scripts/test.sh installs `gfortran` through apt
+and `clawpack` into the venv when it can; without them this module is skipped with the
+reason printed.
+"""
+import pathlib
+import re
+import subprocess
+
+import numpy as np
+import pytest
+from conftest import ROOT, impact_bin
+
+pyclaw = pytest.importorskip("clawpack.pyclaw", reason="clawpack is not installed (needs gfortran)")
+from clawpack import riemann  # noqa: E402
+
+E, NU, RHO = 2.0e11, 0.3, 7800.0
+LAMBDA = E * NU / ((1 + NU) * (1 - 2 * NU))
+MU = E / (2 * (1 + NU))
+CP = np.sqrt((LAMBDA + 2 * MU) / RHO)
+CS = np.sqrt(MU / RHO)
+S11, S22, S12, U, V = range(5)
+
+
+def scene_file(tmp: pathlib.Path, name: str) -> pathlib.Path:
+    """The shipped scene with a bonded impactor (`velocity`) instead of `normal-velocity`."""
+    text = (ROOT / "scenes" / f"{name}.toml").read_text()
+    text = text.replace('kind = "normal-velocity"', 'kind = "velocity"')
+    path = tmp / f"{name}.toml"
+    path.write_text(text)
+    return path
+
+
+def read_vtu(path: pathlib.Path, name: str, components: int) -> np.ndarray:
+    text = path.read_text()
+    m = re.search(r'Name="%s" NumberOfComponents="%d"[^>]*>(.*?)</DataArray>' % (name, components),
+                  text, re.S)
+    assert m, f"{name} not in {path}"
+    return np.array([float(x) for x in m.group(1).split()]).reshape(-1, components)
+
+
+def impact_fields(tmp: pathlib.Path, name: str, edges: str = "ghost"):
+    """impact's DGMPM fields per output: arrays (5, nx, ny) in Clawpack's order."""
+    out = tmp / f"impact-{name}-{edges}"
+    subprocess.run([impact_bin(), "run", str(scene_file(tmp, name)), "--method", "dgmpm",
+                    "--edges", edges, "--quiet", "--out", str(out)], check=True,
+                   stdout=subprocess.DEVNULL)
+    frames = []
+    for k in range(3):
+        path = out / f"dgmpm_t{k}.vtu"
+        stress = read_vtu(path, "cauchy_stress", 9)
+        velocity = read_vtu(path, "velocity", 3)
+        frames.append(np.stack([stress[:, 0], stress[:, 4], stress[:, 1], velocity[:, 0],
+                                velocity[:, 1]]))
+    return frames
+
+
+def clawpack_fields(name: str, lengths, cells, impact_from, impact_to, sides):
+    """Clawpack's fields at the scene's three outputs: arrays (5, nx, ny)."""
+    solver = pyclaw.ClawSolver2D(riemann.vc_elasticity_2D)
+    solver.order = 1
+    solver.transverse_waves = 2
+    solver.limiters = pyclaw.limiters.tvd.minmod
+    solver.dimensional_split = False
+    solver.fwave = False
+    solver.cfl_max = 1.1
+    solver.cfl_desired = 1.0
+    nx, ny = cells
+    dx, dy = lengths[0] / nx, lengths[1] / ny
+    dt = min(dx, dy) / CP
+    solver.dt_variable = False
+    solver.dt_initial = dt
+    solver.max_steps = 100000
+    x = pyclaw.Dimension(0.0, lengths[0], nx, name="x")
+    y = pyclaw.Dimension(0.0, lengths[1], ny, name="y")
+    domain = pyclaw.Domain([x, y])
+    state = pyclaw.State(domain, solver.num_eqn, num_aux=5)
+    state.aux[0], state.aux[1], state.aux[2] = RHO, LAMBDA, MU
+    state.aux[3], state.aux[4] = CP, CS
+    state.q[...] = 0.0
+    yc = (np.arange(ny) + 0.5) * dy
+    g = 2  # PyClaw's ghost width; first order reads the adjacent ghost only
+
+    def mirror_x(qbc, ghost, inner, kind, velocity):
+        # kind per row (length ny + 2g): 'free', 'symmetry' or 'bonded'
+        for j in range(qbc.shape[2]):
+            q = qbc[:, inner, j].copy()
+            k = kind[j]
+            if k == "free":
+                q[S11], q[S12] = -q[S11], -q[S12]
+            elif k == "symmetry":
+                q[U], q[S12] = -q[U], -q[S12]
+            else:
+                q[U], q[V] = 2 * velocity - q[U], -q[V]
+            qbc[:, ghost, j] = q
+
+    def mirror_y(qbc, ghost, inner, kind):
+        for i in range(qbc.shape[1]):
+            q = qbc[:, i, inner].copy()
+            if kind == "free":
+                q[S22], q[S12] = -q[S22], -q[S12]
+            else:
+                q[V], q[S12] = -q[V], -q[S12]
+            qbc[:, i, ghost] = q
+
+    row_y = np.concatenate([(np.arange(-g, 0) + 0.5) * dy, yc, (ny + np.arange(g) + 0.5) * dy])
+    left_kind = ["bonded" if impact_from - 1e-12 <= yy <= impact_to + 1e-12 else sides["left_rest"]
+                 for yy in row_y]
+
+    def lower(state, dim, t, qbc, auxbc, num_ghost):
+        if dim.name == "x":
+            for i in range(num_ghost):
+                mirror_x(qbc, num_ghost - 1 - i, num_ghost + i, left_kind, 5.0)
+        else:
+            for i in range(num_ghost):
+                mirror_y(qbc, num_ghost - 1 - i, num_ghost + i, sides["bottom"])
+
+    def upper(state, dim, t, qbc, auxbc, num_ghost):
+        if dim.name == "x":
+            n = qbc.shape[1]
+            for i in range(num_ghost):
+                mirror_x(qbc, n - num_ghost + i, n - num_ghost - 1 - i, ["free"] * qbc.shape[2], 0.0)
+        else:
+            n = qbc.shape[2]
+            for i in range(num_ghost):
+                mirror_y(qbc, n - num_ghost + i, n - num_ghost - 1 - i, sides["top"])
+
+    solver.bc_lower = [pyclaw.BC.custom, pyclaw.BC.custom]
+    solver.bc_upper = [pyclaw.BC.custom, pyclaw.BC.custom]
+    solver.user_bc_lower = lower
+    solver.user_bc_upper = upper
+    solver.aux_bc_lower = [pyclaw.BC.extrap, pyclaw.BC.extrap]
+    solver.aux_bc_upper = [pyclaw.BC.extrap, pyclaw.BC.extrap]
+
+    claw = pyclaw.Controller()
+    claw.solution = pyclaw.Solution(state, domain)
+    claw.solver = solver
+    claw.tfinal = 24 * dt
+    claw.num_output_times = 3
+    claw.keep_copy = True
+    claw.output_format = None
+    claw.verbosity = 0
+    claw.run()
+    return [frame.state.q.copy() for frame in claw.frames[1:]]
+
+
+CASES = {
+    # the plane wave: impactor on the whole left edge, symmetry top and bottom
+    "plate-wave": dict(tol=1e-12, from_=0.0, to=1e9,
+                       sides={"left_rest": "free", "bottom": "symmetry", "top": "symmetry"}),
+    # the partial plate: impactor on the lower 1 m, other edges free
+    "plate": dict(tol=1e-10, from_=0.0, to=1.0,
+                  sides={"left_rest": "free", "bottom": "free", "top": "free"}),
+}
+
+
+def worst_difference(tmp_path, name, edges, tol=None):
+    """Largest relative difference, over outputs and fields, of impact against Clawpack."""
+    import tomllib
+    case = CASES[name]
+    scene = tomllib.loads((ROOT / "scenes" / f"{name}.toml").read_text())
+    lengths, cells = scene["domain"]["length"], scene["domain"]["cells"]
+    ours = impact_fields(tmp_path, name, edges)
+    theirs = clawpack_fields(name, lengths, cells, case["from_"], case["to"], case["sides"])
+    nx, ny = cells
+    worst = 0.0
+    for k, (a, b) in enumerate(zip(ours, theirs)):
+        a = a.reshape(5, ny, nx).transpose(0, 2, 1)  # impact: x fastest
+        for f, label in enumerate(["sigma_xx", "sigma_yy", "sigma_xy", "u", "v"]):
+            scale = max(np.abs(b[f]).max(), np.abs(a[f]).max())
+            if scale == 0.0:
+                continue
+            err = np.abs(a[f] - b[f]).max() / scale
+            worst = max(worst, err)
+            print(f"{name} --edges {edges} output {k} {label}: "
+                  f"max |impact - clawpack| / max = {err:.2e}")
+            if tol is not None:
+                assert err <= tol, f"{name} output {k} {label}: {err:.3e}"
+    print(f"{name} --edges {edges}: worst relative difference {worst:.2e}")
+    return worst
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_dgmpm_matches_clawpack_cell_by_cell(tmp_path, name):
+    worst_difference(tmp_path, name, "ghost", CASES[name]["tol"])
+
+
+def test_the_default_edge_treatment_differs_from_clawpacks(tmp_path):
+    """impact's default (`--edges restricted`) keeps free edges traction-free and drops the
+    diagonal ghost at traction corners: on the partial plate it departs from Clawpack by far
+    more than round-off (measured 0.41 of a field's peak, README), on the plane wave not at all."""
+    assert worst_difference(tmp_path, "plate", "restricted") > 1e-3
+    assert worst_difference(tmp_path, "plate-wave", "restricted") <= 1e-12
