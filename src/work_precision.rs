@@ -130,6 +130,7 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
         (MpmShape::Gimp, 4),
         (MpmShape::Bspline2, 4),
         (MpmShape::Bspline3, 1),
+        (MpmShape::Cpdi, 4),
     ] {
         let mut config = scene.method_config(MethodKind::Mpm);
         (config.points_per_cell, config.courant) = (ppc, 0.5);
@@ -365,6 +366,48 @@ fn fastest(points: &[Point], labels: &[&str], target: f64) -> String {
     )
 }
 
+/// Every configuration's wall time to reach the target error of [`summarize`], fastest
+/// first (and those that never do), as lines `label  time  factor`.
+pub fn ranking(points: &[Point]) -> String {
+    let mut labels: Vec<&str> = points.iter().map(|p| p.config.as_str()).collect();
+    labels.dedup();
+    let mut errors: Vec<f64> = labels
+        .iter()
+        .filter_map(|l| {
+            points
+                .iter()
+                .filter(|p| p.config == *l && p.error.is_none() && p.l1_rel.is_finite())
+                .map(|p| p.l1_rel)
+                .reduce(f64::min)
+        })
+        .filter(|e| *e > EXACT)
+        .collect();
+    errors.sort_by(f64::total_cmp);
+    let target = errors.get(errors.len() / 2).copied().unwrap_or(1e-2);
+    let mut rows: Vec<(&str, Option<f64>)> = labels
+        .iter()
+        .map(|l| {
+            let mine: Vec<&Point> = points.iter().filter(|p| p.config == *l).collect();
+            (*l, time_to_reach(&mine, target))
+        })
+        .collect();
+    rows.sort_by(|a, b| match (a.1, b.1) {
+        (Some(x), Some(y)) => x.total_cmp(&y),
+        (Some(_), None) => std::cmp::Ordering::Less,
+        (None, Some(_)) => std::cmp::Ordering::Greater,
+        (None, None) => std::cmp::Ordering::Equal,
+    });
+    let best = rows.iter().find_map(|r| r.1).unwrap_or(f64::NAN);
+    let mut text = format!("time to reach L1 {target:.2e}:\n");
+    for (label, time) in rows {
+        text += &match time {
+            Some(t) => format!("  {label:<32} {t:>10.3e} s {:>10.1}×\n", t / best),
+            None => format!("  {label:<32} {:>12} {:>11}\n", "not reached", "-"),
+        };
+    }
+    text
+}
+
 /// The summary sentence of a ladder already run (`work_precision.json` in `dir`).
 pub fn summarize_dir(dir: &Path) -> Result<String> {
     let path = dir.join("work_precision.json");
@@ -375,7 +418,11 @@ pub fn summarize_dir(dir: &Path) -> Result<String> {
     let Some(first) = points.first() else {
         bail!("{}: no runs in it", path.display());
     };
-    Ok(summarize(&first.scene.clone(), &points))
+    Ok(format!(
+        "{}\n{}",
+        summarize(&first.scene.clone(), &points),
+        ranking(&points).trim_end()
+    ))
 }
 
 fn write(out: &Path, scene: &str, points: &[Point]) -> Result<()> {

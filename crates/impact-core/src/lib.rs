@@ -28,6 +28,7 @@ pub mod method;
 pub mod metrics;
 pub mod options;
 pub mod parallel;
+pub mod plasticity;
 pub mod points;
 pub mod problem;
 pub mod reference;

@@ -24,10 +24,15 @@
 //!
 //! [`SvkBarExact`] (file `svk.rs`): the Saint-Venant–Kirchhoff bar of §5.3.
 //!
+//! [`ElastoplasticWave`] (file `plastic.rs`): the elastic precursor and plastic wave of a
+//! J2 rod or plane wave under a step load (issue 12).
+//!
 //! [`StandingWave`] (file `standing.rs`): a smooth standing P mode with roller edges, the
 //! exact solution of the convergence suite.
+mod plastic;
 mod standing;
 mod svk;
+pub use plastic::ElastoplasticWave;
 use crate::load::LoadHistory;
 pub use standing::StandingWave;
 pub use svk::SvkBarExact;
