@@ -226,7 +226,8 @@ mod tests {
                 d[(i, j)] = 0.5;
                 d[(j, i)] += 0.5;
                 let h = 1e-9;
-                let numeric = (stress_of(&(strain + d * h)) - stress_of(&(strain - d * h))) / (2.0 * h);
+                let numeric =
+                    (stress_of(&(strain + d * h)) - stress_of(&(strain - d * h))) / (2.0 * h);
                 let analytic = m.tangent_apply(&trial, increment, &d);
                 assert!(
                     (numeric - analytic).norm() <= 1e-5 * analytic.norm(),
@@ -259,7 +260,10 @@ mod tests {
         }
         let hel = m.hugoniot_elastic_limit();
         let seen = first_yield.unwrap();
-        assert!(seen <= hel && seen > hel - 2.0 * m.elastic.p_modulus::<2>() * step, "{seen} vs {hel}");
+        assert!(
+            seen <= hel && seen > hel - 2.0 * m.elastic.p_modulus::<2>() * step,
+            "{seen} vs {hel}"
+        );
         let slope = (history[590] - history[580]) / (-10.0 * step);
         assert_relative_eq!(slope, m.uniaxial_strain_tangent(), max_relative = 1e-9);
 

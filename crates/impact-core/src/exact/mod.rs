@@ -32,8 +32,8 @@
 mod plastic;
 mod standing;
 mod svk;
-pub use plastic::ElastoplasticWave;
 use crate::load::LoadHistory;
+pub use plastic::ElastoplasticWave;
 pub use standing::StandingWave;
 pub use svk::SvkBarExact;
 

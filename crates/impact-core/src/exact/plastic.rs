@@ -183,17 +183,27 @@ mod tests {
             let (s1, v1) = w.precursor;
             assert_relative_eq!(rho * w.elastic_speed * v1, -s1, max_relative = 1e-12);
             let (s2, v2) = w.behind;
-            assert_relative_eq!(rho * w.plastic_speed * (v2 - v1), -(s2 - s1), max_relative = 1e-12);
+            assert_relative_eq!(
+                rho * w.plastic_speed * (v2 - v1),
+                -(s2 - s1),
+                max_relative = 1e-12
+            );
         }
         // rod: total strain behind = −σ_y/E − (p − σ_y)/E_t, driven in 1e4 steps
         let strain = -4e8 / 2e11 - 4e8 / m.uniaxial_stress_tangent();
         let mut state = PlasticState::default();
         let mut sigma = 0.0;
         for _ in 0..10_000 {
-            sigma = m.return_map_1d(sigma + 2e11 * strain / 1e4, &mut state).stress;
+            sigma = m
+                .return_map_1d(sigma + 2e11 * strain / 1e4, &mut state)
+                .stress;
         }
         assert_relative_eq!(sigma, rod.behind.0, max_relative = 1e-9);
-        assert_relative_eq!(state.equivalent_plastic_strain, rod.plastic_strain, max_relative = 1e-9);
+        assert_relative_eq!(
+            state.equivalent_plastic_strain,
+            rod.plastic_strain,
+            max_relative = 1e-9
+        );
         // plane wave: strain behind = −(σ_H/M + (V − v_H)/c_p)
         let (_, v_h) = plane.precursor;
         let total = -(m.hugoniot_elastic_limit() / m.elastic.p_modulus::<2>()
@@ -206,7 +216,11 @@ mod tests {
             stress = m.return_map(&m.trial(&stress, &d), &mut state).stress;
         }
         assert_relative_eq!(stress[(0, 0)], plane.behind.0, max_relative = 1e-9);
-        assert_relative_eq!(state.equivalent_plastic_strain, plane.plastic_strain, max_relative = 1e-9);
+        assert_relative_eq!(
+            state.equivalent_plastic_strain,
+            plane.plastic_strain,
+            max_relative = 1e-9
+        );
     }
 
     /// Loads below yield give the elastic solutions; averages integrate the two steps.
@@ -215,7 +229,10 @@ mod tests {
         let m = steel();
         let rod = ElastoplasticWave::rod(&m, 6.0, 3e8);
         assert!(!rod.is_plastic());
-        assert_eq!(rod.behind, (-3e8, 3e8 / (7800.0 * (2e11f64 / 7800.0).sqrt())));
+        assert_eq!(
+            rod.behind,
+            (-3e8, 3e8 / (7800.0 * (2e11f64 / 7800.0).sqrt()))
+        );
         assert_eq!(rod.fronts(1e-4).len(), 1);
         let plane = ElastoplasticWave::plane(&m, 4.0, 1.0);
         assert!(!plane.is_plastic());
