@@ -183,6 +183,10 @@ impl<const D: usize> FileWriter<'_, D> {
         let reference_column = format!("reference_{stress_column}");
         let mut header = vec!["x", "x_current", stress_column, "velocity_x"];
         let mut columns: Vec<Vec<f64>> = vec![x.clone(), xc, sxx.clone(), vx];
+        if !s.plastic_strain.is_empty() {
+            header.push("equivalent_plastic_strain");
+            columns.push(col(&|i| s.plastic_strain[i]));
+        }
         if let Some(r) = self.reference {
             let exact: Vec<(f64, f64)> = order
                 .iter()
@@ -212,7 +216,14 @@ impl<const D: usize> FileWriter<'_, D> {
         let stress: Vec<f64> = s
             .stress
             .iter()
-            .flat_map(|t| with_zz(tensor9(t), t, zz))
+            .enumerate()
+            .flat_map(|(i, t)| {
+                let mut full = with_zz(tensor9(t), t, zz);
+                if let Some(szz) = s.stress_zz.get(i) {
+                    full[8] = *szz;
+                }
+                full
+            })
             .collect();
         let velocity: Vec<f64> = s.velocity.iter().flat_map(pad3).collect();
         let connectivity: Vec<usize> = (0..n).collect();
@@ -240,7 +251,14 @@ impl<const D: usize> FileWriter<'_, D> {
                         components: 3,
                         values: &reference,
                     },
-                ],
+                ]
+                .into_iter()
+                .chain((!s.plastic_strain.is_empty()).then_some(DataArray {
+                    name: "equivalent_plastic_strain",
+                    components: 1,
+                    values: &s.plastic_strain,
+                }))
+                .collect(),
                 cell_data: vec![],
             },
         )

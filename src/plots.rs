@@ -21,7 +21,10 @@ fn reference_series(r: &Reference, t: f64, length: f64, band: f64) -> Series {
         .filter(|p| p.1.is_finite())
         .collect();
     let label = match r {
-        Reference::Bar(_) | Reference::SvkBar(_) | Reference::Standing(_) => "exact",
+        Reference::Bar(_)
+        | Reference::SvkBar(_)
+        | Reference::Standing(_)
+        | Reference::Elastoplastic(_) => "exact",
         Reference::Converged(_) => "reference",
     };
     Series {

@@ -67,12 +67,37 @@ pub struct Overrides {
     /// before they start.
     #[arg(long, allow_negative_numbers = true)]
     pub work_budget: Option<f64>,
+    /// J2 yield stress σ_y in Pa (scenes with model = "j2").
+    #[arg(long, allow_negative_numbers = true)]
+    pub yield_stress: Option<f64>,
+    /// J2 hardening modulus H in Pa (scenes with model = "j2").
+    #[arg(long, allow_negative_numbers = true)]
+    pub hardening: Option<f64>,
 }
 
 impl Overrides {
     /// Apply the scene-level overrides (cells, load) to `scene`, checking each value
     /// (points per cell is checked against the scene's dimension but applied per method).
     fn apply_to_scene(&self, scene: &mut Scene) -> Result<(), SceneError> {
+        for (flag, value, slot) in [
+            (
+                "--yield-stress",
+                self.yield_stress,
+                &mut scene.material.yield_stress,
+            ),
+            ("--hardening", self.hardening, &mut scene.material.hardening),
+        ] {
+            if let Some(v) = value {
+                if scene.material.model != impact_core::method::MaterialModel::J2 {
+                    return Err(SceneError::new(
+                        flag,
+                        v,
+                        "a plasticity parameter only for scenes with model = \"j2\"",
+                    ));
+                }
+                *slot = Some(v);
+            }
+        }
         if self.load.is_some() || self.load_magnitude.is_some() {
             let edge = [&mut scene.boundary.left, &mut scene.boundary.right]
                 .into_iter()

@@ -434,3 +434,37 @@ fn check_against_all_mpm_prints_every_variant_with_the_run_figures() {
         }
     }
 }
+
+/// `impact run ep-bar` writes the accumulated plastic strain: a CSV column and a VTU array
+/// per method; behind DGMPM's plastic wave it is the exact `(p − σ_y)/H` = 0.02.
+#[test]
+fn elastoplastic_runs_write_the_plastic_strain() {
+    let out = tmp("ep-bar");
+    let o = impact(&["run", "ep-bar", "--quiet", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    for method in ["dgmpm", "mpm", "fem"] {
+        let csv = std::fs::read_to_string(out.join(format!("{method}_t2.csv"))).unwrap();
+        let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+        let column = header
+            .iter()
+            .position(|h| *h == "equivalent_plastic_strain")
+            .unwrap_or_else(|| panic!("{method}: {header:?}"));
+        let first: f64 = csv
+            .lines()
+            .nth(1)
+            .unwrap()
+            .split(',')
+            .nth(column)
+            .unwrap()
+            .parse()
+            .unwrap();
+        if method == "dgmpm" {
+            assert!((first - 0.02).abs() < 1e-3, "{first}");
+        }
+        let vtu = std::fs::read_to_string(out.join(format!("{method}_t2.vtu"))).unwrap();
+        assert!(
+            vtu.contains("Name=\"equivalent_plastic_strain\""),
+            "{method}"
+        );
+    }
+}

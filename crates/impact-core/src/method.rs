@@ -22,6 +22,11 @@ pub struct Samples<const D: usize> {
     pub stress: Vec<Tensor<D>>,
     /// Velocity.
     pub velocity: Vec<Vector<D>>,
+    /// Accumulated plastic strain `ε̄` (J2 only; empty otherwise).
+    pub plastic_strain: Vec<f64>,
+    /// Out-of-plane stress `σ_zz` where the model sets it apart from the elastic
+    /// plane-strain relation (J2 in 2D; empty otherwise).
+    pub stress_zz: Vec<f64>,
 }
 
 impl<const D: usize> Samples<D> {
@@ -32,6 +37,8 @@ impl<const D: usize> Samples<D> {
         self.half_size.clear();
         self.stress.clear();
         self.velocity.clear();
+        self.plastic_strain.clear();
+        self.stress_zz.clear();
     }
     /// Number of samples.
     pub fn len(&self) -> usize {

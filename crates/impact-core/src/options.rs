@@ -200,6 +200,9 @@ option_enum! {
         LinearElastic = "linear-elastic",
         /// Saint-Venant–Kirchhoff, total Lagrangian (large strain; paper §5.3).
         Svk = "svk",
+        /// Small-strain J2 plasticity with linear isotropic hardening (`crate::plasticity`):
+        /// uniaxial stress in 1D, plane strain in 2D.
+        J2 = "j2",
     }
 }
 

@@ -30,8 +30,13 @@
 //! As `σ_y → ∞` both reduce to linear elasticity (tested to round-off). Kinematic
 //! hardening is not offered: the impact scenes load monotonically up to the first
 //! reflection, where it and isotropic hardening coincide.
-use crate::LinearElastic;
+use crate::parallel::{chunks, for_each_chunk};
+use crate::points::MaterialPoints;
+use crate::{LinearElastic, Tensor};
 use nalgebra::Matrix3;
+
+/// Points per chunk of the parallel return maps.
+const CHUNK: usize = 4096;
 
 /// A 3×3 symmetric tensor (stress or strain) as a full matrix.
 pub type Tensor3 = Matrix3<f64>;
@@ -158,6 +163,108 @@ impl J2 {
         stress
             + strain_increment * (2.0 * l.mu)
             + Tensor3::identity() * (l.lambda * strain_increment.trace())
+    }
+
+    /// Plane strain (`ε_zz = 0`): `σ_zz` from the in-plane trace `σ_xx + σ_yy` and the
+    /// plastic strain `ε^p_zz`. With `e = −ε^p_zz` the elastic `ε_zz`,
+    /// `tr ε^e = (σ_xx + σ_yy + 2μ e)/(2(λ + μ))` and `σ_zz = λ tr ε^e + 2μ e`.
+    #[inline]
+    pub fn out_of_plane(&self, in_plane_trace: f64, plastic_zz: f64) -> f64 {
+        let (lambda, mu) = (self.elastic.lame.lambda, self.elastic.lame.mu);
+        let e = -plastic_zz;
+        lambda * (in_plane_trace + 2.0 * mu * e) / (2.0 * (lambda + mu)) + 2.0 * mu * e
+    }
+
+    /// The 3D stress of a point: in 1D `σ_xx` alone (uniaxial stress); in 2D the in-plane
+    /// stress with [`Self::out_of_plane`].
+    pub fn stress3<const D: usize>(&self, stress: &Tensor<D>, plastic_zz: f64) -> Tensor3 {
+        let mut s = Tensor3::zeros();
+        for i in 0..D {
+            for j in 0..D {
+                s[(i, j)] = stress[(i, j)];
+            }
+        }
+        if D == 2 {
+            s[(2, 2)] = self.out_of_plane(stress.trace(), plastic_zz);
+        }
+        s
+    }
+
+    /// Elastic strain energy density `½ σ : C⁻¹ : σ` = `|dev σ|²/(4μ) + p²/(2K)` (3D
+    /// stress), `σ²/(2E)` in uniaxial stress.
+    pub fn elastic_energy_density<const D: usize>(
+        &self,
+        stress: &Tensor<D>,
+        plastic_zz: f64,
+    ) -> f64 {
+        if D == 1 {
+            return 0.5 * stress[(0, 0)] * stress[(0, 0)] / self.elastic.elastic.young;
+        }
+        let s = self.stress3(stress, plastic_zz);
+        let p = s.trace() / 3.0;
+        let dev = s - Tensor3::identity() * p;
+        dev.norm_squared() / (4.0 * self.elastic.lame.mu) + p * p / (2.0 * self.bulk())
+    }
+
+    /// The return map at every point (phase "plastic correction" of DGMPM and MPM): each
+    /// point's stress after the elastic update is the trial; the returned stress replaces
+    /// it, and `ε̄`, `ε^p_zz` (from `Δε_p = (σ_tr − σ)/(2μ)`, deviatoric) and the plastic
+    /// work `∫ q dε̄ = Σ (σ_y + H ε̄_n + ½ H Δε̄) Δε̄` are updated. In parallel over disjoint chunks when `parallel`.
+    pub fn correct_points<const D: usize>(&self, points: &mut MaterialPoints<D>, parallel: bool) {
+        let two_mu = 2.0 * self.elastic.lame.mu;
+        let parts = (
+            (
+                chunks(&mut points.stress, CHUNK),
+                chunks(&mut points.equivalent_plastic_strain, CHUNK),
+            ),
+            (
+                chunks(&mut points.plastic_strain_zz, CHUNK),
+                chunks(&mut points.plastic_work, CHUNK),
+            ),
+        );
+        for_each_chunk(parallel, 1, parts, |_, ((stress, eqv), (zz, work))| {
+            for (((sigma, eqv), zz), work) in stress.iter_mut().zip(eqv).zip(zz).zip(work) {
+                let mut state = PlasticState {
+                    equivalent_plastic_strain: *eqv,
+                };
+                let increment = if D == 1 {
+                    let r = self.return_map_1d(sigma[(0, 0)], &mut state);
+                    sigma[(0, 0)] = r.stress;
+                    r.increment
+                } else {
+                    let trial = self.stress3(sigma, *zz);
+                    let r = self.return_map(&trial, &mut state);
+                    if r.increment > 0.0 {
+                        *zz += (trial[(2, 2)] - r.stress[(2, 2)]) / two_mu;
+                        for i in 0..D {
+                            for j in 0..D {
+                                sigma[(i, j)] = r.stress[(i, j)];
+                            }
+                        }
+                    }
+                    r.increment
+                };
+                // ∫ q dε̄ over the step, exact for linear hardening:
+                // (σ_y + H ε̄_n) Δε̄ + ½ H Δε̄²
+                *work +=
+                    (self.current_yield(&state) - 0.5 * self.hardening * increment) * increment;
+                *eqv = state.equivalent_plastic_strain;
+            }
+        });
+    }
+
+    /// `σ_zz` of every sample into `samples.stress_zz` (plane strain), from the in-plane
+    /// stress and `ε^p_zz` of each carrier.
+    pub fn samples_zz<const D: usize>(&self, samples: &mut crate::Samples<D>, plastic_zz: &[f64]) {
+        if D == 2 {
+            samples.stress_zz.extend(
+                samples
+                    .stress
+                    .iter()
+                    .zip(plastic_zz)
+                    .map(|(s, zz)| self.out_of_plane(s.trace(), *zz)),
+            );
+        }
     }
 
     /// Equivalent stress `q = sqrt(3/2) |dev σ|`.

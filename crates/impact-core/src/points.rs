@@ -93,12 +93,28 @@ pub struct MaterialPoints<const D: usize> {
     pub deformation: Vec<Tensor<D>>,
     /// Edge half-vectors of the point's domain as columns (CPDI only; empty otherwise).
     pub domain: Vec<Tensor<D>>,
+    /// Accumulated plastic strain `ε̄` (J2 only; empty otherwise).
+    pub equivalent_plastic_strain: Vec<f64>,
+    /// Out-of-plane plastic strain `ε^p_zz` (J2: read in plane strain; empty otherwise).
+    pub plastic_strain_zz: Vec<f64>,
+    /// Plastic work per unit volume `∫ σ : dε_p` (J2 only; empty otherwise).
+    pub plastic_work: Vec<f64>,
 }
 
 impl<const D: usize> MaterialPoints<D> {
     /// Number of points.
     pub fn len(&self) -> usize {
         self.mass.len()
+    }
+
+    /// Allocate the plastic history (J2): `ε̄`, `ε^p_zz` (read in plane strain only; kept
+    /// in 1D too so one loop serves both) and the plastic work, all 0.
+    pub fn with_plasticity(mut self) -> Self {
+        let n = self.len();
+        self.equivalent_plastic_strain = vec![0.0; n];
+        self.plastic_strain_zz = vec![0.0; n];
+        self.plastic_work = vec![0.0; n];
+        self
     }
 
     /// Allocate the domains (`R = diag(half-size)`) for CPDI.
@@ -137,6 +153,8 @@ impl<const D: usize> MaterialPoints<D> {
         out.half_size.extend_from_slice(&self.half_size);
         out.stress.extend_from_slice(&self.stress);
         out.velocity.extend_from_slice(&self.velocity);
+        out.plastic_strain
+            .extend_from_slice(&self.equivalent_plastic_strain);
     }
 
     /// Total momentum `Σ m_α v_α`.
@@ -202,6 +220,9 @@ impl<const D: usize> MaterialPoints<D> {
             half_size: vec![sub * 0.5; n],
             deformation: Vec::new(),
             domain: Vec::new(),
+            equivalent_plastic_strain: Vec::new(),
+            plastic_strain_zz: Vec::new(),
+            plastic_work: Vec::new(),
         };
         for c in 0..grid.cell_count() {
             let lower = grid.cell_lower(c);

@@ -129,13 +129,16 @@ pub enum Model {
     LinearElastic,
     /// Saint-Venant–Kirchhoff, total Lagrangian (deformation gradient `F`, stress `Π`).
     Svk(crate::material::Svk),
+    /// Small-strain J2 plasticity (`crate::plasticity`): Cauchy stress, return map at the
+    /// points (or Gauss points) after each elastic update.
+    J2(crate::plasticity::J2),
 }
 
 impl Model {
     /// Which stress the model's points carry and the outputs write.
     pub fn stress_measure(&self) -> StressMeasure {
         match self {
-            Model::LinearElastic => StressMeasure::Cauchy,
+            Model::LinearElastic | Model::J2(_) => StressMeasure::Cauchy,
             Model::Svk(_) => StressMeasure::FirstPiola,
         }
     }
@@ -232,6 +235,11 @@ impl<const D: usize> Problem<D> {
         let model = match m.model {
             MaterialModel::Svk => Model::Svk(crate::material::Svk::new(material)),
             MaterialModel::LinearElastic => Model::LinearElastic,
+            MaterialModel::J2 => Model::J2(crate::plasticity::J2 {
+                elastic: material,
+                yield_stress: m.yield_stress.unwrap_or(f64::INFINITY),
+                hardening: m.hardening.unwrap_or(0.0),
+            }),
         };
         let b = &scene.boundary;
         let sides = [[&b.left, &b.right], [&b.bottom, &b.top]];

@@ -10,7 +10,7 @@
 //!   finer grid ([`Converged`], computed by the caller, e.g. DGMPM on a refined grid). The
 //!   samples are compared with its averages over their regions; the front is at `c_p t`,
 //!   with the jump from 0 to the reference's average over the cell just behind the front.
-use crate::exact::{BarExact, EndLoad, Front, StandingWave, SvkBarExact};
+use crate::exact::{BarExact, ElastoplasticWave, EndLoad, Front, StandingWave, SvkBarExact};
 use crate::initial::InitialState;
 use crate::load::LoadHistory;
 use crate::method::{Method, Samples};
@@ -30,6 +30,9 @@ pub enum Reference {
     SvkBar(SvkBarExact),
     /// The standing P mode of a box with `symmetry` edges (smooth; no front).
     Standing(StandingWave),
+    /// The elastic precursor and plastic wave of a J2 rod or plane wave (until the
+    /// precursor reaches the far end); the front is the precursor.
+    Elastoplastic(ElastoplasticWave),
 }
 
 /// A converged numerical solution: `σ_xx` and `v_x` per cell of a fine regular grid at
@@ -208,6 +211,24 @@ impl Reference {
             }
             _ => return None,
         }
+        if let crate::problem::Model::J2(j2) = problem.model {
+            let length = problem.grid.upper()[0] - problem.grid.origin[0];
+            let plane = (1..D).all(|k| problem.boundaries[k] == [Boundary::Symmetry; 2]);
+            let step = |load: &Load| load.segment.is_none() && load.history.is_step();
+            return match problem.boundaries[0] {
+                [Boundary::Pressure(load), Boundary::Free] if D == 1 && step(&load) => Some(
+                    Reference::Elastoplastic(ElastoplasticWave::rod(&j2, length, load.value)),
+                ),
+                [Boundary::Velocity { load, .. }, Boundary::Free]
+                    if D == 2 && plane && step(&load) =>
+                {
+                    Some(Reference::Elastoplastic(ElastoplasticWave::plane(
+                        &j2, length, load.value,
+                    )))
+                }
+                _ => None,
+            };
+        }
         if let crate::problem::Model::Svk(svk) = problem.model {
             return match (D, problem.boundaries[0]) {
                 (
@@ -264,6 +285,7 @@ impl Reference {
                 b.velocity_average(lo[0], hi[0], t),
             ),
             Reference::SvkBar(b) => b.averages(lo[0], hi[0], t),
+            Reference::Elastoplastic(w) => w.averages(lo[0], hi[0], t),
             Reference::Standing(w) => {
                 let y = |v: &Vector<D>, default: f64| if D > 1 { v[1] } else { default };
                 w.averages([lo[0], y(lo, 0.0)], [hi[0], y(hi, 1.0)], t)
@@ -285,6 +307,7 @@ impl Reference {
             Reference::Bar(b) => b.leading_front(t),
             Reference::SvkBar(b) => b.leading_front(t),
             Reference::Standing(_) => None,
+            Reference::Elastoplastic(w) => (t <= w.valid_until).then(|| w.fronts(t)[0]),
             Reference::Converged(c) => {
                 let position = c.speed * t;
                 if !(position > 1.5 * c.coarse_dx && position < c.length) {
@@ -312,6 +335,9 @@ impl Reference {
             Reference::Bar(b) => Some(b.work(t)),
             Reference::SvkBar(b) => Some(b.work(t)),
             Reference::Standing(_) => Some(0.0),
+            // W = p u(0, t) (rod) or V (−σ_xx) t per unit area: the state at X = 0 is
+            // constant behind the plastic wave
+            Reference::Elastoplastic(w) => Some(-w.behind.0 * w.behind.1 * t),
             Reference::Converged(c) => c
                 .times
                 .iter()
@@ -329,6 +355,11 @@ impl Reference {
                 if b.is_shock() { "shock" } else { "centred fan" },
                 b.valid_until()
             ),
+            Reference::Elastoplastic(w) => format!(
+                "exact elastic precursor at {:.1} m/s and plastic wave at {:.1} m/s (averages \
+                 over each sample's region; valid until t = {:.4e} s)",
+                w.elastic_speed, w.plastic_speed, w.valid_until
+            ),
             Reference::Standing(w) => format!(
                 "exact standing P mode, ω = {:.6e} rad/s (averages over each sample's region)",
                 w.frequency
@@ -343,6 +374,7 @@ impl Reference {
             Reference::Bar(b) => b.pressure.abs(),
             Reference::SvkBar(b) => b.pressure.abs(),
             Reference::Standing(w) => w.peak_stress_xx(),
+            Reference::Elastoplastic(w) => w.behind.0.abs(),
             Reference::Converged(c) => c
                 .stress_xx
                 .iter()
@@ -406,7 +438,7 @@ impl Reference {
         // the energy the discrete state should hold: the work done on it, and for the
         // standing mode (no load) its constant energy
         let work = match self {
-            Reference::Bar(_) | Reference::SvkBar(_) => {
+            Reference::Bar(_) | Reference::SvkBar(_) | Reference::Elastoplastic(_) => {
                 self.work(t).map(|w| w * Self::work_scale(samples))
             }
             Reference::Standing(w) => Some(w.energy(total_volume(samples))),

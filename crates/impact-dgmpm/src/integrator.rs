@@ -158,6 +158,15 @@ impl<const D: usize> DgmpmSolver<D> {
         (power, force)
     }
 
+    /// Phase 6 (J2 only): the return map at every point, the points' new stress being the
+    /// elastic trial (`impact_core::plasticity::J2::correct_points`): the paper's elastic
+    /// Riemann solver followed by a return mapping.
+    fn plastic_correction(&self, points: &mut MaterialPoints<D>) {
+        if let Some(j2) = &self.plastic {
+            j2.correct_points(points, self.parallel);
+        }
+    }
+
     fn ctu(&self) -> bool {
         D > 1 && self.options.flux == TransverseFlux::Ctu
     }
@@ -181,6 +190,7 @@ impl<const D: usize> DgmpmSolver<D> {
             self.cell_update(&mut state.points, dt);
             state.work += dt * power;
             state.impulse += force * dt;
+            self.plastic_correction(&mut state.points);
             self.move_points(&mut state.points, dt);
             return;
         }
@@ -210,6 +220,7 @@ impl<const D: usize> DgmpmSolver<D> {
             }
         }
         self.nodes_to_particles(&mut state.points);
+        self.plastic_correction(&mut state.points);
         self.move_points(&mut state.points, dt);
     }
 }

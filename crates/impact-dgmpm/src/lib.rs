@@ -221,6 +221,8 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) face_correction: [Vec<Conserved<D>>; D],
     pub(crate) elastic: Elastic,
     pub(crate) physics: Physics,
+    /// J2 plasticity: the return map corrects the points after each step (phase 6).
+    pub(crate) plastic: Option<impact_core::plasticity::J2>,
     /// Largest wave speed the loads can produce (time step, guard).
     pub(crate) wave_speed: f64,
     pub(crate) path: StepPath,
@@ -289,6 +291,9 @@ impl<const D: usize> Dgmpm<D> {
                 ));
             }
             points = points.with_deformation();
+        }
+        if let Model::J2(_) = problem.model {
+            points = points.with_plasticity();
         }
         if D > 2 && options.flux == TransverseFlux::Ctu {
             return Err(unsupported(
@@ -362,8 +367,12 @@ impl<const D: usize> DgmpmSolver<D> {
                 vec![Conserved::zeros(); if ctu { face_counts[l] } else { 0 }]
             }),
             elastic,
+            plastic: match problem.model {
+                Model::J2(j2) => Some(j2),
+                _ => None,
+            },
             physics: match problem.model {
-                Model::LinearElastic => Physics::Linear,
+                Model::LinearElastic | Model::J2(_) => Physics::Linear,
                 Model::Svk(svk) => Physics::Svk {
                     svk,
                     riemann: options.riemann,

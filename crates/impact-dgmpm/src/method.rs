@@ -16,10 +16,19 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
     }
     fn sample_into(&self, out: &mut Samples<D>) {
         self.state.points.sample_into(out);
+        if let Some(j2) = &self.solver.plastic {
+            j2.samples_zz(out, &self.state.points.plastic_strain_zz);
+        }
     }
     fn energy(&self) -> f64 {
         let p = &self.state.points;
         let m = &self.solver.material;
+        if let Some(j2) = &self.solver.plastic {
+            // elastic energy and the plastic work (dissipated and stored in hardening)
+            return p.energy(|i| {
+                j2.elastic_energy_density(&p.stress[i], p.plastic_strain_zz[i]) + p.plastic_work[i]
+            });
+        }
         p.energy(|i| match self.solver.physics {
             Physics::Linear => m.energy_density(&p.stress[i]),
             Physics::Svk { svk, .. } => svk.energy_density(&p.deformation[i]),

@@ -34,6 +34,8 @@ use impact_core::{
 };
 
 mod method;
+mod plastic;
+pub use plastic::GaussPlasticity;
 
 const MAX_NODES: usize = 8;
 /// Nodes per chunk of the node loops.
@@ -81,6 +83,8 @@ pub struct FemSolver<const D: usize> {
     gauss_weight: f64,
     /// `∇N_a` at the element centre.
     centre_gradient: [Vector<D>; MAX_NODES],
+    /// J2 plasticity: stresses and history at the Gauss points (`plastic.rs`).
+    plastic: Option<GaussPlasticity<D>>,
 }
 
 /// Explicit FEM as a [`Method`].
@@ -110,6 +114,7 @@ impl<const D: usize> Fem<D> {
         let mass = lumped_mass(&grid, problem.material.density);
         let (gauss_gradient, centre_gradient) = shape_gradients(&grid);
         let gauss_count = Grid::<D>::NODES_PER_CELL;
+        let grid_cells = grid.cell_count();
         let (loaded, constraints) = boundary_loads(problem);
         let mut free_mask = vec![Vector::<D>::from_element(1.0); nodes];
         for c in &constraints {
@@ -132,6 +137,10 @@ impl<const D: usize> Fem<D> {
             gauss_gradient,
             gauss_weight: 1.0 / gauss_count as f64,
             centre_gradient,
+            plastic: match problem.model {
+                Model::J2(j2) => Some(GaussPlasticity::new(j2, grid_cells * gauss_count)),
+                _ => None,
+            },
         };
         // v^{-1/2} holds v(0): the first step's half step Δt/2 then gives v^{1/2}
         let velocity_half = (0..nodes)
@@ -288,6 +297,7 @@ impl<const D: usize> FemSolver<D> {
     /// when worth it), with no partial sums, locks or unsafe code. Serial and parallel runs
     /// add in the same order, so their forces agree bit for bit.
     pub fn internal_forces_into(&mut self, displacement: &[Vector<D>]) {
+        self.update_gauss_stresses(displacement);
         let layer_nodes: usize = self.grid.cells[..D - 1].iter().map(|n| n + 1).product();
         let layer_elements: usize = self.grid.cells[..D - 1].iter().product();
         let layers = self.grid.cells[D - 1];
@@ -332,8 +342,10 @@ impl<const D: usize> FemSolver<D> {
         let nodes = self.element_nodes(c);
         for q in 0..npc {
             let g = &self.gauss_gradient[q * npc..(q + 1) * npc];
-            let grad = Self::displacement_gradient(displacement, &nodes, g);
-            let stress = self.stress_of(&grad);
+            let stress = match &self.plastic {
+                Some(p) => p.points.stress[c * npc + q],
+                None => self.stress_of(&Self::displacement_gradient(displacement, &nodes, g)),
+            };
             for a in 0..npc {
                 force[nodes[a] - offset] += (stress * g[a]) * volume;
             }
@@ -369,7 +381,9 @@ impl<const D: usize> FemSolver<D> {
     #[inline]
     fn stress_of(&self, grad: &Tensor<D>) -> Tensor<D> {
         match self.model {
-            Model::LinearElastic => self.material.stress(&((grad + grad.transpose()) * 0.5)),
+            Model::LinearElastic | Model::J2(_) => {
+                self.material.stress(&((grad + grad.transpose()) * 0.5))
+            }
             Model::Svk(svk) => svk.piola(&(Tensor::<D>::identity() + grad)),
         }
     }
@@ -378,7 +392,8 @@ impl<const D: usize> FemSolver<D> {
     #[inline]
     fn energy_of(&self, grad: &Tensor<D>) -> f64 {
         match self.model {
-            Model::LinearElastic => self
+            // J2: the energy reads the Gauss-point state instead (`Method::energy`)
+            Model::LinearElastic | Model::J2(_) => self
                 .material
                 .energy_density(&self.material.stress(&((grad + grad.transpose()) * 0.5))),
             Model::Svk(svk) => svk.energy_density(&(Tensor::<D>::identity() + grad)),
@@ -478,6 +493,13 @@ impl<const D: usize> FemSolver<D> {
     /// Stress at the centre of element `c`.
     fn centre_stress(&self, state: &FemState<D>, c: usize) -> Tensor<D> {
         let npc = Grid::<D>::NODES_PER_CELL;
+        if let Some(p) = &self.plastic {
+            // the mean of the element's Gauss stresses
+            return p.points.stress[c * npc..(c + 1) * npc]
+                .iter()
+                .fold(Tensor::<D>::zeros(), |sum, s| sum + s)
+                / npc as f64;
+        }
         let grad = Self::displacement_gradient(
             &state.displacement,
             &self.element_nodes(c),

@@ -32,6 +32,18 @@ impl<const D: usize> Method<D> for Fem<D> {
             out.half_size.push(grid.spacing * 0.5);
             out.stress.push(self.solver.centre_stress(&self.state, c));
             out.velocity.push(v);
+            if let Some(p) = &self.solver.plastic {
+                // element means of the Gauss points' ε̄ and σ_zz
+                let g = c * npc..(c + 1) * npc;
+                let mean = |f: &dyn Fn(usize) -> f64| g.clone().map(f).sum::<f64>() / npc as f64;
+                out.plastic_strain
+                    .push(mean(&|i| p.points.equivalent_plastic_strain[i]));
+                if D == 2 {
+                    out.stress_zz.push(mean(&|i| {
+                        p.j2.out_of_plane(p.points.stress[i].trace(), p.points.plastic_strain_zz[i])
+                    }));
+                }
+            }
         }
     }
     fn energy(&self) -> f64 {
@@ -42,6 +54,17 @@ impl<const D: usize> Method<D> for Fem<D> {
             kinetic += 0.5 * s.mass[i] * s.full_velocity(&self.state, i).norm_squared();
         }
         let volume = s.grid.cell_volume() * s.gauss_weight;
+        if let Some(p) = &s.plastic {
+            // elastic energy of the stored Gauss stresses plus the plastic work
+            let g = &p.points;
+            let stored: f64 = (0..g.len())
+                .map(|i| {
+                    p.j2.elastic_energy_density(&g.stress[i], g.plastic_strain_zz[i])
+                        + g.plastic_work[i]
+                })
+                .sum();
+            return kinetic + volume * stored;
+        }
         let mut strain_energy = 0.0;
         for c in 0..s.grid.cell_count() {
             let nodes = s.element_nodes(c);

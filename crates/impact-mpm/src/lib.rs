@@ -180,6 +180,9 @@ impl<const D: usize> Mpm<D> {
         let mut points =
             MaterialPoints::seeded(&body, per_axis, problem.material.density, &problem.layout);
         points.apply_initial(&problem.initial);
+        if let Model::J2(_) = problem.model {
+            points = points.with_plasticity();
+        }
         if let Model::Svk(_) = problem.model {
             if options.frame != MpmFrame::TotalLagrangian {
                 return Err(CoreError::Unsupported {

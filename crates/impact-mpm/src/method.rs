@@ -15,6 +15,9 @@ impl<const D: usize> Method<D> for Mpm<D> {
     }
     fn sample_into(&self, out: &mut Samples<D>) {
         self.state.points.sample_into(out);
+        if let Model::J2(j2) = &self.solver.model {
+            j2.samples_zz(out, &self.state.points.plastic_strain_zz);
+        }
     }
     fn energy(&self) -> f64 {
         let p = &self.state.points;
@@ -22,6 +25,9 @@ impl<const D: usize> Method<D> for Mpm<D> {
         p.energy(|i| match self.solver.model {
             Model::LinearElastic => m.energy_density(&p.stress[i]),
             Model::Svk(svk) => svk.energy_density(&p.deformation[i]),
+            Model::J2(j2) => {
+                j2.elastic_energy_density(&p.stress[i], p.plastic_strain_zz[i]) + p.plastic_work[i]
+            }
         })
     }
     fn external_work(&self) -> f64 {

@@ -351,7 +351,7 @@ impl<const D: usize> MpmSolver<D> {
             chunks(&mut points.volume, CHUNK),
         );
         match self.model {
-            Model::LinearElastic => {
+            Model::LinearElastic | Model::J2(_) => {
                 for_each_chunk(self.parallel, 1, parts, |r, (stress, volume)| {
                     for (j, (s, vol)) in stress.iter_mut().zip(volume.iter_mut()).enumerate() {
                         let l = self.velocity_gradient(r * CHUNK + j);
@@ -361,6 +361,10 @@ impl<const D: usize> MpmSolver<D> {
                         }
                     }
                 });
+                // J2: the elastic update is the trial; the return map corrects it
+                if let Model::J2(j2) = self.model {
+                    j2.correct_points(points, self.parallel);
+                }
             }
             Model::Svk(svk) => {
                 // the total Lagrangian frame only (checked at construction)

@@ -75,7 +75,7 @@ impl Scene {
         let (material, modulus) = self.p_modulus();
         let speed = (modulus / material.density).sqrt();
         match (self.material.model, kind) {
-            (MaterialModel::LinearElastic, EdgeKind::Pressure) => {
+            (MaterialModel::LinearElastic | MaterialModel::J2, EdgeKind::Pressure) => {
                 let limit = MAX_STRAIN * modulus;
                 (
                     format!(
@@ -85,7 +85,7 @@ impl Scene {
                     value.abs() <= limit,
                 )
             }
-            (MaterialModel::LinearElastic, _) => {
+            (MaterialModel::LinearElastic | MaterialModel::J2, _) => {
                 let limit = MAX_STRAIN * speed;
                 (
                     format!(

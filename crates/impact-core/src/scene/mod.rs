@@ -111,6 +111,13 @@ pub struct MaterialSpec {
     pub poisson: f64,
     /// Density (kg/m³).
     pub density: f64,
+    /// Initial yield stress `σ_y` (Pa; `j2` only).
+    #[serde(default)]
+    pub yield_stress: Option<f64>,
+    /// Hardening modulus `H` (Pa; `j2` only): equivalent stress against accumulated plastic
+    /// strain.
+    #[serde(default)]
+    pub hardening: Option<f64>,
 }
 
 /// One edge's condition.
@@ -425,6 +432,8 @@ pub const BUILTIN: &[&str] = &[
     "svk-plate",
     "smooth-bar",
     "smooth-plate",
+    "ep-bar",
+    "ep-plate-wave",
 ];
 
 /// TOML text of a shipped scene.
@@ -432,6 +441,8 @@ pub fn builtin(name: &str) -> Option<&'static str> {
     match name {
         "bar" => Some(include_str!("../../../../scenes/bar.toml")),
         "smooth-bar" => Some(include_str!("../../../../scenes/smooth-bar.toml")),
+        "ep-bar" => Some(include_str!("../../../../scenes/ep-bar.toml")),
+        "ep-plate-wave" => Some(include_str!("../../../../scenes/ep-plate-wave.toml")),
         "smooth-plate" => Some(include_str!("../../../../scenes/smooth-plate.toml")),
         "plate" => Some(include_str!("../../../../scenes/plate.toml")),
         "plate-wave" => Some(include_str!("../../../../scenes/plate-wave.toml")),

@@ -23,7 +23,7 @@
 use super::Scene;
 use crate::error::SceneError;
 use crate::material::LinearElastic;
-use crate::options::{MethodConfig, MethodKind};
+use crate::options::{MaterialModel, MethodConfig, MethodKind};
 
 /// Largest number of cells × points per cell a scene may ask for.
 pub const MAX_POINTS: f64 = 1e7;
@@ -254,6 +254,60 @@ impl Scene {
                 "material.poisson",
                 m.poisson,
                 "a number in (-1, 0.5)",
+            ));
+        }
+        self.check_plasticity()
+    }
+
+    /// `yield_stress` in (0, E) and `hardening` in (0, E] exactly for `j2`: a plastic wave
+    /// needs `H > 0` to move in the rod (`c_t = sqrt(E H/((E + H) ρ))`), and the tangent
+    /// stays below the elastic one.
+    fn check_plasticity(&self) -> Result<(), SceneError> {
+        let m = &self.material;
+        if m.model != MaterialModel::J2 {
+            for (field, value) in [
+                ("material.yield_stress", m.yield_stress),
+                ("material.hardening", m.hardening),
+            ] {
+                if let Some(v) = value {
+                    return Err(SceneError::new(
+                        field,
+                        v,
+                        format!(
+                            "no plasticity parameter for model = \"{}\" (use \"j2\")",
+                            m.model
+                        ),
+                    ));
+                }
+            }
+            return Ok(());
+        }
+        let yield_stress = m.yield_stress.ok_or_else(|| {
+            SceneError::new(
+                "material.yield_stress",
+                "missing",
+                "σ_y in (0, E) Pa for j2",
+            )
+        })?;
+        if !(yield_stress.is_finite() && yield_stress > 0.0 && yield_stress < m.young) {
+            return Err(SceneError::new(
+                "material.yield_stress",
+                yield_stress,
+                format!("σ_y in (0, E = {:e}) Pa", m.young),
+            ));
+        }
+        let hardening = m.hardening.ok_or_else(|| {
+            SceneError::new("material.hardening", "missing", "H in (0, E] Pa for j2")
+        })?;
+        if !(hardening.is_finite() && hardening > 0.0 && hardening <= m.young) {
+            return Err(SceneError::new(
+                "material.hardening",
+                hardening,
+                format!(
+                    "H in (0, E = {:e}] Pa (H > 0: with H = 0 the rod's plastic wave does not \
+                     move)",
+                    m.young
+                ),
             ));
         }
         Ok(())

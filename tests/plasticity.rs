@@ -1,0 +1,155 @@
+//! Elastoplastic impact (issue 12): J2 with the return map at the points (DGMPM with the
+//! elastic Riemann solver, MPM) and at the Gauss points (FEM), against the exact precursor
+//! and plastic wave of `ep-bar` (rod) and `ep-plate-wave` (uniaxial strain).
+use impact::run::{run_method, Silent};
+use impact_core::method::MethodKind;
+use impact_core::reference::Reference;
+use impact_core::{Method, Problem, Scene};
+
+fn advance<const D: usize>(
+    problem: &Problem<D>,
+    scene: &Scene,
+    kind: MethodKind,
+    t: f64,
+) -> Box<dyn Method<D>> {
+    let mut m = impact::build(problem, scene.method_config(kind)).unwrap();
+    let dt = m.stable_dt();
+    let steps = (t / dt).round() as usize;
+    for k in 0..steps {
+        m.step(k as f64 * dt, dt);
+    }
+    m.check_finite().unwrap();
+    m
+}
+
+/// Momentum equals the impulse of the load (to round-off). The energy — kinetic, elastic
+/// and the plastic work `∫ q dε̄` — balances the work the method's load did up to a defect
+/// that shrinks under refinement: FEM about second order, MPM first, DGMPM about half order
+/// (its upwind fluxes dissipate at the plastic shock, which the elastic Riemann solver
+/// carries at an effective Courant number `c_t/c_0 = 0.30` on the rod). Measured on ep-bar
+/// at 150, 300, 600 cells: DGMPM −4.4, −3.2, −2.3 %; MPM −0.16, −0.11, −0.064 %; FEM
+/// −0.031, −0.015, −0.0074 %.
+#[test]
+fn momentum_and_energy_balance() {
+    for (name, levels) in [
+        ("ep-bar", &[150usize, 300, 600][..]),
+        ("ep-plate-wave", &[32, 64][..]),
+    ] {
+        for kind in MethodKind::ALL {
+            let mut defects = Vec::new();
+            for &cells in levels {
+                let mut scene = Scene::builtin(name).unwrap();
+                let ratio = cells / scene.domain.cells[0];
+                scene.domain.cells.iter_mut().for_each(|n| *n *= ratio);
+                scene.time.output_transits = scene
+                    .time
+                    .output_transits
+                    .map(|v| v.iter().map(|t| t * ratio as f64).collect());
+                let (energy, work, p, j) = if scene.dim == 1 {
+                    let problem = Problem::<1>::from_scene(&scene).unwrap();
+                    let m = advance(&problem, &scene, kind, problem.t_end);
+                    (
+                        m.energy(),
+                        m.external_work(),
+                        m.momentum()[0],
+                        m.external_impulse()[0],
+                    )
+                } else {
+                    let problem = Problem::<2>::from_scene(&scene).unwrap();
+                    let m = advance(&problem, &scene, kind, problem.t_end);
+                    (
+                        m.energy(),
+                        m.external_work(),
+                        m.momentum()[0],
+                        m.external_impulse()[0],
+                    )
+                };
+                let defect = energy / work - 1.0;
+                println!(
+                    "{name} {cells} {kind}: energy {energy:.6e}, work {work:.6e} ({defect:+.2e})"
+                );
+                assert!(
+                    ((p - j) / j).abs() < 1e-9,
+                    "{name} {kind}: momentum {p} vs impulse {j}"
+                );
+                assert!(
+                    defect.abs() < 0.05,
+                    "{name} {cells} {kind}: energy defect {defect}"
+                );
+                defects.push(defect.abs());
+            }
+            for pair in defects.windows(2) {
+                assert!(
+                    pair[1] < pair[0],
+                    "{name} {kind}: the energy defect must shrink: {defects:?}"
+                );
+            }
+        }
+    }
+}
+
+/// Each method's leading front (the elastic precursor) is within one cell of its exact
+/// position at every output (MPM: two), and the L1 error against the exact two-wave solution stays
+/// below 10 %.
+#[test]
+fn precursor_position_and_l1_on_the_rod() {
+    let scene = Scene::builtin("ep-bar").unwrap();
+    let problem = Problem::<1>::from_scene(&scene).unwrap();
+    let reference = Reference::for_problem(&problem).unwrap();
+    let dx = problem.grid.spacing[0];
+    for kind in MethodKind::ALL {
+        let (rec, blowup) = run_method(
+            &problem,
+            scene.method_config(kind),
+            Some(&reference),
+            &mut Silent,
+        )
+        .unwrap();
+        assert!(blowup.is_none());
+        for t in &rec.times {
+            let (at, exact) = (t.front_position.unwrap(), t.front_exact.unwrap());
+            println!(
+                "{kind} t = {:.3e}: L1 {:.3e}, precursor at {at:.4} m (exact {exact:.4})",
+                t.t, t.l1
+            );
+            // MPM's precursor lags by a growing distance (its lumped-mass dispersion slows
+            // the short waves of a front: 0.013, 0.028, 0.047 m at 0.2, 0.4, 0.8 ms)
+            let cells = if kind == MethodKind::Mpm { 2.0 } else { 1.0 };
+            assert!((at - exact).abs() <= cells * dx, "{kind}: {at} vs {exact}");
+            assert!(t.l1 < 0.1, "{kind}: L1 {}", t.l1);
+        }
+    }
+}
+
+/// With a yield stress far above the load, J2 is linear elasticity: every method gives the
+/// elastic bar's fields to round-off.
+#[test]
+fn unreachable_yield_is_linear_elasticity() {
+    let mut plastic = Scene::builtin("ep-bar").unwrap();
+    plastic.material.yield_stress = Some(1.9e11);
+    let mut elastic = plastic.clone();
+    elastic.material.model = impact_core::method::MaterialModel::LinearElastic;
+    (elastic.material.yield_stress, elastic.material.hardening) = (None, None);
+    let (pp, pe) = (
+        Problem::<1>::from_scene(&plastic).unwrap(),
+        Problem::<1>::from_scene(&elastic).unwrap(),
+    );
+    for kind in MethodKind::ALL {
+        let (a, b) = (
+            advance(&pp, &plastic, kind, pp.t_end),
+            advance(&pe, &elastic, kind, pe.t_end),
+        );
+        let (mut sa, mut sb) = (Default::default(), Default::default());
+        a.sample_into(&mut sa);
+        b.sample_into(&mut sb);
+        let sa: impact_core::Samples<1> = sa;
+        let sb: impact_core::Samples<1> = sb;
+        let worst = sa
+            .stress
+            .iter()
+            .zip(&sb.stress)
+            .map(|(x, y)| (x - y).abs().max())
+            .fold(0.0, f64::max);
+        assert!(worst <= 1e-12 * 8e8, "{kind}: {worst} Pa");
+    }
+}
