@@ -135,6 +135,11 @@ option_enum! {
         Approximate = "approximate",
         /// Exact solver: shock and rarefaction curves, Newton on the star stress (1D).
         Exact = "exact",
+        /// J2: the linear-elastic solver, then the return map at the points (default).
+        Elastic = "elastic",
+        /// J2 rod: the exact elastoplastic face solver (elastic precursor up to yield, then
+        /// the plastic wave); 1D, one point per cell.
+        Elastoplastic = "elastoplastic",
     }
 }
 

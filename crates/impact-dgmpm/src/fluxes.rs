@@ -27,6 +27,11 @@ impl<const D: usize> DgmpmSolver<D> {
                 let left = lc.map(|c| fields.side(c, l, true));
                 let right = rc.map(|c| fields.side(c, l, false));
                 let star = match this.physics {
+                    Physics::Linear if this.rod_solver.is_some() => {
+                        let star = this.elastoplastic_star(points, lc, rc, left, right, s);
+                        *flux = normal_flux(&star, &e, &this.elastic);
+                        star
+                    }
                     Physics::Linear => {
                         let (a, b) = this.face_pair(l, left, right, s);
                         let (fa, fb) = (a.on_face(&e), b.on_face(&e));
@@ -55,6 +60,53 @@ impl<const D: usize> DgmpmSolver<D> {
             self.face_flux[l] = fluxes;
         }
         power
+    }
+
+    /// Star state of a rod face with the exact elastoplastic solver
+    /// ([`riemann::elastoplastic`]): each side's yield `σ_y + H ε̄` from its cell's one
+    /// point; a boundary face solves the half problem of its condition.
+    fn elastoplastic_star(
+        &self,
+        points: &MaterialPoints<D>,
+        lc: Option<usize>,
+        rc: Option<usize>,
+        left: Option<FullState<D>>,
+        right: Option<FullState<D>>,
+        s: f64,
+    ) -> riemann::FaceState<D> {
+        use riemann::elastoplastic::{
+            elastoplastic_boundary_1d, elastoplastic_star_1d, PlasticSide, RodBoundary,
+        };
+        let (j2, z) = self.rod_solver.expect("internal: checked by the caller");
+        let side = |c: usize, state: FullState<D>| PlasticSide {
+            stress: state.tensor[(0, 0)],
+            velocity: state.velocity[0],
+            yield_stress: j2.yield_stress + j2.hardening * points.equivalent_plastic_strain[c],
+        };
+        let (sigma, v) = match (lc.zip(left), rc.zip(right)) {
+            (Some((a, la)), Some((b, rb))) => elastoplastic_star_1d(&side(a, la), &side(b, rb), z),
+            (inner, outer) => {
+                let (c, state, face_side) = match (inner, outer) {
+                    (Some((a, la)), None) => (a, la, 1),
+                    (None, Some((b, rb))) => (b, rb, 0),
+                    _ => unreachable!("internal: a face has at least one cell"),
+                };
+                let outward = if face_side == 0 { -1.0 } else { 1.0 };
+                let condition = match self.ghost_condition(0, face_side, s) {
+                    GhostCondition::Traction(t) => RodBoundary::Traction(t[0]),
+                    GhostCondition::NormalVelocity(v) => RodBoundary::Velocity(v),
+                    GhostCondition::Velocity(v)
+                    | GhostCondition::PartialVelocity { velocity: v, .. } => {
+                        RodBoundary::Velocity(v[0] * outward)
+                    }
+                };
+                elastoplastic_boundary_1d(&side(c, state), outward, condition, z)
+            }
+        };
+        riemann::FaceState {
+            traction: Vector::<D>::from_element(sigma),
+            velocity: Vector::<D>::from_element(v),
+        }
     }
 
     /// Star state of a face for Saint-Venant–Kirchhoff (`FullState::tensor` holds `F`),

@@ -223,6 +223,11 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) physics: Physics,
     /// J2 plasticity: the return map corrects the points after each step (phase 6).
     pub(crate) plastic: Option<impact_core::plasticity::J2>,
+    /// The rod's elastoplastic Riemann solver (J2, `--riemann elastoplastic`, 1D).
+    pub(crate) rod_solver: Option<(
+        impact_core::plasticity::J2,
+        riemann::elastoplastic::RodImpedances,
+    )>,
     /// Largest wave speed the loads can produce (time step, guard).
     pub(crate) wave_speed: f64,
     pub(crate) path: StepPath,
@@ -292,8 +297,29 @@ impl<const D: usize> Dgmpm<D> {
             }
             points = points.with_deformation();
         }
+        let j2_solvers = [RiemannSolver::Elastic, RiemannSolver::Elastoplastic];
         if let Model::J2(_) = problem.model {
+            if !j2_solvers.contains(&options.riemann) {
+                return Err(unsupported(
+                    "j2 takes --riemann elastic (the linear solver, then the return map) or \
+                     elastoplastic (the exact rod solver)",
+                ));
+            }
+            if options.riemann == RiemannSolver::Elastoplastic
+                && (D != 1 || config.points_per_cell != 1)
+            {
+                return Err(unsupported(
+                    "the elastoplastic Riemann solver is the rod's (1D) and reads each cell's \
+                     plastic state from its one point: use 1 point per cell in 1D, or \
+                     --riemann elastic",
+                ));
+            }
             points = points.with_plasticity();
+        } else if j2_solvers.contains(&options.riemann) {
+            return Err(unsupported(
+                "--riemann elastic and elastoplastic are for j2; Saint-Venant-Kirchhoff takes \
+                 approximate or exact",
+            ));
         }
         if D > 2 && options.flux == TransverseFlux::Ctu {
             return Err(unsupported(
@@ -369,6 +395,19 @@ impl<const D: usize> DgmpmSolver<D> {
             elastic,
             plastic: match problem.model {
                 Model::J2(j2) => Some(j2),
+                _ => None,
+            },
+            rod_solver: match problem.model {
+                Model::J2(j2) if options.riemann == RiemannSolver::Elastoplastic => {
+                    let rho = problem.material.density;
+                    Some((
+                        j2,
+                        riemann::elastoplastic::RodImpedances {
+                            elastic: (rho * problem.material.elastic.young).sqrt(),
+                            plastic: (rho * j2.uniaxial_stress_tangent()).sqrt(),
+                        },
+                    ))
+                }
                 _ => None,
             },
             physics: match problem.model {

@@ -314,7 +314,13 @@ impl Scene {
                         integrator: s.integrator.unwrap_or(d.integrator),
                         update: s.update.unwrap_or(d.update),
                         flux: s.flux.unwrap_or(d.flux),
-                        riemann: s.riemann.unwrap_or(d.riemann),
+                        riemann: s
+                            .riemann
+                            .unwrap_or(if self.material.model == MaterialModel::J2 {
+                                RiemannSolver::Elastic
+                            } else {
+                                d.riemann
+                            }),
                         edges: s.edges.unwrap_or(d.edges),
                     }),
                 }

@@ -23,7 +23,7 @@
 use super::Scene;
 use crate::error::SceneError;
 use crate::material::LinearElastic;
-use crate::options::{MaterialModel, MethodConfig, MethodKind};
+use crate::options::{MaterialModel, MethodConfig, MethodKind, RiemannSolver};
 
 /// Largest number of cells × points per cell a scene may ask for.
 pub const MAX_POINTS: f64 = 1e7;
@@ -350,6 +350,25 @@ impl Scene {
                 format!("{:?}", f.name()),
                 "no transverse flux in 1D (DGMPM in 2D only)",
             ));
+        }
+        if let Some(r) = self.dgmpm.riemann {
+            let (allowed, names): (&[RiemannSolver], &str) = match self.material.model {
+                MaterialModel::J2 => (
+                    &[RiemannSolver::Elastic, RiemannSolver::Elastoplastic],
+                    "\"elastic\" or \"elastoplastic\" for j2",
+                ),
+                _ => (
+                    &[RiemannSolver::Approximate, RiemannSolver::Exact],
+                    "\"approximate\" or \"exact\" (Saint-Venant-Kirchhoff; linear elasticity has one solver)",
+                ),
+            };
+            if !allowed.contains(&r) {
+                return Err(SceneError::new(
+                    "dgmpm.riemann",
+                    format!("{:?}", r.name()),
+                    names,
+                ));
+            }
         }
         if let (Some(e), 1) = (self.dgmpm.edges, self.dim) {
             return Err(SceneError::new(

@@ -16,6 +16,7 @@
 //! state, traction `t = σ n`, normal parts `t_n = n·t`, `v_n = n·v`, tangential parts
 //! `t_t = t - t_n n`, `v_t = v - v_n n`.
 
+pub mod elastoplastic;
 mod ghost;
 mod linear;
 pub mod svk_approximate;
