@@ -39,7 +39,7 @@ pub fn reference_for<const D: usize>(
         fine.grid.cells[l] *= r;
         fine.grid.spacing[l] /= r as f64;
     }
-    let config = converged_config(fine.model == impact_core::method::Model::LinearElastic);
+    let config = converged_config(&fine.model);
     let options = *config.dgmpm().expect("internal: a DGMPM configuration");
     let description = format!(
         "converged reference: DGMPM (1 ppc, {}, {}, Courant {}) on a {}x{} grid ({}x finer)",
@@ -72,11 +72,19 @@ pub fn reference_for<const D: usize>(
 }
 
 /// The converged reference's configuration.
-fn converged_config(linear: bool) -> MethodConfig {
-    // CTU at Courant 1 for linear elasticity; donor-cell with RK2 at Courant 0.9 for SVK
-    // (CTU is implemented for linear elasticity only; RK2 with donor-cell is stable to 1.0,
-    // and 0.9 ran bounded on the 132x100 SVK plate for 1 ms; at 0.5 it smears twice as much)
+fn converged_config(model: &impact_core::method::Model) -> MethodConfig {
+    use impact_core::method::{Model, RiemannSolver};
+    // CTU at Courant 1 for linear elasticity and J2 (the elastic solver, then the return
+    // map); donor-cell with RK2 at Courant 0.9 for SVK (CTU is implemented for linear
+    // elasticity only; RK2 with donor-cell is stable to 1.0, and 0.9 ran bounded on the
+    // 132x100 SVK plate for 1 ms; at 0.5 it smears twice as much)
+    let linear = !matches!(model, Model::Svk(_));
+    let riemann = match model {
+        Model::J2(_) => RiemannSolver::Elastic,
+        _ => DgmpmOptions::default().riemann,
+    };
     let options = DgmpmOptions {
+        riemann,
         integrator: if linear {
             Integrator::Euler
         } else {

@@ -440,6 +440,7 @@ pub const BUILTIN: &[&str] = &[
     "smooth-plate",
     "ep-bar",
     "ep-plate-wave",
+    "ep-plate",
 ];
 
 /// TOML text of a shipped scene.
@@ -449,6 +450,7 @@ pub fn builtin(name: &str) -> Option<&'static str> {
         "smooth-bar" => Some(include_str!("../../../../scenes/smooth-bar.toml")),
         "ep-bar" => Some(include_str!("../../../../scenes/ep-bar.toml")),
         "ep-plate-wave" => Some(include_str!("../../../../scenes/ep-plate-wave.toml")),
+        "ep-plate" => Some(include_str!("../../../../scenes/ep-plate.toml")),
         "smooth-plate" => Some(include_str!("../../../../scenes/smooth-plate.toml")),
         "plate" => Some(include_str!("../../../../scenes/plate.toml")),
         "plate-wave" => Some(include_str!("../../../../scenes/plate-wave.toml")),
