@@ -450,6 +450,7 @@ fn work_precision_command(scene: &str, levels: Option<usize>, out: Option<PathBu
         );
     }
     say!("{sentence}");
+    say!("{}", impact::work_precision::ranking(&points).trim_end());
     say!("wrote {}", out.display());
     Ok(())
 }
