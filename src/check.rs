@@ -45,8 +45,24 @@ pub struct CheckRow {
     pub dgmpm_overshoot: Option<f64>,
     /// MPM's overshoot (% of the jump).
     pub mpm_overshoot: Option<f64>,
+    /// The second front (an elastoplastic reference's plastic wave): DGMPM's and MPM's
+    /// width (cells) and overshoot (%), when the reference has one.
+    pub second: Option<SecondFront>,
     /// The verdict.
     pub verdict: Verdict,
+}
+
+/// The metrics of the second front of a row.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SecondFront {
+    /// DGMPM's width (cells).
+    pub dgmpm_front: Option<f64>,
+    /// MPM's width (cells).
+    pub mpm_front: Option<f64>,
+    /// DGMPM's overshoot (%).
+    pub dgmpm_overshoot: Option<f64>,
+    /// MPM's overshoot (%).
+    pub mpm_overshoot: Option<f64>,
 }
 
 /// The gate's outcome.
@@ -89,6 +105,19 @@ pub fn judge(
             mpm_front: m.and_then(|x| x.front_width_cells),
             dgmpm_overshoot: d.and_then(|x| x.overshoot_pct),
             mpm_overshoot: m.and_then(|x| x.overshoot_pct),
+            second: {
+                let has = |x: Option<&impact_core::reference::TimeMetrics>| {
+                    x.is_some_and(|x| {
+                        x.plastic_front_width_cells.is_some() || x.plastic_overshoot_pct.is_some()
+                    })
+                };
+                (has(d) || has(m)).then(|| SecondFront {
+                    dgmpm_front: d.and_then(|x| x.plastic_front_width_cells),
+                    mpm_front: m.and_then(|x| x.plastic_front_width_cells),
+                    dgmpm_overshoot: d.and_then(|x| x.plastic_overshoot_pct),
+                    mpm_overshoot: m.and_then(|x| x.plastic_overshoot_pct),
+                })
+            },
             verdict,
         };
         let mut r = row(Verdict::NoFront);
@@ -98,8 +127,15 @@ pub fn judge(
             Verdict::NoFront
         } else {
             compared += 1;
+            // both fronts where the reference has two (width narrower; overshoot not
+            // larger, so two monotone fronts with no overshoot tie and pass)
+            let second_ok = r.second.is_none_or(|s| {
+                worse(s.dgmpm_front) < worse(s.mpm_front)
+                    && worse(s.dgmpm_overshoot) <= worse(s.mpm_overshoot)
+            });
             if worse(r.dgmpm_front) < worse(r.mpm_front)
                 && worse(r.dgmpm_overshoot) < worse(r.mpm_overshoot)
+                && second_ok
             {
                 Verdict::Pass
             } else {

@@ -378,6 +378,16 @@ fn print_check(scene: &str, report: &impact::check::CheckReport) {
             fmt_opt(r.mpm_overshoot, 3),
             r.verdict.label()
         );
+        if let Some(s) = r.second {
+            say!(
+                "{:>10} {:>13} {:>13} {:>13} {:>13}  (plastic wave)",
+                "",
+                fmt_opt(s.dgmpm_front, 3),
+                fmt_opt(s.mpm_front, 3),
+                fmt_opt(s.dgmpm_overshoot, 3),
+                fmt_opt(s.mpm_overshoot, 3),
+            );
+        }
     }
     for e in [&report.dgmpm_record.error, &report.mpm_record.error]
         .into_iter()

@@ -131,6 +131,10 @@ pub struct TimeMetrics {
     pub energy_error: f64,
     /// Whether `energy_error` is relative.
     pub energy_relative: bool,
+    /// Width of the second front (the plastic wave of an elastoplastic reference), cells.
+    pub plastic_front_width_cells: Option<f64>,
+    /// Overshoot at the second front, % of its jump.
+    pub plastic_overshoot_pct: Option<f64>,
 }
 
 impl TimeMetrics {
@@ -148,6 +152,8 @@ impl TimeMetrics {
             front_position: None,
             front_exact: None,
             front: FrontStatus::NoFront,
+            plastic_front_width_cells: None,
+            plastic_overshoot_pct: None,
             energy_error,
             energy_relative,
         }
@@ -176,6 +182,8 @@ impl Serialize for TimeMetrics {
             ("overshoot_pct", self.overshoot_pct),
             ("front_position", self.front_position),
             ("front_exact", self.front_exact),
+            ("plastic_front_width_cells", self.plastic_front_width_cells),
+            ("plastic_overshoot_pct", self.plastic_overshoot_pct),
         ] {
             if let Some(v) = value.filter(|v| v.is_finite()) {
                 map.serialize_entry(key, &v)?;
@@ -452,7 +460,16 @@ impl Reference {
             (Some(_), _, _) => FrontStatus::NotCrossed,
         };
         let (energy_error, energy_relative) = energy_error(method.energy(), work);
+        // the plastic wave of an elastoplastic reference: the second front
+        let (plastic_front_width_cells, plastic_overshoot_pct) = match self {
+            Reference::Elastoplastic(w) if w.is_plastic() && t <= w.valid_until => {
+                profile.front(&w.fronts(t)[1], dx)
+            }
+            _ => (None, None),
+        };
         TimeMetrics {
+            plastic_front_width_cells,
+            plastic_overshoot_pct,
             t,
             l1: l1_rel,
             linf: linf_rel,

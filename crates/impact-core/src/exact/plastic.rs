@@ -131,15 +131,18 @@ impl ElastoplasticWave {
         )
     }
 
-    /// The precursor and (if plastic) the plastic wave at `t`, leading first.
+    /// The precursor and (if plastic) the plastic wave at `t`, leading first. Each front's
+    /// window ends halfway to the other, so the smeared plastic wave does not count as the
+    /// precursor's overshoot, nor the precursor as the plastic wave's.
     pub fn fronts(&self, t: f64) -> Vec<Front> {
         let length = self.elastic_speed * self.valid_until;
+        let middle = 0.5 * (self.plastic_speed + self.elastic_speed) * t;
         let mut out = vec![Front {
             position: self.elastic_speed * t,
             direction: 1.0,
             ahead: 0.0,
             behind: self.precursor.0,
-            window: (self.plastic_speed * t, length),
+            window: (if self.is_plastic() { middle } else { 0.0 }, length),
         }];
         if self.is_plastic() {
             out.push(Front {
@@ -147,7 +150,7 @@ impl ElastoplasticWave {
                 direction: 1.0,
                 ahead: self.precursor.0,
                 behind: self.behind.0,
-                window: (0.0, self.elastic_speed * t),
+                window: (0.0, middle),
             });
         }
         out
