@@ -39,12 +39,16 @@ fn momentum_and_energy_balance() {
             let mut defects = Vec::new();
             for &cells in levels {
                 let mut scene = Scene::builtin(name).unwrap();
-                let ratio = cells / scene.domain.cells[0];
-                scene.domain.cells.iter_mut().for_each(|n| *n *= ratio);
+                let ratio = cells as f64 / scene.domain.cells[0] as f64;
+                scene
+                    .domain
+                    .cells
+                    .iter_mut()
+                    .for_each(|n| *n = (*n as f64 * ratio).round() as usize);
                 scene.time.output_transits = scene
                     .time
                     .output_transits
-                    .map(|v| v.iter().map(|t| t * ratio as f64).collect());
+                    .map(|v| v.iter().map(|t| t * ratio).collect());
                 let (energy, work, p, j) = if scene.dim == 1 {
                     let problem = Problem::<1>::from_scene(&scene).unwrap();
                     let m = advance(&problem, &scene, kind, problem.t_end);
