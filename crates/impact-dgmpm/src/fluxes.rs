@@ -28,7 +28,7 @@ impl<const D: usize> DgmpmSolver<D> {
                 let right = rc.map(|c| fields.side(c, l, false));
                 let star = match this.physics {
                     Physics::Linear if this.rod_solver.is_some() => {
-                        let star = this.elastoplastic_star(points, lc, rc, left, right, s);
+                        let star = this.elastoplastic_star(points, l, (lc, rc), left, right, s);
                         *flux = normal_flux(&star, &e, &this.elastic);
                         star
                     }
@@ -62,29 +62,55 @@ impl<const D: usize> DgmpmSolver<D> {
         power
     }
 
-    /// Star state of a rod face with the exact elastoplastic solver
-    /// ([`riemann::elastoplastic`]): each side's yield `σ_y + H ε̄` from its cell's one
-    /// point; a boundary face solves the half problem of its condition.
+    /// Star state of a face with the elastoplastic solver ([`riemann::elastoplastic`]),
+    /// in the `+e_l` orientation. The normal part follows each side's wave curve: elastic
+    /// up to the yield surface, plastic beyond (the rod's `[−Y, Y]` in 1D; in plane strain
+    /// the range of `σ_nn` along the uniaxial-strain path from the side's 3D state, with the
+    /// plastic modulus `M_p`: exact for a plane wave, an approximation where shear is
+    /// present). The tangential part is the linear solver's (elastic shear waves). Each
+    /// side's plastic state is its cell's one point. A boundary face solves the normal half
+    /// problem of its condition; a face partly covered by an impactor keeps the linear
+    /// star.
     fn elastoplastic_star(
         &self,
         points: &MaterialPoints<D>,
-        lc: Option<usize>,
-        rc: Option<usize>,
+        l: usize,
+        cells: (Option<usize>, Option<usize>),
         left: Option<FullState<D>>,
         right: Option<FullState<D>>,
         s: f64,
     ) -> riemann::FaceState<D> {
         use riemann::elastoplastic::{
-            elastoplastic_boundary_1d, elastoplastic_star_1d, PlasticSide, RodBoundary,
+            elastoplastic_boundary_1d, elastoplastic_star_1d, uniaxial_strain_bounds, PlasticSide,
+            RodBoundary,
         };
         let (j2, z) = self.rod_solver.expect("internal: checked by the caller");
-        let side = |c: usize, state: FullState<D>| PlasticSide {
-            stress: state.tensor[(0, 0)],
-            velocity: state.velocity[0],
-            yield_stress: j2.yield_stress + j2.hardening * points.equivalent_plastic_strain[c],
+        let e = unit::<D>(l);
+        let (a, b) = self.face_pair(l, left, right, s);
+        let mut star = linear_elastic_star(&a.on_face(&e), &b.on_face(&e), &e, self.elastic.z);
+        let side = |c: usize, state: FullState<D>| {
+            let y = j2.current_yield(&impact_core::plasticity::PlasticState {
+                equivalent_plastic_strain: points.equivalent_plastic_strain[c],
+            });
+            let (stress, velocity) = (state.tensor[(l, l)], state.velocity[l]);
+            if D == 1 {
+                return PlasticSide::rod(stress, velocity, y);
+            }
+            let full = j2.stress3(&state.tensor, points.plastic_strain_zz[c]);
+            let n = nalgebra::Vector3::from_fn(|k, _| if k == l { 1.0 } else { 0.0 });
+            let lame = (j2.elastic.lame.lambda, j2.elastic.lame.mu);
+            let (lower, upper) = uniaxial_strain_bounds(&full, &n, y, lame);
+            PlasticSide {
+                stress,
+                velocity,
+                lower,
+                upper,
+            }
         };
-        let (sigma, v) = match (lc.zip(left), rc.zip(right)) {
-            (Some((a, la)), Some((b, rb))) => elastoplastic_star_1d(&side(a, la), &side(b, rb), z),
+        let normal = match (cells.0.zip(left), cells.1.zip(right)) {
+            (Some((a, la)), Some((b, rb))) => {
+                Some(elastoplastic_star_1d(&side(a, la), &side(b, rb), z))
+            }
             (inner, outer) => {
                 let (c, state, face_side) = match (inner, outer) {
                     (Some((a, la)), None) => (a, la, 1),
@@ -92,21 +118,20 @@ impl<const D: usize> DgmpmSolver<D> {
                     _ => unreachable!("internal: a face has at least one cell"),
                 };
                 let outward = if face_side == 0 { -1.0 } else { 1.0 };
-                let condition = match self.ghost_condition(0, face_side, s) {
-                    GhostCondition::Traction(t) => RodBoundary::Traction(t[0]),
-                    GhostCondition::NormalVelocity(v) => RodBoundary::Velocity(v),
-                    GhostCondition::Velocity(v)
-                    | GhostCondition::PartialVelocity { velocity: v, .. } => {
-                        RodBoundary::Velocity(v[0] * outward)
-                    }
+                let condition = match self.ghost_condition(l, face_side, s) {
+                    GhostCondition::Traction(t) => Some(RodBoundary::Traction(t[l])),
+                    GhostCondition::NormalVelocity(v) => Some(RodBoundary::Velocity(v)),
+                    GhostCondition::Velocity(v) => Some(RodBoundary::Velocity(v[l] * outward)),
+                    GhostCondition::PartialVelocity { .. } => None,
                 };
-                elastoplastic_boundary_1d(&side(c, state), outward, condition, z)
+                condition.map(|cond| elastoplastic_boundary_1d(&side(c, state), outward, cond, z))
             }
         };
-        riemann::FaceState {
-            traction: Vector::<D>::from_element(sigma),
-            velocity: Vector::<D>::from_element(v),
+        if let Some((sigma, v)) = normal {
+            star.traction[l] = sigma;
+            star.velocity[l] = v;
         }
+        star
     }
 
     /// Star state of a face for Saint-Venant–Kirchhoff (`FullState::tensor` holds `F`),

@@ -305,14 +305,20 @@ impl<const D: usize> Dgmpm<D> {
                      elastoplastic (the exact rod solver)",
                 ));
             }
-            if options.riemann == RiemannSolver::Elastoplastic
-                && (D != 1 || config.points_per_cell != 1)
-            {
-                return Err(unsupported(
-                    "the elastoplastic Riemann solver is the rod's (1D) and reads each cell's \
-                     plastic state from its one point: use 1 point per cell in 1D, or \
-                     --riemann elastic",
-                ));
+            if options.riemann == RiemannSolver::Elastoplastic {
+                if D > 2 || config.points_per_cell != 1 {
+                    return Err(unsupported(
+                        "the elastoplastic Riemann solver reads each cell's plastic state from \
+                         its one point and is written for the rod and plane strain: use 1 point \
+                         per cell in 1D or 2D, or --riemann elastic",
+                    ));
+                }
+                if D == 2 && options.flux == TransverseFlux::Ctu {
+                    return Err(unsupported(
+                        "CTU's transverse corrections are elastic; with --riemann elastoplastic \
+                         use --flux dcu",
+                    ));
+                }
             }
             points = points.with_plasticity();
         } else if j2_solvers.contains(&options.riemann) {
@@ -399,12 +405,21 @@ impl<const D: usize> DgmpmSolver<D> {
             },
             rod_solver: match problem.model {
                 Model::J2(j2) if options.riemann == RiemannSolver::Elastoplastic => {
+                    // the rod: E and E_t; plane strain: λ + 2μ and M_p (uniaxial strain)
                     let rho = problem.material.density;
+                    let (elastic, plastic) = if D == 1 {
+                        (problem.material.elastic.young, j2.uniaxial_stress_tangent())
+                    } else {
+                        (
+                            problem.material.p_modulus::<D>(),
+                            j2.uniaxial_strain_tangent(),
+                        )
+                    };
                     Some((
                         j2,
                         riemann::elastoplastic::RodImpedances {
-                            elastic: (rho * problem.material.elastic.young).sqrt(),
-                            plastic: (rho * j2.uniaxial_stress_tangent()).sqrt(),
+                            elastic: (rho * elastic).sqrt(),
+                            plastic: (rho * plastic).sqrt(),
                         },
                     ))
                 }

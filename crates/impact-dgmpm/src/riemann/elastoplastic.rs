@@ -24,15 +24,64 @@
 //!
 //! Stress is positive in tension; `σ` is the face traction along `+x`.
 
-/// A side of the face problem: stress, velocity and current yield stress `Y`.
+/// A side of the face problem: normal stress, normal velocity and the elastic range of the
+/// normal stress, `[lower, upper]` (the rod: `[−Y, Y]`, `Y = σ_y + H ε̄`; plane strain:
+/// where the uniaxial-strain path from the state meets the yield surface,
+/// [`uniaxial_strain_bounds`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlasticSide {
     /// `σ`.
     pub stress: f64,
     /// `v`.
     pub velocity: f64,
-    /// `Y = σ_y + H ε̄`.
-    pub yield_stress: f64,
+    /// Lowest normal stress reached elastically (compression side, ≤ `stress`).
+    pub lower: f64,
+    /// Highest normal stress reached elastically (tension side, ≥ `stress`).
+    pub upper: f64,
+}
+
+impl PlasticSide {
+    /// A rod state with current yield stress `yield_stress`: the range `[−Y, Y]`.
+    pub fn rod(stress: f64, velocity: f64, yield_stress: f64) -> Self {
+        Self {
+            stress,
+            velocity,
+            lower: -yield_stress,
+            upper: yield_stress,
+        }
+    }
+}
+
+/// The elastic range of the normal stress `σ_nn` of a 3D stress state `stress` loaded in
+/// uniaxial strain along `n` (plane strain: `n` in the plane), for the current yield `y`,
+/// `lame = (λ, μ)`. Along the path `Δσ = Δε (λ 1 + 2μ n⊗n)` the deviator moves by
+/// `2μ Δε N`, `N = n⊗n − 1/3` (`|N|² = 2/3`), so `q² = 3/2 |s + 2μΔε N|² = y²` is the
+/// quadratic `4μ² Δε² + 6μ (s:N) Δε + (3/2 |s|² − y²) = 0`; its roots bound the elastic
+/// strains and `σ_nn ± = σ_nn + (λ + 2μ) Δε±`. A state outside the surface (round-off past
+/// a return) gets an empty range at its own stress. At rest the bounds are the Hugoniot
+/// elastic limit `± y (λ + 2μ)/(2μ)`.
+pub fn uniaxial_strain_bounds(
+    stress: &impact_core::plasticity::Tensor3,
+    n: &nalgebra::Vector3<f64>,
+    y: f64,
+    lame: (f64, f64),
+) -> (f64, f64) {
+    let (lambda, mu) = lame;
+    let p = stress.trace() / 3.0;
+    let s = stress - impact_core::plasticity::Tensor3::identity() * p;
+    let nn = n * n.transpose() - impact_core::plasticity::Tensor3::identity() / 3.0;
+    let a = 4.0 * mu * mu;
+    let b = 6.0 * mu * s.dot(&nn);
+    let c = 1.5 * s.norm_squared() - y * y;
+    let normal = n.dot(&(stress * n));
+    let discriminant = b * b - 4.0 * a * c;
+    if c > 0.0 || discriminant < 0.0 {
+        return (normal, normal);
+    }
+    let root = discriminant.sqrt();
+    let (low, high) = ((-b - root) / (2.0 * a), (-b + root) / (2.0 * a));
+    let modulus = lambda + 2.0 * mu;
+    (normal + modulus * low, normal + modulus * high)
 }
 
 /// Impedances `Z_0 = ρ c_0` and `Z_t = ρ c_t`.
@@ -49,26 +98,24 @@ pub struct RodImpedances {
 #[inline]
 fn curve(side: &PlasticSide, z: RodImpedances, direction: f64, v: f64) -> f64 {
     let elastic = side.stress + direction * z.elastic * (v - side.velocity);
-    let y = side.yield_stress;
-    if elastic.abs() <= y {
+    if elastic >= side.lower && elastic <= side.upper {
         return elastic;
     }
-    let bound = y * elastic.signum();
-    // the velocity at which the elastic part reaches ±Y (the state itself if already past)
-    let reach = side.velocity + direction * (bound - side.stress) / z.elastic;
-    let from = if (side.stress - bound) * bound.signum() >= 0.0 {
-        // already at (or beyond) the bound on that side: plastic at once
-        (side.stress, side.velocity)
+    let bound = if elastic > side.upper {
+        side.upper
     } else {
-        (bound, reach)
+        side.lower
     };
-    from.0 + direction * z.plastic * (v - from.1)
+    // the velocity at which the elastic part reaches the bound (the state itself when it
+    // is already there: plastic at once)
+    let reach = side.velocity + direction * (bound - side.stress) / z.elastic;
+    bound + direction * z.plastic * (v - reach)
 }
 
 /// The velocities where the side's curve changes slope.
 fn breakpoints(side: &PlasticSide, z: RodImpedances, direction: f64) -> [f64; 2] {
-    let y = side.yield_stress;
-    [y, -y].map(|bound| side.velocity + direction * (bound - side.stress) / z.elastic)
+    [side.upper, side.lower]
+        .map(|bound| side.velocity + direction * (bound - side.stress) / z.elastic)
 }
 
 /// Star state `(σ*, v*)` of the face between `left` and `right` (module doc).
@@ -163,11 +210,7 @@ mod tests {
     }
 
     fn side(stress: f64, velocity: f64) -> PlasticSide {
-        PlasticSide {
-            stress,
-            velocity,
-            yield_stress: 4e8,
-        }
+        PlasticSide::rod(stress, velocity, 4e8)
     }
 
     /// Elastic only: the linear solver's star state.
@@ -206,10 +249,7 @@ mod tests {
     #[test]
     fn plastic_on_one_side() {
         let (zz, l) = (z(), side(-4e8, 20.0));
-        let r = PlasticSide {
-            yield_stress: 8e8,
-            ..side(0.0, 0.0)
-        };
+        let r = PlasticSide::rod(0.0, 0.0, 8e8);
         let (s, v) = elastoplastic_star_1d(&l, &r, zz);
         let v_hand = (4e8 + zz.plastic * 20.0) / (zz.plastic + zz.elastic);
         assert!(v_hand < 20.0 && zz.elastic * v_hand < 8e8);
@@ -227,6 +267,27 @@ mod tests {
         assert!(v.abs() < 1e-12);
         let expected = -4e8 - zz.plastic * (speed - 4e8 / zz.elastic);
         assert_relative_eq!(s, expected, max_relative = 1e-12);
+    }
+
+    /// At rest the uniaxial-strain range is the Hugoniot elastic limit; a state already
+    /// compressed to it has no room left on the compression side.
+    #[test]
+    fn uniaxial_strain_bounds_at_rest_are_the_hugoniot_elastic_limit() {
+        use impact_core::plasticity::Tensor3;
+        let (lambda, mu) = (1.1538e11, 7.6923e10);
+        let n = nalgebra::Vector3::new(1.0, 0.0, 0.0);
+        let hel = 4e8 * (lambda + 2.0 * mu) / (2.0 * mu);
+        let (lo, hi) = uniaxial_strain_bounds(&Tensor3::zeros(), &n, 4e8, (lambda, mu));
+        assert_relative_eq!(lo, -hel, max_relative = 1e-12);
+        assert_relative_eq!(hi, hel, max_relative = 1e-12);
+        // the state at −HEL in uniaxial strain: σ_yy = σ_zz = λ/(λ+2μ) σ_xx
+        let mut at = Tensor3::zeros();
+        at[(0, 0)] = -hel;
+        at[(1, 1)] = -hel * lambda / (lambda + 2.0 * mu);
+        at[(2, 2)] = at[(1, 1)];
+        let (lo, hi) = uniaxial_strain_bounds(&at, &n, 4e8, (lambda, mu));
+        assert_relative_eq!(lo, -hel, max_relative = 1e-9);
+        assert_relative_eq!(hi, hel, max_relative = 1e-9);
     }
 
     /// As a boundary half problem on the rod at rest: a pressure p > σ_y gives the exact
