@@ -135,6 +135,9 @@ pub struct TimeMetrics {
     pub plastic_front_width_cells: Option<f64>,
     /// Overshoot at the second front, % of its jump.
     pub plastic_overshoot_pct: Option<f64>,
+    /// Where the profile crosses half of the second front's jump (m), and the exact
+    /// position.
+    pub plastic_front_position: Option<(f64, f64)>,
 }
 
 impl TimeMetrics {
@@ -154,6 +157,7 @@ impl TimeMetrics {
             front: FrontStatus::NoFront,
             plastic_front_width_cells: None,
             plastic_overshoot_pct: None,
+            plastic_front_position: None,
             energy_error,
             energy_relative,
         }
@@ -184,6 +188,14 @@ impl Serialize for TimeMetrics {
             ("front_exact", self.front_exact),
             ("plastic_front_width_cells", self.plastic_front_width_cells),
             ("plastic_overshoot_pct", self.plastic_overshoot_pct),
+            (
+                "plastic_front_position",
+                self.plastic_front_position.map(|p| p.0),
+            ),
+            (
+                "plastic_front_exact",
+                self.plastic_front_position.map(|p| p.1),
+            ),
         ] {
             if let Some(v) = value.filter(|v| v.is_finite()) {
                 map.serialize_entry(key, &v)?;
@@ -461,15 +473,22 @@ impl Reference {
         };
         let (energy_error, energy_relative) = energy_error(method.energy(), work);
         // the plastic wave of an elastoplastic reference: the second front
-        let (plastic_front_width_cells, plastic_overshoot_pct) = match self {
+        let (plastic_front_width_cells, plastic_overshoot_pct, plastic_front_position) = match self
+        {
             Reference::Elastoplastic(w) if w.is_plastic() && t <= w.valid_until => {
-                profile.front(&w.fronts(t)[1], dx)
+                let second = w.fronts(t)[1];
+                let (width, overshoot) = profile.front(&second, dx);
+                let at = profile
+                    .crossing(&second, 0.5, dx)
+                    .map(|x| (x, second.position));
+                (width, overshoot, at)
             }
-            _ => (None, None),
+            _ => (None, None, None),
         };
         TimeMetrics {
             plastic_front_width_cells,
             plastic_overshoot_pct,
+            plastic_front_position,
             t,
             l1: l1_rel,
             linf: linf_rel,
