@@ -22,6 +22,23 @@ fn advance<const D: usize>(
     m
 }
 
+/// The shipped scene `name` with `cells` cells along x (the others in proportion) and its
+/// output times kept in seconds (transits scaled by the refinement).
+fn refined(name: &str, cells: usize) -> Scene {
+    let mut scene = Scene::builtin(name).unwrap();
+    let ratio = cells as f64 / scene.domain.cells[0] as f64;
+    scene
+        .domain
+        .cells
+        .iter_mut()
+        .for_each(|n| *n = (*n as f64 * ratio).round() as usize);
+    scene.time.output_transits = scene
+        .time
+        .output_transits
+        .map(|v| v.iter().map(|t| t * ratio).collect());
+    scene
+}
+
 /// Momentum equals the impulse of the load (to round-off). The energy — kinetic, elastic
 /// and the plastic work `∫ q dε̄` — balances the work the method's load did up to a defect
 /// that shrinks under refinement: FEM about second order, MPM first, DGMPM about half order
@@ -38,17 +55,7 @@ fn momentum_and_energy_balance() {
         for kind in MethodKind::ALL {
             let mut defects = Vec::new();
             for &cells in levels {
-                let mut scene = Scene::builtin(name).unwrap();
-                let ratio = cells as f64 / scene.domain.cells[0] as f64;
-                scene
-                    .domain
-                    .cells
-                    .iter_mut()
-                    .for_each(|n| *n = (*n as f64 * ratio).round() as usize);
-                scene.time.output_transits = scene
-                    .time
-                    .output_transits
-                    .map(|v| v.iter().map(|t| t * ratio).collect());
+                let scene = refined(name, cells);
                 let (energy, work, p, j) = if scene.dim == 1 {
                     let problem = Problem::<1>::from_scene(&scene).unwrap();
                     let m = advance(&problem, &scene, kind, problem.t_end);
@@ -171,13 +178,7 @@ fn rod_errors(
     kind: MethodKind,
     riemann: Option<impact_core::method::RiemannSolver>,
 ) -> Vec<f64> {
-    let mut scene = Scene::builtin("ep-bar").unwrap();
-    let ratio = cells / scene.domain.cells[0];
-    scene.domain.cells = vec![cells];
-    scene.time.output_transits = scene
-        .time
-        .output_transits
-        .map(|v| v.iter().map(|t| t * ratio as f64).collect());
+    let scene = refined("ep-bar", cells);
     let problem = Problem::<1>::from_scene(&scene).unwrap();
     let reference = Reference::for_problem(&problem).unwrap();
     let mut config = scene.method_config(kind);

@@ -353,6 +353,39 @@ impl<const D: usize> Problem<D> {
         crate::scene::check_points_per_cell(D, ppc)?;
         Ok(points_per_axis(D, ppc).expect("internal: checked power"))
     }
+
+    /// The material points of a point method (`config`: DGMPM or MPM) on `grid`: placed by
+    /// the scene's layout, in the initial state, with the arrays the model needs (`F` under
+    /// Saint-Venant–Kirchhoff, the plastic history under J2).
+    pub fn material_points(
+        &self,
+        grid: &Grid<D>,
+        config: &crate::options::MethodConfig,
+    ) -> Result<crate::points::MaterialPoints<D>, CoreError> {
+        let per_axis = self.points_per_axis(config.points_per_cell)?;
+        if !self.layout.fits(config.points_per_cell) {
+            return Err(CoreError::Unsupported {
+                method: config.kind().name().into(),
+                message: format!(
+                    "the scene's point layout ({}) does not seed {} points per cell",
+                    self.layout.label(),
+                    config.points_per_cell
+                ),
+            });
+        }
+        let mut points = crate::points::MaterialPoints::seeded(
+            grid,
+            per_axis,
+            self.material.density,
+            &self.layout,
+        );
+        points.apply_initial(&self.initial);
+        Ok(match self.model {
+            Model::Svk(_) => points.with_deformation(),
+            Model::J2(_) => points.with_plasticity(),
+            Model::LinearElastic => points,
+        })
+    }
 }
 
 fn to_boundary(e: &EdgeSpec) -> Boundary {

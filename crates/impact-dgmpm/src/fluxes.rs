@@ -85,9 +85,6 @@ impl<const D: usize> DgmpmSolver<D> {
             RodBoundary,
         };
         let (j2, z) = self.rod_solver.expect("internal: checked by the caller");
-        let e = unit::<D>(l);
-        let (a, b) = self.face_pair(l, left, right, s);
-        let mut star = linear_elastic_star(&a.on_face(&e), &b.on_face(&e), &e, self.elastic.z);
         let side = |c: usize, state: FullState<D>| {
             let y = j2.current_yield(&impact_core::plasticity::PlasticState {
                 equivalent_plastic_strain: points.equivalent_plastic_strain[c],
@@ -125,6 +122,19 @@ impl<const D: usize> DgmpmSolver<D> {
                     GhostCondition::PartialVelocity { .. } => None,
                 };
                 condition.map(|cond| elastoplastic_boundary_1d(&side(c, state), outward, cond, z))
+            }
+        };
+        // the rod has no tangential part: the linear star is needed only in 2D (its shear
+        // part) or where the normal half problem is not solved (a partly covered face)
+        let mut star = match normal {
+            Some(_) if D == 1 => riemann::FaceState {
+                traction: Vector::<D>::zeros(),
+                velocity: Vector::<D>::zeros(),
+            },
+            _ => {
+                let e = unit::<D>(l);
+                let (a, b) = self.face_pair(l, left, right, s);
+                linear_elastic_star(&a.on_face(&e), &b.on_face(&e), &e, self.elastic.z)
             }
         };
         if let Some((sigma, v)) = normal {

@@ -267,22 +267,8 @@ impl<const D: usize> Dgmpm<D> {
         let options = *config
             .dgmpm()
             .ok_or_else(|| unsupported("not a DGMPM configuration"))?;
-        let per_axis = problem.points_per_axis(config.points_per_cell)?;
+        problem.points_per_axis(config.points_per_cell)?;
         impact_core::scene::check_courant("courant", config.courant)?;
-        let grid = problem.grid.clone();
-        if !problem.layout.fits(config.points_per_cell) {
-            return Err(CoreError::Unsupported {
-                method: config.kind().name().into(),
-                message: format!(
-                    "the scene's point layout ({}) does not seed {} points per cell",
-                    problem.layout.label(),
-                    config.points_per_cell
-                ),
-            });
-        }
-        let mut points =
-            MaterialPoints::seeded(&grid, per_axis, problem.material.density, &problem.layout);
-        points.apply_initial(&problem.initial);
         if let Model::Svk(_) = problem.model {
             if D > 1 && options.flux == TransverseFlux::Ctu {
                 return Err(unsupported(
@@ -295,7 +281,6 @@ impl<const D: usize> Dgmpm<D> {
                     "the exact Saint-Venant-Kirchhoff Riemann solver is 1D; use --riemann approximate in 2D",
                 ));
             }
-            points = points.with_deformation();
         }
         let j2_solvers = [RiemannSolver::Elastic, RiemannSolver::Elastoplastic];
         if let Model::J2(_) = problem.model {
@@ -320,7 +305,6 @@ impl<const D: usize> Dgmpm<D> {
                     ));
                 }
             }
-            points = points.with_plasticity();
         } else if j2_solvers.contains(&options.riemann) {
             return Err(unsupported(
                 "--riemann elastic and elastoplastic are for j2; Saint-Venant-Kirchhoff takes \
@@ -332,6 +316,7 @@ impl<const D: usize> Dgmpm<D> {
                 "CTU is implemented in 2D (3D needs transverse-transverse corrections); use --flux dcu",
             ));
         }
+        let points = problem.material_points(&problem.grid, &config)?;
         let solver = DgmpmSolver::new(problem, config, options, &points)?;
         Ok(Self {
             solver,

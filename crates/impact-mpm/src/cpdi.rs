@@ -84,12 +84,7 @@ impl<const D: usize> Stencil<D> {
             directions[c] = inverse_transpose * signs::<D>(c);
         }
         for a in 0..self.nodes {
-            let mut local = [0usize; D];
-            let mut rest = a;
-            for l in local.iter_mut() {
-                *l = rest % self.width;
-                rest /= self.width;
-            }
+            let local = self.local_index(a);
             let mut value = 0.0;
             let mut gradient = Vector::<D>::zeros();
             for c in 0..corners {

@@ -167,22 +167,6 @@ impl<const D: usize> Mpm<D> {
         let per_axis = problem.points_per_axis(config.points_per_cell)?;
         impact_core::scene::check_courant("courant", config.courant)?;
         let body = problem.grid.clone();
-        if !problem.layout.fits(config.points_per_cell) {
-            return Err(CoreError::Unsupported {
-                method: config.kind().name().into(),
-                message: format!(
-                    "the scene's point layout ({}) does not seed {} points per cell",
-                    problem.layout.label(),
-                    config.points_per_cell
-                ),
-            });
-        }
-        let mut points =
-            MaterialPoints::seeded(&body, per_axis, problem.material.density, &problem.layout);
-        points.apply_initial(&problem.initial);
-        if let Model::J2(_) = problem.model {
-            points = points.with_plasticity();
-        }
         if let Model::Svk(_) = problem.model {
             if options.frame != MpmFrame::TotalLagrangian {
                 return Err(CoreError::Unsupported {
@@ -192,8 +176,8 @@ impl<const D: usize> Mpm<D> {
                         .into(),
                 });
             }
-            points = points.with_deformation();
         }
+        let mut points = problem.material_points(&body, &config)?;
         let mut cells = body.cells;
         for c in cells.iter_mut() {
             *c += 2 * PADDING;

@@ -136,6 +136,18 @@ impl<const D: usize> Stencil<D> {
         }
     }
 
+    /// The per-axis position (first axis fastest) of local node `a` in the stencil.
+    #[inline]
+    pub(crate) fn local_index(&self, a: usize) -> [usize; D] {
+        let mut local = [0usize; D];
+        let mut rest = a;
+        for l in local.iter_mut() {
+            *l = rest % self.width;
+            rest /= self.width;
+        }
+        local
+    }
+
     /// A CPDI domain at rest: half a point spacing along each axis, `diag(ℓ h)`.
     pub fn rest_domain(&self, grid: &Grid<D>) -> impact_core::Tensor<D> {
         impact_core::Tensor::<D>::from_diagonal(&(grid.spacing * self.half))
@@ -192,12 +204,7 @@ impl<const D: usize> Stencil<D> {
             }
         }
         for a in 0..self.nodes {
-            let mut local = [0usize; D];
-            let mut rest = a;
-            for l in local.iter_mut() {
-                *l = rest % self.width;
-                rest /= self.width;
-            }
+            let local = self.local_index(a);
             let mut value = 1.0;
             let mut gradient = Vector::<D>::from_element(1.0);
             for k in 0..D {
