@@ -17,8 +17,9 @@
 //! `Δε_xx = (V − v_H)/c_p` the strain jump of the plastic wave. If `V ≤ v_H` it is the
 //! elastic plane wave.
 //!
-//! Stress is compression-negative (`σ_xx < 0` behind the waves) and `H > 0` is required for
-//! a plastic wave that moves (`H = 0` makes `c_t = 0` in the rod).
+//! Stress is compression-negative (`σ_xx < 0` behind the waves). The rod needs `H > 0` for
+//! a plastic wave that moves (`H = 0` makes `c_t = 0`); the plane wave allows `H = 0`
+//! (`c_p = sqrt(K/ρ)`, `ε̄ = 2|Δε_xx|/3`).
 use super::Front;
 use crate::plasticity::J2;
 

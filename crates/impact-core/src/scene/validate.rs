@@ -259,9 +259,11 @@ impl Scene {
         self.check_plasticity()
     }
 
-    /// `yield_stress` in (0, E) and `hardening` in (0, E] exactly for `j2`: a plastic wave
-    /// needs `H > 0` to move in the rod (`c_t = sqrt(E H/((E + H) ρ))`), and the tangent
-    /// stays below the elastic one.
+    /// `yield_stress` in (0, E) and `hardening` in [0, E] exactly for `j2`, with `H > 0` in
+    /// 1D: the rod's plastic wave moves at `c_t = sqrt(E H/((E + H) ρ))`, which is zero for a
+    /// perfectly plastic rod (a load above yield then strains the loaded end without bound).
+    /// In plane strain the plastic wave keeps `c_p = sqrt(K/ρ)` at `H = 0`, so perfect
+    /// plasticity is allowed there. `H ≤ E` keeps the tangent below the elastic one.
     fn check_plasticity(&self) -> Result<(), SceneError> {
         let m = &self.material;
         if m.model != MaterialModel::J2 {
@@ -296,19 +298,24 @@ impl Scene {
                 format!("σ_y in (0, E = {:e}) Pa", m.young),
             ));
         }
-        let hardening = m.hardening.ok_or_else(|| {
-            SceneError::new("material.hardening", "missing", "H in (0, E] Pa for j2")
-        })?;
-        if !(hardening.is_finite() && hardening > 0.0 && hardening <= m.young) {
-            return Err(SceneError::new(
-                "material.hardening",
-                hardening,
-                format!(
-                    "H in (0, E = {:e}] Pa (H > 0: with H = 0 the rod's plastic wave does not \
-                     move)",
-                    m.young
-                ),
-            ));
+        let allowed = if self.dim == 1 {
+            format!(
+                "H in (0, E = {:e}] Pa in 1D (with H = 0 the rod's plastic wave does not move)",
+                m.young
+            )
+        } else {
+            format!("H in [0, E = {:e}] Pa", m.young)
+        };
+        let hardening = m
+            .hardening
+            .ok_or_else(|| SceneError::new("material.hardening", "missing", allowed.clone()))?;
+        let lowest_ok = if self.dim == 1 {
+            hardening > 0.0
+        } else {
+            hardening >= 0.0
+        };
+        if !(hardening.is_finite() && lowest_ok && hardening <= m.young) {
+            return Err(SceneError::new("material.hardening", hardening, allowed));
         }
         Ok(())
     }
