@@ -1,14 +1,19 @@
-//! `impact check`: the CI gate. DGMPM (the study's DGMPM configuration, method overrides
-//! included) and MPM (the scene's configuration) run on the same problem; the gate passes
-//! only if, at every output time with a front, DGMPM's front is narrower **and** its
-//! overshoot smaller than MPM's ([`judge`]), and neither run stopped.
+//! `impact check`: the CI gate. DGMPM and MPM run on the same problem, each in the scene's
+//! configuration with the method flags of `run` applied as there (`--courant` and
+//! `--points-per-cell` to both, `--integrator`/`--flux`/... to DGMPM, `--stress-update`/
+//! `--shape`/... to MPM) and the gate's own per-method flags last ([`CheckOptions`]). The
+//! gate passes only if, at every output time with a front, DGMPM's front is narrower and
+//! its overshoot smaller than MPM's, within the [`Thresholds`] ([`judge`]), and neither run
+//! stopped. [`crate::check_report`] writes the outcome as JSON and JUnit XML.
 use crate::run::{run_method, RunRecord, Silent};
 use crate::study::Study;
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use impact_core::method::{MethodConfig, MethodKind, MpmShape};
+use serde::Serialize;
 
 /// The verdict at one output time.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Verdict {
     /// DGMPM's front is narrower and its overshoot smaller.
     Pass,
@@ -33,7 +38,7 @@ impl Verdict {
 }
 
 /// One output time of the gate.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CheckRow {
     /// Output time (s).
     pub t: f64,
@@ -53,7 +58,7 @@ pub struct CheckRow {
 }
 
 /// The metrics of the second front of a row.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct SecondFront {
     /// DGMPM's width (cells).
     pub dgmpm_front: Option<f64>,
@@ -82,6 +87,39 @@ pub struct CheckReport {
     pub pass: bool,
 }
 
+/// How much better DGMPM must be (`--min-width-ratio`, `--max-overshoot`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Thresholds {
+    /// MPM's front width over DGMPM's must exceed this (default 1: strictly narrower).
+    pub min_width_ratio: f64,
+    /// An overshoot of DGMPM at most this many % passes whatever MPM's is (default none:
+    /// DGMPM's must be below MPM's).
+    pub max_overshoot: Option<f64>,
+}
+
+impl Default for Thresholds {
+    fn default() -> Self {
+        Self {
+            min_width_ratio: 1.0,
+            max_overshoot: None,
+        }
+    }
+}
+
+impl Thresholds {
+    /// Whether DGMPM's front (`dgmpm` cells) is narrow enough against MPM's.
+    fn width_ok(&self, dgmpm: f64, mpm: f64) -> bool {
+        dgmpm * self.min_width_ratio < mpm
+    }
+
+    /// Whether DGMPM's overshoot (%) passes against MPM's (`strict`: below it; else not
+    /// above it).
+    fn overshoot_ok(&self, dgmpm: f64, mpm: f64, strict: bool) -> bool {
+        let within = self.max_overshoot.is_some_and(|cap| dgmpm <= cap);
+        within || if strict { dgmpm < mpm } else { dgmpm <= mpm }
+    }
+}
+
 /// The pass/fail rule on two runs: `has_front(t)` tells whether the reference has a front
 /// at `t`. An undefined width or overshoot counts as infinitely bad. The gate passes when
 /// both runs reached every output time, at least one time was compared, and every
@@ -90,6 +128,7 @@ pub fn judge(
     dgmpm: &RunRecord,
     mpm: &RunRecord,
     has_front: impl Fn(f64) -> bool,
+    thresholds: &Thresholds,
 ) -> (Vec<CheckRow>, bool) {
     let mut ok = dgmpm.error.is_none() && mpm.error.is_none();
     let worse = |v: Option<f64>| v.unwrap_or(f64::INFINITY);
@@ -130,11 +169,19 @@ pub fn judge(
             // both fronts where the reference has two (width narrower; overshoot not
             // larger, so two monotone fronts with no overshoot tie and pass)
             let second_ok = r.second.is_none_or(|s| {
-                worse(s.dgmpm_front) < worse(s.mpm_front)
-                    && worse(s.dgmpm_overshoot) <= worse(s.mpm_overshoot)
+                thresholds.width_ok(worse(s.dgmpm_front), worse(s.mpm_front))
+                    && thresholds.overshoot_ok(
+                        worse(s.dgmpm_overshoot),
+                        worse(s.mpm_overshoot),
+                        false,
+                    )
             });
-            if worse(r.dgmpm_front) < worse(r.mpm_front)
-                && worse(r.dgmpm_overshoot) < worse(r.mpm_overshoot)
+            if thresholds.width_ok(worse(r.dgmpm_front), worse(r.mpm_front))
+                && thresholds.overshoot_ok(
+                    worse(r.dgmpm_overshoot),
+                    worse(r.mpm_overshoot),
+                    true,
+                )
                 && second_ok
             {
                 Verdict::Pass
@@ -191,23 +238,129 @@ impl Against {
     }
 }
 
+/// The gate's own settings besides the study: which MPM, per-method overrides applied
+/// after the study's flags, thresholds, progress bars.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct CheckOptions {
+    /// Which MPM (`--against`).
+    pub against: Option<Against>,
+    /// DGMPM's Courant number (`--dgmpm-courant`).
+    pub dgmpm_courant: Option<f64>,
+    /// MPM's Courant number (`--mpm-courant`).
+    pub mpm_courant: Option<f64>,
+    /// DGMPM's points per cell (`--dgmpm-points-per-cell`).
+    pub dgmpm_points_per_cell: Option<usize>,
+    /// MPM's points per cell (`--mpm-points-per-cell`).
+    pub mpm_points_per_cell: Option<usize>,
+    /// Pass/fail thresholds.
+    pub thresholds: Thresholds,
+    /// Progress bars on stderr.
+    pub progress: bool,
+}
+
+impl CheckOptions {
+    /// Refuse flags that contradict each other or are out of range, naming them.
+    pub fn validate(&self, study: &Study) -> Result<()> {
+        use impact_core::scene::{check_courant, check_points_per_cell};
+        let o = &study.overrides;
+        for (flag, own, shared) in [
+            ("--dgmpm-courant", self.dgmpm_courant, o.courant),
+            ("--mpm-courant", self.mpm_courant, o.courant),
+        ] {
+            if let Some(c) = own {
+                check_courant(flag, c)?;
+                if shared.is_some() {
+                    bail!("{flag} and --courant both given: --courant sets both methods, {flag} one; give one");
+                }
+            }
+        }
+        for (flag, own) in [
+            ("--dgmpm-points-per-cell", self.dgmpm_points_per_cell),
+            ("--mpm-points-per-cell", self.mpm_points_per_cell),
+        ] {
+            if let Some(ppc) = own {
+                check_points_per_cell(study.dim(), ppc).map_err(|mut e| {
+                    e.field = flag.into();
+                    e
+                })?;
+                if o.points_per_cell.is_some() {
+                    bail!("{flag} and --points-per-cell both given: give one");
+                }
+            }
+        }
+        if let (Some(Against::Shape(_) | Against::AllMpm), Some(shape)) = (self.against, o.shape)
+        {
+            bail!(
+                "--shape {} and --against both choose MPM's shape functions: give one",
+                shape.name()
+            );
+        }
+        let ratio = self.thresholds.min_width_ratio;
+        if !(ratio.is_finite() && ratio > 0.0) {
+            bail!("invalid value for `--min-width-ratio`: {ratio} (allowed: a positive number; 1 = strictly narrower)");
+        }
+        if let Some(cap) = self.thresholds.max_overshoot {
+            if !(cap.is_finite() && cap >= 0.0) {
+                bail!("invalid value for `--max-overshoot`: {cap} (allowed: a percentage >= 0)");
+            }
+        }
+        Ok(())
+    }
+
+    fn apply(courant: Option<f64>, ppc: Option<usize>, mut config: MethodConfig) -> MethodConfig {
+        config.courant = courant.unwrap_or(config.courant);
+        config.points_per_cell = ppc.unwrap_or(config.points_per_cell);
+        config
+    }
+}
+
 /// Run the gate on `study` in dimension `D`: DGMPM once, then each MPM of `against`; one
 /// report per MPM.
-pub fn check_study<const D: usize>(study: &Study, against: Against) -> Result<Vec<CheckReport>> {
+pub fn check_study<const D: usize>(
+    study: &Study,
+    options: &CheckOptions,
+) -> Result<Vec<CheckReport>> {
+    options.validate(study)?;
     study.check_work(&[MethodKind::Dgmpm, MethodKind::Mpm])?;
     let problem = study.problem::<D>()?;
-    let reference = crate::reference_for(&problem, false)?.with_context(|| {
+    let reference = crate::reference_for(&problem, options.progress)?.with_context(|| {
         format!(
             "scene {} has no reference to measure fronts against",
             study.name()
         )
     })?;
-    let dgmpm = study.config(MethodKind::Dgmpm);
-    let (dgmpm_record, _) = run_method(&problem, dgmpm, Some(&reference), &mut Silent)?;
+    let dgmpm = CheckOptions::apply(
+        options.dgmpm_courant,
+        options.dgmpm_points_per_cell,
+        study.config(MethodKind::Dgmpm),
+    );
+    let mpm = CheckOptions::apply(
+        options.mpm_courant,
+        options.mpm_points_per_cell,
+        study.config(MethodKind::Mpm),
+    );
+    let run = |config: MethodConfig| -> Result<RunRecord> {
+        let name = config.kind().name();
+        let (record, _) = match options.progress {
+            true => {
+                let bar = crate::run::progress_bar(name);
+                let mut observer = crate::run::Progress::new(bar, problem.t_end);
+                run_method(&problem, config, Some(&reference), &mut observer)?
+            }
+            false => run_method(&problem, config, Some(&reference), &mut Silent)?,
+        };
+        Ok(record)
+    };
+    let dgmpm_record = run(dgmpm)?;
     let mut reports = Vec::new();
-    for mpm in against.configs(study.scene_config(MethodKind::Mpm)) {
-        let (mpm_record, _) = run_method(&problem, mpm, Some(&reference), &mut Silent)?;
-        let (rows, pass) = judge(&dgmpm_record, &mpm_record, |t| reference.front(t).is_some());
+    for mpm in options.against.unwrap_or(Against::SceneMpm).configs(mpm) {
+        let mpm_record = run(mpm)?;
+        let (rows, pass) = judge(
+            &dgmpm_record,
+            &mpm_record,
+            |t| reference.front(t).is_some(),
+            &options.thresholds,
+        );
         reports.push(CheckReport {
             dgmpm,
             mpm,

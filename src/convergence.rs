@@ -216,7 +216,7 @@ pub fn table(runs: &[Level]) -> String {
 }
 
 fn write(out: &Path, scene: &str, runs: &[Level]) -> Result<()> {
-    use impact_io::plot::{line_panels, Panel, Series};
+    use impact_io::plot::{line_panels, Axis, Panel, Series};
     impact_io::write_atomic(&out.join("convergence.csv"), |w| {
         writeln!(
             w,
@@ -236,7 +236,9 @@ fn write(out: &Path, scene: &str, runs: &[Level]) -> Result<()> {
     let mut labels: Vec<&str> = runs.iter().map(|r| r.config.as_str()).collect();
     labels.dedup();
     let panel = |title: &str, error: fn(&FieldErrors) -> f64| Panel {
-        title: format!("{scene}: {title} (log10 relative error against log10 cells along x)"),
+        title: format!("{scene}: {title}"),
+        x: Axis::log("cells along x"),
+        y: Axis::log(format!("relative {title}")),
         series: labels
             .iter()
             .enumerate()
@@ -245,22 +247,19 @@ fn write(out: &Path, scene: &str, runs: &[Level]) -> Result<()> {
                 points: runs
                     .iter()
                     .filter(|r| r.config == *l && error(&r.errors) > 0.0)
-                    .map(|r| ((r.cells_x as f64).log10(), error(&r.errors).log10()))
+                    .map(|r| (r.cells_x as f64, error(&r.errors)))
                     .collect(),
                 colour: k + 1,
                 reference: false,
             })
             .collect(),
-        y_label: None,
     };
     line_panels(
         &out.join("convergence.png"),
-        &[
-            panel("L2 of σ_xx", |e| e.l2_stress),
-            panel("L2 of v_x", |e| e.l2_velocity),
+        vec![
+            panel("L2 error of σₓₓ", |e| e.l2_stress),
+            panel("L2 error of vₓ", |e| e.l2_velocity),
         ],
-        "log10 cells along x",
-        "log10 relative L2 error",
     )?;
     Ok(())
 }

@@ -7,6 +7,7 @@
 //! stability sweeps and work-precision ladders. `src/main.rs` only parses arguments and
 //! prints.
 pub mod check;
+pub mod check_report;
 pub mod convergence;
 pub mod interrupt;
 pub mod output;

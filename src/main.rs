@@ -2,7 +2,7 @@
 //! that DGMPM captures the wave front more sharply than MPM.
 use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand};
-use impact::check::{check_study, Against, Verdict};
+use impact::check::{check_study, Against, CheckOptions, Thresholds, Verdict};
 use impact::run::{run_study, RunOptions, RunRecord};
 use impact::{Overrides, Study};
 use impact_core::method::MethodKind;
@@ -36,7 +36,8 @@ enum Command {
     /// Run a scene with the selected methods; print the table and write out/<scene>/.
     Run(RunArgs),
     /// Exit 0 only if DGMPM's front width and overshoot are below MPM's at every output
-    /// time (each at the scene's Courant number; the method flags change DGMPM only).
+    /// time. The method flags apply as in `run` (`--courant`, `--points-per-cell` to both
+    /// methods; each method's own flags to it); `--dgmpm-*`/`--mpm-*` set one method.
     Check(CheckArgs),
     /// Critical Courant numbers of every method and configuration: empirical (bisection on
     /// perturbed runs) and, for DGMPM, von Neumann; writes stability.csv and stability.png.
@@ -79,6 +80,9 @@ struct RunArgs {
     /// Write only summary.json (no profiles, VTK, HDF5 or plots): no I/O at output times.
     #[arg(long)]
     no_files: bool,
+    /// Encoding of the `.vtu` files: zlib-compressed binary, or ASCII text.
+    #[arg(long, value_enum, default_value = "binary")]
+    vtu: impact_io::vtu::VtuEncoding,
 }
 
 #[derive(Args)]
@@ -86,10 +90,39 @@ struct CheckArgs {
     #[command(flatten)]
     scene: SceneArgs,
     /// The MPM to compare with: the scene's (default), the scene's with one shape function
-    /// (linear, gimp, bspline2, bspline3), or `all-mpm` (every shape function, one verdict
-    /// each; the gate passes only if DGMPM beats them all).
+    /// (linear, gimp, bspline2, bspline3, cpdi), or `all-mpm` (every shape function, one
+    /// verdict each; the gate passes only if DGMPM beats them all).
     #[arg(long)]
     against: Option<String>,
+    /// DGMPM's Courant number only (`--courant` sets both methods).
+    #[arg(long, allow_negative_numbers = true)]
+    dgmpm_courant: Option<f64>,
+    /// MPM's Courant number only.
+    #[arg(long, allow_negative_numbers = true)]
+    mpm_courant: Option<f64>,
+    /// DGMPM's points per cell only (`--points-per-cell` sets both methods).
+    #[arg(long)]
+    dgmpm_points_per_cell: Option<usize>,
+    /// MPM's points per cell only.
+    #[arg(long)]
+    mpm_points_per_cell: Option<usize>,
+    /// MPM's front width over DGMPM's must exceed this at every output time (1: strictly
+    /// narrower).
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    min_width_ratio: f64,
+    /// DGMPM's overshoot passes when at most this many % of the jump, whatever MPM's is
+    /// (default: it must be below MPM's).
+    #[arg(long, allow_negative_numbers = true)]
+    max_overshoot: Option<f64>,
+    /// Write the outcome as JSON (keys documented in the README).
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
+    /// Write the outcome as JUnit XML: one test case per output time.
+    #[arg(long, value_name = "FILE")]
+    junit: Option<PathBuf>,
+    /// No progress bars or status messages on stderr.
+    #[arg(long)]
+    quiet: bool,
 }
 
 #[derive(Subcommand)]
@@ -197,6 +230,15 @@ impl SceneArgs {
     }
 }
 
+/// Output times in seconds (7 significant digits) and in cell transits `h/c` of this grid.
+fn describe_times(times: &[f64], transit: f64) -> String {
+    times
+        .iter()
+        .map(|t| format!("{t:.6e} s ({:.2} transits)", t / transit))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 fn fmt_opt(v: Option<f64>, digits: usize) -> String {
     v.map_or("-".to_string(), |x| format!("{x:.digits$}"))
 }
@@ -234,7 +276,7 @@ fn print_rows(r: &RunRecord) {
     let mut notes: Vec<&str> = Vec::new();
     for t in &r.times {
         say!(
-            "{:<6} {:>7.3} {:>4} {:>8} {:>6} {:>8.4} {:>10.4} {:>10} {:>10} {:>11} {:>10} {:>11} {:>8} {:>8}",
+            "{:<6} {:>7.3} {:>4} {:>8} {:>6} {:>8.4} {:>10.6} {:>10} {:>10} {:>11} {:>10} {:>11} {:>8} {:>8}",
             r.method,
             r.courant,
             r.points_per_cell,
@@ -289,15 +331,11 @@ fn run_scene<const D: usize>(study: &Study, args: &RunArgs) -> Result<()> {
     study.check_work(&args.method)?;
     let problem = study.problem::<D>()?;
     say!(
-        "scene {} ({}D, {} cells, output times {:?} ms)",
+        "scene {} ({}D, {} cells), output times: {}",
         study.name(),
         D,
         problem.grid.cell_count(),
-        problem
-            .output_times
-            .iter()
-            .map(|t| (t * 1e6).round() / 1e3)
-            .collect::<Vec<_>>()
+        describe_times(&problem.output_times, study.scene.transit().1)
     );
     let options = RunOptions {
         out: args
@@ -306,6 +344,7 @@ fn run_scene<const D: usize>(study: &Study, args: &RunArgs) -> Result<()> {
             .unwrap_or_else(|| PathBuf::from("out").join(study.name())),
         quiet: args.quiet,
         no_files: args.no_files,
+        vtu: args.vtu,
     };
     let report = run_study::<D>(study, &args.method, &options)?;
     print_header();
@@ -332,18 +371,34 @@ fn run_scene<const D: usize>(study: &Study, args: &RunArgs) -> Result<()> {
 }
 
 fn check_command(args: &CheckArgs) -> Result<bool> {
-    let against = match &args.against {
-        Some(text) => Against::parse(text)?,
-        None => Against::SceneMpm,
+    let options = CheckOptions {
+        against: args.against.as_deref().map(Against::parse).transpose()?,
+        dgmpm_courant: args.dgmpm_courant,
+        mpm_courant: args.mpm_courant,
+        dgmpm_points_per_cell: args.dgmpm_points_per_cell,
+        mpm_points_per_cell: args.mpm_points_per_cell,
+        thresholds: Thresholds {
+            min_width_ratio: args.min_width_ratio,
+            max_overshoot: args.max_overshoot,
+        },
+        progress: !args.quiet,
     };
     let study = args.scene.study()?;
     let reports = match study.dim() {
-        1 => check_study::<1>(&study, against)?,
-        2 => check_study::<2>(&study, against)?,
+        1 => check_study::<1>(&study, &options)?,
+        2 => check_study::<2>(&study, &options)?,
         d => bail!("dim = {d} is not supported (allowed: 1 or 2)"),
     };
     for report in &reports {
         print_check(study.name(), report);
+    }
+    if let Some(path) = &args.json {
+        impact::check_report::write_json(path, study.name(), options.thresholds, &reports)
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    if let Some(path) = &args.junit {
+        impact::check_report::write_junit(path, study.name(), &reports)
+            .with_context(|| format!("writing {}", path.display()))?;
     }
     Ok(reports.iter().all(|r| r.pass))
 }

@@ -13,9 +13,12 @@ use anyhow::Context;
 use impact_core::method::Samples;
 use impact_core::reference::{bottom_row, Reference, TimeMetrics};
 use impact_core::{Grid, Method, StressMeasure, Vector};
-use impact_io::vtu::{write_pvd, write_vtu, CellType, DataArray, UnstructuredGrid};
+use impact_io::vtu::{write_pvd, write_vtu, CellType, DataArray, UnstructuredGrid, VtuEncoding};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
+
+/// The frame name of the initial state's `.vtu` files.
+const INITIAL: &str = "initial";
 
 /// `summary.json`.
 #[derive(Debug, Clone, Serialize)]
@@ -44,8 +47,8 @@ pub fn peak_rss_mib() -> Option<f64> {
 /// Profiles of one method: `(t, [(x, σ_xx)])` per output time.
 pub type Profiles = Vec<(f64, Vec<(f64, f64)>)>;
 
-/// σ_xx per grid cell at the last output time, for the colour map.
-pub type CellMap = Option<(f64, Vec<f64>)>;
+/// σ_xx per grid cell (`NaN` where no sample lies) at each output time, for colour maps.
+pub type CellMaps = Vec<(f64, Vec<f64>)>;
 
 /// Writes files at output times and keeps the profiles for the plots.
 pub struct FileWriter<'a, const D: usize> {
@@ -56,22 +59,26 @@ pub struct FileWriter<'a, const D: usize> {
     samples: Samples<D>,
     /// Profiles kept for `stress.png`.
     pub profiles: Profiles,
-    /// Cell averages of σ_xx at the last output, for `stress_map.png`.
-    pub last_map: CellMap,
+    /// Cell averages of σ_xx at each output, for `stress_map.png`.
+    pub maps: CellMaps,
     /// Current x positions of the bottom-row samples at each output, for `svk.png`.
     pub positions: Vec<(f64, Vec<f64>)>,
     pvd: Vec<(f64, String)>,
     pvd_grid: Vec<(f64, String)>,
     progress: Option<indicatif::ProgressBar>,
     t_end: f64,
-    /// Write files at output times (`false`: metrics only, no I/O).
+    /// Write files at output times (`false`: no I/O).
     pub files: bool,
+    /// Keep profiles, maps and positions in memory for the figures.
+    pub collect: bool,
     /// Linear elasticity in 2D: the material giving the plane-strain `σ_zz` written in the
     /// 3×3 stress tensors (`None`: the zz slot is 0: the 1D bar, and SVK, whose `Π_zz` is
     /// not tracked).
     pub plane_strain: Option<impact_core::LinearElastic>,
     /// Which stress the samples carry: names the arrays and columns.
     pub measure: StressMeasure,
+    /// How the `.vtu` arrays are encoded (`--vtu`).
+    pub encoding: VtuEncoding,
     /// The `.h5` time series (feature `hdf5`), opened at the first output.
     #[cfg(feature = "hdf5")]
     h5: Option<impact_io::h5::TimeSeries>,
@@ -94,7 +101,8 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             reference,
             samples: Samples::default(),
             profiles: Vec::new(),
-            last_map: None,
+            maps: Vec::new(),
+            collect: true,
             positions: Vec::new(),
             pvd: Vec::new(),
             pvd_grid: Vec::new(),
@@ -103,6 +111,7 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             files: true,
             plane_strain: None,
             measure: StressMeasure::Cauchy,
+            encoding: VtuEncoding::Binary,
             #[cfg(feature = "hdf5")]
             h5: None,
         }
@@ -167,8 +176,9 @@ fn vtk_order(d: usize) -> (&'static [usize], CellType) {
 }
 
 impl<const D: usize> FileWriter<'_, D> {
-    /// The bottom-row profile as CSV (with reference columns when there is one).
-    fn write_profile(&mut self, index: usize, t: f64) -> anyhow::Result<()> {
+    /// The bottom-row profile: kept for the figures and written as CSV (with reference
+    /// columns when there is one).
+    fn profile(&mut self, index: usize, t: f64) -> anyhow::Result<()> {
         let s = &self.samples;
         let bottom = bottom_row(s);
         let mut order: Vec<usize> = (0..s.len()).filter(|&i| bottom[i]).collect();
@@ -199,15 +209,20 @@ impl<const D: usize> FileWriter<'_, D> {
             columns.push(exact.iter().map(|e| e.0).collect());
             columns.push(exact.iter().map(|e| e.1).collect());
         }
-        let refs: Vec<&[f64]> = columns.iter().map(|c| c.as_slice()).collect();
-        impact_io::write_csv(&path, &header, &refs)?;
-        self.positions.push((t, columns[1].clone()));
-        self.profiles.push((t, x.into_iter().zip(sxx).collect()));
+        if self.files {
+            let refs: Vec<&[f64]> = columns.iter().map(|c| c.as_slice()).collect();
+            impact_io::write_csv(&path, &header, &refs)?;
+        }
+        if self.collect {
+            self.positions.push((t, columns[1].clone()));
+            self.profiles.push((t, x.into_iter().zip(sxx).collect()));
+        }
         Ok(())
     }
 
-    /// The samples as VTK vertices.
-    fn write_samples(&mut self, index: usize, t: f64) -> anyhow::Result<()> {
+    /// The samples as VTK vertices, in `<method>_<frame>.vtu` (and the `.h5` series at
+    /// output times).
+    fn write_samples(&mut self, frame: &str, t: f64) -> anyhow::Result<()> {
         let s = &self.samples;
         let n = s.len();
         let points: Vec<f64> = s.position.iter().flat_map(pad3).collect();
@@ -227,7 +242,7 @@ impl<const D: usize> FileWriter<'_, D> {
             .collect();
         let velocity: Vec<f64> = s.velocity.iter().flat_map(pad3).collect();
         let connectivity: Vec<usize> = (0..n).collect();
-        let file = format!("{}_t{}.vtu", self.method, index);
+        let file = format!("{}_{frame}.vtu", self.method);
         write_vtu(
             &self.dir.join(&file),
             &UnstructuredGrid {
@@ -240,16 +255,19 @@ impl<const D: usize> FileWriter<'_, D> {
                         name: self.measure.array_name(),
                         components: 9,
                         values: &stress,
+                        units: "Pa",
                     },
                     DataArray {
                         name: "velocity",
                         components: 3,
                         values: &velocity,
+                        units: "m/s",
                     },
                     DataArray {
                         name: "reference",
                         components: 3,
                         values: &reference,
+                        units: "m",
                     },
                 ]
                 .into_iter()
@@ -257,15 +275,18 @@ impl<const D: usize> FileWriter<'_, D> {
                     name: "equivalent_plastic_strain",
                     components: 1,
                     values: &s.plastic_strain,
+                    units: "1",
                 }))
                 .collect(),
                 cell_data: vec![],
+                time: Some(t),
             },
+            self.encoding,
         )
         .with_context(|| format!("writing {file}"))?;
         self.pvd.push((t, file));
         #[cfg(feature = "hdf5")]
-        {
+        if frame != INITIAL {
             if self.h5.is_none() {
                 let path = self.dir.join(format!("{}.h5", self.method));
                 let name = self.measure.array_name();
@@ -279,8 +300,9 @@ impl<const D: usize> FileWriter<'_, D> {
     }
 
     /// The grid cells with the averages of their samples (DGMPM, MPM: the Eulerian grid),
-    /// or the FEM mesh with nodal velocity and element stress (deformed by `u`).
-    fn write_grid(&mut self, method: &dyn Method<D>, index: usize, t: f64) -> anyhow::Result<()> {
+    /// or the FEM mesh with nodal velocity and element stress (deformed by `u`): σ_xx kept
+    /// for the maps at output times, the `.vtu` written when files are.
+    fn grid(&mut self, method: &dyn Method<D>, frame: &str, t: f64) -> anyhow::Result<()> {
         let g = &self.grid;
         let s = &self.samples;
         let cells = g.cell_count();
@@ -303,7 +325,12 @@ impl<const D: usize> FileWriter<'_, D> {
                 map[c] = stress[c][(0, 0)];
             }
         }
-        self.last_map = Some((t, map));
+        if self.collect && frame != INITIAL {
+            self.maps.push((t, map));
+        }
+        if !self.files {
+            return Ok(());
+        }
         let nodal = method.mesh_nodal_fields();
         let mut points: Vec<f64> = Vec::with_capacity(3 * g.vertex_count());
         for v in 0..g.vertex_count() {
@@ -334,9 +361,10 @@ impl<const D: usize> FileWriter<'_, D> {
                 name: "velocity",
                 components: 3,
                 values: &nodal_velocity,
+                units: "m/s",
             });
         }
-        let file = format!("{}_grid_t{}.vtu", self.method, index);
+        let file = format!("{}_grid_{frame}.vtu", self.method);
         write_vtu(
             &self.dir.join(&file),
             &UnstructuredGrid {
@@ -350,14 +378,18 @@ impl<const D: usize> FileWriter<'_, D> {
                         name: self.measure.array_name(),
                         components: 9,
                         values: &cell_stress,
+                        units: "Pa",
                     },
                     DataArray {
                         name: "velocity",
                         components: 3,
                         values: &cell_velocity,
+                        units: "m/s",
                     },
                 ],
+                time: Some(t),
             },
+            self.encoding,
         )
         .with_context(|| format!("writing {file}"))?;
         self.pvd_grid.push((t, file));
@@ -368,7 +400,7 @@ impl<const D: usize> FileWriter<'_, D> {
 impl<const D: usize> Observer<D> for FileWriter<'_, D> {
     fn progress(&mut self, t: f64) {
         if let Some(p) = &self.progress {
-            p.set_position((1000.0 * t / self.t_end) as u64);
+            p.set_position(crate::run::progress_position(t, self.t_end));
         }
     }
 
@@ -379,13 +411,28 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         t: f64,
         _metrics: &TimeMetrics,
     ) -> anyhow::Result<()> {
+        if !self.files && !self.collect {
+            return Ok(());
+        }
+        method.sample_into(&mut self.samples);
+        self.profile(index, t)?;
+        let frame = format!("t{index}");
+        if self.files {
+            self.write_samples(&frame, t)?;
+        }
+        self.grid(method, &frame, t)?;
+        Ok(())
+    }
+
+    /// The initial state as the `.pvd` collections' first frame (`<method>_initial.vtu`,
+    /// `<method>_grid_initial.vtu` at t = 0).
+    fn start(&mut self, method: &dyn Method<D>) -> anyhow::Result<()> {
         if !self.files {
             return Ok(());
         }
         method.sample_into(&mut self.samples);
-        self.write_profile(index, t)?;
-        self.write_samples(index, t)?;
-        self.write_grid(method, index, t)?;
+        self.write_samples(INITIAL, 0.0)?;
+        self.grid(method, INITIAL, 0.0)?;
         Ok(())
     }
 }

@@ -1,14 +1,44 @@
-//! The run's figures: `stress.png` (profiles against the reference), `svk.png` (the paper's
-//! Fig. 6) and `stress_map.png` (2D colour maps).
-use crate::output::{CellMap, Profiles};
+//! The run's figures, built from the profiles and maps kept by [`crate::output::FileWriter`]
+//! and drawn by `impact_io::plot`: profiles of σₓₓ (or Πₓₓ) against the reference
+//! ([`profile_figure`], `stress.png`; the paper's Fig. 3 and Fig. 5's bottom row), the
+//! large-strain bar ([`svk_figure`], `svk.png`; the paper's Fig. 6) and colour maps of
+//! every method and the reference at each output time ([`map_figure`],
+//! `stress_map.png`; the paper's Fig. 5). Stresses are plotted in MPa, positions in m,
+//! displacements in mm, times in ms.
+use crate::output::{CellMaps, Profiles};
 use impact_core::reference::Reference;
 use impact_core::{Grid, StressMeasure, Vector};
-use impact_io::plot::{colour_maps, line_panels, MapPanel, Panel, Series};
-use std::path::Path;
+use impact_io::plot::{robust_range, Axis, LineFigure, MapFigure, MapPanel, Panel, Series};
 
-/// The reference's σ_xx along x at `t` (averaged over cells of `length/1000` and, in 2D,
-/// over the bottom band `[0, band]`), labelled `exact` or `reference`.
-fn reference_series(r: &Reference, t: f64, length: f64, band: f64) -> Series {
+/// What one method's run kept for the figures.
+#[derive(Debug, Clone, Default)]
+pub struct Collected {
+    /// Method name (`dgmpm`, `mpm`, `fem`, or a variant's label).
+    pub name: String,
+    /// Bottom-row profiles `(t, [(X, σ_xx)])` at each output time.
+    pub profiles: Profiles,
+    /// Current x of the same samples at each output time.
+    pub positions: Vec<(f64, Vec<f64>)>,
+    /// σ_xx per grid cell at each output time.
+    pub maps: CellMaps,
+}
+
+/// Pa to MPa.
+pub const MPA: f64 = 1e-6;
+
+/// The palette index of a method: DGMPM blue, MPM vermillion, FEM green, others after.
+pub fn method_colour(name: &str, fallback: usize) -> usize {
+    match name {
+        "dgmpm" => 1,
+        "mpm" => 2,
+        "fem" => 3,
+        _ => 4 + fallback,
+    }
+}
+
+/// The reference's σ_xx (MPa) along x at `t`, averaged over 1000 cells of `length/1000`
+/// and, in 2D, over the bottom band `[0, band]`; labelled `exact` or `reference`.
+pub fn reference_series(r: &Reference, t: f64, length: f64, band: f64) -> Series {
     let n = 1000;
     let dx = length / n as f64;
     let points = (0..n)
@@ -16,153 +46,196 @@ fn reference_series(r: &Reference, t: f64, length: f64, band: f64) -> Series {
             let x = (i as f64 + 0.5) * dx;
             let lo = Vector::<2>::new(x - 0.5 * dx, 0.0);
             let hi = Vector::<2>::new(x + 0.5 * dx, band);
-            (x, r.averages(&lo, &hi, t).0)
+            (x, r.averages(&lo, &hi, t).0 * MPA)
         })
         .filter(|p| p.1.is_finite())
         .collect();
-    let label = match r {
-        Reference::Bar(_)
-        | Reference::SvkBar(_)
-        | Reference::Standing(_)
-        | Reference::Elastoplastic(_) => "exact",
-        Reference::Converged(_) => "reference",
-    };
     Series {
-        label: label.into(),
+        label: reference_label(r).into(),
         points,
         colour: 0,
         reference: true,
     }
 }
 
-/// Every method's profile at output time `t`.
-fn method_series(writers: &[(String, Profiles)], t: f64) -> Vec<Series> {
-    writers
-        .iter()
+/// `exact` for closed-form references, `reference` for a converged run.
+pub fn reference_label(r: &Reference) -> &'static str {
+    match r {
+        Reference::Converged(_) => "reference",
+        _ => "exact",
+    }
+}
+
+/// Every run's profile (MPa) at output time `t`.
+fn method_series(runs: &[Collected], t: f64) -> Vec<Series> {
+    runs.iter()
         .enumerate()
-        .filter_map(|(m, (name, profiles))| {
-            profiles
+        .filter_map(|(m, run)| {
+            run.profiles
                 .iter()
                 .find(|p| (p.0 - t).abs() <= 1e-12 * t.max(1e-30))
                 .map(|(_, pts)| Series {
-                    label: name.clone(),
-                    points: pts.clone(),
-                    colour: m + 1,
+                    label: run.name.clone(),
+                    points: pts.iter().map(|&(x, s)| (x, s * MPA)).collect(),
+                    colour: method_colour(&run.name, m),
                     reference: false,
                 })
         })
         .collect()
 }
 
-/// `stress.png`: one panel per output time (at most three), the reference and every
-/// method's σ_xx along x (the bottom row in 2D: the reference averaged over `band`).
-pub fn stress_plot(
-    path: &Path,
-    scene: &str,
-    measure: StressMeasure,
-    writers: &[(String, Profiles)],
-    reference: Option<&Reference>,
-    length: f64,
-    band: f64,
-) -> anyhow::Result<()> {
-    let times: Vec<f64> = writers
+/// The output times of the longest run; at most three (first, middle, last).
+pub fn picked_times(runs: &[Collected]) -> Vec<f64> {
+    let times: Vec<f64> = runs
         .iter()
-        .map(|w| w.1.iter().map(|p| p.0).collect::<Vec<_>>())
+        .map(|r| r.profiles.iter().map(|p| p.0).collect::<Vec<_>>())
         .max_by_key(|t| t.len())
         .unwrap_or_default();
-    let picks: Vec<usize> = match times.len() {
-        0..=3 => (0..times.len()).collect(),
-        n => vec![0, n / 2, n - 1],
-    };
-    let mut panels = Vec::new();
-    for &k in &picks {
-        let t = times[k];
-        let mut series: Vec<Series> = reference
-            .map(|r| reference_series(r, t, length, band))
-            .into_iter()
-            .collect();
-        series.extend(method_series(writers, t));
-        panels.push(Panel {
-            title: format!("{scene}: t = {:.4} ms", t * 1e3),
-            series,
-            y_label: None,
-        });
+    match times.len() {
+        0..=3 => times,
+        n => vec![times[0], times[n / 2], times[n - 1]],
     }
-    let y_label = if band > 0.0 {
-        format!("{} along the bottom (Pa)", measure.xx_label())
-    } else {
-        format!("{} (Pa)", measure.xx_label())
-    };
-    line_panels(path, &panels, "x (m)", &y_label)?;
-    Ok(())
 }
 
-/// `svk.png` (large strain, 1D; the paper's Fig. 6): the current positions of DGMPM's
-/// points at each output time (top) and the first Piola–Kirchhoff stress of every method
-/// against the exact solution at the last output time (bottom).
-pub fn svk_plot(
-    path: &Path,
+/// Profiles of σₓₓ along x at each of `times` (one panel each, stacked), every run and the
+/// reference (in 2D the bottom row of cells, the reference averaged over `band`).
+pub fn profile_figure(
     scene: &str,
-    positions: &[(f64, Vec<f64>)],
-    writers: &[(String, Profiles)],
+    measure: StressMeasure,
+    runs: &[Collected],
+    reference: Option<&Reference>,
+    (length, band): (f64, f64),
+    times: &[f64],
+) -> LineFigure {
+    let where_ = if band > 0.0 { " along the bottom row" } else { "" };
+    let panels = times
+        .iter()
+        .map(|&t| {
+            let mut series: Vec<Series> = reference
+                .map(|r| reference_series(r, t, length, band))
+                .into_iter()
+                .collect();
+            series.extend(method_series(runs, t));
+            Panel {
+                title: format!("{scene}: {}{where_}, t = {:.4} ms", measure.xx_symbol(), t * 1e3),
+                x: Axis::linear("x (m)"),
+                y: Axis::linear(format!("{} (MPa)", measure.xx_symbol())),
+                series,
+            }
+        })
+        .collect();
+    LineFigure {
+        panels,
+        columns: 1,
+        panel_size: (900, 320),
+    }
+}
+
+/// The large-strain bar (the paper's Fig. 6): the displacement `u = x − X` of DGMPM's
+/// points along the bar at each output time (top: the motion the positions alone would
+/// hide, 4 cm on 6 m) and Πₓₓ of every run against the exact solution at the last time.
+pub fn svk_figure(
+    scene: &str,
+    runs: &[Collected],
     reference: Option<&Reference>,
     length: f64,
-) -> anyhow::Result<()> {
+) -> LineFigure {
     let mut top = Vec::new();
-    for (k, (t, xs)) in positions.iter().enumerate() {
-        top.push(Series {
-            label: format!("t = {:.4} ms", t * 1e3),
-            points: xs.iter().map(|&x| (x, t * 1e3)).collect(),
-            colour: k + 1,
-            reference: false,
-        });
+    if let Some(dgmpm) = runs.iter().find(|r| r.name == "dgmpm") {
+        for (k, ((t, xs), (_, profile))) in dgmpm.positions.iter().zip(&dgmpm.profiles).enumerate() {
+            top.push(Series {
+                label: format!("DGMPM u at t = {:.3} ms", t * 1e3),
+                points: xs
+                    .iter()
+                    .zip(profile)
+                    .map(|(x, (reference_x, _))| (*reference_x, (x - reference_x) * 1e3))
+                    .collect(),
+                colour: 4 + k,
+                reference: false,
+            });
+        }
     }
-    let last = positions.last().map_or(0.0, |p| p.0);
+    let last = runs
+        .iter()
+        .flat_map(|r| r.profiles.last().map(|p| p.0))
+        .fold(0.0, f64::max);
     let mut bottom: Vec<Series> = reference
         .map(|r| reference_series(r, last, length, 0.0))
         .into_iter()
         .collect();
-    bottom.extend(method_series(writers, last));
-    let panels = [
-        Panel {
-            title: format!("{scene}: DGMPM point positions (time in ms on the vertical axis)"),
-            series: top,
-            y_label: Some("t (ms)".into()),
-        },
-        Panel {
-            title: format!(
-                "{scene}: first Piola-Kirchhoff stress at t = {:.4} ms",
-                last * 1e3
-            ),
-            series: bottom,
-            y_label: Some("P_xx (Pa)".into()),
-        },
-    ];
-    line_panels(path, &panels, "x (m)", "P_xx (Pa)")?;
-    Ok(())
+    bottom.extend(method_series(runs, last));
+    LineFigure {
+        panels: vec![
+            Panel {
+                title: format!("{scene}: displacement of DGMPM's points"),
+                x: Axis::linear("X (m), reference position"),
+                y: Axis::linear("u = x − X (mm)"),
+                series: top,
+            },
+            Panel {
+                title: format!("{scene}: Πₓₓ at t = {:.3} ms", last * 1e3),
+                x: Axis::linear("X (m)"),
+                y: Axis::linear("Πₓₓ (MPa)"),
+                series: bottom,
+            },
+        ],
+        columns: 1,
+        panel_size: (900, 340),
+    }
 }
 
-/// `stress_map.png`: σ_xx per grid cell of each method at its last output time.
-pub fn stress_map(path: &Path, grid: &Grid<2>, maps: &[(String, CellMap)]) -> anyhow::Result<()> {
+/// σₓₓ maps (MPa): one row per time of `times`, one column per run and, last, the
+/// reference averaged over each cell; one colour bar with a robust range.
+pub fn map_figure(
+    grid: &Grid<2>,
+    runs: &[Collected],
+    reference: Option<&Reference>,
+    times: &[f64],
+) -> Option<MapFigure> {
     let upper = grid.upper();
-    let mut range: f64 = 0.0;
+    let extent = [grid.origin[0], upper[0], grid.origin[1], upper[1]];
     let mut panels = Vec::new();
-    for (name, map) in maps {
-        let Some((t, values)) = map else { continue };
-        range = values
-            .iter()
-            .filter(|v| v.is_finite())
-            .fold(range, |m, v| m.max(v.abs()));
-        panels.push(MapPanel {
-            title: format!("{name}: t = {:.4} ms", t * 1e3),
-            cells: grid.cells,
-            extent: [grid.origin[0], upper[0], grid.origin[1], upper[1]],
-            values: values.clone(),
-        });
+    for &t in times {
+        for run in runs {
+            if let Some((_, values)) = run.maps.iter().find(|m| (m.0 - t).abs() <= 1e-12 * t) {
+                panels.push(MapPanel {
+                    title: format!("{}, t = {:.3} ms", run.name, t * 1e3),
+                    cells: grid.cells,
+                    extent,
+                    values: values.iter().map(|v| v * MPA).collect(),
+                });
+            }
+        }
+        if let Some(r) = reference {
+            let values = (0..grid.cell_count())
+                .map(|c| {
+                    let (i, j) = (c % grid.cells[0], c / grid.cells[0]);
+                    let lo = grid.origin
+                        + Vector::<2>::new(i as f64 * grid.spacing[0], j as f64 * grid.spacing[1]);
+                    r.averages(&lo, &(lo + grid.spacing), t).0 * MPA
+                })
+                .collect();
+            panels.push(MapPanel {
+                title: format!("{}, t = {:.3} ms", reference_label(r), t * 1e3),
+                cells: grid.cells,
+                extent,
+                values,
+            });
+        }
     }
     if panels.is_empty() {
-        return Ok(());
+        return None;
     }
-    colour_maps(path, &panels, range.max(1e-300), "Cauchy stress σ_xx (Pa)")?;
-    Ok(())
+    let columns = runs.len() + usize::from(reference.is_some());
+    let range = robust_range(panels.iter().flat_map(|p| p.values.iter()));
+    Some(MapFigure {
+        panels,
+        columns: columns.max(1),
+        range,
+        label: "σₓₓ (MPa)".into(),
+        range_note: format!(
+            "colour range ±{range:.0} MPa: the 99th percentile of |σₓₓ| over all maps; beyond it \
+             saturates"
+        ),
+    })
 }

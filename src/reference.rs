@@ -8,7 +8,7 @@ pub const REFERENCE_REFINEMENT: usize = 4;
 /// The reference of `problem`: its exact solution when it has one; otherwise, in 2D, a
 /// converged solution: DGMPM (1 point per cell, CTU, forward Euler, Courant 1) on a grid
 /// [`REFERENCE_REFINEMENT`] times finer, at the same output times. `say` prints what is
-/// being computed.
+/// being computed (on stderr) and shows a progress bar.
 pub fn reference_for<const D: usize>(
     problem: &Problem<D>,
     say: bool,
@@ -26,7 +26,7 @@ pub fn reference_for<const D: usize>(
         if say {
             use std::io::Write as _;
             let _ = writeln!(
-                std::io::stdout(),
+                std::io::stderr(),
                 "no converged reference: a grid {r}x finer ({fine_cells:.2e} cells) exceeds the \
                  {:.0e}-cell limit; errors are not computed",
                 impact_core::scene::MAX_POINTS
@@ -53,9 +53,13 @@ pub fn reference_for<const D: usize>(
     if say {
         use std::io::Write as _;
         // a closed pipe only loses this line
-        let _ = writeln!(std::io::stdout(), "computing the {description}");
+        let _ = writeln!(std::io::stderr(), "computing the {description}");
     }
-    let (stress_xx, velocity_x, work) = converged_run(problem, &fine, config)?;
+    let progress = say.then(|| crate::run::progress_bar("reference"));
+    let (stress_xx, velocity_x, work) = converged_run(problem, &fine, config, progress.as_ref())?;
+    if let Some(p) = progress {
+        p.finish_and_clear();
+    }
     let cells = fine.grid.cells;
     Ok(Some(Reference::Converged(Box::new(Converged {
         description,
@@ -111,6 +115,7 @@ fn converged_run<const D: usize>(
     problem: &Problem<D>,
     fine: &Problem<D>,
     config: MethodConfig,
+    progress: Option<&indicatif::ProgressBar>,
 ) -> anyhow::Result<(Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<f64>)> {
     let mut method = crate::build(fine, config)?;
     let mut samples = impact_core::method::Samples::<D>::default();
@@ -127,7 +132,11 @@ fn converged_run<const D: usize>(
             work.push(m.external_work());
             Ok(())
         },
-        |_| {},
+        |t| {
+            if let Some(p) = progress {
+                p.set_position(crate::run::progress_position(t, problem.t_end));
+            }
+        },
     )
     .map_err(|e| match e {
         impact_core::controller::RunError::Interrupted { .. } => {

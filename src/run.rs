@@ -33,6 +33,10 @@ pub struct RunRecord {
 /// Hooks for progress and output during [`run_method`] (called on the rayon worker that
 /// runs the step loop, see [`controller::run`]).
 pub trait Observer<const D: usize>: Send {
+    /// Called once with the initial state, before the first step.
+    fn start(&mut self, _method: &dyn Method<D>) -> anyhow::Result<()> {
+        Ok(())
+    }
     /// Called after each step with the current time.
     fn progress(&mut self, _t: f64) {}
     /// Called at each output time with the method state.
@@ -44,6 +48,31 @@ pub trait Observer<const D: usize>: Send {
         _metrics: &TimeMetrics,
     ) -> anyhow::Result<()> {
         Ok(())
+    }
+}
+
+/// An observer that only moves a progress bar (cleared when dropped).
+pub struct Progress {
+    bar: indicatif::ProgressBar,
+    t_end: f64,
+}
+
+impl Progress {
+    /// Drive `bar` over `[0, t_end]`.
+    pub fn new(bar: indicatif::ProgressBar, t_end: f64) -> Self {
+        Self { bar, t_end }
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+impl<const D: usize> Observer<D> for Progress {
+    fn progress(&mut self, t: f64) {
+        self.bar.set_position(progress_position(t, self.t_end));
     }
 }
 
@@ -60,6 +89,7 @@ pub fn run_method<const D: usize>(
     observer: &mut dyn Observer<D>,
 ) -> anyhow::Result<(RunRecord, Option<Blowup>)> {
     let mut method = crate::build(problem, config)?;
+    observer.start(method.as_ref())?;
     let dx = problem.grid.spacing[0];
     let mut samples = Samples::<D>::default();
     let mut times = Vec::new();
@@ -127,6 +157,8 @@ pub struct RunOptions {
     pub quiet: bool,
     /// Write only summary.json (no profiles, VTK, HDF5 or plots).
     pub no_files: bool,
+    /// How `.vtu` arrays are encoded.
+    pub vtu: impact_io::vtu::VtuEncoding,
 }
 
 /// The outcome of [`run_study`].
@@ -145,7 +177,8 @@ pub fn run_study<const D: usize>(
     kinds: &[impact_core::MethodKind],
     options: &RunOptions,
 ) -> anyhow::Result<RunReport> {
-    use crate::output::{CellMap, FileWriter, Summary};
+    use crate::output::{FileWriter, Summary};
+    use crate::plots::Collected;
     use impact_core::method::{MethodKind, Model};
     study.check_work(kinds)?;
     let problem = study.problem::<D>()?;
@@ -161,9 +194,7 @@ pub fn run_study<const D: usize>(
         runs: Vec::new(),
         peak_rss_mib: None,
     };
-    let (mut plots, mut maps, mut failures) =
-        (Vec::new(), Vec::<(String, CellMap)>::new(), Vec::new());
-    let mut dgmpm_positions = Vec::new();
+    let (mut collected, mut failures) = (Vec::<Collected>::new(), Vec::new());
     let mut done: Vec<MethodKind> = Vec::new();
     for &kind in kinds {
         if done.contains(&kind) {
@@ -180,6 +211,8 @@ pub fn run_study<const D: usize>(
             problem.t_end,
         );
         writer.files = !options.no_files;
+        writer.collect = !options.no_files;
+        writer.encoding = options.vtu;
         writer.measure = problem.model.stress_measure();
         if D == 2 && problem.model == Model::LinearElastic {
             writer.plane_strain = Some(problem.material);
@@ -187,14 +220,12 @@ pub fn run_study<const D: usize>(
         let config = study.config(kind);
         let (mut record, blowup) = run_method(&problem, config, reference.as_ref(), &mut writer)?;
         writer.finish()?;
-        if kind == MethodKind::Dgmpm {
-            dgmpm_positions = std::mem::take(&mut writer.positions);
-        }
-        maps.push((kind.name().to_string(), writer.last_map.take()));
-        plots.push((
-            kind.name().to_string(),
-            std::mem::take(&mut writer.profiles),
-        ));
+        collected.push(Collected {
+            name: kind.name().to_string(),
+            profiles: std::mem::take(&mut writer.profiles),
+            positions: std::mem::take(&mut writer.positions),
+            maps: std::mem::take(&mut writer.maps),
+        });
         if let Some(b) = blowup {
             let cause = crate::stability::diagnose_blowup(&problem, config)
                 .map_or(String::new(), |c| format!("; {c}"));
@@ -207,15 +238,7 @@ pub fn run_study<const D: usize>(
     summary.peak_rss_mib = crate::output::peak_rss_mib();
     impact_io::write_json(&dir.join("summary.json"), &summary)?;
     if !options.no_files {
-        write_figures(
-            study.name(),
-            &problem,
-            reference.as_ref(),
-            dir,
-            &plots,
-            &maps,
-            &dgmpm_positions,
-        )?;
+        write_figures(study.name(), &problem, reference.as_ref(), dir, &collected)?;
     }
     crate::interrupt::check()?;
     folder.commit(concat!("impact ", env!("CARGO_PKG_VERSION")))?;
@@ -225,52 +248,60 @@ pub fn run_study<const D: usize>(
     })
 }
 
-/// The run's figures: `stress.png`, `svk.png` (1D SVK) and `stress_map.png` (2D).
+/// The run's figures: `stress.png` (profiles at up to three output times), `svk.png` (1D
+/// SVK) and `stress_map.png` (2D: every method and the reference at those times).
 fn write_figures<const D: usize>(
     name: &str,
     problem: &impact_core::Problem<D>,
     reference: Option<&impact_core::reference::Reference>,
     dir: &std::path::Path,
-    plots: &[(String, crate::output::Profiles)],
-    maps: &[(String, crate::output::CellMap)],
-    dgmpm_positions: &[(f64, Vec<f64>)],
+    runs: &[crate::plots::Collected],
 ) -> anyhow::Result<()> {
-    use crate::plots::{stress_map, stress_plot, svk_plot};
+    use crate::plots::{map_figure, picked_times, profile_figure, svk_figure};
     use impact_core::method::Model;
+    use impact_io::plot::save;
     let length = problem.grid.upper()[0] - problem.grid.origin[0];
     let band = if D > 1 { problem.grid.spacing[1] } else { 0.0 };
-    stress_plot(
-        &dir.join("stress.png"),
-        name,
-        problem.model.stress_measure(),
-        plots,
-        reference,
-        length,
-        band,
-    )?;
+    let times = picked_times(runs);
+    let measure = problem.model.stress_measure();
+    let profiles = profile_figure(name, measure, runs, reference, (length, band), &times);
+    save(&dir.join("stress.png"), &profiles)?;
     if D == 1 && matches!(problem.model, Model::Svk(_)) {
-        let svk = dir.join("svk.png");
-        svk_plot(&svk, name, dgmpm_positions, plots, reference, length)?;
+        save(&dir.join("svk.png"), &svk_figure(name, runs, reference, length))?;
     }
     if D == 2 {
-        let g = &problem.grid;
-        let grid2 = impact_core::Grid::<2> {
-            origin: impact_core::Vector::<2>::new(g.origin[0], g.origin[D - 1]),
-            spacing: impact_core::Vector::<2>::new(g.spacing[0], g.spacing[D - 1]),
-            cells: [g.cells[0], g.cells[D - 1]],
-        };
-        stress_map(&dir.join("stress_map.png"), &grid2, maps)?;
+        if let Some(maps) = map_figure(&plane_grid(&problem.grid), runs, reference, &times) {
+            save(&dir.join("stress_map.png"), &maps)?;
+        }
     }
     Ok(())
 }
 
-fn progress_bar(prefix: &'static str) -> indicatif::ProgressBar {
-    let bar = indicatif::ProgressBar::new(1000);
+/// The x–y grid of a 2D problem's grid (`Grid<2>` whatever `D` the caller is generic in).
+pub fn plane_grid<const D: usize>(g: &impact_core::Grid<D>) -> impact_core::Grid<2> {
+    impact_core::Grid::<2> {
+        origin: impact_core::Vector::<2>::new(g.origin[0], g.origin[D - 1]),
+        spacing: impact_core::Vector::<2>::new(g.spacing[0], g.spacing[D - 1]),
+        cells: [g.cells[0], g.cells[D - 1]],
+    }
+}
+
+/// A progress bar on stderr over `[0, t_end]` (hidden when stderr is not a terminal).
+pub fn progress_bar(prefix: &'static str) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(PROGRESS_STEPS);
     if let Ok(style) = indicatif::ProgressStyle::with_template(
-        "{prefix:>6} [{bar:40}] {percent:>3}% {elapsed_precise}",
+        "{prefix:>9} [{bar:40}] {percent:>3}% {elapsed_precise} (eta {eta})",
     ) {
         bar.set_style(style.progress_chars("=> "));
     }
     bar.set_prefix(prefix);
     bar
+}
+
+/// Ticks of a progress bar.
+const PROGRESS_STEPS: u64 = 1000;
+
+/// The bar position of time `t` in `[0, t_end]`.
+pub fn progress_position(t: f64, t_end: f64) -> u64 {
+    ((PROGRESS_STEPS as f64 * t / t_end.max(f64::MIN_POSITIVE)) as u64).min(PROGRESS_STEPS)
 }

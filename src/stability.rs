@@ -414,13 +414,6 @@ pub fn sweep<const D: usize>(
 /// Write `stability.csv`, `stability.json` and `stability.png` (critical Courant number of
 /// every configuration: empirical and von Neumann) into `dir`.
 pub fn write(dir: &std::path::Path, rows: &[StabilityRow]) -> anyhow::Result<()> {
-    use impact_io::plot::{line_panels, Panel, Series};
-    let label = |r: &StabilityRow| {
-        format!(
-            "{}D {} {}ppc {} {} {}",
-            r.dim, r.method, r.points_per_cell, r.integrator, r.flux, r.update
-        )
-    };
     let csv_path = dir.join("stability.csv");
     impact_io::write_atomic(&csv_path, |w| {
         writeln!(
@@ -446,54 +439,41 @@ pub fn write(dir: &std::path::Path, rows: &[StabilityRow]) -> anyhow::Result<()>
         Ok(())
     })?;
     impact_io::write_json(&dir.join("stability.json"), &rows)?;
-    let mut panels = Vec::new();
-    for d in [1, 2] {
-        let of_dim: Vec<&StabilityRow> = rows.iter().filter(|r| r.dim == d).collect();
-        if of_dim.is_empty() {
-            continue;
-        }
-        let empirical = of_dim
-            .iter()
-            .enumerate()
-            .map(|(k, r)| (k as f64, r.empirical))
-            .collect();
-        let von_neumann = of_dim
-            .iter()
-            .enumerate()
-            .filter_map(|(k, r)| r.von_neumann.map(|v| (k as f64, v)))
-            .collect();
-        let names: Vec<String> = of_dim
-            .iter()
-            .enumerate()
-            .map(|(k, r)| format!("{k}: {}", label(r)))
-            .collect();
-        panels.push(Panel {
-            title: format!(
-                "{d}D critical Courant number per configuration ({})",
-                names.join("; ")
-            ),
-            series: vec![
-                Series {
-                    label: "empirical".into(),
-                    points: empirical,
-                    colour: 2,
-                    reference: false,
-                },
-                Series {
-                    label: "von Neumann".into(),
-                    points: von_neumann,
-                    colour: 1,
-                    reference: false,
-                },
-            ],
-            y_label: None,
-        });
-    }
-    line_panels(
-        &dir.join("stability.png"),
-        &panels,
-        "configuration",
-        "critical Courant number",
+    chart(&dir.join("stability.png"), rows)?;
+    Ok(())
+}
+
+/// The critical Courant number of every configuration as grouped bars (empirical, von
+/// Neumann, monotonicity), one category per configuration, into `path` (PNG or SVG).
+pub fn chart(path: &std::path::Path, rows: &[StabilityRow]) -> anyhow::Result<()> {
+    use impact_io::plot::{bar_chart, BarGroup};
+    let label = |r: &StabilityRow| {
+        format!(
+            "{}D {} {}ppc {} {} {}",
+            r.dim, r.method, r.points_per_cell, r.integrator, r.flux, r.update
+        )
+    };
+    let categories = rows.iter().map(label).collect();
+    let groups = vec![
+        BarGroup {
+            label: "empirical".into(),
+            values: rows.iter().map(|r| Some(r.empirical)).collect(),
+        },
+        BarGroup {
+            label: "von Neumann".into(),
+            values: rows.iter().map(|r| r.von_neumann).collect(),
+        },
+        BarGroup {
+            label: "monotone up to".into(),
+            values: rows.iter().map(|r| r.monotone).collect(),
+        },
+    ];
+    bar_chart(
+        path,
+        "critical Courant number per configuration",
+        "critical Courant number c·Δt/Δx",
+        categories,
+        groups,
     )?;
     Ok(())
 }

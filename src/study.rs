@@ -15,7 +15,8 @@ use impact_core::{CoreError, Problem, SceneError};
 /// [`impact_core::options`]).
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct Overrides {
-    /// Cells along x (other axes scaled to keep the cell shape).
+    /// Cells along x (other axes scaled to keep the cell shape). Output times stay in
+    /// seconds: a scene's `output_transits` count on its own grid.
     #[arg(long)]
     pub cells: Option<usize>,
     /// Courant number c·Δt/Δx, in (0, 2].
@@ -142,6 +143,12 @@ impl Overrides {
                     cells,
                     "at least 1 cell (at most 1e8)",
                 ));
+            }
+            // output times stay physical: transits count on the scene file's own grid
+            if scene.time.output_transits.is_some() {
+                let (times, _) = scene.schedule_seconds();
+                scene.time.output_times = Some(times);
+                scene.time.output_transits = None;
             }
             let ratio = cells as f64 / scene.domain.cells[0] as f64;
             for (l, n) in scene.domain.cells.iter_mut().enumerate() {

@@ -426,7 +426,6 @@ pub fn summarize_dir(dir: &Path) -> Result<String> {
 }
 
 fn write(out: &Path, scene: &str, points: &[Point]) -> Result<()> {
-    use impact_io::plot::{line_panels, Panel, Series};
     impact_io::write_atomic(&out.join("work_precision.csv"), |w| {
         writeln!(
             w,
@@ -451,34 +450,53 @@ fn write(out: &Path, scene: &str, points: &[Point]) -> Result<()> {
         Ok(())
     })?;
     impact_io::write_json(&out.join("work_precision.json"), &points)?;
+    impact_io::plot::save(&out.join("work_precision.png"), &figure(scene, points))?;
+    Ok(())
+}
+
+/// Error against wall time on log-log axes, one series per configuration.
+pub fn figure(scene: &str, points: &[Point]) -> impact_io::plot::LineFigure {
+    use impact_io::plot::{Axis, LineFigure, Panel, Series};
     let mut labels: Vec<&str> = points.iter().map(|p| p.config.as_str()).collect();
     labels.dedup();
+    // configurations exact to round-off everywhere would squeeze the others into a band
+    // 12 decades above them: named in the title instead of drawn
+    let exact: Vec<&str> = labels
+        .iter()
+        .copied()
+        .filter(|l| {
+            let mine: Vec<&Point> = points.iter().filter(|p| p.config == *l).collect();
+            !mine.is_empty() && mine.iter().all(|p| p.error.is_none() && p.l1_rel <= EXACT)
+        })
+        .collect();
     let series = labels
         .iter()
         .enumerate()
         .map(|(k, l)| Series {
-            label: l.to_string(),
+            label: if exact.contains(l) {
+                format!("{l}: exact, not drawn")
+            } else {
+                l.to_string()
+            },
             points: points
                 .iter()
-                .filter(|p| p.config == *l && p.error.is_none() && p.l1_rel > 0.0 && p.wall_s > 0.0)
-                .map(|p| (p.wall_s.log10(), p.l1_rel.max(1e-16).log10()))
+                .filter(|p| p.config == *l && p.error.is_none() && p.l1_rel > EXACT && p.wall_s > 0.0)
+                .map(|p| (p.wall_s, p.l1_rel))
                 .collect(),
             colour: k + 1,
             reference: false,
         })
         .collect();
-    let panel = Panel {
-        title: format!("{scene}: work-precision (log10 L1 error against log10 wall time)"),
-        series,
-        y_label: None,
-    };
-    line_panels(
-        &out.join("work_precision.png"),
-        &[panel],
-        "log10 wall time of the stepping (s)",
-        "log10 relative L1 error",
-    )?;
-    Ok(())
+    LineFigure {
+        panels: vec![Panel {
+            title: format!("{scene}: work-precision"),
+            x: Axis::log("wall time of the stepping (s)"),
+            y: Axis::log("relative L1 error of σₓₓ"),
+            series,
+        }],
+        columns: 1,
+        panel_size: (900, 560),
+    }
 }
 
 /// The default output folder.

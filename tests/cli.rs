@@ -183,11 +183,12 @@ fn check_prints_the_figures_of_a_smeared_dgmpm() {
     let o = impact(&[
         "check",
         "bar",
-        "--points-per-cell",
+        "--quiet",
+        "--dgmpm-points-per-cell",
         "4",
         "--integrator",
         "rk2",
-        "--courant",
+        "--dgmpm-courant",
         "0.3",
     ]);
     let out = text(&o);

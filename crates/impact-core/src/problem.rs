@@ -176,8 +176,16 @@ impl StressMeasure {
     /// A plot label for the xx component.
     pub fn xx_label(self) -> &'static str {
         match self {
-            StressMeasure::Cauchy => "Cauchy stress σ_xx",
-            StressMeasure::FirstPiola => "first Piola–Kirchhoff stress P_xx",
+            StressMeasure::Cauchy => "Cauchy stress σₓₓ",
+            StressMeasure::FirstPiola => "first Piola–Kirchhoff stress Πₓₓ",
+        }
+    }
+
+    /// The xx component's symbol on plot axes (`σₓₓ`, `Πₓₓ`: the paper's names).
+    pub fn xx_symbol(self) -> &'static str {
+        match self {
+            StressMeasure::Cauchy => "σₓₓ",
+            StressMeasure::FirstPiola => "Πₓₓ",
         }
     }
 }

@@ -399,8 +399,9 @@ impl Scene {
         (material, modulus)
     }
 
-    /// Smallest cell size and the time a P wave takes to cross it.
-    fn transit(&self) -> (f64, f64) {
+    /// Smallest cell size and the time a P wave takes to cross it (the unit of
+    /// `output_transits`).
+    pub fn transit(&self) -> (f64, f64) {
         let d = &self.domain;
         let spacing = d
             .length

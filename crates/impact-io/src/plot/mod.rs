@@ -1,0 +1,194 @@
+//! Figures drawn with plotters: PNG (bitmap backend, DejaVu Sans embedded: no system
+//! libraries or fonts needed) or SVG (plotters' SVG backend), chosen by the file's
+//! extension, each written atomically.
+//!
+//! Conventions every figure follows (issue 13): axis labels with symbol and unit; tick
+//! labels without exponents on linear axes (the caller scales values to a readable unit,
+//! e.g. MPa) and `10ⁿ` at every decade on log axes (plotters' log coordinates over whole
+//! decades, [`decade_range`]); the legend in its own column beside the panels; lines 2 px
+//! wide (3 px for the exact/reference curve); markers only on sparse series
+//! ([`MARKER_LIMIT`]); the Okabe–Ito colour-blind-safe palette ([`colour`]) with marker
+//! shapes cycling too, so more than seven series stay apart; maps with a colour bar
+//! (`colorous`' ColorBrewer RdBu, centred at zero, range from [`robust_range`]) and grey
+//! for cells without data.
+//!
+//! Layout: `lines` (line panels, linear or log axes), `maps` (colour maps with a colour
+//! bar), `bars` (grouped horizontal bars over named categories).
+mod bars;
+mod lines;
+mod maps;
+
+pub use bars::{bar_chart, BarGroup};
+pub use lines::{line_panels, Axis, LineFigure, Panel, Series};
+pub use maps::{colour_maps, robust_range, MapFigure, MapPanel};
+
+use crate::IoError;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::Once;
+
+static FONT: Once = Once::new();
+
+fn register_font() {
+    FONT.call_once(|| {
+        // the embedded font is valid TrueType; a failure would only lose the labels
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            plotters::style::FontStyle::Normal,
+            dejavu::sans::regular(),
+        );
+    });
+}
+
+/// Series with at most this many points get markers; denser ones are lines only.
+pub const MARKER_LIMIT: usize = 40;
+
+/// Okabe & Ito (2008) colour-blind-safe palette: 0 is black (exact/reference), then blue,
+/// vermillion, bluish green, reddish purple, orange, sky blue, yellow; cycles beyond.
+pub fn colour(index: usize) -> RGBColor {
+    const OKABE_ITO: [RGBColor; 8] = [
+        RGBColor(0, 0, 0),
+        RGBColor(0, 114, 178),
+        RGBColor(213, 94, 0),
+        RGBColor(0, 158, 115),
+        RGBColor(204, 121, 167),
+        RGBColor(230, 159, 0),
+        RGBColor(86, 180, 233),
+        RGBColor(240, 228, 66),
+    ];
+    if index == 0 {
+        return OKABE_ITO[0];
+    }
+    OKABE_ITO[1 + (index - 1) % 7]
+}
+
+/// A whole-decade range `[10^a, 10^b]` holding `[low, high]` (positive), at least two
+/// decades wide, so plotters' log coordinates put a labelled tick at every power of ten.
+pub fn decade_range(low: f64, high: f64) -> (f64, f64) {
+    let (low, high) = if low > 0.0 && high >= low && high.is_finite() {
+        (low, high)
+    } else {
+        (1.0, 10.0)
+    };
+    let mut a = low.log10().floor();
+    let mut b = high.log10().ceil();
+    if b - a < 2.0 {
+        let missing = 2.0 - (b - a);
+        a -= (missing / 2.0).ceil();
+        b += (missing / 2.0).floor();
+    }
+    (10f64.powf(a), 10f64.powf(b))
+}
+
+/// `10ⁿ` with a superscript exponent for a power of ten; a plain short number otherwise.
+pub fn decade_label(value: f64) -> String {
+    let exponent = value.log10().round();
+    if value > 0.0 && (value / 10f64.powf(exponent) - 1.0).abs() < 1e-9 {
+        const SUPERSCRIPT: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+        let mut text = String::from("10");
+        if exponent < 0.0 {
+            text.push('⁻');
+        }
+        for digit in format!("{}", exponent.abs() as i64).chars() {
+            text.push(SUPERSCRIPT[digit.to_digit(10).unwrap_or(0) as usize]);
+        }
+        text
+    } else {
+        format!("{value:.3}")
+    }
+}
+
+/// A tick label on a linear axis whose ticks are about `step` apart: fixed-point with just
+/// enough decimals, never an exponent.
+pub fn linear_label(value: f64, step: f64) -> String {
+    let decimals = if step > 0.0 && step.is_finite() {
+        (-(step.log10().floor())).clamp(0.0, 8.0) as usize
+    } else {
+        2
+    };
+    let text = format!("{value:.decimals$}");
+    // "-0" and "-0.00" read as zero
+    if text.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+        text.trim_start_matches('-').to_string()
+    } else {
+        text
+    }
+}
+
+/// A figure that draws itself on any plotters backend.
+pub trait Draw {
+    /// Size in pixels (PNG) or user units (SVG).
+    fn size(&self) -> (u32, u32);
+    /// Draw onto `root`.
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String>;
+}
+
+/// Draw `figure` into `path`: SVG when the extension is `svg`, PNG otherwise; written to a
+/// temporary name and renamed.
+pub fn save(path: &Path, figure: &impl Draw) -> Result<(), IoError> {
+    register_font();
+    let err = |message: String| IoError::Plot {
+        path: path.to_path_buf(),
+        message,
+    };
+    let svg = path.extension().is_some_and(|e| e == "svg");
+    let tmp = crate::temporary_path(path).with_extension(if svg { "tmp.svg" } else { "tmp.png" });
+    let result = if svg {
+        let root = SVGBackend::new(&tmp, figure.size()).into_drawing_area();
+        figure
+            .draw(&root)
+            .and_then(|_| root.present().map_err(|e| e.to_string()))
+    } else {
+        let root = BitMapBackend::new(&tmp, figure.size()).into_drawing_area();
+        figure
+            .draw(&root)
+            .and_then(|_| root.present().map_err(|e| e.to_string()))
+    };
+    if let Err(message) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(err(message));
+    }
+    std::fs::rename(&tmp, path).map_err(|source| IoError::File {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// A plotters error as text.
+fn text<E: std::fmt::Debug>(e: E) -> String {
+    format!("{e:?}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use plotters::coord::ranged1d::{LogCoord, Ranged};
+
+    #[test]
+    fn log_axes_tick_at_every_power_of_ten() {
+        for (low, high) in [(3.2e-5, 0.7), (0.011, 0.09), (2.0, 2.5), (1e-3, 1e3)] {
+            let (a, b) = decade_range(low, high);
+            assert!(a <= low && b >= high && b / a >= 99.9, "{low}..{high}: {a}..{b}");
+            let coord: LogCoord<f64> = (a..b).log_scale().into();
+            let ticks = coord.key_points(10);
+            let decades = (b / a).log10().round() as usize;
+            assert_eq!(ticks.len(), decades + 1, "{ticks:?}");
+            for t in &ticks {
+                let exponent = t.log10().round();
+                assert!((t / 10f64.powf(exponent) - 1.0).abs() < 1e-12, "{t} in {ticks:?}");
+            }
+        }
+        assert_eq!(decade_label(1e-3), "10⁻³");
+        assert_eq!(decade_label(100.0), "10²");
+        assert_eq!(decade_label(1.0), "10⁰");
+    }
+
+    #[test]
+    fn linear_labels_have_no_exponent() {
+        assert_eq!(linear_label(-250.0, 50.0), "-250");
+        assert_eq!(linear_label(0.35, 0.05), "0.35");
+        assert_eq!(linear_label(-0.0, 0.5), "0.0");
+        assert!(!linear_label(1234.5, 100.0).contains('e'));
+    }
+}

@@ -1,0 +1,197 @@
+//! `impact check --json FILE` and `--junit FILE`: the gate's outcome for CI systems.
+//!
+//! JSON (`CheckJson`): `scene`, `pass`, `thresholds`, and per compared MPM a `reports`
+//! entry with `mpm_shape`, `pass`, the two configurations (`dgmpm`, `mpm`: method,
+//! courant, points_per_cell, integrator), their `stopped` messages, and `rows`, one per
+//! output time (`t` in s, `verdict` = `pass|fail|run-stopped|no-front`, `dgmpm_front`,
+//! `mpm_front` in cells, `dgmpm_overshoot`, `mpm_overshoot` in %, and `second` for the
+//! plastic wave of an elastoplastic reference).
+//!
+//! JUnit XML (the schema GitHub Actions' test reporters, GitLab's `artifacts:reports:junit`
+//! and Jenkins' `junit` step read): one `<testsuite>` per compared MPM, one `<testcase>`
+//! per output time, with a `<failure>` when that time fails (or a run stopped before it)
+//! and `<skipped>` when the reference has no front then.
+use crate::check::{CheckReport, CheckRow, Thresholds, Verdict};
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// One configuration, as the JSON states it.
+#[derive(Debug, Serialize)]
+struct ConfigJson<'a> {
+    method: &'a str,
+    courant: f64,
+    points_per_cell: usize,
+    integrator: &'a str,
+}
+
+#[derive(Debug, Serialize)]
+struct ReportJson<'a> {
+    mpm_shape: &'a str,
+    pass: bool,
+    dgmpm: ConfigJson<'a>,
+    mpm: ConfigJson<'a>,
+    stopped: Vec<&'a str>,
+    rows: &'a [CheckRow],
+}
+
+/// The `--json` document.
+#[derive(Debug, Serialize)]
+struct CheckJson<'a> {
+    scene: &'a str,
+    pass: bool,
+    thresholds: Thresholds,
+    reports: Vec<ReportJson<'a>>,
+}
+
+fn config(record: &crate::run::RunRecord) -> ConfigJson<'_> {
+    ConfigJson {
+        method: &record.method,
+        courant: record.courant,
+        points_per_cell: record.points_per_cell,
+        integrator: &record.integrator,
+    }
+}
+
+fn shape(report: &CheckReport) -> &'static str {
+    report.mpm.mpm().map_or("-", |o| o.shape.name())
+}
+
+/// Write the JSON document (atomically).
+pub fn write_json(
+    path: &Path,
+    scene: &str,
+    thresholds: Thresholds,
+    reports: &[CheckReport],
+) -> anyhow::Result<()> {
+    let doc = CheckJson {
+        scene,
+        pass: reports.iter().all(|r| r.pass),
+        thresholds,
+        reports: reports
+            .iter()
+            .map(|r| ReportJson {
+                mpm_shape: shape(r),
+                pass: r.pass,
+                dgmpm: config(&r.dgmpm_record),
+                mpm: config(&r.mpm_record),
+                stopped: [&r.dgmpm_record.error, &r.mpm_record.error]
+                    .into_iter()
+                    .flatten()
+                    .map(String::as_str)
+                    .collect(),
+                rows: &r.rows,
+            })
+            .collect(),
+    };
+    impact_io::write_json(path, &doc)?;
+    Ok(())
+}
+
+/// XML text with `&`, `<`, `>`, `"` escaped.
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+fn cells(v: Option<f64>) -> String {
+    v.map_or("undefined".into(), |x| format!("{x:.3}"))
+}
+
+/// What a failing row measured, for the `<failure>` message.
+fn failure_message(row: &CheckRow) -> String {
+    let mut text = format!(
+        "front width DGMPM {} vs MPM {} cells, overshoot DGMPM {} vs MPM {} %",
+        cells(row.dgmpm_front),
+        cells(row.mpm_front),
+        cells(row.dgmpm_overshoot),
+        cells(row.mpm_overshoot)
+    );
+    if let Some(s) = row.second {
+        let _ = write!(
+            text,
+            "; plastic wave: width DGMPM {} vs MPM {} cells, overshoot DGMPM {} vs MPM {} %",
+            cells(s.dgmpm_front),
+            cells(s.mpm_front),
+            cells(s.dgmpm_overshoot),
+            cells(s.mpm_overshoot)
+        );
+    }
+    text
+}
+
+/// Write the JUnit XML document (atomically).
+pub fn write_junit(path: &Path, scene: &str, reports: &[CheckReport]) -> anyhow::Result<()> {
+    let mut xml = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let total: usize = reports.iter().map(|r| r.rows.len()).sum();
+    let failing = |r: &CheckReport| {
+        r.rows
+            .iter()
+            .filter(|row| matches!(row.verdict, Verdict::Fail | Verdict::RunStopped))
+            .count()
+    };
+    let failures: usize = reports.iter().map(failing).sum();
+    let _ = writeln!(
+        xml,
+        "<testsuites name=\"impact check {}\" tests=\"{total}\" failures=\"{failures}\">",
+        escape(scene)
+    );
+    for r in reports {
+        let skipped = r
+            .rows
+            .iter()
+            .filter(|row| row.verdict == Verdict::NoFront)
+            .count();
+        let suite = format!("impact check {scene}: DGMPM vs MPM ({})", shape(r));
+        let wall = r.dgmpm_record.wall_s + r.mpm_record.wall_s;
+        let _ = writeln!(
+            xml,
+            "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" skipped=\"{skipped}\" \
+             time=\"{wall:.3}\">",
+            escape(&suite),
+            r.rows.len(),
+            failing(r)
+        );
+        for row in &r.rows {
+            let _ = write!(
+                xml,
+                "    <testcase classname=\"impact.check.{}\" name=\"t = {:.6e} s\">",
+                escape(scene),
+                row.t
+            );
+            match row.verdict {
+                Verdict::Pass => {}
+                Verdict::Fail => {
+                    let _ = write!(
+                        xml,
+                        "<failure message=\"{}\" type=\"gate\"/>",
+                        escape(&failure_message(row))
+                    );
+                }
+                Verdict::RunStopped => {
+                    let why = [&r.dgmpm_record.error, &r.mpm_record.error]
+                        .into_iter()
+                        .flatten()
+                        .cloned()
+                        .collect::<Vec<_>>()
+                        .join("; ");
+                    let _ = write!(
+                        xml,
+                        "<failure message=\"a run stopped before this time: {}\" type=\"stopped\"/>",
+                        escape(&why)
+                    );
+                }
+                Verdict::NoFront => {
+                    xml.push_str("<skipped message=\"the reference has no front at this time\"/>");
+                }
+            }
+            xml.push_str("</testcase>\n");
+        }
+        xml.push_str("  </testsuite>\n");
+    }
+    xml.push_str("</testsuites>\n");
+    impact_io::write_atomic(path, |w| w.write_all(xml.as_bytes()))?;
+    Ok(())
+}
