@@ -177,11 +177,7 @@ pub fn judge(
                     )
             });
             if thresholds.width_ok(worse(r.dgmpm_front), worse(r.mpm_front))
-                && thresholds.overshoot_ok(
-                    worse(r.dgmpm_overshoot),
-                    worse(r.mpm_overshoot),
-                    true,
-                )
+                && thresholds.overshoot_ok(worse(r.dgmpm_overshoot), worse(r.mpm_overshoot), true)
                 && second_ok
             {
                 Verdict::Pass
@@ -288,8 +284,7 @@ impl CheckOptions {
                 }
             }
         }
-        if let (Some(Against::Shape(_) | Against::AllMpm), Some(shape)) = (self.against, o.shape)
-        {
+        if let (Some(Against::Shape(_) | Against::AllMpm), Some(shape)) = (self.against, o.shape) {
             bail!(
                 "--shape {} and --against both choose MPM's shape functions: give one",
                 shape.name()

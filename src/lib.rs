@@ -9,6 +9,7 @@
 pub mod check;
 pub mod check_report;
 pub mod convergence;
+pub mod figures;
 pub mod interrupt;
 pub mod output;
 pub mod plots;

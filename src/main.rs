@@ -47,8 +47,27 @@ enum Command {
         #[command(subcommand)]
         what: BenchCommand,
     },
+    /// The paper's Fig. 3, 5 and 6 and the studies (work-precision, stability, MPM
+    /// variants, elastoplastic fronts) as PNG and SVG, with index.html.
+    Figures(FiguresArgs),
     /// List the shipped scenes.
     Scenes,
+}
+
+#[derive(Args)]
+struct FiguresArgs {
+    /// Figures to make (default: all); the others already in the folder are kept.
+    #[arg(value_enum)]
+    figures: Vec<impact::figures::FigureName>,
+    /// Output folder.
+    #[arg(long, default_value = "figures")]
+    out: PathBuf,
+    /// Paper-scale ladders and sweeps (minutes to an hour) instead of the reduced ones.
+    #[arg(long)]
+    full: bool,
+    /// No progress bars or status lines on stderr.
+    #[arg(long)]
+    quiet: bool,
 }
 
 #[derive(Args, Clone)]
@@ -520,6 +539,21 @@ fn work_precision_command(scene: &str, levels: Option<usize>, out: Option<PathBu
     Ok(())
 }
 
+fn figures_command(args: &FiguresArgs) -> Result<()> {
+    let index = impact::figures::run(&impact::figures::FiguresOptions {
+        out: args.out.clone(),
+        full: args.full,
+        only: args.figures.clone(),
+        progress: !args.quiet,
+    })?;
+    for e in &index.entries {
+        let stems: Vec<&str> = e.images.iter().map(|i| i.stem.as_str()).collect();
+        say!("{:<15} {:>7.2} s  {}", e.name, e.seconds, stems.join(", "));
+    }
+    say!("wrote {}", args.out.join("index.html").display());
+    Ok(())
+}
+
 fn stability_command(args: &StabilityArgs) -> Result<()> {
     use impact::stability::{sweep, StabilityRow};
     for &d in &args.dim {
@@ -594,6 +628,7 @@ fn main() {
     }
     let result = match &cli.command {
         Command::Run(a) => run_command(a).map(|_| true),
+        Command::Figures(a) => figures_command(a).map(|_| true),
         Command::Check(a) => check_command(a),
         Command::Stability(a) => stability_command(a).map(|_| true),
         Command::Bench {

@@ -26,14 +26,20 @@ pub struct Collected {
 /// Pa to MPa.
 pub const MPA: f64 = 1e-6;
 
-/// The palette index of a method: DGMPM blue, MPM vermillion, FEM green, others after.
-pub fn method_colour(name: &str, fallback: usize) -> usize {
-    match name {
-        "dgmpm" => 1,
-        "mpm" => 2,
-        "fem" => 3,
-        _ => 4 + fallback,
-    }
+/// The palette index of each run: DGMPM blue, MPM vermillion, FEM green wherever they
+/// appear; other labels (variants) the free colours after them, in order.
+pub fn method_colours(runs: &[Collected]) -> Vec<usize> {
+    let fixed = |name: &str| match name {
+        "dgmpm" => Some(1),
+        "mpm" => Some(2),
+        "fem" => Some(3),
+        _ => None,
+    };
+    let taken: Vec<usize> = runs.iter().filter_map(|r| fixed(&r.name)).collect();
+    let mut free = (1..).filter(move |c| !taken.contains(c));
+    runs.iter()
+        .map(|r| fixed(&r.name).unwrap_or_else(|| free.next().unwrap_or(1)))
+        .collect()
 }
 
 /// The reference's σ_xx (MPa) along x at `t`, averaged over 1000 cells of `length/1000`
@@ -68,6 +74,7 @@ pub fn reference_label(r: &Reference) -> &'static str {
 
 /// Every run's profile (MPa) at output time `t`.
 fn method_series(runs: &[Collected], t: f64) -> Vec<Series> {
+    let colours = method_colours(runs);
     runs.iter()
         .enumerate()
         .filter_map(|(m, run)| {
@@ -77,7 +84,7 @@ fn method_series(runs: &[Collected], t: f64) -> Vec<Series> {
                 .map(|(_, pts)| Series {
                     label: run.name.clone(),
                     points: pts.iter().map(|&(x, s)| (x, s * MPA)).collect(),
-                    colour: method_colour(&run.name, m),
+                    colour: colours[m],
                     reference: false,
                 })
         })
@@ -107,7 +114,11 @@ pub fn profile_figure(
     (length, band): (f64, f64),
     times: &[f64],
 ) -> LineFigure {
-    let where_ = if band > 0.0 { " along the bottom row" } else { "" };
+    let where_ = if band > 0.0 {
+        " along the bottom row"
+    } else {
+        ""
+    };
     let panels = times
         .iter()
         .map(|&t| {
@@ -117,7 +128,11 @@ pub fn profile_figure(
                 .collect();
             series.extend(method_series(runs, t));
             Panel {
-                title: format!("{scene}: {}{where_}, t = {:.4} ms", measure.xx_symbol(), t * 1e3),
+                title: format!(
+                    "{scene}: {}{where_}, t = {:.4} ms",
+                    measure.xx_symbol(),
+                    t * 1e3
+                ),
                 x: Axis::linear("x (m)"),
                 y: Axis::linear(format!("{} (MPa)", measure.xx_symbol())),
                 series,
@@ -142,7 +157,8 @@ pub fn svk_figure(
 ) -> LineFigure {
     let mut top = Vec::new();
     if let Some(dgmpm) = runs.iter().find(|r| r.name == "dgmpm") {
-        for (k, ((t, xs), (_, profile))) in dgmpm.positions.iter().zip(&dgmpm.profiles).enumerate() {
+        for (k, ((t, xs), (_, profile))) in dgmpm.positions.iter().zip(&dgmpm.profiles).enumerate()
+        {
             top.push(Series {
                 label: format!("DGMPM u at t = {:.3} ms", t * 1e3),
                 points: xs

@@ -267,7 +267,10 @@ fn write_figures<const D: usize>(
     let profiles = profile_figure(name, measure, runs, reference, (length, band), &times);
     save(&dir.join("stress.png"), &profiles)?;
     if D == 1 && matches!(problem.model, Model::Svk(_)) {
-        save(&dir.join("svk.png"), &svk_figure(name, runs, reference, length))?;
+        save(
+            &dir.join("svk.png"),
+            &svk_figure(name, runs, reference, length),
+        )?;
     }
     if D == 2 {
         if let Some(maps) = map_figure(&plane_grid(&problem.grid), runs, reference, &times) {

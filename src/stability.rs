@@ -446,36 +446,38 @@ pub fn write(dir: &std::path::Path, rows: &[StabilityRow]) -> anyhow::Result<()>
 /// The critical Courant number of every configuration as grouped bars (empirical, von
 /// Neumann, monotonicity), one category per configuration, into `path` (PNG or SVG).
 pub fn chart(path: &std::path::Path, rows: &[StabilityRow]) -> anyhow::Result<()> {
-    use impact_io::plot::{bar_chart, BarGroup};
+    impact_io::plot::save(path, &figure(rows))?;
+    Ok(())
+}
+
+/// The bar figure of [`chart`].
+pub fn figure(rows: &[StabilityRow]) -> impact_io::plot::BarFigure {
+    use impact_io::plot::{BarFigure, BarGroup};
     let label = |r: &StabilityRow| {
         format!(
             "{}D {} {}ppc {} {} {}",
             r.dim, r.method, r.points_per_cell, r.integrator, r.flux, r.update
         )
     };
-    let categories = rows.iter().map(label).collect();
-    let groups = vec![
-        BarGroup {
-            label: "empirical".into(),
-            values: rows.iter().map(|r| Some(r.empirical)).collect(),
-        },
-        BarGroup {
-            label: "von Neumann".into(),
-            values: rows.iter().map(|r| r.von_neumann).collect(),
-        },
-        BarGroup {
-            label: "monotone up to".into(),
-            values: rows.iter().map(|r| r.monotone).collect(),
-        },
-    ];
-    bar_chart(
-        path,
-        "critical Courant number per configuration",
-        "critical Courant number c·Δt/Δx",
-        categories,
-        groups,
-    )?;
-    Ok(())
+    BarFigure {
+        title: "critical Courant number per configuration".into(),
+        axis: "critical Courant number c·Δt/Δx".into(),
+        categories: rows.iter().map(label).collect(),
+        groups: vec![
+            BarGroup {
+                label: "empirical".into(),
+                values: rows.iter().map(|r| Some(r.empirical)).collect(),
+            },
+            BarGroup {
+                label: "von Neumann".into(),
+                values: rows.iter().map(|r| r.von_neumann).collect(),
+            },
+            BarGroup {
+                label: "monotone up to".into(),
+                values: rows.iter().map(|r| r.monotone).collect(),
+            },
+        ],
+    }
 }
 
 /// Why a run of `config` on `problem` may have blown up: when its Courant number is above

@@ -480,7 +480,9 @@ pub fn figure(scene: &str, points: &[Point]) -> impact_io::plot::LineFigure {
             },
             points: points
                 .iter()
-                .filter(|p| p.config == *l && p.error.is_none() && p.l1_rel > EXACT && p.wall_s > 0.0)
+                .filter(|p| {
+                    p.config == *l && p.error.is_none() && p.l1_rel > EXACT && p.wall_s > 0.0
+                })
                 .map(|p| (p.wall_s, p.l1_rel))
                 .collect(),
             colour: k + 1,

@@ -24,6 +24,11 @@ fn text(o: &Output) -> String {
     )
 }
 
+/// A `.vtu` as text (its raw appended binary section read lossily).
+fn vtu_text(path: PathBuf) -> String {
+    String::from_utf8_lossy(&std::fs::read(path).unwrap()).into_owned()
+}
+
 fn json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
@@ -84,14 +89,14 @@ fn run_bar_writes_every_output_and_the_table() {
                 "x,x_current,cauchy_stress_xx,velocity_x,reference_cauchy_stress_xx,reference_velocity_x"
             ));
             assert_eq!(csv.lines().count(), 151);
-            let vtu = std::fs::read_to_string(out.join(format!("{m}_t{k}.vtu"))).unwrap();
+            let vtu = vtu_text(out.join(format!("{m}_t{k}.vtu")));
             assert!(
                 vtu.contains("NumberOfPoints=\"150\"") && vtu.contains("Name=\"cauchy_stress\"")
             );
         }
         assert!(out.join(format!("{m}.pvd")).exists());
         assert!(out.join(format!("{m}_grid.pvd")).exists());
-        let grid = std::fs::read_to_string(out.join(format!("{m}_grid_t0.vtu"))).unwrap();
+        let grid = vtu_text(out.join(format!("{m}_grid_t0.vtu")));
         assert!(grid.contains("NumberOfCells=\"150\""));
     }
     let png = std::fs::read(out.join("stress.png")).unwrap();
@@ -281,7 +286,7 @@ fn run_plate_writes_the_2d_outputs() {
             34,
             "33 cells along the bottom row + header"
         );
-        let grid = std::fs::read_to_string(out.join(format!("{m}_grid_t2.vtu"))).unwrap();
+        let grid = vtu_text(out.join(format!("{m}_grid_t2.vtu")));
         assert!(grid.contains("NumberOfPoints=\"884\"") && grid.contains("NumberOfCells=\"825\""));
         let times = s["runs"]
             .as_array()
@@ -297,7 +302,7 @@ fn run_plate_writes_the_2d_outputs() {
         );
     }
     // the FEM mesh carries nodal velocities
-    let fem = std::fs::read_to_string(out.join("fem_grid_t2.vtu")).unwrap();
+    let fem = vtu_text(out.join("fem_grid_t2.vtu"));
     assert!(fem.contains("<PointData>\n        <DataArray type=\"Float64\" Name=\"velocity\""));
     for png in ["stress.png", "stress_map.png"] {
         let bytes = std::fs::read(out.join(png)).unwrap();
@@ -374,7 +379,7 @@ fn svk_outputs_name_and_hold_the_first_piola_kirchhoff_stress() {
         .filter(|r| (r[2] - r[4]).abs() < 0.05 * scale)
         .count();
     assert!(close * 10 >= rows.len() * 8, "{close} of {}", rows.len());
-    let vtu = std::fs::read_to_string(out.join("dgmpm_t0.vtu")).unwrap();
+    let vtu = vtu_text(out.join("dgmpm_t0.vtu"));
     assert!(vtu.contains("Name=\"piola_stress\"") && !vtu.contains("Name=\"cauchy_stress\""));
 }
 
@@ -462,7 +467,7 @@ fn elastoplastic_runs_write_the_plastic_strain() {
         if method == "dgmpm" {
             assert!((first - 0.02).abs() < 1e-3, "{first}");
         }
-        let vtu = std::fs::read_to_string(out.join(format!("{method}_t2.vtu"))).unwrap();
+        let vtu = vtu_text(out.join(format!("{method}_t2.vtu")));
         assert!(
             vtu.contains("Name=\"equivalent_plastic_strain\""),
             "{method}"

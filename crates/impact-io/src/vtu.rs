@@ -2,19 +2,19 @@
 //! ParaView, pyvista and meshio.
 //!
 //! Two encodings ([`VtuEncoding`]):
-//! - `binary` (the default): every data array is zlib-compressed little-endian binary,
-//!   base64-encoded inline (`format="binary"`, `compressor="vtkZLibDataCompressor"`,
-//!   `header_type="UInt64"`), the layout VTK's own writer uses: the header
-//!   `[blocks, block size, last partial block size (0 if full), compressed size of each
-//!   block]` as one base64 string, then the compressed blocks as another (VTK file-format
-//!   documentation, "Compressed data"). Blocks hold 32 KiB of raw data.
+//! - `binary` (the default): every data array is zlib-compressed little-endian binary in
+//!   one raw `<AppendedData encoding="raw">` section (`format="appended"` with each array's
+//!   byte `offset`, `compressor="vtkZLibDataCompressor"`, `header_type="UInt64"`), the
+//!   layout VTK's own writer uses: per array the header `[blocks, block size, last partial
+//!   block size (0 if full), compressed size of each block]`, then the compressed blocks
+//!   (VTK file-format documentation, "Compressed data" and "AppendedData"). Blocks hold
+//!   32 KiB of raw data. Raw rather than base64 saves a quarter of the size.
 //! - `ascii`: decimal text with 13 significant digits, for reading by eye.
 //!
 //! Every file carries `TimeValue` as field data when a time is given, and every data array
 //! a `units` attribute (an XML attribute the VTK readers ignore, read by hand or with any
 //! XML parser).
 use crate::{write_atomic, IoError};
-use base64::Engine;
 use std::io::Write;
 use std::path::Path;
 
@@ -33,7 +33,7 @@ pub enum CellType {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum VtuEncoding {
-    /// zlib-compressed binary, base64 inline (module doc).
+    /// zlib-compressed binary, appended raw (module doc).
     #[default]
     Binary,
     /// Decimal text.
@@ -109,8 +109,9 @@ impl Bytes for u8 {
 /// Bytes of raw data per compressed block (VTK's default).
 const BLOCK: usize = 1 << 15;
 
-/// The `binary` payload of one array (module doc): base64 header, then base64 blocks.
-fn compressed_payload(raw: &[u8]) -> std::io::Result<String> {
+/// The `binary` payload of one array (module doc): the UInt64 header, then the compressed
+/// blocks.
+fn compressed_payload(raw: &[u8]) -> std::io::Result<Vec<u8>> {
     use flate2::{write::ZlibEncoder, Compression};
     let blocks: Vec<&[u8]> = raw.chunks(BLOCK).collect();
     let mut header: Vec<u64> = vec![
@@ -120,59 +121,66 @@ fn compressed_payload(raw: &[u8]) -> std::io::Result<String> {
     ];
     let mut body = Vec::with_capacity(raw.len() / 4);
     for block in &blocks {
-        let mut encoder = ZlibEncoder::new(Vec::with_capacity(block.len() / 4), Compression::new(6));
+        let mut encoder =
+            ZlibEncoder::new(Vec::with_capacity(block.len() / 4), Compression::new(6));
         encoder.write_all(block)?;
         let compressed = encoder.finish()?;
         header.push(compressed.len() as u64);
         body.extend_from_slice(&compressed);
     }
-    let header_bytes: Vec<u8> = header.iter().flat_map(|h| h.to_le_bytes()).collect();
-    let engine = base64::engine::general_purpose::STANDARD;
-    Ok(format!("{}{}", engine.encode(header_bytes), engine.encode(body)))
+    let mut payload: Vec<u8> = header.iter().flat_map(|h| h.to_le_bytes()).collect();
+    payload.extend_from_slice(&body);
+    Ok(payload)
 }
 
-/// Write one `<DataArray>` element of `values` (as `T`) with `components` per entry.
-fn write_array<T: Bytes>(
-    w: &mut dyn Write,
+/// Writes `<DataArray>` elements: inline text (`ascii`), or a reference into the appended
+/// section that it fills (`binary`).
+struct Arrays {
     encoding: VtuEncoding,
-    name: &str,
-    components: usize,
-    units: Option<&str>,
-    values: impl ExactSizeIterator<Item = T>,
-) -> std::io::Result<()> {
-    let format = match encoding {
-        VtuEncoding::Binary => "binary",
-        VtuEncoding::Ascii => "ascii",
-    };
-    let units = units.map_or(String::new(), |u| format!(" units=\"{u}\""));
-    writeln!(
-        w,
-        "        <DataArray type=\"{}\" Name=\"{name}\" NumberOfComponents=\"{components}\" \
-         format=\"{format}\"{units}>",
-        T::VTK_TYPE
-    )?;
-    match encoding {
-        VtuEncoding::Binary => {
-            let mut raw = Vec::with_capacity(values.len() * std::mem::size_of::<T>());
-            values.for_each(|v| v.extend_bytes(&mut raw));
-            writeln!(w, "          {}", compressed_payload(&raw)?)?;
-        }
-        VtuEncoding::Ascii => {
-            let per_line = components.max(1) * 4;
-            let mut line = Vec::with_capacity(per_line);
-            for v in values {
-                line.push(v.text());
-                if line.len() == per_line {
-                    writeln!(w, "          {}", line.join(" "))?;
-                    line.clear();
-                }
+    appended: Vec<u8>,
+}
+
+impl Arrays {
+    /// Write one `<DataArray>` of `values` (as `T`) with `components` per entry.
+    fn write<T: Bytes>(
+        &mut self,
+        w: &mut dyn Write,
+        name: &str,
+        components: usize,
+        units: Option<&str>,
+        values: impl ExactSizeIterator<Item = T>,
+    ) -> std::io::Result<()> {
+        let units = units.map_or(String::new(), |u| format!(" units=\"{u}\""));
+        let head = format!(
+            "        <DataArray type=\"{}\" Name=\"{name}\" NumberOfComponents=\"{components}\"",
+            T::VTK_TYPE
+        );
+        match self.encoding {
+            VtuEncoding::Binary => {
+                let mut raw = Vec::with_capacity(values.len() * std::mem::size_of::<T>());
+                values.for_each(|v| v.extend_bytes(&mut raw));
+                let offset = self.appended.len();
+                self.appended.extend_from_slice(&compressed_payload(&raw)?);
+                writeln!(w, "{head} format=\"appended\" offset=\"{offset}\"{units}/>")
             }
-            if !line.is_empty() {
-                writeln!(w, "          {}", line.join(" "))?;
+            VtuEncoding::Ascii => {
+                writeln!(w, "{head} format=\"ascii\"{units}>")?;
+                let per_line = components.max(1) * 4;
+                let mut line = Vec::with_capacity(per_line);
+                for v in values {
+                    line.push(v.text());
+                    if line.len() == per_line {
+                        writeln!(w, "          {}", line.join(" "))?;
+                        line.clear();
+                    }
+                }
+                if !line.is_empty() {
+                    writeln!(w, "          {}", line.join(" "))?;
+                }
+                writeln!(w, "        </DataArray>")
             }
         }
     }
-    writeln!(w, "        </DataArray>")
 }
 
 /// Write `grid` to `path` (atomically) in `encoding`.
@@ -185,12 +193,14 @@ pub fn write_vtu(
     let per_cell = grid.nodes_per_cell.max(1);
     let n_cells = grid.connectivity.len() / per_cell;
     let compressor = match encoding {
-        VtuEncoding::Binary => {
-            " header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\""
-        }
+        VtuEncoding::Binary => " header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\"",
         VtuEncoding::Ascii => "",
     };
     write_atomic(path, |w| {
+        let mut arrays = Arrays {
+            encoding,
+            appended: Vec::new(),
+        };
         writeln!(w, "<?xml version=\"1.0\"?>")?;
         writeln!(
             w,
@@ -211,26 +221,34 @@ pub fn write_vtu(
             "    <Piece NumberOfPoints=\"{n_points}\" NumberOfCells=\"{n_cells}\">"
         )?;
         writeln!(w, "      <Points>")?;
-        write_array(w, encoding, "Points", 3, Some("m"), grid.points.iter().copied())?;
+        arrays.write(w, "Points", 3, Some("m"), grid.points.iter().copied())?;
         writeln!(w, "      </Points>")?;
         writeln!(w, "      <Cells>")?;
         let connectivity = grid.connectivity.iter().map(|&v| v as i64);
-        write_array(w, encoding, "connectivity", 1, None, connectivity)?;
+        arrays.write(w, "connectivity", 1, None, connectivity)?;
         let offsets = (0..n_cells).map(|c| ((c + 1) * per_cell) as i64);
-        write_array(w, encoding, "offsets", 1, None, offsets)?;
+        arrays.write(w, "offsets", 1, None, offsets)?;
         let types = std::iter::repeat_n(grid.cell_type as u8, n_cells);
-        write_array(w, encoding, "types", 1, None, types)?;
+        arrays.write(w, "types", 1, None, types)?;
         writeln!(w, "      </Cells>")?;
-        for (tag, arrays) in [("PointData", &grid.point_data), ("CellData", &grid.cell_data)] {
+        for (tag, data) in [
+            ("PointData", &grid.point_data),
+            ("CellData", &grid.cell_data),
+        ] {
             writeln!(w, "      <{tag}>")?;
-            for a in arrays {
+            for a in data {
                 let values = a.values.iter().copied();
-                write_array(w, encoding, a.name, a.components, Some(a.units), values)?;
+                arrays.write(w, a.name, a.components, Some(a.units), values)?;
             }
             writeln!(w, "      </{tag}>")?;
         }
         writeln!(w, "    </Piece>")?;
         writeln!(w, "  </UnstructuredGrid>")?;
+        if encoding == VtuEncoding::Binary {
+            write!(w, "  <AppendedData encoding=\"raw\">\n   _")?;
+            w.write_all(&arrays.appended)?;
+            writeln!(w, "\n  </AppendedData>")?;
+        }
         writeln!(w, "</VTKFile>")
     })
 }
@@ -252,30 +270,22 @@ pub fn write_pvd(path: &Path, entries: &[(f64, String)]) -> Result<(), IoError> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use base64::Engine;
     use std::io::Read;
 
     /// Decode one `binary` payload back to its raw bytes (the inverse of
     /// [`compressed_payload`], as VTK's reader does it).
-    fn decode(payload: &str) -> Vec<u8> {
-        let engine = base64::engine::general_purpose::STANDARD;
-        // the header's first 24 bytes (3 u64) are 32 base64 characters
-        let first = engine.decode(&payload[..32]).unwrap();
-        let blocks = u64::from_le_bytes(first[..8].try_into().unwrap()) as usize;
-        let header_len = (3 + blocks) * 8;
-        let header_chars = header_len.div_ceil(3) * 4;
-        let header = engine.decode(&payload[..header_chars]).unwrap();
-        let sizes: Vec<usize> = header[24..]
-            .chunks(8)
-            .map(|c| u64::from_le_bytes(c.try_into().unwrap()) as usize)
-            .collect();
-        let body = engine.decode(&payload[header_chars..]).unwrap();
-        let (mut out, mut at) = (Vec::new(), 0);
-        for size in sizes {
-            let mut decoder = flate2::read::ZlibDecoder::new(&body[at..at + size]);
+    fn decode(payload: &[u8]) -> Vec<u8> {
+        let word = |k: usize| u64::from_le_bytes(payload[8 * k..8 * k + 8].try_into().unwrap());
+        let blocks = word(0) as usize;
+        let mut at = (3 + blocks) * 8;
+        let mut out = Vec::new();
+        for k in 0..blocks {
+            let size = word(3 + k) as usize;
+            let mut decoder = flate2::read::ZlibDecoder::new(&payload[at..at + size]);
             decoder.read_to_end(&mut out).unwrap();
             at += size;
         }
+        assert_eq!(at, payload.len());
         out
     }
 
@@ -290,7 +300,10 @@ mod tests {
             .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
             .collect();
         assert_eq!(back.len(), values.len());
-        assert!(back.iter().zip(&values).all(|(a, b)| a.to_bits() == b.to_bits()));
+        assert!(back
+            .iter()
+            .zip(&values)
+            .all(|(a, b)| a.to_bits() == b.to_bits()));
         assert_eq!(decode(&compressed_payload(&[]).unwrap()), Vec::<u8>::new());
     }
 }

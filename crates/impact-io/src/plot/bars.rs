@@ -17,11 +17,15 @@ pub struct BarGroup {
 
 /// Categories down the vertical axis, each with one bar per group.
 #[derive(Debug, Clone)]
-struct BarFigure {
-    title: String,
-    axis: String,
-    categories: Vec<String>,
-    groups: Vec<BarGroup>,
+pub struct BarFigure {
+    /// Title.
+    pub title: String,
+    /// Label of the value axis, with unit.
+    pub axis: String,
+    /// One name per category.
+    pub categories: Vec<String>,
+    /// The bars of each category, one per group.
+    pub groups: Vec<BarGroup>,
 }
 
 const LEFT: u32 = 330;
@@ -71,7 +75,10 @@ impl Draw for BarFigure {
         let groups = self.groups.len().max(1) as f64;
         for (g, group) in self.groups.iter().enumerate() {
             let c = colour(g + 1);
-            let (lo, hi) = (0.15 + 0.7 * g as f64 / groups, 0.15 + 0.7 * (g + 1) as f64 / groups);
+            let (lo, hi) = (
+                0.15 + 0.7 * g as f64 / groups,
+                0.15 + 0.7 * (g + 1) as f64 / groups,
+            );
             // a bar is a rectangle in the segment's pixel band: draw it on the plotting
             // area's pixels through the chart's coordinate mapping
             for (k, value) in group.values.iter().enumerate() {
@@ -95,7 +102,10 @@ impl Draw for BarFigure {
         for (g, group) in self.groups.iter().enumerate() {
             let y = 60 + 26 * g as i32;
             legend
-                .draw(&Rectangle::new([(10, y - 7), (40, y + 7)], colour(g + 1).filled()))
+                .draw(&Rectangle::new(
+                    [(10, y - 7), (40, y + 7)],
+                    colour(g + 1).filled(),
+                ))
                 .map_err(text)?;
             legend
                 .draw(&Text::new(group.label.clone(), (48, y - 8), font.clone()))

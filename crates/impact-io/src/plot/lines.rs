@@ -151,7 +151,14 @@ fn draw_panel<DB: DrawingBackend>(
         }
         (true, true) => {
             let ((a, b), (c, d)) = (decade_range(x0, x1), decade_range(y0, y1));
-            chart(area, panel, (a..b).log_scale(), (c..d).log_scale(), 0.0, 0.0)
+            chart(
+                area,
+                panel,
+                (a..b).log_scale(),
+                (c..d).log_scale(),
+                0.0,
+                0.0,
+            )
         }
         (true, false) => {
             let ((a, b), (c, d)) = (decade_range(x0, x1), linear((y0, y1)));
@@ -224,7 +231,10 @@ where
             .collect();
         let width = if s.reference { 3 } else { 2 };
         chart
-            .draw_series(LineSeries::new(points.iter().copied(), c.stroke_width(width)))
+            .draw_series(LineSeries::new(
+                points.iter().copied(),
+                c.stroke_width(width),
+            ))
             .map_err(text)?;
         if !s.reference && points.len() <= MARKER_LIMIT {
             draw_markers(&mut chart, &points, s.colour)?;
@@ -255,11 +265,7 @@ where
                 .iter()
                 .map(|&p| EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], style)),
         ),
-        _ => chart.draw_series(
-            points
-                .iter()
-                .map(|&p| Cross::new(p, 5, c.stroke_width(2))),
-        ),
+        _ => chart.draw_series(points.iter().map(|&p| Cross::new(p, 5, c.stroke_width(2)))),
     };
     drawn.map(|_| ()).map_err(text)
 }

@@ -81,7 +81,11 @@ impl Draw for MapFigure {
         let (maps, bar) = root.split_horizontally(width - BAR_WIDTH);
         let columns = self.columns.max(1);
         let rows = self.panels.len().div_ceil(columns).max(1);
-        for (panel, area) in self.panels.iter().zip(maps.split_evenly((rows, columns)).iter()) {
+        for (panel, area) in self
+            .panels
+            .iter()
+            .zip(maps.split_evenly((rows, columns)).iter())
+        {
             self.draw_map(area, panel)?;
         }
         self.draw_bar(&bar, height)
@@ -122,16 +126,20 @@ impl MapFigure {
         let (dx, dy) = ((x1 - x0) / nx as f64, (y1 - y0) / ny as f64);
         let range = self.range;
         chart
-            .draw_series((0..ny).flat_map(|j| (0..nx).map(move |i| (i, j))).map(|(i, j)| {
-                let v = panel.values.get(j * nx + i).copied().unwrap_or(f64::NAN);
-                let colour = if v.is_finite() {
-                    diverging(v, range)
-                } else {
-                    NO_DATA
-                };
-                let (xa, ya) = (x0 + i as f64 * dx, y0 + j as f64 * dy);
-                Rectangle::new([(xa, ya), (xa + dx, ya + dy)], colour.filled())
-            }))
+            .draw_series(
+                (0..ny)
+                    .flat_map(|j| (0..nx).map(move |i| (i, j)))
+                    .map(|(i, j)| {
+                        let v = panel.values.get(j * nx + i).copied().unwrap_or(f64::NAN);
+                        let colour = if v.is_finite() {
+                            diverging(v, range)
+                        } else {
+                            NO_DATA
+                        };
+                        let (xa, ya) = (x0 + i as f64 * dx, y0 + j as f64 * dy);
+                        Rectangle::new([(xa, ya), (xa + dx, ya + dy)], colour.filled())
+                    }),
+            )
             .map_err(text)?;
         Ok(())
     }
@@ -166,16 +174,23 @@ impl MapFigure {
             area.draw(&Text::new(label, (right + 10, y - 7), font.clone()))
                 .map_err(text)?;
         }
-        area.draw(&Text::new(self.label.clone(), (left, top - 30), ("sans-serif", 16)))
-            .map_err(text)?;
+        area.draw(&Text::new(
+            self.label.clone(),
+            (left, top - 30),
+            ("sans-serif", 16),
+        ))
+        .map_err(text)?;
         let mut y = bottom + 16;
         for line in wrap(&self.range_note, 26) {
             area.draw(&Text::new(line, (left - 10, y), font.clone()))
                 .map_err(text)?;
             y += 17;
         }
-        area.draw(&Rectangle::new([(left - 10, y + 4), (left + 10, y + 18)], NO_DATA.filled()))
-            .map_err(text)?;
+        area.draw(&Rectangle::new(
+            [(left - 10, y + 4), (left + 10, y + 18)],
+            NO_DATA.filled(),
+        ))
+        .map_err(text)?;
         area.draw(&Text::new("no data", (left + 16, y + 4), font))
             .map_err(text)?;
         Ok(())
@@ -236,7 +251,13 @@ mod tests {
             diverging(-range, range),
             diverging(range, range),
         );
-        assert!(zero.0 > 240 && zero.1 > 240 && zero.2 > 240, "{zero:?}");
+        // near-white and neutral
+        let channels = [zero.0, zero.1, zero.2];
+        let (lightest, darkest) = (
+            channels.iter().max().unwrap(),
+            channels.iter().min().unwrap(),
+        );
+        assert!(*darkest > 230 && lightest - darkest < 10, "{zero:?}");
         assert!(minus.2 > minus.0 && plus.0 > plus.2, "{minus:?} {plus:?}");
         assert_ne!(NO_DATA, zero);
     }

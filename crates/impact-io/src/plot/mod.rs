@@ -13,12 +13,13 @@
 //! for cells without data.
 //!
 //! Layout: `lines` (line panels, linear or log axes), `maps` (colour maps with a colour
-//! bar), `bars` (grouped horizontal bars over named categories).
+//! bar), `bars` (grouped horizontal bars over named categories); [`Stacked`] puts two
+//! figures one above the other.
 mod bars;
 mod lines;
 mod maps;
 
-pub use bars::{bar_chart, BarGroup};
+pub use bars::{bar_chart, BarFigure, BarGroup};
 pub use lines::{line_panels, Axis, LineFigure, Panel, Series};
 pub use maps::{colour_maps, robust_range, MapFigure, MapPanel};
 
@@ -78,7 +79,9 @@ pub fn decade_range(low: f64, high: f64) -> (f64, f64) {
         a -= (missing / 2.0).ceil();
         b += (missing / 2.0).floor();
     }
-    (10f64.powf(a), 10f64.powf(b))
+    // widened by 1e-9 so that round-off in plotters' decade stepping (0.1·10 > 1.0) keeps
+    // the end decades
+    (10f64.powf(a) * (1.0 - 1e-9), 10f64.powf(b) * (1.0 + 1e-9))
 }
 
 /// `10ⁿ` with a superscript exponent for a power of ten; a plain short number otherwise.
@@ -109,7 +112,11 @@ pub fn linear_label(value: f64, step: f64) -> String {
     };
     let text = format!("{value:.decimals$}");
     // "-0" and "-0.00" read as zero
-    if text.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+    if text
+        .trim_start_matches('-')
+        .chars()
+        .all(|c| c == '0' || c == '.')
+    {
         text.trim_start_matches('-').to_string()
     } else {
         text
@@ -122,6 +129,25 @@ pub trait Draw {
     fn size(&self) -> (u32, u32);
     /// Draw onto `root`.
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String>;
+}
+
+/// Two figures, one above the other (e.g. Fig. 5's maps above its profiles).
+pub struct Stacked<A, B>(pub A, pub B);
+
+impl<A: Draw, B: Draw> Draw for Stacked<A, B> {
+    fn size(&self) -> (u32, u32) {
+        let (a, b) = (self.0.size(), self.1.size());
+        (a.0.max(b.0), a.1 + b.1)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        root.fill(&WHITE).map_err(text)?;
+        let (top, bottom) = root.split_vertically(self.0.size().1);
+        let top = top.shrink((0, 0), self.0.size());
+        let bottom = bottom.shrink((0, 0), self.1.size());
+        self.0.draw(&top)?;
+        self.1.draw(&bottom)
+    }
 }
 
 /// Draw `figure` into `path`: SVG when the extension is `svg`, PNG otherwise; written to a
@@ -163,20 +189,29 @@ fn text<E: std::fmt::Debug>(e: E) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use plotters::coord::ranged1d::{LogCoord, Ranged};
+    use plotters::coord::ranged1d::Ranged;
+    use plotters::prelude::LogCoord;
 
     #[test]
     fn log_axes_tick_at_every_power_of_ten() {
         for (low, high) in [(3.2e-5, 0.7), (0.011, 0.09), (2.0, 2.5), (1e-3, 1e3)] {
             let (a, b) = decade_range(low, high);
-            assert!(a <= low && b >= high && b / a >= 99.9, "{low}..{high}: {a}..{b}");
+            assert!(
+                a <= low && b >= high && b / a >= 99.9,
+                "{low}..{high}: {a}..{b}"
+            );
+            // whole decades
+            assert!((a.log10() - a.log10().round()).abs() < 1e-8, "{a}");
             let coord: LogCoord<f64> = (a..b).log_scale().into();
             let ticks = coord.key_points(10);
             let decades = (b / a).log10().round() as usize;
             assert_eq!(ticks.len(), decades + 1, "{ticks:?}");
             for t in &ticks {
                 let exponent = t.log10().round();
-                assert!((t / 10f64.powf(exponent) - 1.0).abs() < 1e-12, "{t} in {ticks:?}");
+                assert!(
+                    (t / 10f64.powf(exponent) - 1.0).abs() < 1e-12,
+                    "{t} in {ticks:?}"
+                );
             }
         }
         assert_eq!(decade_label(1e-3), "10⁻³");
