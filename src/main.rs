@@ -99,6 +99,9 @@ struct RunArgs {
     /// Write only summary.json (no profiles, VTK, HDF5 or plots): no I/O at output times.
     #[arg(long)]
     no_files: bool,
+    /// Skip the reference (exact or converged): errors and fronts are not computed.
+    #[arg(long)]
+    no_reference: bool,
     /// Encoding of the `.vtu` files: zlib-compressed binary, or ASCII text.
     #[arg(long, value_enum, default_value = "binary")]
     vtu: impact_io::vtu::VtuEncoding,
@@ -178,6 +181,16 @@ enum BenchCommand {
         /// Output folder (default: out/convergence-<scene>).
         #[arg(long)]
         out: Option<PathBuf>,
+    },
+    /// Size and write time of one output frame (samples and grid `.vtu`) of the partial
+    /// plate, binary against ASCII, interleaved rounds.
+    Output {
+        /// Cells along x (the plate keeps its 4:3 shape).
+        #[arg(long, default_value_t = 1000)]
+        cells: usize,
+        /// Rounds per encoding.
+        #[arg(long, default_value_t = 3)]
+        rounds: usize,
     },
 }
 
@@ -347,7 +360,10 @@ fn run_command(args: &RunArgs) -> Result<()> {
 }
 
 fn run_scene<const D: usize>(study: &Study, args: &RunArgs) -> Result<()> {
-    study.check_work(&args.method)?;
+    match args.no_reference {
+        true => study.check_methods_work(&args.method)?,
+        false => study.check_work(&args.method)?,
+    }
     let problem = study.problem::<D>()?;
     say!(
         "scene {} ({}D, {} cells), output times: {}",
@@ -363,6 +379,7 @@ fn run_scene<const D: usize>(study: &Study, args: &RunArgs) -> Result<()> {
             .unwrap_or_else(|| PathBuf::from("out").join(study.name())),
         quiet: args.quiet,
         no_files: args.no_files,
+        no_reference: args.no_reference,
         vtu: args.vtu,
     };
     let report = run_study::<D>(study, &args.method, &options)?;
@@ -657,6 +674,30 @@ fn main() {
                 true
             })
         }
+        Command::Bench {
+            what: BenchCommand::Output { cells, rounds },
+        } => impact::output_bench::run(*cells, *rounds).map(|(count, t, costs)| {
+            say!("plate, {count} cells, DGMPM frame at t = {t:.6e} s");
+            say!(
+                "{:<8} {:>14} {:>14} {:>12}  per round",
+                "encoding",
+                "samples_bytes",
+                "grid_bytes",
+                "median_s"
+            );
+            for c in &costs {
+                let rounds: Vec<String> = c.seconds.iter().map(|s| format!("{s:.3}")).collect();
+                say!(
+                    "{:<8} {:>14} {:>14} {:>12.3}  {}",
+                    format!("{:?}", c.encoding).to_lowercase(),
+                    c.samples_bytes,
+                    c.grid_bytes,
+                    c.median(),
+                    rounds.join(" ")
+                );
+            }
+            true
+        }),
         Command::Scenes => {
             for name in impact_core::scene::BUILTIN {
                 say!("{name}");

@@ -7,8 +7,9 @@ pub const REFERENCE_REFINEMENT: usize = 4;
 
 /// The reference of `problem`: its exact solution when it has one; otherwise, in 2D, a
 /// converged solution: DGMPM (1 point per cell, CTU, forward Euler, Courant 1) on a grid
-/// [`REFERENCE_REFINEMENT`] times finer, at the same output times. `say` prints what is
-/// being computed (on stderr) and shows a progress bar.
+/// [`REFERENCE_REFINEMENT`] times finer, at the same output times, computed once and then
+/// read from the cache ([`crate::reference_cache`]). `say` prints what is computed or read
+/// (on stderr) and shows a progress bar.
 pub fn reference_for<const D: usize>(
     problem: &Problem<D>,
     say: bool,
@@ -50,16 +51,38 @@ pub fn reference_for<const D: usize>(
         fine.grid.cells[1],
         r
     );
-    if say {
-        use std::io::Write as _;
-        // a closed pipe only loses this line
-        let _ = writeln!(std::io::stderr(), "computing the {description}");
+    let entry = crate::reference_cache::Entry::new(
+        &crate::reference_cache::folder(),
+        &format!("{fine:?}\n{config:?}"),
+    );
+    let fine_cells = fine.grid.cell_count();
+    let (stored, cached) = entry.get_or_compute(problem.output_times.len(), fine_cells, || {
+        if say {
+            eprintln!("computing the {description}");
+        }
+        let progress = say.then(|| crate::run::progress_bar("reference"));
+        let (stress_xx, velocity_x, work) =
+            converged_run(problem, &fine, config, progress.as_ref())?;
+        if let Some(p) = progress {
+            p.finish_and_clear();
+        }
+        Ok(crate::reference_cache::Stored {
+            stress_xx,
+            velocity_x,
+            work,
+        })
+    })?;
+    if say && cached {
+        eprintln!(
+            "the {description}: read from the cache {}",
+            entry.path().display()
+        );
     }
-    let progress = say.then(|| crate::run::progress_bar("reference"));
-    let (stress_xx, velocity_x, work) = converged_run(problem, &fine, config, progress.as_ref())?;
-    if let Some(p) = progress {
-        p.finish_and_clear();
-    }
+    let crate::reference_cache::Stored {
+        stress_xx,
+        velocity_x,
+        work,
+    } = stored;
     let cells = fine.grid.cells;
     Ok(Some(Reference::Converged(Box::new(Converged {
         description,

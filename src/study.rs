@@ -250,6 +250,11 @@ impl Overrides {
     }
 }
 
+/// The work budget of a study's runs.
+fn budget_of(study: &Study) -> f64 {
+    study.overrides.work_budget.unwrap_or(DEFAULT_WORK_BUDGET)
+}
+
 /// A scene with its overrides applied, validated once: the problem and the method
 /// configurations of every command come from here.
 #[derive(Debug, Clone)]
@@ -275,14 +280,23 @@ impl Study {
     }
 
     /// Refuse, before anything is allocated, a run of `kinds` whose estimated work exceeds
-    /// the budget (`--work-budget`, default [`DEFAULT_WORK_BUDGET`]).
+    /// the budget (`--work-budget`, default [`DEFAULT_WORK_BUDGET`]), the converged
+    /// reference's included.
     pub fn check_work(&self, kinds: &[MethodKind]) -> Result<(), SceneError> {
-        let budget = self.overrides.work_budget.unwrap_or(DEFAULT_WORK_BUDGET);
-        for &kind in kinds {
-            check_work(&self.scene.work_estimate(&self.config(kind)), budget)?;
-        }
+        self.check_methods_work(kinds)?;
         if let Some(reference) = self.reference_work()? {
-            check_work(&reference, budget)?;
+            check_work(&reference, budget_of(self))?;
+        }
+        Ok(())
+    }
+
+    /// [`Self::check_work`] without the reference (`--no-reference`).
+    pub fn check_methods_work(&self, kinds: &[MethodKind]) -> Result<(), SceneError> {
+        for &kind in kinds {
+            check_work(
+                &self.scene.work_estimate(&self.config(kind)),
+                budget_of(self),
+            )?;
         }
         Ok(())
     }

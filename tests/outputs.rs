@@ -175,42 +175,59 @@ fn cells_keep_physical_output_times() {
 }
 
 /// The converged reference's status line and progress go to stderr, never into the table
-/// on stdout; `--quiet` silences them.
+/// on stdout; `--quiet` silences them. The reference is computed once per key: the second
+/// run reads it from the cache folder (`IMPACT_CACHE_DIR`) and measures the same errors.
 #[test]
-fn status_messages_go_to_stderr() {
-    let out = tmp("stderr");
-    let o = impact(&[
-        "run",
-        "plate",
-        "--method",
-        "dgmpm",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", text(&o));
+fn status_messages_go_to_stderr_and_the_reference_is_cached() {
+    let (out, cache) = (tmp("stderr"), tmp("cache"));
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "run",
+            "plate",
+            "--method",
+            "dgmpm",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = Command::new(env!("CARGO_BIN_EXE_impact"))
+            .args(&args)
+            .env("IMPACT_CACHE_DIR", &cache)
+            .output()
+            .expect("run impact");
+        assert!(o.status.success(), "{}", text(&o));
+        let summary = json(&out.join("summary.json"));
+        (o, summary["runs"][0]["times"].clone())
+    };
+    let (o, computed) = run(&[]);
     let (stdout, stderr) = (
         String::from_utf8_lossy(&o.stdout),
         String::from_utf8_lossy(&o.stderr),
     );
-    assert!(
-        !stdout.contains("computing the converged reference"),
-        "{stdout}"
-    );
+    assert!(!stdout.contains("converged reference: DGMPM"), "{stdout}");
     assert!(
         stderr.contains("computing the converged reference"),
         "{stderr}"
     );
-    let o = impact(&[
-        "run",
-        "plate",
-        "--quiet",
-        "--method",
-        "dgmpm",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success() && o.stderr.is_empty(), "{}", text(&o));
-    let _ = std::fs::remove_dir_all(&out);
+    let (o, cached) = run(&[]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(stderr.contains("read from the cache"), "{stderr}");
+    assert!(!stderr.contains("computing"), "{stderr}");
+    assert_eq!(computed, cached);
+    assert!(computed[0]["l1_rel"].as_f64().unwrap() > 0.0);
+    let (o, _) = run(&["--quiet"]);
+    assert!(o.stderr.is_empty(), "{}", text(&o));
+    // --no-reference: no reference computed or read, errors not computed
+    let (o, times) = run(&["--no-reference"]);
+    assert!(
+        !String::from_utf8_lossy(&o.stderr).contains("reference"),
+        "{}",
+        text(&o)
+    );
+    assert!(times[0].get("l1_rel").is_none(), "{times}");
+    for d in [out, cache] {
+        let _ = std::fs::remove_dir_all(d);
+    }
 }
 
 /// `check --json/--junit`: the JSON has the documented keys and one row per output time;

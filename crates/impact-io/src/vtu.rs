@@ -8,7 +8,9 @@
 //!   layout VTK's own writer uses: per array the header `[blocks, block size, last partial
 //!   block size (0 if full), compressed size of each block]`, then the compressed blocks
 //!   (VTK file-format documentation, "Compressed data" and "AppendedData"). Blocks hold
-//!   32 KiB of raw data. Raw rather than base64 saves a quarter of the size.
+//!   32 KiB of raw data. Raw rather than base64 saves a quarter of the size; zlib's fastest
+//!   level, since level 6 wrote a plate frame 4× slower (slower than ASCII) for files only
+//!   6 % smaller (`impact bench output`, BENCHMARKS.md).
 //! - `ascii`: decimal text with 13 significant digits, for reading by eye.
 //!
 //! Every file carries `TimeValue` as field data when a time is given, and every data array
@@ -122,7 +124,7 @@ fn compressed_payload(raw: &[u8]) -> std::io::Result<Vec<u8>> {
     let mut body = Vec::with_capacity(raw.len() / 4);
     for block in &blocks {
         let mut encoder =
-            ZlibEncoder::new(Vec::with_capacity(block.len() / 4), Compression::new(6));
+            ZlibEncoder::new(Vec::with_capacity(block.len() / 4), Compression::fast());
         encoder.write_all(block)?;
         let compressed = encoder.finish()?;
         header.push(compressed.len() as u64);

@@ -122,7 +122,7 @@ impl MapFigure {
             .axis_desc_style(("sans-serif", 14))
             .draw()
             .map_err(text)?;
-        let [nx, ny] = panel.cells;
+        let ([nx, ny], values) = coarsened(panel, MAP_SIZE.0 as usize);
         let (dx, dy) = ((x1 - x0) / nx as f64, (y1 - y0) / ny as f64);
         let range = self.range;
         chart
@@ -130,7 +130,7 @@ impl MapFigure {
                 (0..ny)
                     .flat_map(|j| (0..nx).map(move |i| (i, j)))
                     .map(|(i, j)| {
-                        let v = panel.values.get(j * nx + i).copied().unwrap_or(f64::NAN);
+                        let v = values.get(j * nx + i).copied().unwrap_or(f64::NAN);
                         let colour = if v.is_finite() {
                             diverging(v, range)
                         } else {
@@ -197,6 +197,37 @@ impl MapFigure {
     }
 }
 
+/// The panel's values averaged over blocks of `k × k` cells, `k` the smallest factor that
+/// leaves at most `most` blocks along x (a map finer than the panel's pixels draws no more
+/// detail, only more rectangles); cells without data are left out of a block's average,
+/// and a block with none stays without data.
+fn coarsened(panel: &MapPanel, most: usize) -> ([usize; 2], Vec<f64>) {
+    let [nx, ny] = panel.cells;
+    let k = nx.div_ceil(most.max(1)).max(1);
+    if k == 1 {
+        return (panel.cells, panel.values.clone());
+    }
+    let (cx, cy) = (nx.div_ceil(k), ny.div_ceil(k));
+    let mut sum = vec![0.0; cx * cy];
+    let mut count = vec![0usize; cx * cy];
+    for j in 0..ny {
+        for i in 0..nx {
+            let v = panel.values.get(j * nx + i).copied().unwrap_or(f64::NAN);
+            if v.is_finite() {
+                let b = (j / k) * cx + i / k;
+                sum[b] += v;
+                count[b] += 1;
+            }
+        }
+    }
+    let values = sum
+        .iter()
+        .zip(&count)
+        .map(|(&s, &n)| if n > 0 { s / n as f64 } else { f64::NAN })
+        .collect();
+    ([cx, cy], values)
+}
+
 /// Split `text` into lines of at most about `width` characters at spaces.
 fn wrap(text: &str, width: usize) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
@@ -260,5 +291,29 @@ mod tests {
         assert!(*darkest > 230 && lightest - darkest < 10, "{zero:?}");
         assert!(minus.2 > minus.0 && plus.0 > plus.2, "{minus:?} {plus:?}");
         assert_ne!(NO_DATA, zero);
+    }
+
+    #[test]
+    fn fine_maps_are_block_averaged_keeping_no_data_apart() {
+        let (nx, ny) = (1000, 750);
+        let mut values: Vec<f64> = (0..nx * ny).map(|c| (c % nx) as f64).collect();
+        values[..3].iter_mut().for_each(|v| *v = f64::NAN);
+        let panel = MapPanel {
+            title: String::new(),
+            cells: [nx, ny],
+            extent: [0.0, 4.0, 0.0, 3.0],
+            values,
+        };
+        let ([cx, cy], coarse) = coarsened(&panel, 440);
+        assert_eq!((cx, cy), (334, 250));
+        // block (0, 0): columns 0..3 of rows 0..3, its first row without data
+        assert_eq!(coarse[0], 1.0);
+        assert_eq!(coarse[1], 4.0);
+        assert!(coarse.iter().all(|v| v.is_finite()));
+        let blank = MapPanel {
+            values: vec![f64::NAN; nx * ny],
+            ..panel
+        };
+        assert!(coarsened(&blank, 440).1.iter().all(|v| v.is_nan()));
     }
 }
