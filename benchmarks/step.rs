@@ -111,7 +111,7 @@ fn skips(c: &mut Criterion) {
     ] {
         let mut m = dgmpm::<1>(&bar, |_| {});
         m.solver
-            .set_step_path(path)
+            .set_step_path(path, &m.state.points)
             .expect("applies at one point per cell");
         dgmpm_step(
             &mut group,
@@ -129,7 +129,7 @@ fn skips(c: &mut Criterion) {
     ] {
         let mut m = dgmpm::<2>(&plate, |_| {});
         m.solver
-            .set_step_path(path)
+            .set_step_path(path, &m.state.points)
             .expect("applies at one point per cell");
         dgmpm_step(
             &mut group,

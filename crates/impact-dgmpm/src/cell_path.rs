@@ -15,7 +15,7 @@ impl<const D: usize> DgmpmSolver<D> {
     /// `|Γ_f| 2/2^D`. Tested equal to phases 1-5 to round-off.
     pub fn cell_update(&self, points: &mut MaterialPoints<D>, dt: f64) {
         let grid = &self.grid;
-        let (face_flux, face_correction) = (&self.face_flux, &self.face_correction);
+        let face_flux = &self.face_flux;
         let (density, volume) = (self.material.density, grid.cell_volume());
         let MaterialPoints {
             stress,
@@ -36,8 +36,7 @@ impl<const D: usize> DgmpmSolver<D> {
             for l in 0..D {
                 let lo = Self::face_index(grid, l, idx);
                 let hi = lo + high_offset[l];
-                let a = Self::flux_with_correction(face_flux, face_correction, l, lo);
-                let b = Self::flux_with_correction(face_flux, face_correction, l, hi);
+                let (a, b) = (face_flux[l][lo], face_flux[l][hi]);
                 let inv = 1.0 / grid.spacing[l];
                 dq -= (b.tensor - a.tensor) * inv;
                 dm -= (b.momentum - a.momentum) * inv;

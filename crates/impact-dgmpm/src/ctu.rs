@@ -4,8 +4,9 @@ use crate::riemann::{
     constrain_correction, fluctuations, ghost_full, linear_elastic_star, normal_flux,
     transverse_into_face, Conserved, FullState, GhostCondition,
 };
-use crate::{unit, DgmpmSolver, StepPath};
+use crate::{unit, DgmpmSolver, StepPath, CHUNK};
 use impact_core::method::EdgeTreatment;
+use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
 use impact_core::Grid;
 
@@ -38,27 +39,55 @@ impl<const D: usize> DgmpmSolver<D> {
     /// The fluctuations entering a cell through its two `l`-faces add up to
     /// `A⁺Δq_low + A⁻Δq_high = F*_high - F*_low + F(q_C,low) - F(q_C,high)` (with `q_C,side`
     /// the cell's state on that face), so they are formed from the stored Godunov fluxes;
-    /// on the cell path the last two terms cancel. The corrections go to their own arrays,
-    /// so every axis reads uncorrected fluxes.
+    /// on the cell path the last two terms cancel.
+    ///
+    /// Every correction must read uncorrected fluxes, and the corrections of the faces
+    /// normal to `e_k` read only the fluxes of the other axis `e_l`. So in 2D the last
+    /// axis's corrections go to one scratch array (they read the first axis's fluxes), the
+    /// first axis's are then added to its fluxes in place (they read the last axis's, still
+    /// uncorrected), and last the scratch is added to the last axis's fluxes: one face
+    /// array of scratch instead of a correction array per axis (48 B per cell less), and
+    /// `face_flux` ends holding the final fluxes, bit for bit `F + correction`.
     pub fn transverse_corrections(&mut self, points: &MaterialPoints<D>, dt: f64) {
-        for k in 0..D {
+        let last = D - 1;
+        let order = std::iter::once((last, false)).chain((0..last).map(|k| (k, true)));
+        for (k, in_place) in order {
             if self.path == StepPath::Cell {
-                self.transverse_corrections_axis::<true>(k, points, dt);
+                self.transverse_corrections_axis::<true>(k, points, dt, in_place);
             } else {
-                self.transverse_corrections_axis::<false>(k, points, dt);
+                self.transverse_corrections_axis::<false>(k, points, dt, in_place);
             }
         }
+        let mut scratch = std::mem::take(&mut self.correction_scratch);
+        let mut fluxes = std::mem::take(&mut self.face_flux[last]);
+        if scratch.len() == fluxes.len() {
+            for_each_chunk(
+                self.parallel,
+                1,
+                (chunks(&mut fluxes, CHUNK), chunks(&mut scratch, CHUNK)),
+                |_, (f, c)| {
+                    for (f, c) in f.iter_mut().zip(c.iter()) {
+                        *f = f.add_scaled(c, 1.0);
+                    }
+                },
+            );
+        }
+        self.face_flux[last] = fluxes;
+        self.correction_scratch = scratch;
     }
 
     /// [`Self::transverse_corrections`] of the faces normal to `e_k`; `PER_CELL`: the
     /// cell path (compiled apart so that its kernel carries no nodal branch). 2D: `e_l` is
     /// the one transverse axis of `e_k`; a 3D CTU also needs transverse-transverse terms
     /// (LeVeque 2002, §21.6; Clawpack's `rptt3`) and is refused at construction.
+    /// `in_place`: add the corrections to the axis's fluxes; otherwise write them to the
+    /// scratch array.
     fn transverse_corrections_axis<const PER_CELL: bool>(
         &mut self,
         k: usize,
         points: &MaterialPoints<D>,
         dt: f64,
+        in_place: bool,
     ) {
         {
             let Some(l) = Grid::<D>::segment_axis(k) else {
@@ -66,7 +95,10 @@ impl<const D: usize> DgmpmSolver<D> {
             };
             let scale = dt / (2.0 * self.grid.spacing[l]);
             let n_k = unit::<D>(k);
-            let mut corrections = std::mem::take(&mut self.face_correction[k]);
+            let mut corrections = match in_place {
+                true => std::mem::take(&mut self.face_flux[k]),
+                false => std::mem::take(&mut self.correction_scratch),
+            };
             let this = &*self;
             let fields = this.fields(points);
             let l_fluxes = &this.face_flux[l];
@@ -115,13 +147,19 @@ impl<const D: usize> DgmpmSolver<D> {
                     let cond = this.ghost_condition(k, side, this.edge_coordinate(k, &idx));
                     correction = constrain_correction(&correction, &n_k, cond);
                 }
-                *out = correction;
+                *out = match in_place {
+                    true => out.add_scaled(&correction, 1.0),
+                    false => correction,
+                };
             };
             this.sum_over_faces(k, &mut corrections, |idx, out| {
                 kernel(idx, out);
                 0.0
             });
-            self.face_correction[k] = corrections;
+            match in_place {
+                true => self.face_flux[k] = corrections,
+                false => self.correction_scratch = corrections,
+            }
         }
     }
 

@@ -241,24 +241,10 @@ impl<const D: usize> DgmpmSolver<D> {
     }
 
     /// The flux of face `f` of axis `l` as the update uses it: Godunov plus, under CTU,
-    /// the transverse correction.
+    /// the transverse correction (added in place by phase 2b).
     #[inline]
     fn final_flux(&self, l: usize, f: usize) -> Conserved<D> {
-        Self::flux_with_correction(&self.face_flux, &self.face_correction, l, f)
-    }
-
-    /// [`Self::final_flux`] from the flux and correction arrays.
-    #[inline]
-    pub(crate) fn flux_with_correction(
-        flux: &[Vec<Conserved<D>>; D],
-        correction: &[Vec<Conserved<D>>; D],
-        l: usize,
-        f: usize,
-    ) -> Conserved<D> {
-        match correction[l].get(f) {
-            Some(c) => flux[l][f].add_scaled(c, 1.0),
-            None => flux[l][f],
-        }
+        self.face_flux[l][f]
     }
 
     /// Force on the body through the loaded boundary faces (those whose condition is not

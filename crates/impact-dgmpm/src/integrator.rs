@@ -83,12 +83,7 @@ impl<const D: usize> DgmpmSolver<D> {
             for side in 0..2 {
                 // outward flux F_n = sign · F_{e_l}; it leaves the cell
                 let sign = if side == 0 { -1.0 } else { 1.0 };
-                let q = Self::flux_with_correction(
-                    &self.face_flux,
-                    &self.face_correction,
-                    l,
-                    low + side * stride,
-                );
+                let q = self.face_flux[l][low + side * stride];
                 for a in (0..nodes_per_cell).filter(|a| (a >> l) & 1 == side) {
                     tensor_flux[a] -= q.tensor * (sign * weight);
                     force[a] -= q.momentum * (sign * weight);

@@ -123,26 +123,22 @@ pub enum StepPath {
 }
 
 impl StepPath {
-    /// Whether `self` applies to `points_per_cell` points per cell with `integrator`, the
-    /// shape function values at the points being `shape` (the cell path needs every lumped
-    /// mass `S_a m > 0`: a point strictly inside its cell).
-    pub fn applies(self, points_per_cell: usize, integrator: Integrator, shape: &[f64]) -> bool {
+    /// Whether `self` applies to `points_per_cell` points per cell with `integrator`;
+    /// `inside` tells whether every shape function value at the points is positive (the
+    /// cell path needs every lumped mass `S_a m > 0`: a point strictly inside its cell).
+    pub fn applies(self, points_per_cell: usize, integrator: Integrator, inside: bool) -> bool {
         match self {
             StepPath::Nodal => true,
             StepPath::SinglePoint => points_per_cell == 1,
-            StepPath::Cell => {
-                points_per_cell == 1
-                    && integrator == Integrator::Euler
-                    && shape.iter().all(|&w| w > 0.0)
-            }
+            StepPath::Cell => points_per_cell == 1 && integrator == Integrator::Euler && inside,
         }
     }
 
     /// The fastest path that applies.
-    pub fn fastest(points_per_cell: usize, integrator: Integrator, shape: &[f64]) -> Self {
+    pub fn fastest(points_per_cell: usize, integrator: Integrator, inside: bool) -> Self {
         [StepPath::Cell, StepPath::SinglePoint, StepPath::Nodal]
             .into_iter()
-            .find(|p| p.applies(points_per_cell, integrator, shape))
+            .find(|p| p.applies(points_per_cell, integrator, inside))
             .unwrap_or(StepPath::Nodal)
     }
 
@@ -210,15 +206,19 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) load_now: [[f64; 2]; D],
     pub(crate) points_per_cell: usize,
     pub(crate) parallel: bool,
-    /// `S_iα` for point α and local node i, `points × 2^D`.
+    /// `S_iα` for point α and local node i, `points × 2^D` (nodal paths only; empty on the
+    /// cell path, which never reads it).
     pub(crate) shape: Vec<f64>,
-    /// `∇S_iα`, `points × 2^D`.
+    /// `∇S_iα`, `points × 2^D` (nodal paths only).
     pub(crate) shape_gradient: Vec<Vector<D>>,
+    /// Whether every `S_iα > 0` (every point strictly inside its cell).
+    pub(crate) inside: bool,
     pub(crate) nodes: NodalFields<D>,
     /// Per axis `l`: the Godunov flux `F_{e_l}(q*)` on each face.
     pub(crate) face_flux: [Vec<Conserved<D>>; D],
-    /// Per axis, CTU only (empty otherwise): the transverse correction of each face's flux.
-    pub(crate) face_correction: [Vec<Conserved<D>>; D],
+    /// CTU only (empty otherwise): the transverse corrections of the last axis's faces,
+    /// before they are added to its fluxes ([`DgmpmSolver::transverse_corrections`]).
+    pub(crate) correction_scratch: Vec<Conserved<D>>,
     pub(crate) elastic: Elastic,
     pub(crate) physics: Physics,
     /// J2 plasticity: the return map corrects the points after each step (phase 6).
@@ -316,7 +316,10 @@ impl<const D: usize> Dgmpm<D> {
                 "CTU is implemented in 2D (3D needs transverse-transverse corrections); use --flux dcu",
             ));
         }
-        let points = problem.material_points(&problem.grid, &config)?;
+        let mut points = problem.material_points(&problem.grid, &config)?;
+        // DGMPM reads the half-sizes only to sample (before the solver's buffers exist, so
+        // the peak holds one copy)
+        points.compact_half_sizes();
         let solver = DgmpmSolver::new(problem, config, options, &points)?;
         Ok(Self {
             solver,
@@ -329,6 +332,60 @@ impl<const D: usize> Dgmpm<D> {
     }
 }
 
+/// The local coordinates of every point in its cell, or the error of a point outside the
+/// grid.
+fn local_coordinates<'a, const D: usize>(
+    grid: &'a Grid<D>,
+    points: &'a MaterialPoints<D>,
+) -> impl Iterator<Item = Result<Vector<D>, CoreError>> + 'a {
+    points.reference.iter().map(move |x| {
+        grid.locate(x).map(|(_, xi)| xi).ok_or_else(|| {
+            unsupported(&format!(
+                "material point at {:?} lies outside the grid (degenerate cell sizes?)",
+                x.as_slice()
+            ))
+        })
+    })
+}
+
+/// Whether every point lies strictly inside its cell (every `S_iα > 0`), without storing
+/// the shape functions.
+fn all_inside<const D: usize>(
+    grid: &Grid<D>,
+    points: &MaterialPoints<D>,
+) -> Result<bool, CoreError> {
+    let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
+    let mut shape = [0.0; MAX_NODES];
+    let mut gradient = [Vector::<D>::zeros(); MAX_NODES];
+    let mut inside = true;
+    for xi in local_coordinates(grid, points) {
+        grid.shape(
+            &xi?,
+            &mut shape[..nodes_per_cell],
+            &mut gradient[..nodes_per_cell],
+        );
+        inside &= shape[..nodes_per_cell].iter().all(|&w| w > 0.0);
+    }
+    Ok(inside)
+}
+
+/// `S_iα` and `∇S_iα` of every point's local nodes (`points × 2^D` each), at the points'
+/// (fixed) reference positions.
+#[allow(clippy::type_complexity)]
+fn shapes<const D: usize>(
+    grid: &Grid<D>,
+    points: &MaterialPoints<D>,
+) -> Result<(Vec<f64>, Vec<Vector<D>>), CoreError> {
+    let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
+    let mut shape = vec![0.0; points.len() * nodes_per_cell];
+    let mut shape_gradient = vec![Vector::<D>::zeros(); points.len() * nodes_per_cell];
+    for (p, xi) in local_coordinates(grid, points).enumerate() {
+        let range = p * nodes_per_cell..(p + 1) * nodes_per_cell;
+        grid.shape(&xi?, &mut shape[range.clone()], &mut shape_gradient[range]);
+    }
+    Ok((shape, shape_gradient))
+}
+
 impl<const D: usize> DgmpmSolver<D> {
     /// Allocate every buffer the fastest applicable [`StepPath`] reads and cache the shape
     /// functions at the (fixed) points.
@@ -339,19 +396,7 @@ impl<const D: usize> DgmpmSolver<D> {
         points: &MaterialPoints<D>,
     ) -> Result<Self, CoreError> {
         let grid = problem.grid.clone();
-        let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
-        let mut shape = vec![0.0; points.len() * nodes_per_cell];
-        let mut shape_gradient = vec![Vector::<D>::zeros(); points.len() * nodes_per_cell];
-        for (p, x) in points.reference.iter().enumerate() {
-            let (_, xi) = grid.locate(x).ok_or_else(|| {
-                unsupported(&format!(
-                    "material point at {:?} lies outside the grid (degenerate cell sizes?)",
-                    x.as_slice()
-                ))
-            })?;
-            let range = p * nodes_per_cell..(p + 1) * nodes_per_cell;
-            grid.shape(&xi, &mut shape[range.clone()], &mut shape_gradient[range]);
-        }
+        let inside = all_inside(&grid, points)?;
         let face_counts: [usize; D] = std::array::from_fn(|l| grid.face_count(l));
         let ctu = D > 1 && options.flux == TransverseFlux::Ctu;
         let (p, s) = problem.material.impedances::<D>();
@@ -366,7 +411,12 @@ impl<const D: usize> DgmpmSolver<D> {
             density: problem.material.density,
             z: Impedances { p, s },
         };
-        let path = StepPath::fastest(config.points_per_cell, options.integrator, &shape);
+        let path = StepPath::fastest(config.points_per_cell, options.integrator, inside);
+        // the cell path never reads the shape functions: not allocated (96 B per cell in 2D)
+        let (shape, shape_gradient) = match path.nodal() {
+            true => shapes(&grid, points)?,
+            false => (Vec::new(), Vec::new()),
+        };
         let mut solver = Self {
             config,
             options,
@@ -378,11 +428,10 @@ impl<const D: usize> DgmpmSolver<D> {
             points_per_cell: config.points_per_cell,
             shape,
             shape_gradient,
+            inside,
             nodes: NodalFields::default(),
             face_flux: std::array::from_fn(|l| vec![Conserved::zeros(); face_counts[l]]),
-            face_correction: std::array::from_fn(|l| {
-                vec![Conserved::zeros(); if ctu { face_counts[l] } else { 0 }]
-            }),
+            correction_scratch: vec![Conserved::zeros(); if ctu { face_counts[D - 1] } else { 0 }],
             elastic,
             plastic: match problem.model {
                 Model::J2(j2) => Some(j2),
@@ -433,14 +482,22 @@ impl<const D: usize> DgmpmSolver<D> {
         }
     }
 
-    /// Run another step path (for comparison; the default is [`StepPath::fastest`]).
-    /// Refused where it does not apply.
-    pub fn set_step_path(&mut self, path: StepPath) -> Result<(), CoreError> {
-        if !path.applies(self.points_per_cell, self.options.integrator, &self.shape) {
+    /// Run another step path on `points` (for comparison; the default is
+    /// [`StepPath::fastest`]): the shape functions and nodal buffers it reads are allocated
+    /// here. Refused where it does not apply.
+    pub fn set_step_path(
+        &mut self,
+        path: StepPath,
+        points: &MaterialPoints<D>,
+    ) -> Result<(), CoreError> {
+        if !path.applies(self.points_per_cell, self.options.integrator, self.inside) {
             return Err(unsupported(&format!(
                 "step path {path:?} does not apply to {} points per cell with {}",
                 self.points_per_cell, self.options.integrator
             )));
+        }
+        if path.nodal() && self.shape.is_empty() {
+            (self.shape, self.shape_gradient) = shapes(&self.grid, points)?;
         }
         self.path = path;
         self.allocate_nodes();

@@ -73,9 +73,14 @@ fn single_point_fast_path_matches_the_general_path() {
         c.courant = 0.9;
         let mut fast = Dgmpm::<D>::new(&problem, c).unwrap();
         // the nodal phases (the cell path skips particles→nodes altogether)
-        fast.solver.set_step_path(StepPath::SinglePoint).unwrap();
+        fast.solver
+            .set_step_path(StepPath::SinglePoint, &fast.state.points)
+            .unwrap();
         let mut general = fast.clone();
-        general.solver.set_step_path(StepPath::Nodal).unwrap();
+        general
+            .solver
+            .set_step_path(StepPath::Nodal, &general.state.points)
+            .unwrap();
         let dt = fast.stable_dt();
         let mut worst: f64 = 0.0;
         for n in 0..60 {
@@ -123,7 +128,10 @@ fn cell_path_matches_the_nodal_phases() {
             "{name}: the cell path applies"
         );
         let mut nodal = cell.clone();
-        nodal.solver.set_step_path(StepPath::SinglePoint).unwrap();
+        nodal
+            .solver
+            .set_step_path(StepPath::SinglePoint, &nodal.state.points)
+            .unwrap();
         assert_eq!(nodal.solver.step_path(), StepPath::SinglePoint);
         let dt = cell.stable_dt();
         for n in 0..80 {

@@ -35,6 +35,7 @@ use impact_core::{
 
 mod method;
 mod plastic;
+mod stencil;
 pub use plastic::GaussPlasticity;
 
 const MAX_NODES: usize = 8;
@@ -85,6 +86,9 @@ pub struct FemSolver<const D: usize> {
     centre_gradient: [Vector<D>; MAX_NODES],
     /// J2 plasticity: stresses and history at the Gauss points (`plastic.rs`).
     plastic: Option<GaussPlasticity<D>>,
+    /// Linear elasticity: the internal force as a node stencil (`stencil.rs`); `None`: the
+    /// Gauss-point path.
+    stencil: Option<stencil::Stencil<D>>,
 }
 
 /// Explicit FEM as a [`Method`].
@@ -141,7 +145,14 @@ impl<const D: usize> Fem<D> {
                 Model::J2(j2) => Some(GaussPlasticity::new(j2, grid_cells * gauss_count)),
                 _ => None,
             },
+            stencil: None,
         };
+        if problem.model == Model::LinearElastic {
+            solver.stencil = Some(stencil::Stencil::new(
+                &solver.grid,
+                &solver.element_stiffness(),
+            ));
+        }
         // v^{-1/2} holds v(0): the first step's half step Δt/2 then gives v^{1/2}
         let velocity_half = (0..nodes)
             .map(|v| problem.initial.velocity(&solver.grid.vertex_position(v)))
@@ -297,6 +308,10 @@ impl<const D: usize> FemSolver<D> {
     /// when worth it), with no partial sums, locks or unsafe code. Serial and parallel runs
     /// add in the same order, so their forces agree bit for bit.
     pub fn internal_forces_into(&mut self, displacement: &[Vector<D>]) {
+        if let Some(stencil) = &self.stencil {
+            stencil.forces_into(displacement, &mut self.force, CHUNK, self.parallel);
+            return;
+        }
         self.update_gauss_stresses(displacement);
         let layer_nodes: usize = self.grid.cells[..D - 1].iter().map(|n| n + 1).product();
         let layer_elements: usize = self.grid.cells[..D - 1].iter().product();
@@ -325,6 +340,47 @@ impl<const D: usize> FemSolver<D> {
             );
         }
         self.force = force;
+    }
+
+    /// The element stiffness `K_e[a * 2^D + b]`: the force of the Gauss-point path on
+    /// local node `a` per unit displacement of local node `b` (column `j`: `u_b = e_j`),
+    /// for a linear material.
+    fn element_stiffness(&self) -> Vec<Tensor<D>> {
+        let npc = Grid::<D>::NODES_PER_CELL;
+        let volume = self.grid.cell_volume() * self.gauss_weight;
+        let mut k = vec![Tensor::<D>::zeros(); npc * npc];
+        for b in 0..npc {
+            for j in 0..D {
+                let unit = Vector::<D>::from_fn(|i, _| f64::from(u8::from(i == j)));
+                for q in 0..npc {
+                    let g = &self.gauss_gradient[q * npc..(q + 1) * npc];
+                    let stress = self.stress_of(&(unit * g[b].transpose()));
+                    for a in 0..npc {
+                        let column = (stress * g[a]) * volume;
+                        for i in 0..D {
+                            k[a * npc + b][(i, j)] += column[i];
+                        }
+                    }
+                }
+            }
+        }
+        k
+    }
+
+    /// Take the Gauss-point path for the internal force (the reference the stencil is
+    /// tested against; benchmarks).
+    pub fn use_gauss_path(&mut self) {
+        self.stencil = None;
+    }
+
+    /// The internal force `f_int` of the last [`Self::internal_forces_into`].
+    pub fn internal_force(&self) -> &[Vector<D>] {
+        &self.force
+    }
+
+    /// Whether the internal force runs as a node stencil.
+    pub fn uses_stencil(&self) -> bool {
+        self.stencil.is_some()
     }
 
     /// Add the internal force of element `c` to `force`, which holds the nodes from

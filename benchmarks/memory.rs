@@ -1,0 +1,87 @@
+//! Heap bytes per cell of every method (issue 14): `cargo bench --bench memory`.
+//!
+//! A counting global allocator tracks the live heap. For each method (its scene
+//! configuration, one point per cell) on the plane-wave plate at 1000×750 cells it reports
+//! the bytes the built method holds (live heap after `build` minus before), the peak live
+//! heap while building (transient buffers), and the peak over its first 5 steps (buffers a
+//! step allocates lazily), per cell. Nothing else runs
+//! meanwhile, so the figures are exact and repeatable (no timing involved).
+use impact_core::method::{Integrator, MethodKind};
+use impact_core::{Problem, Scene};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+struct Counting;
+static LIVE: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+
+fn grew(bytes: usize) {
+    let now = LIVE.fetch_add(bytes, Ordering::SeqCst) + bytes;
+    PEAK.fetch_max(now, Ordering::SeqCst);
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        grew(layout.size());
+        // SAFETY: forwarded to the system allocator with the caller's layout
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        LIVE.fetch_sub(layout.size(), Ordering::SeqCst);
+        // SAFETY: the pointer came from System.alloc with this layout
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        LIVE.fetch_sub(layout.size(), Ordering::SeqCst);
+        grew(new_size);
+        // SAFETY: forwarded to the system allocator
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn main() {
+    let mut scene = Scene::builtin("plate-wave").expect("shipped scene");
+    scene.domain.cells = vec![1000, 750];
+    let problem = Problem::<2>::from_scene(&scene).expect("valid scene");
+    let cells = problem.grid.cell_count() as f64;
+    println!("plate-wave 1000x750, one point per cell: heap bytes per cell");
+    println!(
+        "{:<34} {:>10} {:>16} {:>16}",
+        "method", "held", "peak building", "peak in 5 steps"
+    );
+    let mut configs = vec![(
+        "dgmpm (Euler, CTU: cell path)",
+        scene.method_config(MethodKind::Dgmpm),
+    )];
+    let mut rk2 = scene.method_config(MethodKind::Dgmpm);
+    if let Some(o) = rk2.dgmpm_mut() {
+        o.integrator = Integrator::Rk2;
+    }
+    rk2.courant = 0.5;
+    configs.push(("dgmpm (RK2, CTU: nodal path)", rk2));
+    configs.push(("mpm (USL, linear)", scene.method_config(MethodKind::Mpm)));
+    configs.push(("fem (Q4)", scene.method_config(MethodKind::Fem)));
+    for (label, config) in configs {
+        let before = LIVE.load(Ordering::SeqCst);
+        PEAK.store(before, Ordering::SeqCst);
+        let mut method = impact::build(&problem, config).expect("builds");
+        let held = LIVE.load(Ordering::SeqCst) - before;
+        let building = PEAK.load(Ordering::SeqCst) - before;
+        PEAK.store(LIVE.load(Ordering::SeqCst), Ordering::SeqCst);
+        let dt = method.stable_dt();
+        for k in 0..5 {
+            method.step(k as f64 * dt, dt);
+        }
+        let peak = PEAK.load(Ordering::SeqCst) - before;
+        println!(
+            "{label:<34} {:>10.1} {:>16.1} {:>16.1}",
+            held as f64 / cells,
+            building as f64 / cells,
+            peak as f64 / cells
+        );
+        drop(method);
+    }
+}
