@@ -21,7 +21,9 @@
 //! paper's plate: nodes with `y ≤ 1 m`); a symmetry edge zeroes the normal velocity.
 //!
 //! Layout: this file holds the solver, its assembly (lumped mass, boundary loads, the
-//! coloured internal force) and the central-difference phases; `method.rs` the `Method` impl.
+//! coloured internal force) and the central-difference phases; `method.rs` the `Method`
+//! impl; `stencil.rs` the internal force of linear elasticity as a node stencil (the
+//! default there; the Gauss-point path stays the reference it is tested against).
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
