@@ -29,7 +29,7 @@
 #![allow(clippy::needless_range_loop)]
 use impact_core::method::SegmentCover;
 use impact_core::method::{MethodConfig, Model};
-use impact_core::parallel::{chunks, for_each_chunk, sum_chunks, worth_parallel};
+use impact_core::parallel::{chunks, for_each_chunk, worth_parallel};
 use impact_core::problem::Boundary;
 use impact_core::{
     Constraint, CoreError, Grid, LinearElastic, LoadHistory, Problem, Tensor, Vector,
@@ -75,6 +75,8 @@ pub struct FemSolver<const D: usize> {
     /// The loaded nodes' forces at full magnitude and their histories: `f_ext(t)` is
     /// `Σ g(t) f` over them.
     loaded: Vec<(usize, Vector<D>, LoadHistory)>,
+    /// The loaded nodes, each once (the only ones where `f_ext` can be nonzero).
+    loaded_nodes: Vec<usize>,
     /// Prescribed velocity components.
     constraints: Vec<Constraint>,
     /// Per node: 1 for a free component, 0 for a prescribed one.
@@ -127,7 +129,11 @@ impl<const D: usize> Fem<D> {
             free_mask[c.carrier][c.axis] = 0.0;
         }
         let parallel = worth_parallel(grid.cell_count());
+        let mut loaded_nodes: Vec<usize> = loaded.iter().map(|l| l.0).collect();
+        loaded_nodes.sort_unstable();
+        loaded_nodes.dedup();
         let mut solver = FemSolver {
+            loaded_nodes,
             free_mask,
             config,
             grid,
@@ -168,8 +174,7 @@ impl<const D: usize> Fem<D> {
             impulse: Vector::<D>::zeros(),
         };
         solver.set_load_time(0.0);
-        solver.internal_forces_into(&state.displacement);
-        solver.acceleration_into(&mut state.acceleration);
+        solver.internal_forces_into(&state.displacement, &mut state.acceleration);
         Ok(Self { solver, state })
     }
 }
@@ -309,11 +314,25 @@ impl<const D: usize> FemSolver<D> {
     /// ones: two colour passes, each over disjoint chunks of the force array (in parallel
     /// when worth it), with no partial sums, locks or unsafe code. Serial and parallel runs
     /// add in the same order, so their forces agree bit for bit.
-    pub fn internal_forces_into(&mut self, displacement: &[Vector<D>]) {
+    /// Then the acceleration `a = M⁻¹ (f_ext - f_int)` into `acceleration` (fused with the
+    /// force on the stencil path).
+    pub fn internal_forces_into(
+        &mut self,
+        displacement: &[Vector<D>],
+        acceleration: &mut [Vector<D>],
+    ) {
         if let Some(stencil) = &self.stencil {
-            stencil.forces_into(displacement, &mut self.force, CHUNK, self.parallel);
+            let buffers = (&mut self.force[..], &self.mass[..], &mut acceleration[..]);
+            stencil.forces_into(displacement, buffers, CHUNK, self.parallel);
+            self.loaded_accelerations(acceleration);
             return;
         }
+        self.gauss_forces_into(displacement);
+        self.acceleration_into(acceleration);
+    }
+
+    /// The Gauss-point path of [`Self::internal_forces_into`] (force only).
+    fn gauss_forces_into(&mut self, displacement: &[Vector<D>]) {
         self.update_gauss_stresses(displacement);
         let layer_nodes: usize = self.grid.cells[..D - 1].iter().map(|n| n + 1).product();
         let layer_elements: usize = self.grid.cells[..D - 1].iter().product();
@@ -458,14 +477,23 @@ impl<const D: usize> FemSolver<D> {
         }
     }
 
-    /// `a = M⁻¹ (f_ext - f_int)` from the force buffer.
+    /// `a = M⁻¹ (f_ext - f_int)` from the force buffer: `-f_int/m` everywhere (bit for bit
+    /// `(0 - f)/m` where no load acts), then the loaded nodes.
     fn acceleration_into(&self, acceleration: &mut [Vector<D>]) {
         for_each_chunk(self.parallel, 1, chunks(acceleration, CHUNK), |r, acc| {
             for (j, a) in acc.iter_mut().enumerate() {
                 let i = r * CHUNK + j;
-                *a = (self.external[i] - self.force[i]) / self.mass[i];
+                *a = -self.force[i] / self.mass[i];
             }
         });
+        self.loaded_accelerations(acceleration);
+    }
+
+    /// `a = (f_ext - f_int)/m` at the loaded nodes.
+    fn loaded_accelerations(&self, acceleration: &mut [Vector<D>]) {
+        for &n in &self.loaded_nodes {
+            acceleration[n] = (self.external[n] - self.force[n]) / self.mass[n];
+        }
     }
 
     /// `f_ext` at time `t`: `Σ g(t) f` over the loaded nodes (the others stay zero).
@@ -493,8 +521,8 @@ impl<const D: usize> FemSolver<D> {
                 }
             },
         );
-        for f in &self.external {
-            state.impulse += f * dt_avg;
+        for &n in &self.loaded_nodes {
+            state.impulse += self.external[n] * dt_avg;
         }
         let mut work = 0.0;
         for c in &self.constraints {
@@ -511,20 +539,21 @@ impl<const D: usize> FemSolver<D> {
     /// `Δt f_ext · v^{n+1/2}`.
     pub fn displacement_update(&self, state: &mut FemState<D>, dt: f64) -> f64 {
         let velocity = &state.velocity_half;
-        sum_chunks(
+        for_each_chunk(
             self.parallel,
             1,
             chunks(&mut state.displacement, CHUNK),
             |r, displacement| {
-                let mut work = 0.0;
                 for (j, u) in displacement.iter_mut().enumerate() {
-                    let i = r * CHUNK + j;
-                    *u += velocity[i] * dt;
-                    work += dt * self.external[i].dot(&velocity[i]);
+                    *u += velocity[r * CHUNK + j] * dt;
                 }
-                work
             },
-        )
+        );
+        // f_ext is zero but at the loaded nodes
+        self.loaded_nodes
+            .iter()
+            .map(|&n| dt * self.external[n].dot(&velocity[n]))
+            .sum()
     }
 
     /// One step (module doc) from `t^n = t` to `t^{n+1} = t + Δt`: `a^n` used by the
@@ -534,8 +563,7 @@ impl<const D: usize> FemSolver<D> {
         state.work += self.velocity_update(state, dt, t + 0.5 * dt);
         state.work += self.displacement_update(state, dt);
         self.set_load_time(t + dt);
-        self.internal_forces_into(&state.displacement);
-        self.acceleration_into(&mut state.acceleration);
+        self.internal_forces_into(&state.displacement, &mut state.acceleration);
         state.last_dt = dt;
     }
 

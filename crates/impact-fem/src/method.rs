@@ -65,6 +65,19 @@ impl<const D: usize> Method<D> for Fem<D> {
                 .sum();
             return kinetic + volume * stored;
         }
+        if s.uses_stencil() {
+            // linear elasticity: Σ_e Σ_g w_g V_e ½ σ_g : ε_g = ½ uᵀ K u = ½ Σ_n u_n · f_int,n,
+            // the same quadrature, with f_int of the current displacement (every step ends
+            // computing it)
+            let strain_energy: f64 = self
+                .state
+                .displacement
+                .iter()
+                .zip(s.internal_force())
+                .map(|(u, f)| 0.5 * u.dot(f))
+                .sum();
+            return kinetic + strain_energy;
+        }
         let mut strain_energy = 0.0;
         for c in 0..s.grid.cell_count() {
             let nodes = s.element_nodes(c);

@@ -84,21 +84,48 @@ impl<const D: usize> Stencil<D> {
         Self { counts, blocks }
     }
 
-    /// `force = K u` (module doc), in chunks of `chunk` nodes, in parallel when `parallel`.
+    /// `force = K u` (module doc) and, in the same pass, `acceleration = -force / mass`
+    /// (the caller adds `f_ext / m` at the loaded nodes), in chunks of `chunk` nodes, in
+    /// parallel when `parallel`. In 2D the interior nodes of a chunk's interior rows take
+    /// [`interior_row_2d`], the same sum with its nine blocks fixed (no per-node type, no
+    /// bounds checks).
     pub fn forces_into(
         &self,
         displacement: &[Vector<D>],
-        force: &mut [Vector<D>],
+        (force, mass, acceleration): (&mut [Vector<D>], &[f64], &mut [Vector<D>]),
         chunk: usize,
         parallel: bool,
     ) {
         let counts = self.counts;
-        for_each_chunk(parallel, 1, chunks(force, chunk), |r, out| {
+        let pairs = (chunks(force, chunk), chunks(acceleration, chunk));
+        for_each_chunk(parallel, 1, pairs, |r, (out, acc)| {
             let start = r * chunk;
             let mut idx: [usize; D] =
                 std::array::from_fn(|l| start / counts[..l].iter().product::<usize>() % counts[l]);
-            for (j, f) in out.iter_mut().enumerate() {
+            let mut j = 0;
+            while j < out.len() {
                 let node = start + j;
+                // a run of interior nodes of an interior row (2D): the fixed nine blocks
+                if D == 2 && idx[0] == 1 && counts[0] > 2 && idx[1] > 0 && idx[1] + 1 < counts[1] {
+                    let run = (counts[0] - 2).min(out.len() - j);
+                    interior_row_2d(
+                        &self.blocks[types(D) / 2],
+                        counts[0],
+                        displacement,
+                        node,
+                        &mut out[j..j + run],
+                    );
+                    for (a, (f, m)) in acc[j..j + run]
+                        .iter_mut()
+                        .zip(out[j..j + run].iter().zip(&mass[node..node + run]))
+                    {
+                        *a = -f / *m;
+                    }
+                    j += run;
+                    idx[0] += run;
+                    continue;
+                }
+                let f = &mut out[j];
                 let t: usize = (0..D)
                     .map(|l| {
                         let kind = if idx[l] == 0 {
@@ -116,6 +143,7 @@ impl<const D: usize> Stencil<D> {
                     sum += block * displacement[(node as isize + offset) as usize];
                 }
                 *f = sum;
+                acc[j] = -sum / mass[node];
                 // next node in storage order
                 idx[0] += 1;
                 for l in 0..D - 1 {
@@ -124,7 +152,45 @@ impl<const D: usize> Stencil<D> {
                         idx[l + 1] += 1;
                     }
                 }
+                j += 1;
             }
         });
+    }
+}
+
+/// The interior stencil of a 2D mesh on `out.len()` consecutive interior nodes of one row,
+/// the first being `first`: `f_n = Σ_o S[o] u_{n+o}` over the nine blocks `blocks` (the
+/// interior type's, all present), rows `row` nodes long.
+fn interior_row_2d<const D: usize>(
+    blocks: &[(isize, Tensor<D>)],
+    row: usize,
+    displacement: &[Vector<D>],
+    first: usize,
+    out: &mut [Vector<D>],
+) {
+    debug_assert_eq!(blocks.len(), 9);
+    // the blocks as plain 2×2 arrays, ordered by offset (dy, dx) = (-1..=1, -1..=1)
+    let mut k = [[0.0; 4]; 9];
+    for (offset, block) in blocks {
+        let o = offset + row as isize + 1;
+        let (dy, dx) = (o.div_euclid(row as isize), o.rem_euclid(row as isize));
+        k[(dy * 3 + dx) as usize] = [block[(0, 0)], block[(0, 1)], block[(1, 0)], block[(1, 1)]];
+    }
+    // the three rows around the run, from the node left of its first one
+    let below = &displacement[first - row - 1..first - row + out.len() + 1];
+    let middle = &displacement[first - 1..first + out.len() + 1];
+    let above = &displacement[first + row - 1..first + row + out.len() + 1];
+    for (i, f) in out.iter_mut().enumerate() {
+        let (mut x, mut y) = (0.0, 0.0);
+        for (r, rows) in [below, middle, above].iter().enumerate() {
+            for dx in 0..3 {
+                let u = rows[i + dx];
+                let b = &k[r * 3 + dx];
+                x += b[0] * u[0] + b[1] * u[1];
+                y += b[2] * u[0] + b[3] * u[1];
+            }
+        }
+        f[0] = x;
+        f[1] = y;
     }
 }
