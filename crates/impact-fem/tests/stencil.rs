@@ -29,11 +29,23 @@ fn compare<const D: usize>(name: &str, cells: Vec<usize>) {
     let mut gauss = stencil.clone();
     gauss.solver.use_gauss_path();
     let u = displacement::<D>(problem.grid.vertex_count());
-    stencil.solver.internal_forces_into(&u);
-    gauss.solver.internal_forces_into(&u);
+    let (mut acc_stencil, mut acc_gauss) = (u.clone(), u.clone());
+    stencil.solver.internal_forces_into(&u, &mut acc_stencil);
+    gauss.solver.internal_forces_into(&u, &mut acc_gauss);
     let (a, b) = (
         stencil.solver.internal_force(),
         gauss.solver.internal_force(),
+    );
+    // the acceleration fused into the stencil's pass is the Gauss path's
+    let acc_scale = acc_gauss.iter().map(|f| f.amax()).fold(0.0, f64::max);
+    let acc_worst = acc_stencil
+        .iter()
+        .zip(&acc_gauss)
+        .map(|(x, y)| (x - y).amax())
+        .fold(0.0, f64::max);
+    assert!(
+        acc_worst <= 1e-13 * acc_scale,
+        "{name}: acceleration {acc_worst} vs {acc_scale}"
     );
     let scale = b.iter().map(|f| f.amax()).fold(0.0, f64::max);
     let worst = a
