@@ -572,7 +572,7 @@ fn figures_command(args: &FiguresArgs) -> Result<()> {
 }
 
 fn stability_command(args: &StabilityArgs) -> Result<()> {
-    use impact::stability::{sweep, StabilityRow};
+    use impact::stability::{sweep, sweep_scene, StabilityRow};
     for &d in &args.dim {
         if !(d == 1 || d == 2) {
             bail!("--dim {d} is not supported (allowed: 1 and/or 2)");
@@ -615,14 +615,13 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
     };
     let mut rows = Vec::new();
     if args.dim.contains(&1) {
-        let mut scene = Scene::builtin("bar").expect("shipped scene");
+        let mut scene = sweep_scene(1);
         args.layout_onto(&mut scene)?;
         let problem = Problem::<1>::from_scene(&scene)?;
         rows.extend(sweep(&problem, &scene, args.steps_1d, print));
     }
     if args.dim.contains(&2) {
-        let mut scene = Scene::builtin("plate-wave").expect("shipped scene");
-        scene.domain.cells = vec![16, 12];
+        let mut scene = sweep_scene(2);
         if args.positions.is_none() {
             args.layout_onto(&mut scene)?;
         }

@@ -59,7 +59,7 @@ pub struct FileWriter<'a, const D: usize> {
     samples: Samples<D>,
     /// Profiles kept for `stress.png`.
     pub profiles: Profiles,
-    /// Cell averages of σ_xx at each output, for `stress_map.png`.
+    /// Cell averages of σ_xx at each output, for `stress_map.png` (2D only).
     pub maps: CellMaps,
     /// Current x positions of the bottom-row samples at each output, for `svk.png`.
     pub positions: Vec<(f64, Vec<f64>)>,
@@ -325,7 +325,8 @@ impl<const D: usize> FileWriter<'_, D> {
                 map[c] = stress[c][(0, 0)];
             }
         }
-        if self.collect && frame != INITIAL {
+        // maps are drawn in 2D only
+        if self.collect && D == 2 && frame != INITIAL {
             self.maps.push((t, map));
         }
         if !self.files {
@@ -420,7 +421,9 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         if self.files {
             self.write_samples(&frame, t)?;
         }
-        self.grid(method, &frame, t)?;
+        if self.files || (self.collect && D == 2) {
+            self.grid(method, &frame, t)?;
+        }
         Ok(())
     }
 

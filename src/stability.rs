@@ -53,6 +53,27 @@ pub struct StabilityRow {
     pub monotone: Option<f64>,
 }
 
+impl StabilityRow {
+    /// The configuration in one line: `2D dgmpm 1ppc euler ctu nodal`.
+    pub fn label(&self) -> String {
+        format!(
+            "{}D {} {}ppc {} {} {}",
+            self.dim, self.method, self.points_per_cell, self.integrator, self.flux, self.update
+        )
+    }
+}
+
+/// The scene a sweep in dimension `dim` (1 or 2) runs on: the paper's bar, or the plane
+/// wave cut to 16×12 cells (the 2D perturbed runs and von Neumann matrices stay small).
+pub fn sweep_scene(dim: usize) -> impact_core::Scene {
+    if dim == 1 {
+        return impact_core::Scene::builtin("bar").expect("shipped scene");
+    }
+    let mut scene = impact_core::Scene::builtin("plate-wave").expect("shipped scene");
+    scene.domain.cells = vec![16, 12];
+    scene
+}
+
 /// Deterministic uniform numbers in [-1, 1) (64-bit LCG).
 fn noise(state: &mut u64) -> f64 {
     *state = state
@@ -453,16 +474,10 @@ pub fn chart(path: &std::path::Path, rows: &[StabilityRow]) -> anyhow::Result<()
 /// The bar figure of [`chart`].
 pub fn figure(rows: &[StabilityRow]) -> impact_io::plot::BarFigure {
     use impact_io::plot::{BarFigure, BarGroup};
-    let label = |r: &StabilityRow| {
-        format!(
-            "{}D {} {}ppc {} {} {}",
-            r.dim, r.method, r.points_per_cell, r.integrator, r.flux, r.update
-        )
-    };
     BarFigure {
         title: "critical Courant number per configuration".into(),
         axis: "critical Courant number c·Δt/Δx".into(),
-        categories: rows.iter().map(label).collect(),
+        categories: rows.iter().map(StabilityRow::label).collect(),
         groups: vec![
             BarGroup {
                 label: "empirical".into(),

@@ -1,17 +1,11 @@
 //! Every bad scene value and flag gets an error naming the field, the value and what is
 //! allowed, before anything is allocated or written; never a panic. Valid edge cases run.
+mod common;
+use common::impact;
 use impact_core::Scene;
 use std::process::Command;
 
 const BAR: &str = include_str!("../scenes/bar.toml");
-
-/// The `impact` binary on `args`, with its output folder under a fresh temporary path.
-fn impact(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_impact"))
-        .args(args)
-        .output()
-        .expect("run impact")
-}
 
 /// Every file of `tests/bad-scenes/` is refused before anything is written, with exit
 /// status 2, no panic, and a message holding each fragment of its `# expect:` line

@@ -1,36 +1,11 @@
 //! The `impact` binary as a user runs it: outputs, overrides, the CI gate, blow-ups.
 mod common;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn impact(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_impact"))
-        .args(args)
-        .output()
-        .expect("run impact")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("impact-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
+use common::{impact, json, text, tmp};
+use std::path::PathBuf;
 
 /// A `.vtu` as text (its raw appended binary section read lossily).
 fn vtu_text(path: PathBuf) -> String {
     String::from_utf8_lossy(&std::fs::read(path).unwrap()).into_owned()
-}
-
-fn json(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
 #[test]

@@ -1,32 +1,9 @@
 //! Researcher-grade outputs (issue 13): `impact figures`, compact VTU, physical output
 //! times under `--cells`, messages on stderr, and the CI gate's JSON and JUnit reports.
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn impact(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_impact"))
-        .args(args)
-        .output()
-        .expect("run impact")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("impact-outputs-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
-
-fn json(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
+mod common;
+use common::{impact, json, text, tmp};
+use std::path::Path;
+use std::process::Command;
 
 /// Width and height from a PNG's signature and IHDR chunk (PNG spec §5.2, §11.2.2).
 fn png_size(path: &Path) -> (u32, u32) {

@@ -1,8 +1,7 @@
 //! The figures no paper has: work-precision, the stability map, DGMPM against every MPM
 //! shape function, and the elastoplastic fronts.
-use super::paper::{numbers, run_configs, Run};
+use super::paper::{three_methods, Shipped};
 use super::{Entry, Target};
-use crate::plots::{profile_figure, Collected};
 use anyhow::{Context, Result};
 use impact_core::method::{MethodConfig, MethodKind, MpmShape, RiemannSolver, TransverseFlux};
 use impact_core::{Problem, Scene};
@@ -51,16 +50,14 @@ pub fn work_precision(target: &Target) -> Result<Entry> {
 /// 2,000 steps in 1D and 300 in 2D by default; `--full`: 20,000 and 3,000 (those of
 /// `impact stability`).
 pub fn stability(target: &Target) -> Result<Entry> {
-    use crate::stability::sweep;
+    use crate::stability::{sweep, sweep_scene};
     let (steps_1d, steps_2d) = if target.full {
         (20_000, 3_000)
     } else {
         (2_000, 300)
     };
-    let bar = Scene::builtin("bar").expect("internal: a shipped scene");
+    let (bar, plate) = (sweep_scene(1), sweep_scene(2));
     let mut rows = sweep(&Problem::<1>::from_scene(&bar)?, &bar, steps_1d, |_| {});
-    let mut plate = Scene::builtin("plate-wave").expect("internal: a shipped scene");
-    plate.domain.cells = vec![16, 12];
     rows.extend(sweep(
         &Problem::<2>::from_scene(&plate)?,
         &plate,
@@ -73,13 +70,8 @@ pub fn stability(target: &Target) -> Result<Entry> {
     )];
     for r in &rows {
         lines.push(format!(
-            "{}D {} {} ppc {} {} {}: empirical {:.3}, von Neumann {}, monotone {}",
-            r.dim,
-            r.method,
-            r.points_per_cell,
-            r.integrator,
-            r.flux,
-            r.update,
+            "{}: empirical {:.3}, von Neumann {}, monotone {}",
+            r.label(),
             r.empirical,
             r.von_neumann.map_or("-".into(), |v| format!("{v:.3}")),
             r.monotone.map_or("-".into(), |v| format!("{v:.3}"))
@@ -97,26 +89,18 @@ pub fn stability(target: &Target) -> Result<Entry> {
 
 /// DGMPM against MPM with every shape function on the bar (the scene's MPM otherwise).
 pub fn mpm_variants(target: &Target) -> Result<Entry> {
-    let scene = Scene::builtin("bar").expect("internal: a shipped scene");
-    let problem = Problem::<1>::from_scene(&scene)?;
-    let reference = crate::reference_for(&problem, target.progress)?;
-    let mut configs = vec![("dgmpm".to_string(), scene.method_config(MethodKind::Dgmpm))];
-    for shape in MpmShape::ALL {
-        let mut config = scene.method_config(MethodKind::Mpm);
-        if let Some(o) = config.mpm_mut() {
-            o.shape = shape;
+    let bar = Shipped::<1>::run("bar", target.progress, |scene| {
+        let mut configs = vec![("dgmpm".to_string(), scene.method_config(MethodKind::Dgmpm))];
+        for shape in MpmShape::ALL {
+            let mut config = scene.method_config(MethodKind::Mpm);
+            if let Some(o) = config.mpm_mut() {
+                o.shape = shape;
+            }
+            configs.push((format!("mpm {}", shape.name()), config));
         }
-        configs.push((format!("mpm {}", shape.name()), config));
-    }
-    let runs = run_configs(&problem, &configs, reference.as_ref(), target.progress)?;
-    let image = profiles(
-        target,
-        "mpm_variants_bar",
-        "bar",
-        &problem,
-        &runs,
-        &reference,
-    )?;
+        configs
+    })?;
+    let image = target.save("mpm_variants_bar", &bar.profile_figure())?;
     Ok(Entry {
         name: "mpm-variants".into(),
         title: "DGMPM against MPM with every shape function (bar)".into(),
@@ -125,100 +109,79 @@ pub fn mpm_variants(target: &Target) -> Result<Entry> {
             "{}   # the gate: impact check bar --against all-mpm",
             target.command
         ),
-        numbers: numbers(&runs),
+        numbers: bar.numbers(),
         seconds: 0.0,
     })
 }
 
-/// Profiles of `runs` at the problem's output times into `<stem>.png/.svg`.
-fn profiles<const D: usize>(
-    target: &Target,
-    stem: &str,
-    scene: &str,
-    problem: &Problem<D>,
-    runs: &[Run],
-    reference: &Option<impact_core::reference::Reference>,
-) -> Result<super::Image> {
-    let collected: Vec<Collected> = runs.iter().map(|r| r.collected.clone()).collect();
-    let length = problem.grid.upper()[0] - problem.grid.origin[0];
-    let band = if D > 1 {
-        problem.grid.spacing[D - 1]
-    } else {
-        0.0
-    };
-    let figure = profile_figure(
-        scene,
-        problem.model.stress_measure(),
-        &collected,
-        reference.as_ref(),
-        (length, band),
-        &problem.output_times,
-    );
-    target.save(stem, &figure)
-}
-
 /// The plastic wave's width and overshoot of each run, one line each.
-fn plastic_numbers(runs: &[Run]) -> Vec<String> {
+fn plastic_numbers<const D: usize>(runs: &Shipped<D>) -> Vec<String> {
     let fmt = |v: Option<f64>| v.map_or("-".into(), |x| format!("{x:.2}"));
-    runs.iter()
-        .map(|run| {
-            let times = &run.record.times;
+    let list = |values: Vec<String>| values.join(" / ");
+    runs.collected
+        .iter()
+        .zip(&runs.records)
+        .map(|(c, r)| {
             format!(
                 "{}: plastic wave width {} cells, overshoot {} %",
-                run.collected.name,
-                times
-                    .iter()
-                    .map(|t| fmt(t.plastic_front_width_cells))
-                    .collect::<Vec<_>>()
-                    .join(" / "),
-                times
-                    .iter()
-                    .map(|t| fmt(t.plastic_overshoot_pct))
-                    .collect::<Vec<_>>()
-                    .join(" / ")
+                c.name,
+                list(
+                    r.times
+                        .iter()
+                        .map(|t| fmt(t.plastic_front_width_cells))
+                        .collect()
+                ),
+                list(
+                    r.times
+                        .iter()
+                        .map(|t| fmt(t.plastic_overshoot_pct))
+                        .collect()
+                )
             )
         })
         .collect()
 }
 
-/// The elastoplastic fronts of ep-bar and ep-plate-wave: DGMPM with the elastic and the
-/// elastoplastic Riemann solvers (in 2D the latter with DCU at Courant 0.6, since CTU is
-/// refused with it), MPM, FEM and the exact two-wave solution.
-pub fn elastoplastic(target: &Target) -> Result<Entry> {
-    let mut images = Vec::new();
-    let mut lines = Vec::new();
-    for name in ["ep-bar", "ep-plate-wave"] {
-        let scene = Scene::builtin(name).expect("internal: a shipped scene");
-        let mut solver = scene.method_config(MethodKind::Dgmpm);
-        let mut label = "dgmpm ep-solver".to_string();
-        if let Some(o) = solver.dgmpm_mut() {
-            o.riemann = RiemannSolver::Elastoplastic;
-            if scene.dim == 2 {
-                o.flux = TransverseFlux::DonorCell;
-                solver.courant = 0.6;
-                label.push_str(" dcu C0.6");
-            }
-        }
-        let mut configs: Vec<(String, MethodConfig)> = super::paper::three_methods(&scene);
-        configs.insert(1, (label, solver));
-        let stem = format!("elastoplastic_{}", name.replace('-', "_"));
-        lines.push(format!("{name}:"));
-        if scene.dim == 1 {
-            let problem = Problem::<1>::from_scene(&scene)?;
-            let reference = crate::reference_for(&problem, target.progress)?;
-            let runs = run_configs(&problem, &configs, reference.as_ref(), target.progress)?;
-            images.push(profiles(target, &stem, name, &problem, &runs, &reference)?);
-            lines.extend(numbers(&runs));
-            lines.extend(plastic_numbers(&runs));
-        } else {
-            let problem = Problem::<2>::from_scene(&scene)?;
-            let reference = crate::reference_for(&problem, target.progress)?;
-            let runs = run_configs(&problem, &configs, reference.as_ref(), target.progress)?;
-            images.push(profiles(target, &stem, name, &problem, &runs, &reference)?);
-            lines.extend(numbers(&runs));
-            lines.extend(plastic_numbers(&runs));
+/// DGMPM with the elastic and the elastoplastic Riemann solvers (in 2D the latter with
+/// DCU at Courant 0.6, since CTU is refused with it), MPM and FEM on `scene`.
+fn elastoplastic_configs(scene: &Scene) -> Vec<(String, MethodConfig)> {
+    let mut solver = scene.method_config(MethodKind::Dgmpm);
+    let mut label = "dgmpm ep-solver".to_string();
+    if let Some(o) = solver.dgmpm_mut() {
+        o.riemann = RiemannSolver::Elastoplastic;
+        if scene.dim == 2 {
+            o.flux = TransverseFlux::DonorCell;
+            solver.courant = 0.6;
+            label.push_str(" dcu C0.6");
         }
     }
+    let mut configs = three_methods(scene);
+    configs.insert(1, (label, solver));
+    configs
+}
+
+/// One elastoplastic scene's profile image, its numbers appended to `lines`.
+fn elastoplastic_scene<const D: usize>(
+    target: &Target,
+    name: &'static str,
+    lines: &mut Vec<String>,
+) -> Result<super::Image> {
+    let runs = Shipped::<D>::run(name, target.progress, elastoplastic_configs)?;
+    let stem = format!("elastoplastic_{}", name.replace('-', "_"));
+    lines.push(format!("{name}:"));
+    lines.extend(runs.numbers());
+    lines.extend(plastic_numbers(&runs));
+    target.save(&stem, &runs.profile_figure())
+}
+
+/// The elastoplastic fronts of ep-bar and ep-plate-wave ([`elastoplastic_configs`] and
+/// the exact two-wave solution).
+pub fn elastoplastic(target: &Target) -> Result<Entry> {
+    let mut lines = Vec::new();
+    let images = vec![
+        elastoplastic_scene::<1>(target, "ep-bar", &mut lines)?,
+        elastoplastic_scene::<2>(target, "ep-plate-wave", &mut lines)?,
+    ];
     Ok(Entry {
         name: "elastoplastic".into(),
         title: "Elastoplastic fronts: precursor and plastic wave (ep-bar, ep-plate-wave)".into(),

@@ -43,3 +43,32 @@ pub fn dgmpm(scene: &Scene, courant: f64, ppc: usize, integrator: Integrator) ->
         }
     })
 }
+
+/// The `impact` binary run on `args`.
+pub fn impact(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_impact"))
+        .args(args)
+        .output()
+        .expect("run impact")
+}
+
+/// A fresh (removed if present) temporary path for test `name` of this process.
+pub fn tmp(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("impact-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// A run's stdout and stderr, for assertion messages.
+pub fn text(o: &std::process::Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+/// A JSON file, parsed.
+pub fn json(path: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
