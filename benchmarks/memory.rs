@@ -53,7 +53,7 @@ fn main() {
         "method", "held", "peak building", "peak in 5 steps"
     );
     let mut configs = vec![(
-        "dgmpm (Euler, CTU: cell path)",
+        "dgmpm (Euler, CTU: fused path)",
         scene.method_config(MethodKind::Dgmpm),
     )];
     let mut rk2 = scene.method_config(MethodKind::Dgmpm);

@@ -5,30 +5,37 @@
 //!    one thread, 10 passes: bandwidth counted as STREAM does, 24 B per element (two reads,
 //!    one write); best and median pass.
 //! 2. One DGMPM step on one thread (a rayon pool of 1), interleaved with the triad passes:
-//!    the 1000×750 plate at 1 point per cell (cell path, Euler, CTU, Courant 1), the bar
-//!    at 10^6 cells (cell path), and the 1000×750 plate with RK2 (the nodal path); median
-//!    of 10 steps after 3 warm-up steps, in ns per cell-update.
-//! 3. The bytes the 2D cell path must move per cell and step, counted from the code (each
-//!    array read or written once per phase, caches assumed to reuse a neighbour's data
-//!    within a row; `T` = 32 B stress, `V` = 16 B velocity or position, `F` = 48 B one
-//!    face's flux, two faces per cell):
-//!    - `interface_fluxes`: read `T + V` (48), write both axes' fluxes `2F` (96);
-//!    - `transverse_corrections`: y-corrections read the x-fluxes `F` and write the scratch
-//!      `F`; x-corrections read the y-fluxes `F` and update the x-fluxes `2F`; the scratch
-//!      is added to the y-fluxes: `F + 2F` (48 + 48 + 48 + 96 + 48 + 96 = 384);
-//!    - `cell_update`: read `2F` and the mass (104), update `T + V` (96);
-//!    - `move_points`: read `V`, update the position `2V` (48).
+//!    the 1000×750 plate at 1 point per cell (Euler, CTU, Courant 1) on the fused path
+//!    (the default) and on the phase-by-phase cell path, the bar at 10^6 cells on both,
+//!    and the 1000×750 plate with RK2 (the nodal path); median of 10 steps after 3 warm-up
+//!    steps, in ns per cell-update.
+//! 3. The bytes a 2D step must move per cell, counted from the code (each array read or
+//!    written once per phase, caches assumed to reuse a neighbour's data within a row;
+//!    `T` = 32 B stress, `V` = 16 B velocity or position, `F` = 48 B one face's flux, two
+//!    faces per cell):
+//!    - the cell path: `interface_fluxes` reads `T + V` (48) and writes both axes' fluxes
+//!      `2F` (96); `transverse_corrections`: y-corrections read the x-fluxes `F` and write
+//!      the scratch `F`, x-corrections read the y-fluxes `F` and update the x-fluxes `2F`,
+//!      the scratch is added to the y-fluxes `F + 2F` (384); `cell_update` reads `2F` and
+//!      the mass (104) and updates `T + V` (96); `move_points` reads `V` and updates the
+//!      position `2V` (48): 776 B, 920 B if the pure writes (144 B) also read their lines
+//!      first (write-allocate);
+//!    - the fused path: reads `T + V` and the mass (56), writes the next `T + V` (48) and
+//!      updates the position `2V` (32): 136 B, 184 B with write-allocate (its face rows
+//!      stay in cache: about 430 KB per band at 1000 cells a row).
 //!
-//!    776 B per cell and step, 920 B if the pure writes (144 B) also read their lines
-//!    first (write-allocate). The roofline time is bytes / triad bandwidth.
+//!    The roofline time is bytes / triad bandwidth.
 use impact_core::method::{Integrator, MethodKind};
 use impact_core::{Method, Problem, Scene};
+use impact_dgmpm::{Dgmpm, StepPath};
 use std::time::Instant;
 
 const TRIAD: usize = 40_000_000;
 /// Bytes per cell and step of the 2D cell path with CTU (module doc), without and with
 /// write-allocate traffic.
 const CELL_PATH_BYTES: (f64, f64) = (776.0, 920.0);
+/// The same for the fused path.
+const FUSED_PATH_BYTES: (f64, f64) = (136.0, 184.0);
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -45,22 +52,27 @@ fn triad(a: &mut [f64], b: &[f64], c: &[f64], s: f64) -> f64 {
     start.elapsed().as_secs_f64()
 }
 
-/// A method on the shipped scene `name` with `cells`, its config edited.
+/// DGMPM on the shipped scene `name` with `cells`, its config edited, on step path `path`
+/// (`None`: the default).
 fn method<const D: usize>(
     name: &str,
     cells: Vec<usize>,
+    path: Option<StepPath>,
     edit: impl Fn(&mut impact_core::method::MethodConfig),
-) -> (Box<dyn Method<D>>, usize) {
+) -> (Dgmpm<D>, usize) {
     let mut scene = Scene::builtin(name).expect("shipped scene");
     scene.domain.cells = cells;
     let problem = Problem::<D>::from_scene(&scene).expect("valid scene");
     let mut config = scene.method_config(MethodKind::Dgmpm);
     edit(&mut config);
     let count = problem.grid.cell_count();
-    (
-        impact::build(&problem, config).expect("valid method"),
-        count,
-    )
+    let mut m = Dgmpm::new(&problem, config).expect("valid method");
+    if let Some(path) = path {
+        m.solver
+            .set_step_path(path, &m.state.points)
+            .expect("the path applies");
+    }
+    (m, count)
 }
 
 /// Seconds of one step.
@@ -78,25 +90,48 @@ fn main() {
         .expect("a one-thread pool");
     pool.install(|| {
         let (mut a, b, c) = (vec![0.0; TRIAD], vec![1.0; TRIAD], vec![2.0; TRIAD]);
-        let (mut plate, plate_cells) = method::<2>("plate", vec![1000, 750], |_| {});
-        let (mut bar, bar_cells) = method::<1>("bar", vec![1_000_000], |_| {});
-        let (mut rk2, rk2_cells) = method::<2>("plate", vec![1000, 750], |c| {
+        let plate_run = |path| method::<2>("plate", vec![1000, 750], path, |_| {});
+        let bar_run = |path| method::<1>("bar", vec![1_000_000], path, |_| {});
+        let (mut plate, plate_cells) = plate_run(None);
+        let (mut plate_cell, _) = plate_run(Some(StepPath::Cell));
+        let (mut bar, bar_cells) = bar_run(None);
+        let (mut bar_cell, _) = bar_run(Some(StepPath::Cell));
+        let (mut rk2, rk2_cells) = method::<2>("plate", vec![1000, 750], None, |c| {
             c.courant = 0.5;
             if let Some(o) = c.dgmpm_mut() {
                 o.integrator = Integrator::Rk2;
             }
         });
+        assert_eq!(plate.solver.step_path(), StepPath::Fused);
+        assert_eq!(bar.solver.step_path(), StepPath::Fused);
+        let runs: [(&str, &mut dyn Method<2>, usize); 3] = [
+            ("plate 1000x750, fused path", &mut plate, plate_cells),
+            ("plate 1000x750, cell path", &mut plate_cell, plate_cells),
+            ("plate 1000x750, RK2 (nodal path)", &mut rk2, rk2_cells),
+        ];
+        let bars: [(&str, &mut dyn Method<1>, usize); 2] = [
+            ("bar 10^6 cells, fused path", &mut bar, bar_cells),
+            ("bar 10^6 cells, cell path", &mut bar_cell, bar_cells),
+        ];
+        let (mut runs, mut bars) = (runs, bars);
         for k in 0..3 {
-            step(plate.as_mut(), k);
-            step(bar.as_mut(), k);
-            step(rk2.as_mut(), k);
+            runs.iter_mut().for_each(|(_, m, _)| {
+                step(*m, k);
+            });
+            bars.iter_mut().for_each(|(_, m, _)| {
+                step(*m, k);
+            });
         }
-        let (mut triads, mut plates, mut bars, mut rk2s) = (vec![], vec![], vec![], vec![]);
+        let mut triads = vec![];
+        let mut times = vec![vec![]; runs.len() + bars.len()];
         for k in 3..13 {
             triads.push(triad(&mut a, &b, &c, 3.0));
-            plates.push(step(plate.as_mut(), k) / plate_cells as f64 * 1e9);
-            bars.push(step(bar.as_mut(), k) / bar_cells as f64 * 1e9);
-            rk2s.push(step(rk2.as_mut(), k) / rk2_cells as f64 * 1e9);
+            for (i, (_, m, cells)) in runs.iter_mut().enumerate() {
+                times[i].push(step(*m, k) / *cells as f64 * 1e9);
+            }
+            for (i, (_, m, cells)) in bars.iter_mut().enumerate() {
+                times[runs.len() + i].push(step(*m, k) / *cells as f64 * 1e9);
+            }
         }
         let bandwidth = |s: f64| 24.0 * TRIAD as f64 / s / 1e9;
         let best = triads.iter().copied().fold(f64::INFINITY, f64::min);
@@ -106,30 +141,32 @@ fn main() {
             bandwidth(best),
             bandwidth(triad_median)
         );
-        let plate_ns = median(plates.clone());
-        println!(
-            "dgmpm plate 1000x750, 1 ppc, cell path, CTU: {plate_ns:.1} ns per cell-update \
-             (median of 10; min {:.1})",
-            plates.iter().copied().fold(f64::INFINITY, f64::min)
-        );
-        for (label, bytes) in [
-            ("without write-allocate", CELL_PATH_BYTES.0),
-            ("with write-allocate", CELL_PATH_BYTES.1),
+        let labels = runs.iter().map(|r| r.0).chain(bars.iter().map(|r| r.0));
+        let medians: Vec<f64> = times.iter().map(|t| median(t.clone())).collect();
+        for ((label, t), m) in labels.zip(&times).zip(&medians) {
+            let min = t.iter().copied().fold(f64::INFINITY, f64::min);
+            println!("dgmpm {label}: {m:.1} ns per cell-update (median of 10; min {min:.1})");
+        }
+        for (path, ns, bytes) in [
+            ("fused", medians[0], FUSED_PATH_BYTES),
+            ("cell", medians[1], CELL_PATH_BYTES),
         ] {
-            let floor_ns = bytes / bandwidth(triad_median);
-            println!(
-                "  {bytes:.0} B per cell ({label}): roofline {floor_ns:.1} ns at the median \
-                 triad bandwidth, reached {:.0} %",
-                100.0 * floor_ns / plate_ns
-            );
+            for (label, bytes) in [
+                ("without write-allocate", bytes.0),
+                ("with write-allocate", bytes.1),
+            ] {
+                let floor_ns = bytes / bandwidth(triad_median);
+                println!(
+                    "  {path} path, {bytes:.0} B per cell ({label}): roofline {floor_ns:.1} ns \
+                     at the median triad bandwidth, reached {:.0} %",
+                    100.0 * floor_ns / ns
+                );
+            }
         }
         println!(
-            "dgmpm bar 10^6 cells, cell path: {:.1} ns per cell-update",
-            median(bars)
-        );
-        println!(
-            "dgmpm plate 1000x750, RK2 (nodal path), CTU: {:.1} ns per cell-update",
-            median(rk2s)
+            "fused over cell path: plate {:.2}x, bar {:.2}x",
+            medians[1] / medians[0],
+            medians[4] / medians[3]
         );
     });
 }

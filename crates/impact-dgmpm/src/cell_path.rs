@@ -17,6 +17,7 @@ impl<const D: usize> DgmpmSolver<D> {
         let grid = &self.grid;
         let face_flux = &self.face_flux;
         let (density, volume) = (self.material.density, grid.cell_volume());
+        let (tensor_scale, velocity_scale) = (dt * density * volume, dt * volume);
         let MaterialPoints {
             stress,
             deformation,
@@ -41,9 +42,10 @@ impl<const D: usize> DgmpmSolver<D> {
                 dq -= (b.tensor - a.tensor) * inv;
                 dm -= (b.momentum - a.momentum) * inv;
             }
-            let scale = dt * density * volume / mass[c];
-            *q += dq * scale;
-            *v += dm * (scale / density);
+            // Δt ρ V/m and, for the velocity (momentum / ρ), Δt V/m: one division
+            let inv_mass = 1.0 / mass[c];
+            *q += dq * (tensor_scale * inv_mass);
+            *v += dm * (velocity_scale * inv_mass);
         };
         for_each_chunk(
             self.parallel,

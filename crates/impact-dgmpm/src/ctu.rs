@@ -4,7 +4,7 @@ use crate::riemann::{
     constrain_correction, fluctuations, ghost_full, linear_elastic_star, normal_flux,
     transverse_into_face, Conserved, FullState, GhostCondition,
 };
-use crate::{unit, DgmpmSolver, StepPath, CHUNK};
+use crate::{unit, DgmpmSolver, CHUNK};
 use impact_core::method::EdgeTreatment;
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
@@ -52,7 +52,7 @@ impl<const D: usize> DgmpmSolver<D> {
         let last = D - 1;
         let order = std::iter::once((last, false)).chain((0..last).map(|k| (k, true)));
         for (k, in_place) in order {
-            if self.path == StepPath::Cell {
+            if !self.path.nodal() {
                 self.transverse_corrections_axis::<true>(k, points, dt, in_place);
             } else {
                 self.transverse_corrections_axis::<false>(k, points, dt, in_place);
@@ -94,7 +94,6 @@ impl<const D: usize> DgmpmSolver<D> {
                 return;
             };
             let scale = dt / (2.0 * self.grid.spacing[l]);
-            let n_k = unit::<D>(k);
             let mut corrections = match in_place {
                 true => std::mem::take(&mut self.face_flux[k]),
                 false => std::mem::take(&mut self.correction_scratch),
@@ -113,12 +112,11 @@ impl<const D: usize> DgmpmSolver<D> {
             let kernel = |idx: [usize; D], out: &mut Conserved<D>| {
                 let base: usize = Grid::<D>::tangent_axes(k).map(|m| idx[m] * stride[m]).sum();
                 // the fluctuations of the cell below the face (side 0: their B⁺ part counts)
-                // and above (side 1: B⁻)
-                let mut w_side = [Conserved::<D>::zeros(); 2];
-                for side in 0..2 {
+                // and above (side 1: B⁻); a ghost cell's are formed by `face_correction`
+                let w_of = |side: usize| {
                     let j = idx[k] as isize - 1 + side as isize;
                     let inside = j >= 0 && (j as usize) < this.grid.cells[k];
-                    let w = if inside {
+                    inside.then(|| {
                         let lo = base + j as usize * stride[k];
                         let w = l_fluxes[lo + stride[l]].add_scaled(&l_fluxes[lo], -1.0);
                         if PER_CELL {
@@ -128,25 +126,10 @@ impl<const D: usize> DgmpmSolver<D> {
                             cell[k] = j as usize;
                             w.add_scaled(&this.side_flux_difference(fields, cell, l), 1.0)
                         }
-                    } else {
-                        // ghost cell behind the edge of axis k on this side
-                        let mut cell = idx;
-                        cell[k] = j.clamp(0, this.grid.cells[k] as isize - 1) as usize;
-                        let (m_in, p_in) = this.ghost_cell_fluctuations(k, side, l, cell, fields);
-                        m_in.add_scaled(&p_in, 1.0)
-                    };
-                    w_side[side] = w;
-                }
-                let total = transverse_into_face(&w_side[0], &w_side[1], &n_k, &this.elastic);
-                let mut correction = Conserved::<D>::zeros().add_scaled(&total, -scale);
-                // on an edge, the correction must not undo the edge's condition (Clawpack's
-                // ghost-cell-only treatment leaves it)
-                let on_edge = idx[k] == 0 || idx[k] == this.grid.cells[k];
-                if on_edge && this.options.edges == EdgeTreatment::Restricted {
-                    let side = usize::from(idx[k] != 0);
-                    let cond = this.ghost_condition(k, side, this.edge_coordinate(k, &idx));
-                    correction = constrain_correction(&correction, &n_k, cond);
-                }
+                    })
+                };
+                let w_side = [w_of(0), w_of(1)];
+                let correction = this.face_correction(k, idx, w_side, fields, scale);
                 *out = match in_place {
                     true => out.add_scaled(&correction, 1.0),
                     false => correction,
@@ -161,6 +144,48 @@ impl<const D: usize> DgmpmSolver<D> {
                 false => self.correction_scratch = corrections,
             }
         }
+    }
+
+    /// The CTU correction of the face of axis `k` with multi-index `idx`:
+    /// `-scale (B⁺ w_below + B⁻ w_above)` ([`transverse_into_face`]), `scale = Δt/(2Δx_l)`,
+    /// from the `l`-fluctuations `w` of the cells below and above the face along `e_k`
+    /// (`None`: the ghost cell behind the edge, whose fluctuations are formed here); on an
+    /// edge face restricted to what the edge's condition leaves free (Clawpack's
+    /// ghost-cell-only treatment leaves it).
+    #[inline(always)]
+    pub(crate) fn face_correction(
+        &self,
+        k: usize,
+        idx: [usize; D],
+        w: [Option<Conserved<D>>; 2],
+        fields: Fields<'_, D>,
+        scale: f64,
+    ) -> Conserved<D> {
+        let Some(l) = Grid::<D>::segment_axis(k) else {
+            return Conserved::zeros();
+        };
+        let n_k = unit::<D>(k);
+        let ghost = |side: usize| {
+            // ghost cell behind the edge of axis k on this side
+            let j = idx[k] as isize - 1 + side as isize;
+            let mut cell = idx;
+            cell[k] = j.clamp(0, self.grid.cells[k] as isize - 1) as usize;
+            let (m_in, p_in) = self.ghost_cell_fluctuations(k, side, l, cell, fields);
+            m_in.add_scaled(&p_in, 1.0)
+        };
+        let w_side = [
+            w[0].unwrap_or_else(|| ghost(0)),
+            w[1].unwrap_or_else(|| ghost(1)),
+        ];
+        let total = transverse_into_face(&w_side[0], &w_side[1], &n_k, &self.elastic);
+        let correction = Conserved::<D>::zeros().add_scaled(&total, -scale);
+        let on_edge = idx[k] == 0 || idx[k] == self.grid.cells[k];
+        if on_edge && self.options.edges == EdgeTreatment::Restricted {
+            let side = usize::from(idx[k] != 0);
+            let cond = self.ghost_condition(k, side, self.edge_coordinate(k, &idx));
+            return constrain_correction(&correction, &n_k, cond);
+        }
+        correction
     }
 
     /// `F(q_C,low) - F(q_C,high)`: the difference of the normal fluxes (`e_l`) of cell `C`'s

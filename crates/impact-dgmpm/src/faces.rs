@@ -2,7 +2,7 @@
 //! face (averages of each side's face nodes, paper §4, or the cell's one state on the cell
 //! path) and the ghost conditions of the boundary faces (LeVeque 2002, §7.3).
 use crate::riemann::{ghost_full, FullState, GhostCondition};
-use crate::{unit, DgmpmSolver, StepPath, CHUNK};
+use crate::{unit, DgmpmSolver, CHUNK};
 use impact_core::parallel::{chunks, sum_chunks};
 use impact_core::points::MaterialPoints;
 use impact_core::problem::Boundary;
@@ -18,7 +18,26 @@ pub(crate) struct Fields<'a, const D: usize> {
     per_cell: bool,
 }
 
-impl<const D: usize> Fields<'_, D> {
+impl<'a, const D: usize> Fields<'a, D> {
+    /// One state per cell (the cell path's points, stored in cell order).
+    #[inline]
+    pub(crate) fn per_cell(tensor: &'a [Tensor<D>], velocity: &'a [Vector<D>]) -> Self {
+        Self {
+            tensor,
+            velocity,
+            per_cell: true,
+        }
+    }
+
+    /// The one state of cell `c` (per-cell fields only).
+    #[inline(always)]
+    pub(crate) fn cell(&self, c: usize) -> FullState<D> {
+        FullState {
+            tensor: self.tensor[c],
+            velocity: self.velocity[c],
+        }
+    }
+
     /// State of cell `c` on its face normal to axis `l` (`high` side or low side): the
     /// average of the cell's nodes on that face (paper §4); on the cell path, the cell's
     /// one state (all its nodes carry it).
@@ -117,7 +136,7 @@ impl<const D: usize> DgmpmSolver<D> {
     /// the points themselves (one per cell, stored in cell order).
     #[inline]
     pub(crate) fn fields<'a>(&'a self, points: &'a MaterialPoints<D>) -> Fields<'a, D> {
-        if self.path == StepPath::Cell {
+        if !self.path.nodal() {
             Fields {
                 tensor: self.point_tensor(points),
                 velocity: &points.velocity,

@@ -1,6 +1,7 @@
 //! Phase 2: the Godunov flux on every face (linear elastic or Saint-Venant–Kirchhoff
 //! Riemann solvers, ghost states on the boundary) and the force the loaded boundary
 //! faces exert on the body.
+use crate::faces::Fields;
 use crate::riemann::{
     self, linear_elastic_star, normal_flux, Conserved, FullState, GhostCondition,
 };
@@ -17,49 +18,88 @@ impl<const D: usize> DgmpmSolver<D> {
     pub fn interface_fluxes(&mut self, points: &MaterialPoints<D>) -> f64 {
         let mut power = 0.0;
         for l in 0..D {
-            let e = unit::<D>(l);
-            let area = self.grid.cell_volume() / self.grid.spacing[l];
             let mut fluxes = std::mem::take(&mut self.face_flux[l]);
             let this = &*self;
             let fields = this.fields(points);
-            let kernel = |idx: [usize; D], flux: &mut Conserved<D>| -> f64 {
-                let (lc, rc, s) = this.face_cells(l, idx);
-                let left = lc.map(|c| fields.side(c, l, true));
-                let right = rc.map(|c| fields.side(c, l, false));
-                let star = match this.physics {
-                    Physics::Linear if this.rod_solver.is_some() => {
-                        let star = this.elastoplastic_star(points, l, (lc, rc), left, right, s);
-                        *flux = normal_flux(&star, &e, &this.elastic);
-                        star
-                    }
-                    Physics::Linear => {
-                        let (a, b) = this.face_pair(l, left, right, s);
-                        let (fa, fb) = (a.on_face(&e), b.on_face(&e));
-                        let star = linear_elastic_star(&fa, &fb, &e, this.elastic.z);
-                        *flux = normal_flux(&star, &e, &this.elastic);
-                        star
-                    }
-                    Physics::Svk { svk, riemann } => {
-                        let star = this.svk_star(&svk, riemann, l, left, right, s);
-                        // F_n(q*) = -(v* ⊗ n, Π* n)
-                        *flux = Conserved {
-                            tensor: -(star.velocity * e.transpose()),
-                            momentum: -star.traction,
-                        };
-                        star
-                    }
-                };
-                match (lc, rc) {
-                    // traction on the body σ* n_out, n_out = -e_l at the low boundary
-                    (None, _) => -area * star.traction.dot(&star.velocity),
-                    (_, None) => area * star.traction.dot(&star.velocity),
-                    _ => 0.0,
-                }
-            };
-            power += this.sum_over_faces(l, &mut fluxes, kernel);
+            power += this.sum_over_faces(l, &mut fluxes, |idx, flux| {
+                let power;
+                (*flux, power) = this.face_flux_at(l, idx, fields, points);
+                power
+            });
             self.face_flux[l] = fluxes;
         }
         power
+    }
+
+    /// The Godunov flux `F_{e_l}(q*)` of the face of axis `l` with multi-index `idx`, and
+    /// the power its boundary condition delivers (0 inside).
+    #[inline(always)]
+    pub(crate) fn face_flux_at(
+        &self,
+        l: usize,
+        idx: [usize; D],
+        fields: Fields<'_, D>,
+        points: &MaterialPoints<D>,
+    ) -> (Conserved<D>, f64) {
+        if self.physics == Physics::Linear && self.rod_solver.is_none() {
+            return self.linear_face_flux(l, idx, fields);
+        }
+        let e = unit::<D>(l);
+        let (lc, rc, s) = self.face_cells(l, idx);
+        let left = lc.map(|c| fields.side(c, l, true));
+        let right = rc.map(|c| fields.side(c, l, false));
+        let (flux, star) = match self.physics {
+            Physics::Linear => {
+                let star = self.elastoplastic_star(points, l, (lc, rc), left, right, s);
+                (normal_flux(&star, &e, &self.elastic), star)
+            }
+            Physics::Svk { svk, riemann } => {
+                let star = self.svk_star(&svk, riemann, l, left, right, s);
+                // F_n(q*) = -(v* ⊗ n, Π* n)
+                let flux = Conserved {
+                    tensor: -(star.velocity * e.transpose()),
+                    momentum: -star.traction,
+                };
+                (flux, star)
+            }
+        };
+        (flux, self.boundary_power(l, (lc, rc), &star))
+    }
+
+    /// [`Self::face_flux_at`] with the linear-elastic solver: the star state of the face's
+    /// two states (a ghost state behind a boundary face) and its flux `F_{e_l}(q*)`.
+    #[inline(always)]
+    pub(crate) fn linear_face_flux(
+        &self,
+        l: usize,
+        idx: [usize; D],
+        fields: Fields<'_, D>,
+    ) -> (Conserved<D>, f64) {
+        let e = unit::<D>(l);
+        let (lc, rc, s) = self.face_cells(l, idx);
+        let left = lc.map(|c| fields.side(c, l, true));
+        let right = rc.map(|c| fields.side(c, l, false));
+        let (a, b) = self.face_pair(l, left, right, s);
+        let star = linear_elastic_star(&a.on_face(&e), &b.on_face(&e), &e, self.elastic.z);
+        let flux = normal_flux(&star, &e, &self.elastic);
+        (flux, self.boundary_power(l, (lc, rc), &star))
+    }
+
+    /// Power a boundary face's condition delivers, `|Γ_f| (σ* n_out)·v*` (0 inside): the
+    /// traction on the body is `σ* n_out`, `n_out = -e_l` at the low boundary.
+    #[inline(always)]
+    fn boundary_power(
+        &self,
+        l: usize,
+        cells: (Option<usize>, Option<usize>),
+        star: &riemann::FaceState<D>,
+    ) -> f64 {
+        let area = self.grid.cell_volume() / self.grid.spacing[l];
+        match cells {
+            (None, _) => -area * star.traction.dot(&star.velocity),
+            (_, None) => area * star.traction.dot(&star.velocity),
+            _ => 0.0,
+        }
     }
 
     /// Star state of a face with the elastoplastic solver ([`riemann::elastoplastic`]),
@@ -255,7 +295,6 @@ impl<const D: usize> DgmpmSolver<D> {
         let grid = &self.grid;
         let mut force = Vector::<D>::zeros();
         for l in 0..D {
-            let area = grid.cell_volume() / grid.spacing[l];
             let layer: usize = Grid::<D>::tangent_axes(l).map(|k| grid.cells[k]).product();
             for t in 0..layer {
                 let mut idx = [0usize; D];
@@ -266,17 +305,30 @@ impl<const D: usize> DgmpmSolver<D> {
                 }
                 for side in 0..2 {
                     idx[l] = side * grid.cells[l];
-                    let sign = if side == 0 { -1.0 } else { 1.0 };
-                    let s = self.edge_coordinate(l, &idx);
-                    let free = GhostCondition::Traction(Vector::<D>::zeros());
-                    if self.ghost_condition(l, side, s) == free {
-                        continue;
-                    }
                     let f = Self::face_index(grid, l, idx);
-                    force -= self.final_flux(l, f).momentum * (sign * area);
+                    force += self.boundary_face_force(l, idx, &self.final_flux(l, f));
                 }
             }
         }
         force
+    }
+
+    /// Force on the body through the boundary face of axis `l` at `idx` whose final flux
+    /// is `flux`: `-sign |Γ_f| F_{e_l}` (momentum part), zero on a traction-free face.
+    #[inline]
+    pub(crate) fn boundary_face_force(
+        &self,
+        l: usize,
+        idx: [usize; D],
+        flux: &Conserved<D>,
+    ) -> Vector<D> {
+        let side = usize::from(idx[l] != 0);
+        let s = self.edge_coordinate(l, &idx);
+        if self.ghost_condition(l, side, s) == GhostCondition::free() {
+            return Vector::<D>::zeros();
+        }
+        let sign = if side == 0 { -1.0 } else { 1.0 };
+        let area = self.grid.cell_volume() / self.grid.spacing[l];
+        -flux.momentum * (sign * area)
     }
 }

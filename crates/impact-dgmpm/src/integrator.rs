@@ -175,6 +175,14 @@ impl<const D: usize> DgmpmSolver<D> {
     /// 1 in 1D the boundary cell then takes the load's average over the step to second
     /// order, as the exact solution's cell average does), `t` and `t + Δt` for Heun's two.
     pub fn step(&mut self, state: &mut DgmpmState<D>, t: f64, dt: f64) {
+        if self.path == StepPath::Fused {
+            self.set_load_time(t + 0.5 * dt);
+            let (power, force) = self.fused_step(&mut state.points, dt);
+            state.work += dt * power;
+            state.impulse += force * dt;
+            self.plastic_correction(&mut state.points);
+            return;
+        }
         if self.path == StepPath::Cell {
             self.set_load_time(t + 0.5 * dt);
             let power = self.interface_fluxes(&state.points);

@@ -28,6 +28,10 @@
 //! to phases 1-5 to round-off (1D/2D, CTU/donor-cell, linear and SVK), and
 //! [`DgmpmSolver::set_step_path`] picks another path for comparison ([`StepPath`]).
 //!
+//! **Fused path** (the cell path with linear elasticity in 1D or 2D, the default there):
+//! the same phases in one sweep over the cell rows, each face solved once, rolling rows of
+//! faces instead of face arrays ([`fused`]); tested bit for bit equal to the cell path.
+//!
 //! Choices where the paper is silent, with their reasons:
 //! - **Point update** ([`PointUpdate`]): the default is `Nodal` (points take the
 //!   interpolated new nodal field, `q_α = Σ_i S_iα q_i^{n+1}`). The point state then stays
@@ -71,6 +75,7 @@
 //! - [`ctu`]: phase 2b, corner transport upwind corrections.
 //! - [`integrator`]: phases 3-4 and the step (`stage`, once for Euler, twice for RK2).
 //! - [`cell_path`]: the cell-centred update of the cell path.
+//! - [`fused`]: the cell path's phases in one sweep (linear, 1D and 2D).
 //! - [`riemann`]: the Riemann solvers (one file each); a new solver goes there.
 //! - [`method`]: the [`Method`](impact_core::Method) impl.
 
@@ -80,6 +85,7 @@ pub mod cell_path;
 pub mod ctu;
 pub mod faces;
 pub mod fluxes;
+pub mod fused;
 pub mod integrator;
 pub mod mapping;
 pub mod method;
@@ -120,31 +126,54 @@ pub enum StepPath {
     /// One point per cell strictly inside its cell, forward Euler: the step reduces exactly
     /// to the cell-centred Godunov update ([`DgmpmSolver::cell_update`]); no nodal buffer.
     Cell,
+    /// The cell path with its phases fused into one sweep ([`fused`]): linear elasticity
+    /// (no elastoplastic Riemann solver), 1D or 2D; no face arrays.
+    Fused,
 }
 
 impl StepPath {
     /// Whether `self` applies to `points_per_cell` points per cell with `integrator`;
     /// `inside` tells whether every shape function value at the points is positive (the
-    /// cell path needs every lumped mass `S_a m > 0`: a point strictly inside its cell).
-    pub fn applies(self, points_per_cell: usize, integrator: Integrator, inside: bool) -> bool {
+    /// cell path needs every lumped mass `S_a m > 0`: a point strictly inside its cell);
+    /// `fusable`: linear elasticity without the elastoplastic Riemann solver, in 1D or 2D.
+    pub fn applies(
+        self,
+        points_per_cell: usize,
+        integrator: Integrator,
+        inside: bool,
+        fusable: bool,
+    ) -> bool {
         match self {
             StepPath::Nodal => true,
             StepPath::SinglePoint => points_per_cell == 1,
             StepPath::Cell => points_per_cell == 1 && integrator == Integrator::Euler && inside,
+            StepPath::Fused => {
+                fusable && StepPath::Cell.applies(points_per_cell, integrator, inside, fusable)
+            }
         }
     }
 
     /// The fastest path that applies.
-    pub fn fastest(points_per_cell: usize, integrator: Integrator, inside: bool) -> Self {
-        [StepPath::Cell, StepPath::SinglePoint, StepPath::Nodal]
-            .into_iter()
-            .find(|p| p.applies(points_per_cell, integrator, inside))
-            .unwrap_or(StepPath::Nodal)
+    pub fn fastest(
+        points_per_cell: usize,
+        integrator: Integrator,
+        inside: bool,
+        fusable: bool,
+    ) -> Self {
+        [
+            StepPath::Fused,
+            StepPath::Cell,
+            StepPath::SinglePoint,
+            StepPath::Nodal,
+        ]
+        .into_iter()
+        .find(|p| p.applies(points_per_cell, integrator, inside, fusable))
+        .unwrap_or(StepPath::Nodal)
     }
 
     /// Whether the path stores nodal fields.
     pub fn nodal(self) -> bool {
-        self != StepPath::Cell
+        !matches!(self, StepPath::Cell | StepPath::Fused)
     }
 }
 
@@ -219,6 +248,10 @@ pub struct DgmpmSolver<const D: usize> {
     /// CTU only (empty otherwise): the transverse corrections of the last axis's faces,
     /// before they are added to its fluxes ([`DgmpmSolver::transverse_corrections`]).
     pub(crate) correction_scratch: Vec<Conserved<D>>,
+    /// The fused path's rolling face rows and next state (empty on the other paths).
+    pub(crate) fused: fused::FusedBuffers<D>,
+    /// Linear elasticity without the elastoplastic solver, 1D or 2D: the fused path applies.
+    pub(crate) fusable: bool,
     pub(crate) elastic: Elastic,
     pub(crate) physics: Physics,
     /// J2 plasticity: the return map corrects the points after each step (phase 6).
@@ -397,8 +430,6 @@ impl<const D: usize> DgmpmSolver<D> {
     ) -> Result<Self, CoreError> {
         let grid = problem.grid.clone();
         let inside = all_inside(&grid, points)?;
-        let face_counts: [usize; D] = std::array::from_fn(|l| grid.face_count(l));
-        let ctu = D > 1 && options.flux == TransverseFlux::Ctu;
         let (p, s) = problem.material.impedances::<D>();
         let lame = problem.material.lame;
         let elastic = Elastic {
@@ -411,7 +442,10 @@ impl<const D: usize> DgmpmSolver<D> {
             density: problem.material.density,
             z: Impedances { p, s },
         };
-        let path = StepPath::fastest(config.points_per_cell, options.integrator, inside);
+        let fusable = D <= 2
+            && matches!(problem.model, Model::LinearElastic | Model::J2(_))
+            && options.riemann != RiemannSolver::Elastoplastic;
+        let path = StepPath::fastest(config.points_per_cell, options.integrator, inside, fusable);
         // the cell path never reads the shape functions: not allocated (96 B per cell in 2D)
         let (shape, shape_gradient) = match path.nodal() {
             true => shapes(&grid, points)?,
@@ -430,8 +464,10 @@ impl<const D: usize> DgmpmSolver<D> {
             shape_gradient,
             inside,
             nodes: NodalFields::default(),
-            face_flux: std::array::from_fn(|l| vec![Conserved::zeros(); face_counts[l]]),
-            correction_scratch: vec![Conserved::zeros(); if ctu { face_counts[D - 1] } else { 0 }],
+            face_flux: std::array::from_fn(|_| Vec::new()),
+            correction_scratch: Vec::new(),
+            fused: fused::FusedBuffers::default(),
+            fusable,
             elastic,
             plastic: match problem.model {
                 Model::J2(j2) => Some(j2),
@@ -469,16 +505,28 @@ impl<const D: usize> DgmpmSolver<D> {
             wave_speed: problem.max_wave_speed(),
             grid,
         };
-        solver.allocate_nodes();
+        solver.allocate_buffers();
         Ok(solver)
     }
 
-    /// Allocate the nodal buffers if the path reads them and they are missing (never in
-    /// the step loop).
-    fn allocate_nodes(&mut self) {
-        let nodes = self.grid.cell_count() * Grid::<D>::NODES_PER_CELL;
+    /// Allocate the buffers the path reads where they are missing (never in the step
+    /// loop): the nodal fields (nodal paths), the face arrays (every path but the fused
+    /// one; the CTU scratch with CTU), the fused path's rows and next state.
+    fn allocate_buffers(&mut self) {
+        let grid = &self.grid;
+        let nodes = grid.cell_count() * Grid::<D>::NODES_PER_CELL;
         if self.path.nodal() && self.nodes.mass.len() != nodes {
             self.nodes = NodalFields::new(nodes);
+        }
+        let ctu = D > 1 && self.options.flux == TransverseFlux::Ctu;
+        if self.path == StepPath::Fused {
+            if self.fused.is_empty() {
+                self.fused = fused::FusedBuffers::new(grid.cells);
+            }
+        } else if self.face_flux[0].is_empty() {
+            self.face_flux = std::array::from_fn(|l| vec![Conserved::zeros(); grid.face_count(l)]);
+            let scratch = if ctu { grid.face_count(D - 1) } else { 0 };
+            self.correction_scratch = vec![Conserved::zeros(); scratch];
         }
     }
 
@@ -490,7 +538,12 @@ impl<const D: usize> DgmpmSolver<D> {
         path: StepPath,
         points: &MaterialPoints<D>,
     ) -> Result<(), CoreError> {
-        if !path.applies(self.points_per_cell, self.options.integrator, self.inside) {
+        if !path.applies(
+            self.points_per_cell,
+            self.options.integrator,
+            self.inside,
+            self.fusable,
+        ) {
             return Err(unsupported(&format!(
                 "step path {path:?} does not apply to {} points per cell with {}",
                 self.points_per_cell, self.options.integrator
@@ -500,7 +553,7 @@ impl<const D: usize> DgmpmSolver<D> {
             (self.shape, self.shape_gradient) = shapes(&self.grid, points)?;
         }
         self.path = path;
-        self.allocate_nodes();
+        self.allocate_buffers();
         Ok(())
     }
 

@@ -122,6 +122,9 @@ fn cell_path_matches_the_nodal_phases() {
             o.riemann = RiemannSolver::Approximate;
         }
         let mut cell = Dgmpm::<D>::new(&problem, c).unwrap();
+        // linear scenes default to the fused path (tests/fused.rs compares it with this one)
+        let points = cell.state.points.clone();
+        cell.solver.set_step_path(StepPath::Cell, &points).unwrap();
         assert_eq!(
             cell.solver.step_path(),
             StepPath::Cell,

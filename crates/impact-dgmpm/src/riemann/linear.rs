@@ -36,7 +36,8 @@ pub fn linear_elastic_star<const D: usize>(
     FaceState { traction, velocity }
 }
 
-/// traction `σ n` (paper eq. 7 and 20).
+/// The Godunov flux of a face state (paper eq. 7 and 20): `F_n = -(C : sym(v ⊗ n), t)`
+/// with the traction `t = σ n`.
 #[inline]
 pub fn normal_flux<const D: usize>(
     face: &FaceState<D>,
@@ -49,7 +50,7 @@ pub fn normal_flux<const D: usize>(
     }
 }
 
-/// Fluctuations of the face Riemann problem (LeVeque 2002, eq. 4.?): `A⁻Δq = F_n(q*) - F_n(q_L)`
+/// Fluctuations of the face Riemann problem (LeVeque 2002, §4.12): `A⁻Δq = F_n(q*) - F_n(q_L)`
 /// goes into the left cell, `A⁺Δq = F_n(q_R) - F_n(q*)` into the right cell.
 #[inline]
 pub fn fluctuations<const D: usize>(
@@ -64,11 +65,6 @@ pub fn fluctuations<const D: usize>(
     let fs = normal_flux(star, normal, m);
     (fs.add_scaled(&fl, -1.0), fr.add_scaled(&fs, -1.0))
 }
-
-/// Transverse Riemann solver (LeVeque 2002, §21.2): split `w` into the waves of the
-/// Jacobian `B` normal to `normal` and keep those moving along `+normal` (`B⁺w`) and
-/// along `-normal` (`B⁻w`). With `n` the normal, `t` a tangent, `m = ρ v`-part and
-/// `W` the stress part of `w`, the P- and S-wave strengths are
 
 #[cfg(test)]
 mod tests {

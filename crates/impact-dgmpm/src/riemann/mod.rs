@@ -3,6 +3,8 @@
 //!
 //! - [`linear`]: the exact linear-elastic solver normal to a face, the Godunov flux and the
 //!   fluctuations (paper §4, eqs. 18-21).
+//! - [`axis`]: the same flux and the transverse solver written out for a grid-axis normal
+//!   (the fused cell path's interior faces).
 //! - [`ghost`]: ghost states and boundary half-problems (LeVeque 2002, §7.3), and the
 //!   restriction of CTU corrections on boundary faces.
 //! - [`transverse`]: the transverse solver of corner transport upwind (LeVeque 2002, §21.2).
@@ -16,6 +18,7 @@
 //! state, traction `t = σ n`, normal parts `t_n = n·t`, `v_n = n·v`, tangential parts
 //! `t_t = t - t_n n`, `v_t = v - v_n n`.
 
+pub mod axis;
 pub mod elastoplastic;
 mod ghost;
 mod linear;

@@ -2,6 +2,11 @@
 use super::{Conserved, Elastic};
 use impact_core::{Tensor, Vector};
 
+/// Transverse Riemann solver (LeVeque 2002, §21.2): split `w` into the waves of the
+/// Jacobian `B` normal to `normal` and keep those moving along `+normal` (`B⁺w`) and
+/// along `-normal` (`B⁻w`). With `n` the normal, `t` a tangent, `m` the momentum part and
+/// `W` the stress part of `w`, the P- and S-wave strengths are
+/// `α_P± = ½ (m·n/ρ ∓ n·W n/Z_p)`, `α_S± = ½ (m·t/ρ ∓ t·W n/Z_s)`, the eigenvectors
 /// `r_P± = (∓(λ 1 + 2μ n⊗n)/c_p, ρ n)`, `r_S± = (∓μ (t⊗n + n⊗t)/c_s, ρ t)`, and
 /// `B⁺w = c_p α_P+ r_P+ + c_s α_S+ r_S+`, `B⁻w = -c_p α_P- r_P- - c_s α_S- r_S-`.
 /// The stationary wave (a jump of `σ_tt`) moves neither way.
@@ -88,8 +93,6 @@ pub fn transverse_into_face<const D: usize>(
     }
     out
 }
-
-/// Full-state ghost transform (the state of the mirror cell behind a boundary), in the
 
 #[cfg(test)]
 mod tests {

@@ -1,0 +1,218 @@
+//! The linear-elastic solvers with the normal along a grid axis, written out component by
+//! component: the Godunov flux of [`super::linear`] and the transverse solver of
+//! [`super::transverse`] for `n = e_L` (1D and 2D small strain). They are the same
+//! formulas with every product by a zero or unit component of `n` left out, which the
+//! general functions (a normal known only at run time) cannot skip; the fused cell path
+//! ([`crate::fused`]) calls them on interior faces. Tested equal to the general functions
+//! to round-off.
+//!
+//! With `L` the normal axis and `T` the other one (2D), a state's traction on the face is
+//! the column `σ e_L = (σ_LL, σ_TL)`; the star state (paper §4, eqs. 18-21) is
+//! `t_L* = ½(t_Ll + t_Lr) + ½ Z_p (v_Lr - v_Ll)`, `v_L* = ½(v_Ll + v_Lr) + (t_Lr - t_Ll)/(2 Z_p)`,
+//! the same along `T` with `Z_s`, and the flux is
+//! `F_{e_L}(q*) = -(C : sym(v* ⊗ e_L), t*)`, i.e. `σ`-part `-(λ+2μ) v_L*` (`LL`),
+//! `-λ v_L*` (`TT`), `-μ v_T*` (`LT`, `TL`).
+use super::{Conserved, Elastic, FullState};
+use impact_core::{Tensor, Vector};
+
+/// The constants of the axis solvers, formed once from [`Elastic`] (the same products and
+/// quotients the general functions form on every call).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisConstants {
+    lambda: f64,
+    mu: f64,
+    two_mu: f64,
+    zp: f64,
+    zs: f64,
+    half_zp: f64,
+    half_zs: f64,
+    half_over_zp: f64,
+    half_over_zs: f64,
+    inv_zp: f64,
+    inv_zs: f64,
+    inv_rho: f64,
+}
+
+impl AxisConstants {
+    /// The constants of `m`.
+    pub fn new(m: &Elastic) -> Self {
+        Self {
+            lambda: m.lambda,
+            mu: m.mu,
+            two_mu: 2.0 * m.mu,
+            zp: m.z.p,
+            zs: m.z.s,
+            half_zp: 0.5 * m.z.p,
+            half_zs: 0.5 * m.z.s,
+            half_over_zp: 0.5 / m.z.p,
+            half_over_zs: if m.z.s > 0.0 { 0.5 / m.z.s } else { 0.0 },
+            inv_zp: 1.0 / m.z.p,
+            inv_zs: if m.z.s > 0.0 { 1.0 / m.z.s } else { 0.0 },
+            inv_rho: 1.0 / m.density,
+        }
+    }
+}
+
+/// Godunov flux through a face normal to `e_L` between `left` and `right` (2D): the module
+/// doc's formulas, equal to `normal_flux(linear_elastic_star(…))` for `n = e_L`.
+#[inline(always)]
+pub fn axis_flux_2d<const L: usize>(
+    left: &FullState<2>,
+    right: &FullState<2>,
+    c: &AxisConstants,
+) -> Conserved<2> {
+    let t = 1 - L;
+    let (tl_n, tl_t) = (left.tensor[(L, L)], left.tensor[(t, L)]);
+    let (tr_n, tr_t) = (right.tensor[(L, L)], right.tensor[(t, L)]);
+    let (vl_n, vl_t) = (left.velocity[L], left.velocity[t]);
+    let (vr_n, vr_t) = (right.velocity[L], right.velocity[t]);
+    let traction_n = 0.5 * (tl_n + tr_n) + c.half_zp * (vr_n - vl_n);
+    let velocity_n = 0.5 * (vl_n + vr_n) + (tr_n - tl_n) * c.half_over_zp;
+    let traction_t = (tl_t + tr_t) * 0.5 + (vr_t - vl_t) * c.half_zs;
+    let velocity_t = (vl_t + vr_t) * 0.5 + (tr_t - tl_t) * c.half_over_zs;
+    let mut tensor = Tensor::<2>::zeros();
+    tensor[(L, L)] = -(velocity_n * c.two_mu + c.lambda * velocity_n);
+    tensor[(t, t)] = -(c.lambda * velocity_n);
+    tensor[(L, t)] = -(velocity_t * c.mu);
+    tensor[(t, L)] = -(velocity_t * c.mu);
+    let mut momentum = Vector::<2>::zeros();
+    momentum[L] = -traction_n;
+    momentum[t] = -traction_t;
+    Conserved { tensor, momentum }
+}
+
+/// Godunov flux through a face of the bar (1D, `Z = sqrt(ρE)`, `C = E`):
+/// `F = -(E v*, σ*)`.
+#[inline(always)]
+pub fn axis_flux_1d(left: &FullState<1>, right: &FullState<1>, c: &AxisConstants) -> Conserved<1> {
+    let (tl, tr) = (left.tensor[(0, 0)], right.tensor[(0, 0)]);
+    let (vl, vr) = (left.velocity[0], right.velocity[0]);
+    let traction = 0.5 * (tl + tr) + c.half_zp * (vr - vl);
+    let velocity = 0.5 * (vl + vr) + (tr - tl) * c.half_over_zp;
+    Conserved {
+        tensor: Tensor::<1>::new(-(velocity * c.two_mu)),
+        momentum: Vector::<1>::new(-traction),
+    }
+}
+
+/// What the transverse solver sends into a face normal to `e_K` (2D) from the cells below
+/// and above it: `B⁺ w_below + B⁻ w_above` ([`super::transverse_into_face`], LeVeque 2002
+/// §21.2) for `n = e_K`, with `O` the other axis:
+/// `α_P+ = ½(m_K/ρ - W_KK/Z_p)` (below), `α_P- = ½(m_K/ρ + W_KK/Z_p)` (above),
+/// `α_S± = ½(m_O/ρ ∓ W_OK/Z_s)`; stress `-(λ+2μ)(α_P+ + α_P-)` (`KK`),
+/// `-λ(α_P+ + α_P-)` (`OO`), `-μ(α_S+ + α_S-)` (`KO`, `OK`); momentum
+/// `Z_p(α_P+ - α_P-)` along `K`, `Z_s(α_S+ - α_S-)` along `O`.
+#[inline(always)]
+pub fn axis_transverse_2d<const K: usize>(
+    below: &Conserved<2>,
+    above: &Conserved<2>,
+    c: &AxisConstants,
+) -> Conserved<2> {
+    let o = 1 - K;
+    let ap = 0.5 * (below.momentum[K] * c.inv_rho - below.tensor[(K, K)] * c.inv_zp);
+    let am = 0.5 * (above.momentum[K] * c.inv_rho + above.tensor[(K, K)] * c.inv_zp);
+    let sp = (below.momentum[o] * c.inv_rho - below.tensor[(o, K)] * c.inv_zs) * 0.5;
+    let sm = (above.momentum[o] * c.inv_rho + above.tensor[(o, K)] * c.inv_zs) * 0.5;
+    let (p, s) = (ap + am, sp + sm);
+    let mut tensor = Tensor::<2>::zeros();
+    tensor[(K, K)] = -((c.lambda + c.two_mu) * p);
+    tensor[(o, o)] = -(c.lambda * p);
+    tensor[(K, o)] = -(s * c.mu);
+    tensor[(o, K)] = -(s * c.mu);
+    let mut momentum = Vector::<2>::zeros();
+    momentum[K] = c.zp * (ap - am);
+    momentum[o] = (sp - sm) * c.zs;
+    Conserved { tensor, momentum }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::riemann::test_support::{sample, steel};
+    use crate::riemann::{linear_elastic_star, normal_flux, transverse_into_face};
+    use approx::assert_relative_eq;
+
+    fn close<const D: usize>(a: &Conserved<D>, b: &Conserved<D>) {
+        let scale = b.tensor.abs().max().max(1.0);
+        assert_relative_eq!(a.tensor, b.tensor, epsilon = 1e-14 * scale);
+        let scale = b.momentum.abs().max().max(1.0);
+        assert_relative_eq!(a.momentum, b.momentum, epsilon = 1e-14 * scale);
+    }
+
+    fn states() -> (FullState<2>, FullState<2>) {
+        (
+            FullState {
+                tensor: Tensor::<2>::new(-1.0e8, 2.0e7, 2.0e7, 3.0e7),
+                velocity: Vector::<2>::new(3.0, -1.0),
+            },
+            FullState {
+                tensor: Tensor::<2>::new(5.0e7, -4.0e7, -4.0e7, 0.0),
+                velocity: Vector::<2>::new(-1.0, 0.5),
+            },
+        )
+    }
+
+    /// The axis flux is the general star state's flux for `n = e_x` and `n = e_y`.
+    #[test]
+    fn axis_flux_equals_the_general_flux() {
+        let m = steel();
+        let c = AxisConstants::new(&m);
+        let (l, r) = states();
+        for axis in 0..2 {
+            let n = crate::unit::<2>(axis);
+            let star = linear_elastic_star(&l.on_face(&n), &r.on_face(&n), &n, m.z);
+            let general = normal_flux(&star, &n, &m);
+            let fast = match axis {
+                0 => axis_flux_2d::<0>(&l, &r, &c),
+                _ => axis_flux_2d::<1>(&l, &r, &c),
+            };
+            close(&fast, &general);
+        }
+    }
+
+    /// A pure velocity jump on the bar (worked by hand): `v_L = 1`, `v_R = -1`, unstressed,
+    /// `Z = 2`, `E = 4`: `v* = 0`, `σ* = -2`, so `F = (0, 2)`.
+    #[test]
+    fn bar_flux_by_hand() {
+        let m = Elastic {
+            lambda: 0.0,
+            mu: 2.0,
+            density: 1.0,
+            z: crate::riemann::Impedances { p: 2.0, s: 0.0 },
+        };
+        let state = |v: f64| FullState {
+            tensor: Tensor::<1>::new(0.0),
+            velocity: Vector::<1>::new(v),
+        };
+        let f = axis_flux_1d(&state(1.0), &state(-1.0), &AxisConstants::new(&m));
+        assert_eq!((f.tensor[(0, 0)], f.momentum[0]), (0.0, 2.0));
+        let n = Vector::<1>::new(1.0);
+        let (l, r) = (state(0.3).on_face(&n), state(-0.7).on_face(&n));
+        let general = normal_flux(&linear_elastic_star(&l, &r, &n, m.z), &n, &m);
+        close(
+            &axis_flux_1d(&state(0.3), &state(-0.7), &AxisConstants::new(&m)),
+            &general,
+        );
+    }
+
+    /// The axis transverse solver is `transverse_into_face` for `n = e_x` and `n = e_y`.
+    #[test]
+    fn axis_transverse_equals_the_general_solver() {
+        let m = steel();
+        let c = AxisConstants::new(&m);
+        let below = sample();
+        let above = Conserved {
+            tensor: Tensor::<2>::new(-2.0e8, 7.0e7, 7.0e7, 1.0e8),
+            momentum: Vector::<2>::new(-4.0e3, 9.0e3),
+        };
+        for axis in 0..2 {
+            let n = crate::unit::<2>(axis);
+            let general = transverse_into_face(&below, &above, &n, &m);
+            let fast = match axis {
+                0 => axis_transverse_2d::<0>(&below, &above, &c),
+                _ => axis_transverse_2d::<1>(&below, &above, &c),
+            };
+            close(&fast, &general);
+        }
+    }
+}
