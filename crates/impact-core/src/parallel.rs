@@ -138,8 +138,9 @@ pub fn for_each_chunk<P: Chunked>(
     });
 }
 
-/// [`for_each_chunk`] that adds up the kernel's results (serial: in chunk order; parallel:
-/// by halves, an order fixed by the chunk count and `grain`).
+/// [`for_each_chunk`] that adds up the kernel's results, by halves in both cases (serial:
+/// the halves one after the other; parallel: on rayon's pool), so the sum's rounding
+/// depends only on the chunk count and `grain`, never on the thread count.
 #[inline]
 pub fn sum_chunks<P: Chunked>(
     parallel: bool,
@@ -147,11 +148,7 @@ pub fn sum_chunks<P: Chunked>(
     parts: P,
     kernel: impl Fn(usize, P::Chunk) -> f64 + Sync,
 ) -> f64 {
-    if parallel {
-        halves(0, grain.max(1), parts, &kernel)
-    } else {
-        in_order(0, parts, &kernel)
-    }
+    halves(0, grain.max(1), parts, &kernel, parallel)
 }
 
 fn in_order<P: Chunked>(start: usize, parts: P, kernel: &impl Fn(usize, P::Chunk) -> f64) -> f64 {
@@ -170,6 +167,7 @@ fn halves<P: Chunked>(
     grain: usize,
     parts: P,
     kernel: &(impl Fn(usize, P::Chunk) -> f64 + Sync),
+    parallel: bool,
 ) -> f64 {
     let n = parts.chunk_count();
     if n <= grain {
@@ -177,11 +175,83 @@ fn halves<P: Chunked>(
     }
     let mid = n / 2;
     let (a, b) = parts.split_chunks(mid);
-    let (x, y) = rayon::join(
-        || halves(start, grain, a, kernel),
-        || halves(start + mid, grain, b, kernel),
-    );
+    let (x, y) = if parallel {
+        rayon::join(
+            || halves(start, grain, a, kernel, parallel),
+            || halves(start + mid, grain, b, kernel, parallel),
+        )
+    } else {
+        (
+            halves(start, grain, a, kernel, parallel),
+            halves(start + mid, grain, b, kernel, parallel),
+        )
+    };
     x + y
+}
+
+/// The indices `0..n` in runs of `size`: the chunks of a loop that only reads.
+#[derive(Debug, Clone)]
+pub struct Ranges {
+    items: std::ops::Range<usize>,
+    size: usize,
+}
+
+/// `0..n` cut into runs of `size` indices (`size ≥ 1`).
+pub fn ranges(n: usize, size: usize) -> Ranges {
+    Ranges {
+        items: 0..n,
+        size: size.max(1),
+    }
+}
+
+impl Chunked for Ranges {
+    type Chunk = std::ops::Range<usize>;
+    #[inline]
+    fn chunk_count(&self) -> usize {
+        self.items.len().div_ceil(self.size)
+    }
+    #[inline]
+    fn split_chunks(self, chunks: usize) -> (Self, Self) {
+        let at = (self.items.start + chunks * self.size).min(self.items.end);
+        (
+            Ranges {
+                items: self.items.start..at,
+                size: self.size,
+            },
+            Ranges {
+                items: at..self.items.end,
+                size: self.size,
+            },
+        )
+    }
+    #[inline]
+    fn into_chunk(self) -> Self::Chunk {
+        self.items
+    }
+}
+
+/// Indices per chunk of [`sum_over`] and [`first_failing`].
+const READ_CHUNK: usize = 4096;
+
+/// `Σ_{i<n} term(i)`, on rayon's pool from [`PARALLEL_ITEMS`] items on, in an order fixed
+/// by `n` (chunks of 4,096 summed by halves).
+pub fn sum_over(n: usize, term: impl Fn(usize) -> f64 + Sync) -> f64 {
+    sum_chunks(worth_parallel(n), 1, ranges(n, READ_CHUNK), |_, r| {
+        r.map(&term).sum()
+    })
+}
+
+/// The first `i < n` for which `ok(i)` is false, if any: the check runs on rayon's pool
+/// from [`PARALLEL_ITEMS`] items on; the first failing index is then found in order.
+pub fn first_failing(n: usize, ok: impl Fn(usize) -> bool + Sync) -> Option<usize> {
+    let failing = sum_chunks(worth_parallel(n), 1, ranges(n, READ_CHUNK), |_, mut r| {
+        f64::from(u8::from(!r.all(&ok)))
+    });
+    if failing > 0.0 {
+        (0..n).find(|&i| !ok(i))
+    } else {
+        None
+    }
 }
 
 #[cfg(test)]
@@ -210,6 +280,32 @@ mod tests {
             assert_eq!(sum, 10_003.0);
             assert!(a.iter().enumerate().all(|(k, &x)| x == k));
             assert!(b.iter().all(|&y| y == 1.0));
+        }
+    }
+
+    /// The read-only helpers: the sum is the same serially and in parallel (bit for bit,
+    /// the order fixed by the item count) and equals the plain sum to round-off; the first
+    /// failing index is the smallest.
+    #[test]
+    fn sums_and_searches_over_ranges() {
+        let n = 100_003;
+        let term = |i: usize| 1.0 / (1.0 + i as f64);
+        let plain: f64 = (0..n).map(term).sum();
+        let pool = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+        };
+        let one = pool(1).install(|| sum_over(n, term));
+        let two = pool(2).install(|| sum_over(n, term));
+        assert_eq!(one.to_bits(), two.to_bits());
+        assert!((one - plain).abs() <= 1e-13 * plain);
+        for threads in [1, 2] {
+            pool(threads).install(|| {
+                assert_eq!(first_failing(n, |i| i % 50_000 != 49_999), Some(49_999));
+                assert_eq!(first_failing(n, |_| true), None);
+            });
         }
     }
 }

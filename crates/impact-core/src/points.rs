@@ -184,13 +184,11 @@ impl<const D: usize> MaterialPoints<D> {
 
     /// Kinetic plus strain energy, `Σ ½ m_α |v_α|² + V_α ψ_α`, with the strain energy
     /// density `ψ_α = energy_density(α)`.
-    pub fn energy(&self, energy_density: impl Fn(usize) -> f64) -> f64 {
-        (0..self.len())
-            .map(|i| {
-                0.5 * self.mass[i] * self.velocity[i].norm_squared()
-                    + self.volume[i] * energy_density(i)
-            })
-            .sum()
+    pub fn energy(&self, energy_density: impl Fn(usize) -> f64 + Sync) -> f64 {
+        crate::parallel::sum_over(self.len(), |i| {
+            0.5 * self.mass[i] * self.velocity[i].norm_squared()
+                + self.volume[i] * energy_density(i)
+        })
     }
 
     /// Reference position of the fastest point (where a blow-up is growing).

@@ -2,6 +2,7 @@
 use crate::{Dgmpm, Physics};
 use impact_core::material::Svk;
 use impact_core::method::{BadState, Method, MethodConfig, Samples};
+use impact_core::parallel::first_failing;
 use impact_core::Vector;
 
 impl<const D: usize> Method<D> for Dgmpm<D> {
@@ -45,30 +46,27 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
     }
     fn check_finite(&self) -> Result<(), BadState<D>> {
         let p = &self.state.points;
-        for i in 0..p.len() {
-            if !(p.stress[i].iter().all(|x| x.is_finite())
-                && p.velocity[i].iter().all(|x| x.is_finite()))
-            {
-                return Err(BadState {
-                    place: p.reference[i],
-                    reason: match self.solver.physics {
-                        Physics::Linear => "non-finite stress or velocity at a material point".into(),
-                        Physics::Svk { .. } => "non-finite state at a material point: no admissible Riemann \
-                                                state (Saint-Venant-Kirchhoff hyperbolicity lost at F = 1/√3)"
-                            .into(),
-                    },
-                });
-            }
-            if let Physics::Svk { svk, .. } = self.solver.physics {
-                if !svk.admissible(&p.deformation[i], self.solver.wave_speed) {
-                    return Err(BadState {
-                        place: p.reference[i],
-                        reason: Svk::inadmissible_reason(&p.deformation[i]),
-                    });
-                }
-            }
-        }
-        Ok(())
+        let finite = |i: usize| {
+            p.stress[i].iter().all(|x| x.is_finite()) && p.velocity[i].iter().all(|x| x.is_finite())
+        };
+        let admissible = |i: usize| match self.solver.physics {
+            Physics::Svk { svk, .. } => svk.admissible(&p.deformation[i], self.solver.wave_speed),
+            Physics::Linear => true,
+        };
+        let Some(i) = first_failing(p.len(), |i| finite(i) && admissible(i)) else {
+            return Ok(());
+        };
+        let reason = match self.solver.physics {
+            _ if finite(i) => Svk::inadmissible_reason(&p.deformation[i]),
+            Physics::Linear => "non-finite stress or velocity at a material point".into(),
+            Physics::Svk { .. } => "non-finite state at a material point: no admissible Riemann \
+                                    state (Saint-Venant-Kirchhoff hyperbolicity lost at F = 1/√3)"
+                .into(),
+        };
+        Err(BadState {
+            place: p.reference[i],
+            reason,
+        })
     }
     fn hottest_place(&self) -> Vector<D> {
         self.state.points.hottest_place()

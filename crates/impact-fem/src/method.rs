@@ -2,6 +2,7 @@
 //! the stability guard's checks.
 use crate::{Fem, FemSolver};
 use impact_core::method::{BadState, Method, MethodConfig, Model, Samples};
+use impact_core::parallel::{first_failing, sum_over};
 use impact_core::{Grid, Tensor, Vector};
 
 impl<const D: usize> Method<D> for Fem<D> {
@@ -49,10 +50,9 @@ impl<const D: usize> Method<D> for Fem<D> {
     fn energy(&self) -> f64 {
         let s = &self.solver;
         let npc = Grid::<D>::NODES_PER_CELL;
-        let mut kinetic = 0.0;
-        for i in 0..s.mass.len() {
-            kinetic += 0.5 * s.mass[i] * s.full_velocity(&self.state, i).norm_squared();
-        }
+        let kinetic = sum_over(s.mass.len(), |i| {
+            0.5 * s.mass[i] * s.full_velocity(&self.state, i).norm_squared()
+        });
         let volume = s.grid.cell_volume() * s.gauss_weight;
         if let Some(p) = &s.plastic {
             // elastic energy of the stored Gauss stresses plus the plastic work
@@ -69,13 +69,8 @@ impl<const D: usize> Method<D> for Fem<D> {
             // linear elasticity: Σ_e Σ_g w_g V_e ½ σ_g : ε_g = ½ uᵀ K u = ½ Σ_n u_n · f_int,n,
             // the same quadrature, with f_int of the current displacement (every step ends
             // computing it)
-            let strain_energy: f64 = self
-                .state
-                .displacement
-                .iter()
-                .zip(s.internal_force())
-                .map(|(u, f)| 0.5 * u.dot(f))
-                .sum();
+            let (u, f) = (&self.state.displacement, s.internal_force());
+            let strain_energy = sum_over(u.len(), |i| 0.5 * u[i].dot(&f[i]));
             return kinetic + strain_energy;
         }
         let mut strain_energy = 0.0;
@@ -103,15 +98,16 @@ impl<const D: usize> Method<D> for Fem<D> {
         self.state.impulse
     }
     fn check_finite(&self) -> Result<(), BadState<D>> {
-        for i in 0..self.state.displacement.len() {
-            let ok = self.state.displacement[i].iter().all(|x| x.is_finite())
-                && self.state.velocity_half[i].iter().all(|x| x.is_finite());
-            if !ok {
-                return Err(BadState {
-                    place: self.solver.grid.vertex_position(i),
-                    reason: "non-finite displacement or velocity at a node".into(),
-                });
-            }
+        let state = &self.state;
+        let finite = |i: usize| {
+            state.displacement[i].iter().all(|x| x.is_finite())
+                && state.velocity_half[i].iter().all(|x| x.is_finite())
+        };
+        if let Some(i) = first_failing(state.displacement.len(), finite) {
+            return Err(BadState {
+                place: self.solver.grid.vertex_position(i),
+                reason: "non-finite displacement or velocity at a node".into(),
+            });
         }
         if let Model::Svk(svk) = self.solver.model {
             let npc = Grid::<D>::NODES_PER_CELL;

@@ -1,6 +1,7 @@
 //! MPM as a [`Method`].
 use crate::Mpm;
 use impact_core::method::{BadState, Method, MethodConfig, Model, MpmFrame, Samples};
+use impact_core::parallel::first_failing;
 use impact_core::Vector;
 
 impl<const D: usize> Method<D> for Mpm<D> {
@@ -41,45 +42,45 @@ impl<const D: usize> Method<D> for Mpm<D> {
     }
     fn check_finite(&self) -> Result<(), BadState<D>> {
         let p = &self.state.points;
-        for i in 0..p.len() {
-            let finite = p.stress[i].iter().all(|x| x.is_finite())
+        let finite = |i: usize| {
+            p.stress[i].iter().all(|x| x.is_finite())
                 && p.velocity[i].iter().all(|x| x.is_finite())
-                && p.position[i].iter().all(|x| x.is_finite());
-            if !finite {
-                return Err(BadState {
-                    place: p.reference[i],
-                    reason: "non-finite stress, velocity or position at a material point".into(),
-                });
-            }
-            if let Model::Svk(svk) = self.solver.model {
-                if !svk.admissible(&p.deformation[i], self.solver.wave_speed) {
-                    return Err(BadState {
-                        place: p.reference[i],
-                        reason: impact_core::material::Svk::inadmissible_reason(&p.deformation[i]),
-                    });
+                && p.position[i].iter().all(|x| x.is_finite())
+        };
+        let admissible = |i: usize| match self.solver.model {
+            Model::Svk(svk) => svk.admissible(&p.deformation[i], self.solver.wave_speed),
+            _ => true,
+        };
+        let moving = self.solver.options.frame == MpmFrame::UpdatedLagrangian;
+        // the stencil, not just the point: a smooth stencil needs nodes around it
+        let fits = |i: usize| {
+            !moving
+                || match p.domain.get(i) {
+                    Some(domain) => {
+                        self.solver
+                            .stencil
+                            .fits_domain(&self.solver.grid, &p.position[i], domain)
+                    }
+                    None => self.solver.stencil.fits(&self.solver.grid, &p.position[i]),
                 }
-            }
-            let moving = self.solver.options.frame == MpmFrame::UpdatedLagrangian;
-            // the stencil, not just the point: a smooth stencil needs nodes around it
-            let fits = match p.domain.get(i) {
-                Some(domain) => {
-                    self.solver
-                        .stencil
-                        .fits_domain(&self.solver.grid, &p.position[i], domain)
-                }
-                None => self.solver.stencil.fits(&self.solver.grid, &p.position[i]),
-            };
-            if moving && !fits {
-                return Err(BadState {
-                    place: p.reference[i],
-                    reason: format!(
-                        "material point's stencil left the background grid (x = {:?})",
-                        p.position[i].as_slice()
-                    ),
-                });
-            }
-        }
-        Ok(())
+        };
+        let Some(i) = first_failing(p.len(), |i| finite(i) && admissible(i) && fits(i)) else {
+            return Ok(());
+        };
+        let reason = if !finite(i) {
+            "non-finite stress, velocity or position at a material point".into()
+        } else if !admissible(i) {
+            impact_core::material::Svk::inadmissible_reason(&p.deformation[i])
+        } else {
+            format!(
+                "material point's stencil left the background grid (x = {:?})",
+                p.position[i].as_slice()
+            )
+        };
+        Err(BadState {
+            place: p.reference[i],
+            reason,
+        })
     }
     fn hottest_place(&self) -> Vector<D> {
         self.state.points.hottest_place()
