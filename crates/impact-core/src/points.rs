@@ -191,6 +191,28 @@ impl<const D: usize> MaterialPoints<D> {
         })
     }
 
+    /// The peaks of `|σ|` and `|v|` over the points (component-wise maxima).
+    pub fn peaks(&self) -> (f64, f64) {
+        let stress = self.stress.iter().map(|s| s.amax()).fold(0.0, f64::max);
+        let velocity = self.velocity.iter().map(|v| v.amax()).fold(0.0, f64::max);
+        (stress, velocity)
+    }
+
+    /// The largest difference between the state of these points and `other`'s (the same
+    /// points, e.g. two step paths of one method): stress and velocity relative to
+    /// `other`'s peaks ([`Self::peaks`]), positions in m, volumes relative.
+    pub fn difference(&self, other: &Self) -> f64 {
+        let (scale_s, scale_v) = other.peaks();
+        let mut worst: f64 = 0.0;
+        for i in 0..self.len().min(other.len()) {
+            worst = worst.max((self.stress[i] - other.stress[i]).amax() / scale_s);
+            worst = worst.max((self.velocity[i] - other.velocity[i]).amax() / scale_v);
+            worst = worst.max((self.position[i] - other.position[i]).amax());
+            worst = worst.max((self.volume[i] - other.volume[i]).abs() / other.volume[i]);
+        }
+        worst
+    }
+
     /// Reference position of the fastest point (where a blow-up is growing).
     pub fn hottest_place(&self) -> Vector<D> {
         (0..self.len())

@@ -142,18 +142,12 @@ fn cell_path_matches_the_nodal_phases() {
             nodal.step(n as f64 * dt, dt);
         }
         let (a, b) = (&cell.state.points, &nodal.state.points);
-        let scale_s = a.stress.iter().map(|s| s.abs().max()).fold(0.0, f64::max);
-        let scale_v = a.velocity.iter().map(|v| v.abs().max()).fold(0.0, f64::max);
+        let (scale_s, scale_v) = a.peaks();
         assert!(
             scale_s > 1e6 && scale_v > 0.1,
             "{name}: the wave must be there"
         );
-        let mut worst: f64 = 0.0;
-        for i in 0..a.len() {
-            worst = worst.max((a.stress[i] - b.stress[i]).abs().max() / scale_s);
-            worst = worst.max((a.velocity[i] - b.velocity[i]).abs().max() / scale_v);
-            worst = worst.max((a.position[i] - b.position[i]).abs().max());
-        }
+        let worst = b.difference(a);
         println!("{name} {flux:?}: largest relative difference {worst:.1e}");
         assert!(worst <= 1e-12, "{name} {flux:?}: {worst:e}");
         let (wa, wb) = (cell.external_work(), nodal.external_work());

@@ -34,19 +34,13 @@ fn compare<const D: usize>(
         cell.step(n as f64 * dt, dt);
     }
     let (a, b) = (&fused.state.points, &cell.state.points);
-    let scale_s = b.stress.iter().map(|s| s.abs().max()).fold(0.0, f64::max);
-    let scale_v = b.velocity.iter().map(|v| v.abs().max()).fold(0.0, f64::max);
+    let (scale_s, scale_v) = b.peaks();
     assert!(
         scale_s > 1e6 && scale_v > 0.1,
         "{}: the wave must be there",
         scene.name
     );
-    let mut worst: f64 = 0.0;
-    for i in 0..a.len() {
-        worst = worst.max((a.stress[i] - b.stress[i]).abs().max() / scale_s);
-        worst = worst.max((a.velocity[i] - b.velocity[i]).abs().max() / scale_v);
-        worst = worst.max((a.position[i] - b.position[i]).abs().max());
-    }
+    let worst = a.difference(b);
     let (wa, wb) = (fused.external_work(), cell.external_work());
     let (ia, ib) = (fused.external_impulse(), cell.external_impulse());
     let budget = (wa - wb).abs() / wb.abs().max(f64::MIN_POSITIVE);

@@ -7,8 +7,8 @@ use impact_core::Vector;
 const CHUNK: usize = 4096;
 
 impl<const D: usize> MpmSolver<D> {
-    /// Phase 2: `p_i += Δt f_i` (nodes with mass), then the prescribed nodal velocities at
-    /// `t_new`, the end of the step.
+    /// Phase 2: `p_i += Δt f_i` and `1/m_i` (nodes with mass; 0 for empty ones), then the
+    /// prescribed nodal velocities at `t_new`, the end of the step.
     /// Returns the work done in the step by the velocity constraints, `Δt Σ r · v_d`, and
     /// the impulse of the reaction forces, `Δt Σ r`.
     pub fn grid_update(&mut self, dt: f64, t_new: f64) -> (f64, Vector<D>) {
@@ -16,19 +16,21 @@ impl<const D: usize> MpmSolver<D> {
         let nodes = &mut self.nodes;
         let floor = self.empty_mass;
         let (mass, force) = (&nodes.mass, &nodes.force);
-        for_each_chunk(
-            self.parallel,
-            1,
+        let parts = (
             chunks(&mut nodes.momentum, CHUNK),
-            |r, momentum| {
-                for (j, p) in momentum.iter_mut().enumerate() {
-                    let i = r * CHUNK + j;
-                    if mass[i] > floor {
-                        *p += force[i] * dt;
-                    }
-                }
-            },
+            chunks(&mut nodes.inv_mass, CHUNK),
         );
+        for_each_chunk(self.parallel, 1, parts, |r, (momentum, inv_mass)| {
+            for (j, (p, inv)) in momentum.iter_mut().zip(inv_mass).enumerate() {
+                let i = r * CHUNK + j;
+                if mass[i] > floor {
+                    *p += force[i] * dt;
+                    *inv = 1.0 / mass[i];
+                } else {
+                    *inv = 0.0;
+                }
+            }
+        });
         let mut work = 0.0;
         let mut impulse = Vector::<D>::zeros();
         let mut hold = |nodes: &mut crate::NodeSums<D>, v: usize, axis: usize, value: f64| {

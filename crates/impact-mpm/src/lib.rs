@@ -82,6 +82,9 @@ pub(crate) struct NodeSums<const D: usize> {
     pub momentum: Vec<Vector<D>>,
     /// `f_i`.
     pub force: Vec<Vector<D>>,
+    /// `1/m_i` after the grid update (0 for an empty node): the gathers multiply by it
+    /// instead of dividing by `m_i` at every point.
+    pub inv_mass: Vec<f64>,
 }
 
 /// A band of the nodal sums (two node layers of a colour pass) that a scatter writes:
@@ -103,6 +106,7 @@ impl<const D: usize> NodeSums<D> {
             mass: vec![0.0; nodes],
             momentum: vec![Vector::<D>::zeros(); nodes],
             force: vec![Vector::<D>::zeros(); nodes],
+            inv_mass: vec![0.0; nodes],
         }
     }
 }
@@ -140,12 +144,18 @@ pub struct MpmSolver<const D: usize> {
     /// The shape functions' stencil ([`shape`]).
     stencil: shape::Stencil<D>,
     /// Per point: the linear index of its stencil's base node, shape values and gradients
-    /// (`stencil.nodes` per point).
+    /// (`stencil.nodes` per point, point `p`'s at `p · weight_stride`).
     point_base: Vec<usize>,
     shape: Vec<f64>,
     shape_gradient: Vec<Vector<D>>,
+    /// `stencil.nodes`, or 0 where every point has the same weights (total Lagrangian, one
+    /// point at the same place in every cell: one row is stored, 96 B per point less with
+    /// 2D hats, and the scatter and gathers read it from cache).
+    weight_stride: usize,
     /// Whether the shape functions at the reference positions are cached (total Lagrangian).
     shapes_ready: bool,
+    /// Whether USL runs phases 3 and 5 in one gather ([`MpmSolver::fused_gather`]).
+    fuse_gathers: bool,
 }
 
 /// USL MPM as a [`Method`].
@@ -217,9 +227,11 @@ impl<const D: usize> Mpm<D> {
                 point_base: vec![0; np],
                 stencil,
                 empty_mass: 1e-10 * points.mass.iter().copied().fold(f64::INFINITY, f64::min),
-                shape: vec![0.0; np * npc],
-                shape_gradient: vec![Vector::<D>::zeros(); np * npc],
+                shape: Vec::new(),
+                shape_gradient: Vec::new(),
+                weight_stride: npc,
                 shapes_ready: false,
+                fuse_gathers: true,
                 grid,
             },
             state: MpmState {
@@ -228,6 +240,7 @@ impl<const D: usize> Mpm<D> {
                 impulse: Vector::<D>::zeros(),
             },
         };
+        mpm.solver.allocate_weights(&mpm.state.points);
         let kick = mpm
             .solver
             .impose_point_velocities(&mut mpm.state.points, 0.0);
@@ -257,15 +270,37 @@ impl<const D: usize> MpmSolver<D> {
         let (work, impulse) = self.grid_update(dt, end);
         state.work += work;
         state.impulse += impulse;
-        self.grid_to_particles(&mut state.points, dt);
+        let fused = self.fused_gather(&state.points);
+        if fused {
+            self.grid_to_particles_and_stress(&mut state.points, dt);
+        } else {
+            self.grid_to_particles(&mut state.points, dt);
+        }
         // trapezoidal work of the loads over the step
         state.work += 0.5 * dt * (power_start + self.load_power(&state.points, mid));
         state.impulse += self.impose_point_velocities(&mut state.points, end);
         if self.options.stress_update == StressUpdate::Musl {
             self.remap_momentum(&state.points, end);
         }
-        if usl {
+        if usl && !fused {
             self.update_stress(&mut state.points, dt);
         }
+    }
+
+    /// Whether this step runs phases 3 and 5 in one gather
+    /// ([`MpmSolver::grid_to_particles_and_stress`]): USL (nothing between the two phases
+    /// touches the nodes), small strain, no CPDI domains; unless switched off
+    /// ([`MpmSolver::set_fused_gather`]).
+    fn fused_gather(&self, points: &MaterialPoints<D>) -> bool {
+        self.fuse_gathers
+            && self.options.stress_update == StressUpdate::Usl
+            && matches!(self.model, Model::LinearElastic | Model::J2(_))
+            && points.domain.is_empty()
+    }
+
+    /// Run phases 3 and 5 as separate gathers (`false`; the reference the fused gather is
+    /// tested against) or fused where they can be (`true`, the default).
+    pub fn set_fused_gather(&mut self, fused: bool) {
+        self.fuse_gathers = fused;
     }
 }
