@@ -22,7 +22,9 @@
 //!      first (write-allocate);
 //!    - the fused path: reads `T + V` and the mass (56), writes the next `T + V` (48) and
 //!      updates the position `2V` (32): 136 B, 184 B with write-allocate (its face rows
-//!      stay in cache: about 430 KB per band at 1000 cells a row).
+//!      stay in cache: about 430 KB per band at 1000 cells a row);
+//!    - the fused path in 1D (`T` = `V` = 8 B): reads `T + V` and the mass (24), writes the
+//!      next `T + V` (16), updates the position (16): 56 B, 72 B with write-allocate.
 //!
 //!    The roofline time is bytes / triad bandwidth.
 use impact_core::method::{Integrator, MethodKind};
@@ -34,8 +36,9 @@ const TRIAD: usize = 40_000_000;
 /// Bytes per cell and step of the 2D cell path with CTU (module doc), without and with
 /// write-allocate traffic.
 const CELL_PATH_BYTES: (f64, f64) = (776.0, 920.0);
-/// The same for the fused path.
+/// The same for the fused path, in 2D and in 1D.
 const FUSED_PATH_BYTES: (f64, f64) = (136.0, 184.0);
+const FUSED_BAR_BYTES: (f64, f64) = (56.0, 72.0);
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -148,8 +151,9 @@ fn main() {
             println!("dgmpm {label}: {m:.1} ns per cell-update (median of 10; min {min:.1})");
         }
         for (path, ns, bytes) in [
-            ("fused", medians[0], FUSED_PATH_BYTES),
-            ("cell", medians[1], CELL_PATH_BYTES),
+            ("plate, fused", medians[0], FUSED_PATH_BYTES),
+            ("plate, cell", medians[1], CELL_PATH_BYTES),
+            ("bar, fused", medians[3], FUSED_BAR_BYTES),
         ] {
             for (label, bytes) in [
                 ("without write-allocate", bytes.0),

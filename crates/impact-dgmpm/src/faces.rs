@@ -29,6 +29,12 @@ impl<'a, const D: usize> Fields<'a, D> {
         }
     }
 
+    /// The tensor field and the velocities (per-cell fields: one entry per cell).
+    #[inline]
+    pub(crate) fn slices(&self) -> (&'a [Tensor<D>], &'a [Vector<D>]) {
+        (self.tensor, self.velocity)
+    }
+
     /// The one state of cell `c` (per-cell fields only).
     #[inline(always)]
     pub(crate) fn cell(&self, c: usize) -> FullState<D> {

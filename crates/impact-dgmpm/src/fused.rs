@@ -26,7 +26,7 @@
 //! on the thread count. Tested equal to the phase-by-phase cell path to 1e-13.
 use crate::faces::Fields;
 use crate::riemann::axis::{axis_flux_1d, axis_flux_2d, axis_transverse_2d, AxisConstants};
-use crate::riemann::Conserved;
+use crate::riemann::{Conserved, FullState};
 use crate::{DgmpmSolver, StepPath, CHUNK};
 use impact_core::method::TransverseFlux;
 use impact_core::parallel::{chunks, for_each_chunk};
@@ -248,23 +248,39 @@ impl DgmpmSolver<1> {
             };
             // cells whose high face is interior: all but the bar's last
             let interior = if start + len == count { len - 1 } else { len };
+            // slices of equal, known lengths: the loop indexes them without bounds checks
+            let (tensor, velocity) = fields.slices();
+            let (q, v) = (&tensor[start..start + len], &velocity[start..start + len]);
+            let (q_right, v_right) = (
+                &tensor[start + 1..start + 1 + interior],
+                &velocity[start + 1..start + 1 + interior],
+            );
+            let mass = &mass[start..start + len];
+            let Next {
+                tensor: next_q,
+                velocity: next_v,
+                position,
+            } = next;
+            let (next_q, next_v, position) =
+                (&mut next_q[..len], &mut next_v[..len], &mut position[..len]);
             let mut state = fields.cell(start);
-            for j in 0..len {
-                let c = start + j;
-                let (high, right) = if j < interior {
-                    let right = fields.cell(c + 1);
-                    (axis_flux_1d(&state, &right, &constants), right)
-                } else {
-                    (this.boundary_flux(0, [count], fields, band), state)
+            for j in 0..interior {
+                let right = FullState {
+                    tensor: q_right[j],
+                    velocity: v_right[j],
                 };
-                let old = (&state.tensor, &state.velocity, mass[c]);
-                let out = (
-                    &mut next.tensor[j],
-                    &mut next.velocity[j],
-                    &mut next.position[j],
-                );
+                let high = axis_flux_1d(&state, &right, &constants);
+                let old = (&q[j], &v[j], mass[j]);
+                let out = (&mut next_q[j], &mut next_v[j], &mut position[j]);
                 Self::update_cell(&u, [[&low, &high]], old, out);
                 (low, state) = (high, right);
+            }
+            if interior < len {
+                // the bar's last cell: its high face is the boundary
+                let j = interior;
+                let high = this.boundary_flux(0, [count], fields, band);
+                let out = (&mut next_q[j], &mut next_v[j], &mut position[j]);
+                Self::update_cell(&u, [[&low, &high]], (&q[j], &v[j], mass[j]), out);
             }
         })
     }
