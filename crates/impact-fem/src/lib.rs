@@ -11,8 +11,9 @@
 //! `v^{1/2} = v^0 + Δt/2 a^0`), `u^{n+1} = u^n + Δt v^{n+1/2}`, with
 //! `f_int,a = Σ_g w_g V_e σ_g ∇N_a(ξ_g)`, `σ_g = C : sym(∇u_g)`, `∇u_g = Σ_b u_b ⊗ ∇N_b(ξ_g)`.
 //!
-//! One step, one phase per function: [`FemSolver::velocity_update`],
-//! [`FemSolver::displacement_update`], [`FemSolver::internal_forces_into`] (which already
+//! One step, one phase per function: [`FemSolver::nodal_update`] (the velocity and the
+//! displacement in one pass over the nodes, the prescribed velocities set before it),
+//! [`FemSolver::internal_forces_into`] (which already
 //! prepares `a^{n+1}` for the next step, so the full-step velocity
 //! `v^{n+1} = v^{n+1/2} + Δt/2 a^{n+1}` is available for output and energy).
 //!
@@ -70,6 +71,8 @@ pub struct FemSolver<const D: usize> {
     model: Model,
     wave_speed: f64,
     mass: Vec<f64>,
+    /// `1/m` per node (the stencil's acceleration multiplies by it).
+    inv_mass: Vec<f64>,
     /// `f_ext(t)` of the last [`FemSolver::set_load_time`].
     external: Vec<Vector<D>>,
     /// The loaded nodes' forces at full magnitude and their histories: `f_ext(t)` is
@@ -140,6 +143,7 @@ impl<const D: usize> Fem<D> {
             material: problem.material,
             model: problem.model,
             wave_speed: problem.max_wave_speed(),
+            inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
             mass,
             external: vec![Vector::<D>::zeros(); nodes],
             loaded,
@@ -160,6 +164,8 @@ impl<const D: usize> Fem<D> {
                 &solver.grid,
                 &solver.element_stiffness(),
             ));
+            // the stencil writes the acceleration only: no force array
+            solver.force = Vec::new();
         }
         // v^{-1/2} holds v(0): the first step's half step Δt/2 then gives v^{1/2}
         let velocity_half = (0..nodes)
@@ -314,17 +320,20 @@ impl<const D: usize> FemSolver<D> {
     /// ones: two colour passes, each over disjoint chunks of the force array (in parallel
     /// when worth it), with no partial sums, locks or unsafe code. Serial and parallel runs
     /// add in the same order, so their forces agree bit for bit.
-    /// Then the acceleration `a = M⁻¹ (f_ext - f_int)` into `acceleration` (fused with the
-    /// force on the stencil path).
+    /// Then the acceleration `a = M⁻¹ (f_ext - f_int)` into `acceleration` (on the stencil
+    /// path in the same pass, `-f_int/m`, then `+ f_ext/m` at the loaded nodes; the force
+    /// itself is not stored there: [`Self::internal_force_at`]).
     pub fn internal_forces_into(
         &mut self,
         displacement: &[Vector<D>],
         acceleration: &mut [Vector<D>],
     ) {
         if let Some(stencil) = &self.stencil {
-            let buffers = (&mut self.force[..], &self.mass[..], &mut acceleration[..]);
-            stencil.forces_into(displacement, buffers, CHUNK, self.parallel);
-            self.loaded_accelerations(acceleration);
+            let buffers = (&self.inv_mass[..], &mut acceleration[..]);
+            stencil.accelerations_into(displacement, buffers, CHUNK, self.parallel);
+            for &n in &self.loaded_nodes {
+                acceleration[n] += self.external[n] * self.inv_mass[n];
+            }
             return;
         }
         self.gauss_forces_into(displacement);
@@ -392,11 +401,17 @@ impl<const D: usize> FemSolver<D> {
     /// tested against; benchmarks).
     pub fn use_gauss_path(&mut self) {
         self.stencil = None;
+        self.force = vec![Vector::<D>::zeros(); self.mass.len()];
     }
 
-    /// The internal force `f_int` of the last [`Self::internal_forces_into`].
-    pub fn internal_force(&self) -> &[Vector<D>] {
-        &self.force
+    /// The internal force `f_int` at node `i` of the last [`Self::internal_forces_into`],
+    /// which gave `acceleration`: the Gauss path's stored force, or on the stencil path
+    /// `f_ext - m a` (equal to round-off).
+    pub fn internal_force_at(&self, acceleration: &[Vector<D>], i: usize) -> Vector<D> {
+        match self.stencil {
+            Some(_) => self.external[i] - acceleration[i] * self.mass[i],
+            None => self.force[i],
+        }
     }
 
     /// Whether the internal force runs as a node stencil.
@@ -506,62 +521,52 @@ impl<const D: usize> FemSolver<D> {
         }
     }
 
-    /// `v^{n+1/2} = v^{n-1/2} + Δt_avg a^n`, then the prescribed velocities at
-    /// `t_half = t^{n+1/2}`. Returns the work of the constraint reactions over the step.
-    pub fn velocity_update(&self, state: &mut FemState<D>, dt: f64, t_half: f64) -> f64 {
+    /// The central-difference update of the nodes, in one pass:
+    /// `v^{n+1/2} = v^{n-1/2} + Δt_avg a^n` (`Δt_avg` the mean of the last and this step),
+    /// `u^{n+1} = u^n + Δt v^{n+1/2}`. The prescribed velocity components take their value
+    /// at `t_half` first (their acceleration is zeroed, so the pass keeps them). Returns
+    /// the work of the constraints' reactions and of the external forces,
+    /// `Δt r · v_d + Δt f_ext · v^{n+1/2}`; adds the impulse of both to the state.
+    pub fn nodal_update(&self, state: &mut FemState<D>, dt: f64, t_half: f64) -> f64 {
         let dt_avg = 0.5 * (state.last_dt + dt);
-        let acceleration = &state.acceleration;
-        for_each_chunk(
-            self.parallel,
-            1,
-            chunks(&mut state.velocity_half, CHUNK),
-            |r, velocity| {
-                for (j, v) in velocity.iter_mut().enumerate() {
-                    *v += acceleration[r * CHUNK + j] * dt_avg;
-                }
-            },
-        );
         for &n in &self.loaded_nodes {
             state.impulse += self.external[n] * dt_avg;
         }
         let mut work = 0.0;
         for c in &self.constraints {
             let (node, axis, value) = (c.carrier, c.axis, c.at(t_half));
-            let reaction = self.mass[node] * (value - state.velocity_half[node][axis]) / dt_avg;
+            // the velocity the update would give it, then the reaction that holds it
+            let free = state.velocity_half[node][axis] + state.acceleration[node][axis] * dt_avg;
+            let reaction = self.mass[node] * (value - free) / dt_avg;
             state.velocity_half[node][axis] = value;
+            state.acceleration[node][axis] = 0.0;
             work += dt * reaction * value;
             state.impulse[axis] += reaction * dt_avg;
         }
-        work
-    }
-
-    /// `u^{n+1} = u^n + Δt v^{n+1/2}`; returns the work of the external forces,
-    /// `Δt f_ext · v^{n+1/2}`.
-    pub fn displacement_update(&self, state: &mut FemState<D>, dt: f64) -> f64 {
-        let velocity = &state.velocity_half;
-        for_each_chunk(
-            self.parallel,
-            1,
+        let acceleration = &state.acceleration;
+        let parts = (
+            chunks(&mut state.velocity_half, CHUNK),
             chunks(&mut state.displacement, CHUNK),
-            |r, displacement| {
-                for (j, u) in displacement.iter_mut().enumerate() {
-                    *u += velocity[r * CHUNK + j] * dt;
-                }
-            },
         );
+        for_each_chunk(self.parallel, 1, parts, |r, (velocity, displacement)| {
+            for (j, (v, u)) in velocity.iter_mut().zip(displacement.iter_mut()).enumerate() {
+                *v += acceleration[r * CHUNK + j] * dt_avg;
+                *u += *v * dt;
+            }
+        });
         // f_ext is zero but at the loaded nodes
-        self.loaded_nodes
-            .iter()
+        let velocity = &state.velocity_half;
+        let external: f64 = (self.loaded_nodes.iter())
             .map(|&n| dt * self.external[n].dot(&velocity[n]))
-            .sum()
+            .sum();
+        work + external
     }
 
     /// One step (module doc) from `t^n = t` to `t^{n+1} = t + Δt`: `a^n` used by the
     /// velocity update was computed with `f_ext(t^n)`; the new acceleration takes
     /// `f_ext(t^{n+1})`, and prescribed velocities their value at `t^{n+1/2}`.
     pub fn step(&mut self, state: &mut FemState<D>, t: f64, dt: f64) {
-        state.work += self.velocity_update(state, dt, t + 0.5 * dt);
-        state.work += self.displacement_update(state, dt);
+        state.work += self.nodal_update(state, dt, t + 0.5 * dt);
         self.set_load_time(t + dt);
         self.internal_forces_into(&state.displacement, &mut state.acceleration);
         state.last_dt = dt;

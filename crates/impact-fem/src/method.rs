@@ -69,8 +69,8 @@ impl<const D: usize> Method<D> for Fem<D> {
             // linear elasticity: Σ_e Σ_g w_g V_e ½ σ_g : ε_g = ½ uᵀ K u = ½ Σ_n u_n · f_int,n,
             // the same quadrature, with f_int of the current displacement (every step ends
             // computing it)
-            let (u, f) = (&self.state.displacement, s.internal_force());
-            let strain_energy = sum_over(u.len(), |i| 0.5 * u[i].dot(&f[i]));
+            let (u, a) = (&self.state.displacement, &self.state.acceleration);
+            let strain_energy = sum_over(u.len(), |i| 0.5 * u[i].dot(&s.internal_force_at(a, i)));
             return kinetic + strain_energy;
         }
         let mut strain_energy = 0.0;

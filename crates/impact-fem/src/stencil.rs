@@ -84,48 +84,43 @@ impl<const D: usize> Stencil<D> {
         Self { counts, blocks }
     }
 
-    /// `force = K u` (module doc) and, in the same pass, `acceleration = -force / mass`
-    /// (the caller adds `f_ext / m` at the loaded nodes), in chunks of `chunk` nodes, in
-    /// parallel when `parallel`. In 2D the interior nodes of a chunk's interior rows take
-    /// [`interior_row_2d`], the same sum with its nine blocks fixed (no per-node type, no
-    /// bounds checks).
-    pub fn forces_into(
+    /// `acceleration = -(K u) · (1/m)` (module doc; the caller adds `f_ext/m` at the
+    /// loaded nodes), in chunks of `chunk` nodes, in parallel when `parallel`. The force
+    /// `K u` is formed node by node and not stored. In 2D the interior nodes of a chunk's
+    /// interior rows take [`interior_row_2d`], the same sum with its nine blocks fixed (no
+    /// per-node type, no bounds checks).
+    pub fn accelerations_into(
         &self,
         displacement: &[Vector<D>],
-        (force, mass, acceleration): (&mut [Vector<D>], &[f64], &mut [Vector<D>]),
+        (inv_mass, acceleration): (&[f64], &mut [Vector<D>]),
         chunk: usize,
         parallel: bool,
     ) {
         let counts = self.counts;
-        let pairs = (chunks(force, chunk), chunks(acceleration, chunk));
-        for_each_chunk(parallel, 1, pairs, |r, (out, acc)| {
+        for_each_chunk(parallel, 1, chunks(acceleration, chunk), |r, acc| {
             let start = r * chunk;
             let mut idx: [usize; D] =
                 std::array::from_fn(|l| start / counts[..l].iter().product::<usize>() % counts[l]);
             let mut j = 0;
-            while j < out.len() {
+            while j < acc.len() {
                 let node = start + j;
                 // a run of interior nodes of an interior row (2D): the fixed nine blocks
                 if D == 2 && idx[0] == 1 && counts[0] > 2 && idx[1] > 0 && idx[1] + 1 < counts[1] {
-                    let run = (counts[0] - 2).min(out.len() - j);
+                    let run = (counts[0] - 2).min(acc.len() - j);
+                    let out = &mut acc[j..j + run];
+                    let inv = &inv_mass[node..node + run];
                     interior_row_2d(
                         &self.blocks[types(D) / 2],
                         counts[0],
                         displacement,
                         node,
-                        &mut out[j..j + run],
+                        out,
+                        inv,
                     );
-                    for (a, (f, m)) in acc[j..j + run]
-                        .iter_mut()
-                        .zip(out[j..j + run].iter().zip(&mass[node..node + run]))
-                    {
-                        *a = -f / *m;
-                    }
                     j += run;
                     idx[0] += run;
                     continue;
                 }
-                let f = &mut out[j];
                 let t: usize = (0..D)
                     .map(|l| {
                         let kind = if idx[l] == 0 {
@@ -142,8 +137,7 @@ impl<const D: usize> Stencil<D> {
                 for (offset, block) in &self.blocks[t] {
                     sum += block * displacement[(node as isize + offset) as usize];
                 }
-                *f = sum;
-                acc[j] = -sum / mass[node];
+                acc[j] = -sum * inv_mass[node];
                 // next node in storage order
                 idx[0] += 1;
                 for l in 0..D - 1 {
@@ -160,13 +154,14 @@ impl<const D: usize> Stencil<D> {
 
 /// The interior stencil of a 2D mesh on `out.len()` consecutive interior nodes of one row,
 /// the first being `first`: `f_n = Σ_o S[o] u_{n+o}` over the nine blocks `blocks` (the
-/// interior type's, all present), rows `row` nodes long.
+/// interior type's, all present), rows `row` nodes long; `out_n = -f_n · inv_mass_n`.
 fn interior_row_2d<const D: usize>(
     blocks: &[(isize, Tensor<D>)],
     row: usize,
     displacement: &[Vector<D>],
     first: usize,
     out: &mut [Vector<D>],
+    inv_mass: &[f64],
 ) {
     debug_assert_eq!(blocks.len(), 9);
     // the blocks as plain 2×2 arrays, ordered by offset (dy, dx) = (-1..=1, -1..=1)
@@ -190,7 +185,7 @@ fn interior_row_2d<const D: usize>(
                 y += b[2] * u[0] + b[3] * u[1];
             }
         }
-        f[0] = x;
-        f[1] = y;
+        f[0] = -x * inv_mass[i];
+        f[1] = -y * inv_mass[i];
     }
 }
