@@ -58,11 +58,13 @@ impl<'a, const D: usize> Fields<'a, D> {
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
         let mut q = Tensor::<D>::zeros();
         let mut v = Vector::<D>::zeros();
-        for a in 0..nodes_per_cell {
-            if ((a >> l) & 1 == 1) == high {
-                q += self.tensor[c * nodes_per_cell + a];
-                v += self.velocity[c * nodes_per_cell + a];
-            }
+        // the face's 2^(D-1) nodes: bit l of the local node index set to `high`, the
+        // other bits running over k (in increasing node order)
+        let low_bits = (1usize << l) - 1;
+        for k in 0..nodes_per_cell / 2 {
+            let a = (k & low_bits) | (usize::from(high) << l) | ((k & !low_bits) << 1);
+            q += self.tensor[c * nodes_per_cell + a];
+            v += self.velocity[c * nodes_per_cell + a];
         }
         let inv = 2.0 / nodes_per_cell as f64;
         FullState {

@@ -98,8 +98,9 @@ impl<const D: usize> DgmpmSolver<D> {
                     Physics::Linear => self.material.stress(&volume_tensor[a]),
                     Physics::Svk { .. } => volume_tensor[a],
                 };
-                rq[a] = (volume_part + tensor_flux[a]) * (density / m);
-                rv[a] = force[a] / m;
+                let inv_mass = 1.0 / m;
+                rq[a] = (volume_part + tensor_flux[a]) * (density * inv_mass);
+                rv[a] = force[a] * inv_mass;
             } else {
                 rq[a] = Tensor::<D>::zeros();
                 rv[a] = Vector::<D>::zeros();
