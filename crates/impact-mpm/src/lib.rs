@@ -16,6 +16,13 @@
 //!    `ε̇_p = sym(Σ_i v_i ⊗ ∇N_ip)`, `σ_p += Δt C:ε̇_p` (and `V_p *= 1 + Δt tr ε̇_p` in the
 //!    updated Lagrangian frame).
 //!
+//! Under USL with small strain and no CPDI domains, phases 3 and 5 run in one gather of
+//! each point's nodes ([`MpmSolver::grid_to_particles_and_stress`]: nothing between them
+//! touches the nodes); [`MpmSolver::set_fused_gather`] runs them apart, the reference it is
+//! tested against (to 1e-13). In the total Lagrangian frame, where every point's weights
+//! are the same (one point at the same place in every cell), one row of weights is stored
+//! for all ([`MpmSolver::shares_weights`]).
+//!
 //! Variants ([`StressUpdate`]): `Usl` (default) takes the grid-updated velocity
 //! `v_i + Δt f_i/m_i` for the strain rate; `Musl` remaps it from the updated point
 //! velocities first (phase 4; damps, and is stable past Courant 1 here); `Usf` updates
