@@ -16,11 +16,11 @@
 //! reads each point's state once and writes it once (the cell path moves 776-920 B per
 //! cell and step, this one about 130). Interior faces call the axis solvers
 //! ([`crate::riemann::axis`]); boundary faces and the corrections that need ghost cells
-//! call the same functions as the phase path ([`DgmpmSolver::linear_face_flux`],
-//! [`DgmpmSolver::face_correction`]). The new states go to a second buffer, swapped with
+//! call the same functions as the phase path (`DgmpmSolver::linear_face_flux`,
+//! `DgmpmSolver::face_correction`). The new states go to a second buffer, swapped with
 //! the points' at the end, so every face reads the old states (48 B per cell).
 //!
-//! Parallel: bands of [`BAND_ROWS`] cell rows (1D: chunks of cells), each band with its
+//! Parallel: bands of `BAND_ROWS` (32) cell rows (1D: chunks of cells), each band with its
 //! own rolling rows; a band recomputes the Godunov fluxes of the row below it (one row in
 //! `BAND_ROWS` computed twice). The bands are fixed by the grid, so results do not depend
 //! on the thread count. Tested equal to the phase-by-phase cell path to 1e-13.

@@ -137,7 +137,7 @@ impl<const D: usize> MpmSolver<D> {
         self.weight_stride = nodes;
     }
 
-    /// Whether every point reads one shared row of weights ([`Self::allocate_weights`]).
+    /// Whether every point reads one shared row of weights (see `allocate_weights`).
     pub fn shares_weights(&self) -> bool {
         self.weight_stride == 0
     }
