@@ -62,6 +62,9 @@ fn main() {
     }
     rk2.courant = 0.5;
     configs.push(("dgmpm (RK2, CTU: nodal path)", rk2));
+    let mut four = scene.method_config(MethodKind::Dgmpm);
+    four.points_per_cell = 4;
+    configs.push(("dgmpm (Euler, 4 ppc: nodal path)", four));
     configs.push(("mpm (USL, linear)", scene.method_config(MethodKind::Mpm)));
     configs.push(("fem (Q4)", scene.method_config(MethodKind::Fem)));
     for (label, config) in configs {

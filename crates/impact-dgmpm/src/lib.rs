@@ -92,7 +92,9 @@ pub mod method;
 pub mod riemann;
 
 use impact_core::material::Svk;
-use impact_core::method::{DgmpmOptions, Integrator, MethodConfig, RiemannSolver, TransverseFlux};
+use impact_core::method::{
+    DgmpmOptions, Integrator, MethodConfig, PointUpdate, RiemannSolver, TransverseFlux,
+};
 use impact_core::parallel::worth_parallel;
 use impact_core::points::MaterialPoints;
 use impact_core::problem::{Boundary, Model};
@@ -199,7 +201,7 @@ pub(crate) struct NodalFields<const D: usize> {
     pub tensor: Vec<Tensor<D>>,
     /// Velocity `v_i`.
     pub velocity: Vec<Vector<D>>,
-    /// Tensor field at the start of the step (RK2, increment update).
+    /// Tensor field at the start of the step (RK2, increment update; empty otherwise).
     pub start_tensor: Vec<Tensor<D>>,
     /// Velocity at the start of the step.
     pub start_velocity: Vec<Vector<D>>,
@@ -210,13 +212,16 @@ pub(crate) struct NodalFields<const D: usize> {
 }
 
 impl<const D: usize> NodalFields<D> {
-    fn new(nodes: usize) -> Self {
+    /// Buffers for `nodes` nodes; the start-of-step fields only if `keep_start` (RK2 or the
+    /// increment point update read them; forward Euler with the nodal update never does).
+    fn new(nodes: usize, keep_start: bool) -> Self {
+        let start = if keep_start { nodes } else { 0 };
         Self {
             mass: vec![0.0; nodes],
             tensor: vec![Tensor::<D>::zeros(); nodes],
             velocity: vec![Vector::<D>::zeros(); nodes],
-            start_tensor: vec![Tensor::<D>::zeros(); nodes],
-            start_velocity: vec![Vector::<D>::zeros(); nodes],
+            start_tensor: vec![Tensor::<D>::zeros(); start],
+            start_velocity: vec![Vector::<D>::zeros(); start],
             rate_tensor: vec![Tensor::<D>::zeros(); nodes],
             rate_velocity: vec![Vector::<D>::zeros(); nodes],
         }
@@ -516,7 +521,9 @@ impl<const D: usize> DgmpmSolver<D> {
         let grid = &self.grid;
         let nodes = grid.cell_count() * Grid::<D>::NODES_PER_CELL;
         if self.path.nodal() && self.nodes.mass.len() != nodes {
-            self.nodes = NodalFields::new(nodes);
+            let keep_start = self.options.integrator == Integrator::Rk2
+                || self.options.update == PointUpdate::Increment;
+            self.nodes = NodalFields::new(nodes, keep_start);
         }
         let ctu = D > 1 && self.options.flux == TransverseFlux::Ctu;
         if self.path == StepPath::Fused {
