@@ -48,6 +48,7 @@
 //! reaches the body when the outer node of that cell has lost its points.
 //!
 //! Layout: `shape.rs` (the shape functions and their stencils: a new one goes there),
+//! `weights.rs` (their values at the points: one row per point or one shared row),
 //! `transfer.rs` (phases 1, 3, 4, 5: the scatters, coloured by node layer, and the gathers), `grid_update.rs`
 //! (phase 2), `method.rs` (the `Method` impl); this file holds the solver and its buffers.
 
@@ -60,6 +61,7 @@ mod method;
 pub mod shape;
 use edges::{edge_conditions, node_constraints, point_constraints, MirrorConstraint, SurfaceLoad};
 mod transfer;
+mod weights;
 use impact_core::method::{MethodConfig, Model, MpmFrame, MpmOptions, MpmShape, StressUpdate};
 use impact_core::parallel::worth_parallel;
 use impact_core::points::MaterialPoints;

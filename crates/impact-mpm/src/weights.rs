@@ -1,0 +1,141 @@
+//! The points' shape-function weights ([`crate::shape`]): evaluated at the current
+//! positions every step (updated Lagrangian) or once at the reference positions (total
+//! Lagrangian), stored one row per point, or one row shared by every point where they are
+//! all equal; and the points sorted by layer for the coloured scatters.
+use crate::MpmSolver;
+use impact_core::method::MpmFrame;
+use impact_core::parallel::{chunks, for_each_chunk};
+use impact_core::points::MaterialPoints;
+use impact_core::Vector;
+
+/// Points per chunk of the point loops.
+const CHUNK: usize = 2048;
+
+impl<const D: usize> MpmSolver<D> {
+    /// Shape functions at the current (updated Lagrangian) or reference (total
+    /// Lagrangian, computed once) positions ([`crate::shape`]).
+    pub(crate) fn update_shapes(&mut self, points: &MaterialPoints<D>) {
+        let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
+        if !moving && self.shapes_ready {
+            return;
+        }
+        let nodes = self.stencil.nodes;
+        let (grid, stencil) = (&self.grid, &self.stencil);
+        let parts = (
+            chunks(&mut self.point_base, CHUNK),
+            chunks(&mut self.shape, CHUNK * nodes),
+            chunks(&mut self.shape_gradient, CHUNK * nodes),
+        );
+        for_each_chunk(self.parallel, 1, parts, |r, (bases, shape, gradient)| {
+            for (j, base) in bases.iter_mut().enumerate() {
+                let p = r * CHUNK + j;
+                let x = if moving {
+                    &points.position[p]
+                } else {
+                    &points.reference[p]
+                };
+                let range = j * nodes..(j + 1) * nodes;
+                let (values, gradients) = (&mut shape[range.clone()], &mut gradient[range]);
+                // a point whose stencil leaves the padded grid keeps its last stencil and
+                // weights; check_finite reports it
+                let evaluated = match points.domain.get(p) {
+                    Some(domain) => stencil.evaluate_domain(grid, x, domain, values, gradients),
+                    None => stencil.evaluate(grid, x, values, gradients),
+                };
+                if let Some((b, _)) = evaluated {
+                    *base = b;
+                }
+            }
+        });
+        self.sort_by_layer();
+    }
+
+    /// The weights' storage, at construction: in the total Lagrangian frame, if every
+    /// point's weights equal the first point's (to 1e-12 of their size: the same local
+    /// position in every cell), one row shared by all (`weight_stride` 0) and the shapes
+    /// are ready; otherwise a row per point, filled by [`Self::update_shapes`].
+    pub(crate) fn allocate_weights(&mut self, points: &MaterialPoints<D>) {
+        let nodes = self.stencil.nodes;
+        let count = points.len();
+        if self.options.frame == MpmFrame::TotalLagrangian && count > 0 {
+            let mut first = (vec![0.0; nodes], vec![Vector::<D>::zeros(); nodes]);
+            let mut other = first.clone();
+            let (grid, stencil) = (&self.grid, &self.stencil);
+            let evaluate = |p: usize, (values, gradients): &mut (Vec<f64>, Vec<Vector<D>>)| {
+                let x = &points.reference[p];
+                match points.domain.get(p) {
+                    Some(domain) => stencil.evaluate_domain(grid, x, domain, values, gradients),
+                    None => stencil.evaluate(grid, x, values, gradients),
+                }
+            };
+            let base = evaluate(0, &mut first);
+            let scale = first.1.iter().map(|g| g.amax()).fold(0.0, f64::max);
+            let mut shared = base.is_some();
+            for p in 0..count {
+                match evaluate(p, &mut other) {
+                    Some((b, _)) => self.point_base[p] = b,
+                    None => shared = false,
+                }
+                shared &= other
+                    .0
+                    .iter()
+                    .zip(&first.0)
+                    .all(|(a, b)| (a - b).abs() <= 1e-12);
+                shared &=
+                    (other.1.iter().zip(&first.1)).all(|(a, b)| (a - b).amax() <= 1e-12 * scale);
+                if !shared {
+                    break;
+                }
+            }
+            if shared {
+                (self.shape, self.shape_gradient) = first;
+                self.weight_stride = 0;
+                self.shapes_ready = true;
+                self.sort_by_layer();
+                return;
+            }
+        }
+        self.shape = vec![0.0; count * nodes];
+        self.shape_gradient = vec![Vector::<D>::zeros(); count * nodes];
+        self.weight_stride = nodes;
+    }
+
+    /// Whether every point reads one shared row of weights (see `allocate_weights`).
+    pub fn shares_weights(&self) -> bool {
+        self.weight_stride == 0
+    }
+
+    /// Store a row of weights per point again (the reference the shared row is tested
+    /// against); they are evaluated in the next step.
+    pub fn unshare_weights(&mut self, points: &MaterialPoints<D>) {
+        let nodes = self.stencil.nodes;
+        self.shape = vec![0.0; points.len() * nodes];
+        self.shape_gradient = vec![Vector::<D>::zeros(); points.len() * nodes];
+        self.weight_stride = nodes;
+        self.shapes_ready = false;
+    }
+
+    /// Sort the points by the layer (along the last axis) of their stencil's base node into
+    /// `layer_order` (a counting sort, stable: points already in cell order keep it).
+    pub(crate) fn sort_by_layer(&mut self) {
+        let layer_nodes: usize = self.grid.cells[..D - 1].iter().map(|n| n + 1).product();
+        let starts = &mut self.layer_start;
+        starts.iter_mut().for_each(|s| *s = 0);
+        for &base in &self.point_base {
+            starts[base / layer_nodes + 1] += 1;
+        }
+        for k in 1..starts.len() {
+            starts[k] += starts[k - 1];
+        }
+        // `starts[k]` is the next free slot of layer k while filling; shifted back after
+        for (p, &base) in self.point_base.iter().enumerate() {
+            let layer = base / layer_nodes;
+            self.layer_order[starts[layer]] = p;
+            starts[layer] += 1;
+        }
+        for k in (1..starts.len()).rev() {
+            starts[k] = starts[k - 1];
+        }
+        starts[0] = 0;
+    }
+}
