@@ -10,7 +10,18 @@ use impact_core::points::MaterialPoints;
 use impact_core::Vector;
 
 impl DgmpmSolver<2> {
-    /// The 2D sweep of one band of rows (module doc).
+    /// The 2D sweep (module doc of [`super`]), band by band. A band of rows `j0..j1`
+    /// first forms face row `j0` (its Godunov fluxes, [`Self::y_godunov_row`], and under
+    /// CTU the x-fluxes of row `j0 - 1` for its final fluxes, [`Self::y_final_row`]) and
+    /// the x-fluxes of row `j0` ([`Self::x_godunov_row`]); then for each row `j`:
+    /// 1. the Godunov fluxes of face row `j + 1` and of the x-faces of row `j + 1`;
+    /// 2. the final fluxes of face row `j + 1` (corrections from the x-fluctuations of
+    ///    rows `j` and `j + 1`);
+    /// 3. along the row, the final x-fluxes (corrections from the y-fluctuations of the
+    ///    cells on either side) and the cell updates;
+    /// 4. the rolling rows shift by one.
+    ///
+    /// Boundary faces add their power and force to the band's.
     pub(super) fn sweep_2d(&mut self, points: &mut MaterialPoints<2>, dt: f64) -> (f64, Vector<2>) {
         let [nx, ny] = self.grid.cells;
         let constants = AxisConstants::new(&self.elastic);
