@@ -74,12 +74,8 @@ impl<const D: usize> MpmSolver<D> {
         };
         let contribution = |p: usize, sums: &mut Band<'_, D>| contribution(&weights, p, sums);
         let nodes = &mut self.nodes;
-        let all = (
-            chunks(&mut nodes.mass, CHUNK),
-            chunks(&mut nodes.momentum, CHUNK),
-            chunks(&mut nodes.force, CHUNK),
-        );
-        for_each_chunk(self.parallel, 1, all, |_, (mass, momentum, force)| {
+        // the sums `fill` names start from zero
+        let zero = |mass: &mut [f64], momentum: &mut [Vector<D>], force: &mut [Vector<D>]| {
             if fill.mass {
                 mass.iter_mut().for_each(|m| *m = 0.0);
             }
@@ -89,9 +85,10 @@ impl<const D: usize> MpmSolver<D> {
             if fill.force {
                 force.iter_mut().for_each(|f| *f = Vector::<D>::zeros());
             }
-        });
+        };
         if !self.parallel {
             // one pass in point order (the colouring only serves the parallel passes)
+            zero(&mut nodes.mass, &mut nodes.momentum, &mut nodes.force);
             let mut sums = Band {
                 mass: &mut nodes.mass,
                 momentum: &mut nodes.momentum,
@@ -113,6 +110,11 @@ impl<const D: usize> MpmSolver<D> {
                 chunks(&mut nodes.force[from..], band),
             );
             for_each_chunk(self.parallel, grain, bands, |r, (mass, momentum, force)| {
+                // colour 0's bands cover every node once, each written first by its own
+                // task: zeroed there, while in cache (no pass of its own)
+                if colour == 0 {
+                    zero(mass, momentum, force);
+                }
                 let layer = colour + width * r;
                 if layer >= layers {
                     return;
