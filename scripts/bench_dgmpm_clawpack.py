@@ -13,14 +13,12 @@ in ns per cell-update. One thread each:
 
     RAYON_NUM_THREADS=1 OMP_NUM_THREADS=1 <venv with clawpack>/bin/python scripts/bench_dgmpm_clawpack.py
 """
-import json
 import os
-import subprocess
 import sys
-import tempfile
 import time
 
 import numpy as np
+from bench_common import impact_run, interleaved, report
 from clawpack import pyclaw, riemann
 
 E, NU, RHO = 2.0e11, 0.3, 7800.0
@@ -32,7 +30,6 @@ L, H = 4.0, 3.0
 NX = int(os.environ.get("NX", "1000"))
 NY = round(NX * H / L)
 STEPS, ROUNDS = 20, 3
-IMPACT = os.environ.get("IMPACT_BIN", os.path.join(os.path.dirname(__file__), "..", "target", "release", "impact"))
 
 
 def clawpack_ns_per_update():
@@ -71,25 +68,14 @@ def clawpack_ns_per_update():
 
 
 def impact_ns_per_update():
-    with tempfile.TemporaryDirectory() as out:
-        t_end = STEPS * (L / NX) / CP
-        subprocess.run([IMPACT, "run", "plate", "--cells", str(NX), "--method", "dgmpm",
-                        "--no-files", "--no-reference", "--quiet", "--t-end", f"{t_end:e}",
-                        "--out", out], check=True, stdout=subprocess.DEVNULL)
-        run = json.load(open(os.path.join(out, "summary.json")))["runs"][0]
-        return run["wall_s"] / (run["steps"] * run["cells"]) * 1e9
+    run = impact_run("plate", NX, "dgmpm", STEPS * (L / NX) / CP)
+    return run["wall_s"] / (run["steps"] * run["cells"]) * 1e9
 
 
 def main():
-    peer, ours = [], []
-    for _ in range(ROUNDS):
-        peer.append(clawpack_ns_per_update())
-        ours.append(impact_ns_per_update())
-    peer_ns, ours_ns = np.median(peer), np.median(ours)
+    peer, ours = interleaved(ROUNDS, clawpack_ns_per_update, impact_ns_per_update)
     print(f"plate {NX}x{NY}, Courant 1, CTU, one thread")
-    print("clawpack (Fortran rpn2/rpt2), ns per cell-update:", " ".join(f"{s:.1f}" for s in peer), f"(median {peer_ns:.1f})")
-    print("impact dgmpm, ns per cell-update:                ", " ".join(f"{s:.1f}" for s in ours), f"(median {ours_ns:.1f})")
-    print(f"impact is {peer_ns / ours_ns:.2f}x Clawpack")
+    report("clawpack (Fortran rpn2/rpt2)", peer, "impact dgmpm", ours, "ns per cell-update", 1, "Clawpack")
     return 0
 
 

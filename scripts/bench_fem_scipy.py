@@ -10,14 +10,12 @@ run with RAYON_NUM_THREADS=1 OMP_NUM_THREADS=1 (scipy's CSR matvec is single-thr
 
     RAYON_NUM_THREADS=1 OMP_NUM_THREADS=1 scripts/.venv/bin/python scripts/bench_fem_scipy.py
 """
-import json
 import os
-import subprocess
 import sys
-import tempfile
 import time
 
 import numpy as np
+from bench_common import impact_run, interleaved, report
 from skfem import Basis, BilinearForm, ElementQuad1, ElementVector, MeshQuad, asm
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
@@ -26,7 +24,6 @@ L, H = 4.0, 3.0
 NX = int(os.environ.get("NX", "1000"))
 NY = NX * 3 // 4
 STEPS, ROUNDS = 30, 3
-IMPACT = os.environ.get("IMPACT_BIN", os.path.join(os.path.dirname(__file__), "..", "target", "release", "impact"))
 
 
 def assemble():
@@ -66,28 +63,17 @@ def scipy_step_seconds(stiffness, lumped):
     return float(np.median(times))
 
 
-def impact_step_seconds():
-    with tempfile.TemporaryDirectory() as out:
-        # about 30 steps: the stable step is 0.9 dx / c_L
-        t_end = 30 * 0.9 * (L / NX) / 5875.0
-        subprocess.run([IMPACT, "run", "plate-wave", "--cells", str(NX), "--method", "fem",
-                        "--no-files", "--no-reference", "--quiet", "--t-end", f"{t_end:e}",
-                        "--out", out], check=True, stdout=subprocess.DEVNULL)
-        run = json.load(open(os.path.join(out, "summary.json")))["runs"][0]
-        return run["wall_s"] / run["steps"]
+def impact_step_ms():
+    # about 30 steps: the stable step is 0.9 dx / c_L
+    run = impact_run("plate-wave", NX, "fem", 30 * 0.9 * (L / NX) / 5875.0)
+    return 1e3 * run["wall_s"] / run["steps"]
 
 
 def main():
     stiffness, lumped = assemble()
     print(f"plate-wave {NX}x{NY}: {lumped.size} dofs, {stiffness.nnz} nonzeros", flush=True)
-    peer, ours = [], []
-    for _ in range(ROUNDS):
-        peer.append(scipy_step_seconds(stiffness, lumped))
-        ours.append(impact_step_seconds())
-    peer_ms, ours_ms = 1e3 * np.median(peer), 1e3 * np.median(ours)
-    print("scipy CSR loop, ms per step:", " ".join(f"{1e3 * s:.2f}" for s in peer), f"(median {peer_ms:.2f})")
-    print("impact fem, ms per step:    ", " ".join(f"{1e3 * s:.2f}" for s in ours), f"(median {ours_ms:.2f})")
-    print(f"impact is {peer_ms / ours_ms:.2f}x the scipy loop")
+    peer, ours = interleaved(ROUNDS, lambda: 1e3 * scipy_step_seconds(stiffness, lumped), impact_step_ms)
+    report("scipy CSR loop", peer, "impact fem", ours, "ms per step", 2, "the scipy loop")
     return 0
 
 

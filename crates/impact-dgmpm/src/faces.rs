@@ -50,10 +50,7 @@ impl<'a, const D: usize> Fields<'a, D> {
     #[inline]
     pub(crate) fn side(&self, c: usize, l: usize, high: bool) -> FullState<D> {
         if self.per_cell {
-            return FullState {
-                tensor: self.tensor[c],
-                velocity: self.velocity[c],
-            };
+            return self.cell(c);
         }
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
         let mut q = Tensor::<D>::zeros();
@@ -145,11 +142,7 @@ impl<const D: usize> DgmpmSolver<D> {
     #[inline]
     pub(crate) fn fields<'a>(&'a self, points: &'a MaterialPoints<D>) -> Fields<'a, D> {
         if !self.path.nodal() {
-            Fields {
-                tensor: self.point_tensor(points),
-                velocity: &points.velocity,
-                per_cell: true,
-            }
+            Fields::per_cell(self.point_tensor(points), &points.velocity)
         } else {
             Fields {
                 tensor: &self.nodes.tensor,

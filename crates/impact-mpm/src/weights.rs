@@ -71,7 +71,10 @@ impl<const D: usize> MpmSolver<D> {
             let base = evaluate(0, &mut first);
             let scale = first.1.iter().map(|g| g.amax()).fold(0.0, f64::max);
             let mut shared = base.is_some();
-            for p in 0..count {
+            if let Some((b, _)) = base {
+                self.point_base[0] = b;
+            }
+            for p in 1..count {
                 match evaluate(p, &mut other) {
                     Some((b, _)) => self.point_base[p] = b,
                     None => shared = false,
