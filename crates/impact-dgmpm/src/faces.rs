@@ -29,6 +29,16 @@ impl<'a, const D: usize> Fields<'a, D> {
         }
     }
 
+    /// `2^D` nodes per cell, stored cell by cell (the nodal paths).
+    #[inline]
+    pub(crate) fn nodal(tensor: &'a [Tensor<D>], velocity: &'a [Vector<D>]) -> Self {
+        Self {
+            tensor,
+            velocity,
+            per_cell: false,
+        }
+    }
+
     /// The tensor field and the velocities (per-cell fields: one entry per cell).
     #[inline]
     pub(crate) fn slices(&self) -> (&'a [Tensor<D>], &'a [Vector<D>]) {
@@ -52,6 +62,22 @@ impl<'a, const D: usize> Fields<'a, D> {
         if self.per_cell {
             return self.cell(c);
         }
+        self.nodal_side(c, l, high)
+    }
+
+    /// [`Self::side`] with the kind of fields known at compile time: `NODAL`, the average
+    /// of the face's nodes; otherwise the cell's one state (the fused sweeps).
+    #[inline(always)]
+    pub(crate) fn at<const NODAL: bool>(&self, c: usize, l: usize, high: bool) -> FullState<D> {
+        match NODAL {
+            true => self.nodal_side(c, l, high),
+            false => self.cell(c),
+        }
+    }
+
+    /// The average of cell `c`'s nodes on its face normal to `l` (nodal fields).
+    #[inline(always)]
+    fn nodal_side(&self, c: usize, l: usize, high: bool) -> FullState<D> {
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
         let mut q = Tensor::<D>::zeros();
         let mut v = Vector::<D>::zeros();
@@ -144,11 +170,7 @@ impl<const D: usize> DgmpmSolver<D> {
         if !self.path.nodal() {
             Fields::per_cell(self.point_tensor(points), &points.velocity)
         } else {
-            Fields {
-                tensor: &self.nodes.tensor,
-                velocity: &self.nodes.velocity,
-                per_cell: false,
-            }
+            Fields::nodal(&self.nodes.tensor, &self.nodes.velocity)
         }
     }
 

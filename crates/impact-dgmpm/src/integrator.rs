@@ -1,7 +1,8 @@
 //! Phases 3-4 and the step: nodal rates of the semi-discrete system (paper eq. 16), the
 //! nodal update, and one [`DgmpmSolver::stage`] that forward Euler calls once and RK2
 //! (Heun) twice.
-use crate::{sym, DgmpmSolver, DgmpmState, Physics, StepPath, CHUNK, MAX_NODES};
+use crate::riemann::Conserved;
+use crate::{DgmpmSolver, DgmpmState, Physics, StepPath, CHUNK, MAX_NODES};
 use impact_core::method::{Integrator, PointUpdate, TransverseFlux};
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
@@ -9,6 +10,20 @@ use impact_core::{Grid, Tensor, Vector};
 
 /// Cells per rayon leaf of the per-cell loops.
 const CELL_GRAIN: usize = 512;
+
+/// Phase 4 at one node: `q + Δt q̇`, or with the start-of-step value `q⁰` (Heun's second
+/// stage, `start_weight = a = ½`) `a q⁰ + (1 - a)(q + Δt q̇)`.
+#[inline(always)]
+pub(crate) fn stage_update<T>(q: T, rate: T, dt: f64, start: Option<T>, start_weight: f64) -> T
+where
+    T: Copy + std::ops::Add<Output = T> + std::ops::Mul<f64, Output = T>,
+{
+    let next = q + rate * dt;
+    match start {
+        None => next,
+        Some(q0) => q0 * start_weight + next * (1.0 - start_weight),
+    }
+}
 
 impl<const D: usize> DgmpmSolver<D> {
     /// Phase 3: nodal rates `dq_i/dt`, `dv_i/dt` of every cell ([`Self::cell_rates_into`]).
@@ -28,12 +43,7 @@ impl<const D: usize> DgmpmSolver<D> {
         self.nodes.rate_velocity = rate_velocity;
     }
 
-    /// The nodal rates of cell `c` (module doc of the crate): the volume term on the points,
-    /// with the nodal field interpolated there (paper eq. 14-15), and the face fluxes,
-    /// `M_i dv_i/dt = -Σ_α V_α σ_h(X_α) ∇S_iα + Σ_f ∫_f S_i t*_out dΓ`,
-    /// `(M_i/ρ) dσ_i/dt = C : [-Σ_α V_α sym(v_h(X_α) ⊗ ∇S_iα) + Σ_f ∫_f S_i sym(v* ⊗ n) dΓ]`;
-    /// under Saint-Venant–Kirchhoff `Π(F_h)` replaces `σ_h` and `v_h ⊗ ∇S` (no `C :`) the
-    /// strain rate (paper eq. 5-6).
+    /// The nodal rates of cell `c` from the face arrays ([`Self::rates_of_cell`]).
     fn cell_rates_into(
         &self,
         c: usize,
@@ -43,13 +53,56 @@ impl<const D: usize> DgmpmSolver<D> {
     ) {
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
         let (grid, nodes) = (&self.grid, &self.nodes);
-        let mut volume_tensor = [Tensor::<D>::zeros(); MAX_NODES];
-        let mut force = [Vector::<D>::zeros(); MAX_NODES];
+        let idx = grid.cell_multi_index(c);
+        // the high face is one l-stride of the l-face array further
+        let faces: [[&Conserved<D>; 2]; D] = std::array::from_fn(|l| {
+            let low = Self::face_index(grid, l, idx);
+            let stride: usize = grid.cells[..l].iter().product();
+            [&self.face_flux[l][low], &self.face_flux[l][low + stride]]
+        });
         let cell_nodes = c * nodes_per_cell..(c + 1) * nodes_per_cell;
-        let (nq, nv) = (
+        let nodal = (
             &nodes.tensor[cell_nodes.clone()],
-            &nodes.velocity[cell_nodes],
+            &nodes.velocity[cell_nodes.clone()],
+            &nodes.mass[cell_nodes],
         );
+        self.rates_of_cell(c, points, nodal, faces, (rq, rv));
+    }
+
+    /// The nodal rates `(dq_i/dt, dv_i/dt)` of cell `c` into `(rq, rv)` (module doc of
+    /// the crate), given its nodes' fields and masses `(q_i, v_i, M_i)` and its faces'
+    /// final fluxes `[low, high]` per axis: the volume term on the points, with the nodal
+    /// field interpolated there (paper eq. 14-15), and the face fluxes,
+    /// `M_i dv_i/dt = -Σ_α V_α σ_h(X_α) ∇S_iα + Σ_f ∫_f S_i t*_out dΓ`,
+    /// `(M_i/ρ) dσ_i/dt = C : [-Σ_α V_α sym(v_h(X_α) ⊗ ∇S_iα) + Σ_f ∫_f S_i sym(v* ⊗ n) dΓ]`;
+    /// under Saint-Venant–Kirchhoff `Π(F_h)` replaces `σ_h` and `v_h ⊗ ∇S` (no `C :`) the
+    /// strain rate (paper eq. 5-6). `C :` and `sym` are linear, so they are applied once per
+    /// node to the sum `-Σ_α V_α v_h ⊗ ∇S_iα`. Rates are zero at a node without mass.
+    /// Shared by the phase path and the fused nodal sweep.
+    #[inline(always)]
+    pub(crate) fn rates_of_cell(
+        &self,
+        c: usize,
+        points: &MaterialPoints<D>,
+        (nq, nv, nm): (&[Tensor<D>], &[Vector<D>], &[f64]),
+        faces: [[&Conserved<D>; 2]; D],
+        (rq, rv): (&mut [Tensor<D>], &mut [Vector<D>]),
+    ) {
+        let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
+        let (nq, nv, nm) = (
+            &nq[..nodes_per_cell],
+            &nv[..nodes_per_cell],
+            &nm[..nodes_per_cell],
+        );
+        let (rq, rv) = (&mut rq[..nodes_per_cell], &mut rv[..nodes_per_cell]);
+        let grid = &self.grid;
+        let svk = match self.physics {
+            Physics::Linear => None,
+            Physics::Svk { svk, .. } => Some(svk),
+        };
+        // -Σ_α V_α v_h ⊗ ∇S_iα and -Σ_α V_α σ_h ∇S_iα (+ the face tractions below)
+        let mut velocity_gradient = [Tensor::<D>::zeros(); MAX_NODES];
+        let mut force = [Vector::<D>::zeros(); MAX_NODES];
         for p in c * self.points_per_cell..(c + 1) * self.points_per_cell {
             let s = &self.shape[p * nodes_per_cell..(p + 1) * nodes_per_cell];
             let g = &self.shape_gradient[p * nodes_per_cell..(p + 1) * nodes_per_cell];
@@ -61,42 +114,43 @@ impl<const D: usize> DgmpmSolver<D> {
             }
             let vol = points.volume[p];
             // the stress that acts: σ_h, or Π(F_h)
-            let stress = match self.physics {
-                Physics::Linear => qh,
-                Physics::Svk { svk, .. } => svk.piola(&qh),
-            };
+            let stress = match &svk {
+                None => qh,
+                Some(svk) => svk.piola(&qh),
+            } * vol;
+            let vh = vh * vol;
             for a in 0..nodes_per_cell {
-                volume_tensor[a] -= match self.physics {
-                    Physics::Linear => sym(&vh, &g[a]),
-                    Physics::Svk { .. } => vh * g[a].transpose(),
-                } * vol;
-                force[a] -= (stress * g[a]) * vol;
+                velocity_gradient[a] -= vh * g[a].transpose();
+                force[a] -= stress * g[a];
             }
         }
-        let idx = grid.cell_multi_index(c);
         let mut tensor_flux = [Tensor::<D>::zeros(); MAX_NODES];
         for l in 0..D {
             let weight = grid.cell_volume() / grid.spacing[l] * 2.0 / nodes_per_cell as f64;
-            // the high face is one l-stride of the l-face array further
-            let low = Self::face_index(grid, l, idx);
-            let stride: usize = grid.cells[..l].iter().product();
+            // the face's nodes: bit l of the local node index set to `side`
+            let low_bits = (1usize << l) - 1;
             for side in 0..2 {
                 // outward flux F_n = sign · F_{e_l}; it leaves the cell
                 let sign = if side == 0 { -1.0 } else { 1.0 };
-                let q = self.face_flux[l][low + side * stride];
-                for a in (0..nodes_per_cell).filter(|a| (a >> l) & 1 == side) {
-                    tensor_flux[a] -= q.tensor * (sign * weight);
-                    force[a] -= q.momentum * (sign * weight);
+                let q = faces[l][side];
+                let (tensor, momentum) = (q.tensor * (sign * weight), q.momentum * (sign * weight));
+                for k in 0..nodes_per_cell / 2 {
+                    let a = (k & low_bits) | (side << l) | ((k & !low_bits) << 1);
+                    tensor_flux[a] -= tensor;
+                    force[a] -= momentum;
                 }
             }
         }
         let density = self.material.density;
         for a in 0..nodes_per_cell {
-            let m = nodes.mass[c * nodes_per_cell + a];
+            let m = nm[a];
             if m > 0.0 {
-                let volume_part = match self.physics {
-                    Physics::Linear => self.material.stress(&volume_tensor[a]),
-                    Physics::Svk { .. } => volume_tensor[a],
+                let gradient = velocity_gradient[a];
+                let volume_part = match svk {
+                    None => self
+                        .material
+                        .stress(&((gradient + gradient.transpose()) * 0.5)),
+                    Some(_) => gradient,
                 };
                 let inv_mass = 1.0 / m;
                 rq[a] = (volume_part + tensor_flux[a]) * (density * inv_mass);
@@ -111,7 +165,6 @@ impl<const D: usize> DgmpmSolver<D> {
     /// Phase 4: `q_i ← a q_i^n + (1 - a) (q_i + Δt q̇_i)` with `a = start_weight`: Euler and
     /// Heun's first stage are `a = 0`, Heun's second stage `a = ½`.
     pub fn nodal_update(&mut self, dt: f64, start_weight: f64) {
-        let b = 1.0 - start_weight;
         let nodes = &mut self.nodes;
         let (rq, rv) = (&nodes.rate_tensor, &nodes.rate_velocity);
         let (q0, v0) = (&nodes.start_tensor, &nodes.start_velocity);
@@ -122,28 +175,26 @@ impl<const D: usize> DgmpmSolver<D> {
         for_each_chunk(self.parallel, 1, parts, |r, (tensor, velocity)| {
             for (j, (q, v)) in tensor.iter_mut().zip(velocity.iter_mut()).enumerate() {
                 let i = r * CHUNK + j;
-                let q_next = *q + rq[i] * dt;
-                let v_next = *v + rv[i] * dt;
-                if start_weight == 0.0 {
-                    *q = q_next;
-                    *v = v_next;
-                } else {
-                    *q = q0[i] * start_weight + q_next * b;
-                    *v = v0[i] * start_weight + v_next * b;
-                }
+                let starts = (start_weight != 0.0).then(|| (q0[i], v0[i]));
+                *q = stage_update(*q, rq[i], dt, starts.map(|s| s.0), start_weight);
+                *v = stage_update(*v, rv[i], dt, starts.map(|s| s.1), start_weight);
             }
         });
     }
 
     /// One stage of the nodal paths: phase 2 (fluxes; 2b, CTU corrections), the boundary
-    /// force, phase 3 (rates) and phase 4 (update with `start_weight`). Returns the power
+    /// force, phase 3 (rates) and phase 4 (update with `start_weight`); on
+    /// [`StepPath::FusedNodal`] in one sweep ([`crate::fused`]). Returns the power
     /// and force of the boundary conditions at the stage's state.
     fn stage(
         &mut self,
-        points: &MaterialPoints<D>,
+        points: &mut MaterialPoints<D>,
         dt: f64,
         start_weight: f64,
     ) -> (f64, Vector<D>) {
+        if self.path == StepPath::FusedNodal {
+            return self.fused_nodal_stage(points, dt, start_weight);
+        }
         let power = self.interface_fluxes(points);
         if self.ctu() {
             self.transverse_corrections(points, dt);
@@ -200,7 +251,10 @@ impl<const D: usize> DgmpmSolver<D> {
         }
         self.particles_to_nodes(&state.points);
         let integrator = self.options.integrator;
-        if integrator == Integrator::Rk2 || self.options.update == PointUpdate::Increment {
+        // (the fused nodal stage keeps the start-of-step fields by swapping buffers)
+        let keep_start =
+            integrator == Integrator::Rk2 || self.options.update == PointUpdate::Increment;
+        if keep_start && self.path != StepPath::FusedNodal {
             let nodes = &mut self.nodes;
             nodes.start_tensor.copy_from_slice(&nodes.tensor);
             nodes.start_velocity.copy_from_slice(&nodes.velocity);
@@ -210,7 +264,7 @@ impl<const D: usize> DgmpmSolver<D> {
             Integrator::Rk2 => t,
         };
         self.set_load_time(first_time);
-        let (power, force) = self.stage(&state.points, dt, 0.0);
+        let (power, force) = self.stage(&mut state.points, dt, 0.0);
         match integrator {
             Integrator::Euler => {
                 state.work += dt * power;
@@ -218,7 +272,7 @@ impl<const D: usize> DgmpmSolver<D> {
             }
             Integrator::Rk2 => {
                 self.set_load_time(t + dt);
-                let (power2, force2) = self.stage(&state.points, dt, 0.5);
+                let (power2, force2) = self.stage(&mut state.points, dt, 0.5);
                 state.work += 0.5 * dt * (power + power2);
                 state.impulse += (force + force2) * (0.5 * dt);
             }

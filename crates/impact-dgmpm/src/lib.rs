@@ -144,7 +144,7 @@ pub(crate) struct NodalFields<const D: usize> {
     pub start_tensor: Vec<Tensor<D>>,
     /// Velocity at the start of the step.
     pub start_velocity: Vec<Vector<D>>,
-    /// `dq_i/dt`.
+    /// `dq_i/dt` (empty on the fused nodal sweep).
     pub rate_tensor: Vec<Tensor<D>>,
     /// `dv_i/dt`.
     pub rate_velocity: Vec<Vector<D>>,
@@ -152,17 +152,19 @@ pub(crate) struct NodalFields<const D: usize> {
 
 impl<const D: usize> NodalFields<D> {
     /// Buffers for `nodes` nodes; the start-of-step fields only if `keep_start` (RK2 or the
-    /// increment point update read them; forward Euler with the nodal update never does).
-    fn new(nodes: usize, keep_start: bool) -> Self {
+    /// increment point update read them; forward Euler with the nodal update never does),
+    /// the rates only if `rates` (the fused nodal sweep updates without them).
+    fn new(nodes: usize, keep_start: bool, rates: bool) -> Self {
         let start = if keep_start { nodes } else { 0 };
+        let rate_len = if rates { nodes } else { 0 };
         Self {
             mass: vec![0.0; nodes],
             tensor: vec![Tensor::<D>::zeros(); nodes],
             velocity: vec![Vector::<D>::zeros(); nodes],
             start_tensor: vec![Tensor::<D>::zeros(); start],
             start_velocity: vec![Vector::<D>::zeros(); start],
-            rate_tensor: vec![Tensor::<D>::zeros(); nodes],
-            rate_velocity: vec![Vector::<D>::zeros(); nodes],
+            rate_tensor: vec![Tensor::<D>::zeros(); rate_len],
+            rate_velocity: vec![Vector::<D>::zeros(); rate_len],
         }
     }
 }
@@ -223,12 +225,6 @@ pub struct Dgmpm<const D: usize> {
 #[inline]
 pub(crate) fn unit<const D: usize>(l: usize) -> Vector<D> {
     Vector::<D>::from_fn(|k, _| f64::from(u8::from(k == l)))
-}
-
-/// `sym(a ⊗ b)`.
-pub(crate) fn sym<const D: usize>(a: &Vector<D>, b: &Vector<D>) -> Tensor<D> {
-    let outer = a * b.transpose();
-    (outer + outer.transpose()) * 0.5
 }
 
 fn unsupported(message: &str) -> CoreError {
@@ -459,15 +455,22 @@ impl<const D: usize> DgmpmSolver<D> {
     fn allocate_buffers(&mut self) {
         let grid = &self.grid;
         let nodes = grid.cell_count() * Grid::<D>::NODES_PER_CELL;
-        if self.path.nodal() && self.nodes.mass.len() != nodes {
+        let fused_nodal = self.path == StepPath::FusedNodal;
+        let nodes_now = (self.nodes.mass.len(), !self.nodes.rate_tensor.is_empty());
+        if self.path.nodal() && nodes_now != (nodes, !fused_nodal) {
             let keep_start = self.options.integrator == Integrator::Rk2
                 || self.options.update == PointUpdate::Increment;
-            self.nodes = NodalFields::new(nodes, keep_start);
+            self.nodes = NodalFields::new(nodes, keep_start, !fused_nodal);
         }
         let ctu = D > 1 && self.options.flux == TransverseFlux::Ctu;
-        if self.path == StepPath::Fused {
-            if self.fused.is_empty() {
-                self.fused = fused::FusedBuffers::new(grid.cells);
+        if self.path.fused() {
+            let per_cell = if fused_nodal {
+                Grid::<D>::NODES_PER_CELL
+            } else {
+                1
+            };
+            if self.fused.next_len() != grid.cell_count() * per_cell {
+                self.fused = fused::FusedBuffers::new(grid.cells, per_cell, ctu);
             }
         } else if self.face_flux[0].is_empty() {
             self.face_flux = std::array::from_fn(|l| vec![Conserved::zeros(); grid.face_count(l)]);

@@ -13,14 +13,16 @@ const CELL_GRAIN: usize = 512;
 impl<const D: usize> DgmpmSolver<D> {
     /// Phase 1: lumped nodal mass `M_i = Σ_α S_iα m_α` and mass-weighted nodal fields
     /// `M_i q_i = Σ_α S_iα m_α q_α` (paper eq. 17), `q` being `σ` (small strain) or `F`
-    /// (Saint-Venant–Kirchhoff). On [`StepPath::SinglePoint`] the map is the identity
+    /// (Saint-Venant–Kirchhoff). On [`StepPath::SinglePoint`] (and [`StepPath::FusedNodal`]
+    /// with one point per cell) the map is the identity
     /// (`q_i = q_p`) and only the masses are weighed.
     pub fn particles_to_nodes(&mut self, points: &MaterialPoints<D>) {
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
         let points_per_cell = self.points_per_cell;
         let shape = &self.shape;
         let source = self.point_tensor(points);
-        let single = self.path == StepPath::SinglePoint;
+        let single = self.path == StepPath::SinglePoint
+            || (self.path == StepPath::FusedNodal && points_per_cell == 1);
         let nodes = &mut self.nodes;
         let parts = (
             chunks(&mut nodes.mass, nodes_per_cell),

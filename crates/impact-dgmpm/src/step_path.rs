@@ -1,5 +1,5 @@
 //! Which computation a step runs ([`StepPath`]): the nodal phases, their one-point fast
-//! path, the cell path and its fused sweep.
+//! path, their fused sweep, the cell path and its fused sweep.
 use impact_core::method::Integrator;
 
 /// Which computation a step runs. [`StepPath::fastest`] picks it; every path gives the
@@ -12,6 +12,11 @@ pub enum StepPath {
     /// state (the mass-weighted map `Σ S m q / Σ S m` is the identity there) and only
     /// weighs the lumped masses.
     SinglePoint,
+    /// Phases 2-4 of each stage in one sweep over the cell rows ([`crate::fused`]): linear
+    /// elasticity (no elastoplastic Riemann solver), 1D or 2D, any points per cell, Euler or
+    /// RK2; no face or rate arrays. Phases 1 and 5 as [`StepPath::SinglePoint`] with one
+    /// point per cell, as [`StepPath::Nodal`] otherwise.
+    FusedNodal,
     /// One point per cell strictly inside its cell, forward Euler: the step reduces exactly
     /// to the cell-centred Godunov update ([`crate::DgmpmSolver::cell_update`]); no nodal buffer.
     Cell,
@@ -35,6 +40,7 @@ impl StepPath {
         match self {
             StepPath::Nodal => true,
             StepPath::SinglePoint => points_per_cell == 1,
+            StepPath::FusedNodal => fusable,
             StepPath::Cell => points_per_cell == 1 && integrator == Integrator::Euler && inside,
             StepPath::Fused => {
                 fusable && StepPath::Cell.applies(points_per_cell, integrator, inside, fusable)
@@ -52,6 +58,7 @@ impl StepPath {
         [
             StepPath::Fused,
             StepPath::Cell,
+            StepPath::FusedNodal,
             StepPath::SinglePoint,
             StepPath::Nodal,
         ]
@@ -63,5 +70,10 @@ impl StepPath {
     /// Whether the path stores nodal fields.
     pub fn nodal(self) -> bool {
         !matches!(self, StepPath::Cell | StepPath::Fused)
+    }
+
+    /// Whether the path runs a fused sweep (no face arrays).
+    pub fn fused(self) -> bool {
+        matches!(self, StepPath::Fused | StepPath::FusedNodal)
     }
 }

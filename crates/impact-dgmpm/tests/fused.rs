@@ -4,8 +4,13 @@
 //! cutting a face under `cover = "fraction"`), the plane wave with symmetry edges, a
 //! pressure load with a ramp, and J2 with the elastic solver. The 2D grids have more rows
 //! than a band, with a short last band, so band edges are crossed; serial and parallel.
+//!
+//! The fused nodal sweep ([`StepPath::FusedNodal`]) equals the phase-by-phase nodal paths
+//! ([`StepPath::SinglePoint`] at one point per cell, [`StepPath::Nodal`] otherwise) to
+//! 1e-13 on the same scenes with RK2, several points per cell and the increment update.
 use impact_core::method::{
-    EdgeKind, EdgeTreatment, LoadShape, MethodConfig, MethodKind, SegmentCover, TransverseFlux,
+    EdgeKind, EdgeTreatment, Integrator, LoadShape, MethodConfig, MethodKind, PointUpdate,
+    SegmentCover, TransverseFlux,
 };
 use impact_core::scene::EdgeSpec;
 use impact_core::{Method, Problem, Scene};
@@ -14,20 +19,23 @@ use impact_dgmpm::{Dgmpm, StepPath};
 /// Largest difference between the two runs after `steps` steps, relative to each field's
 /// peak (positions absolute, in m), and the work and impulse differences relative to
 /// their size.
+/// `[fused, reference]`: the path the configuration takes by default and the one it is
+/// compared with.
 fn compare<const D: usize>(
     scene: &Scene,
     edit: impl Fn(&mut MethodConfig),
     steps: usize,
     wave: bool,
+    [fused_path, reference]: [StepPath; 2],
 ) -> (f64, f64) {
     let problem = Problem::<D>::from_scene(scene).unwrap();
     let mut config = scene.method_config(MethodKind::Dgmpm);
     edit(&mut config);
     let mut fused = Dgmpm::<D>::new(&problem, config).unwrap();
-    assert_eq!(fused.solver.step_path(), StepPath::Fused, "{}", scene.name);
+    assert_eq!(fused.solver.step_path(), fused_path, "{}", scene.name);
     let mut cell = fused.clone();
     cell.solver
-        .set_step_path(StepPath::Cell, &cell.state.points)
+        .set_step_path(reference, &cell.state.points)
         .unwrap();
     let dt = fused.stable_dt();
     for n in 0..steps {
@@ -52,7 +60,16 @@ fn compare<const D: usize>(
 }
 
 fn check<const D: usize>(label: &str, scene: &Scene, edit: impl Fn(&mut MethodConfig)) {
-    let (worst, budget) = compare::<D>(scene, edit, 60, true);
+    check_paths::<D>(label, scene, edit, [StepPath::Fused, StepPath::Cell]);
+}
+
+fn check_paths<const D: usize>(
+    label: &str,
+    scene: &Scene,
+    edit: impl Fn(&mut MethodConfig),
+    paths: [StepPath; 2],
+) {
+    let (worst, budget) = compare::<D>(scene, edit, 60, true, paths);
     println!("{label}: state {worst:.1e}, work and impulse {budget:.1e}");
     assert!(worst <= 1e-13, "{label}: state differs by {worst:e}");
     assert!(
@@ -106,18 +123,33 @@ fn fused_plate_matches_the_cell_path() {
     check::<2>("plate 80x90, parallel", &plate([80, 90]), |_| {});
 }
 
-/// Grids one or two cells wide, where every face row or column is a boundary.
+/// Grids one or two cells wide, where every face row or column is a boundary: both fused
+/// sweeps (forward Euler: the cell path's; RK2: the nodal one).
 #[test]
-fn fused_tiny_grids_match_the_cell_path() {
-    for cells in [[1, 1], [1, 6], [6, 1], [2, 2], [3, 33]] {
-        let mut scene = Scene::builtin("plate-wave").unwrap();
-        scene.domain.cells = cells.to_vec();
-        let (worst, budget) = compare::<2>(&scene, |c| c.courant = 0.9, 20, false);
-        println!("plate-wave {cells:?}: state {worst:.1e}, work and impulse {budget:.1e}");
-        assert!(
-            worst <= 1e-13 && budget <= 1e-13,
-            "{cells:?}: {worst:e} {budget:e}"
-        );
+fn fused_tiny_grids_match_the_phase_paths() {
+    let runs = [
+        (Integrator::Euler, [StepPath::Fused, StepPath::Cell], 0.9),
+        (
+            Integrator::Rk2,
+            [StepPath::FusedNodal, StepPath::SinglePoint],
+            0.7,
+        ),
+    ];
+    for (integrator, paths, courant) in runs {
+        for cells in [[1, 1], [1, 6], [6, 1], [2, 2], [3, 33]] {
+            let mut scene = Scene::builtin("plate-wave").unwrap();
+            scene.domain.cells = cells.to_vec();
+            let edit = |c: &mut MethodConfig| {
+                c.dgmpm_mut().unwrap().integrator = integrator;
+                c.courant = courant;
+            };
+            let (worst, budget) = compare::<2>(&scene, edit, 20, false, paths);
+            println!("plate-wave {integrator:?} {cells:?}: state {worst:.1e}, work and impulse {budget:.1e}");
+            assert!(
+                worst <= 1e-13 && budget <= 1e-13,
+                "{integrator:?} {cells:?}: {worst:e} {budget:e}"
+            );
+        }
     }
 }
 
@@ -143,4 +175,92 @@ fn fused_plane_wave_pressure_and_plasticity_match_the_cell_path() {
     let mut plastic = Scene::builtin("ep-plate").unwrap();
     plastic.domain.cells = vec![24, 40];
     check::<2>("ep-plate, elastic solver", &plastic, |_| {});
+}
+
+/// RK2 or several points per cell: the configuration's default path is the fused nodal
+/// sweep; compared with the phase-by-phase nodal path.
+fn check_nodal<const D: usize>(label: &str, scene: &Scene, edit: impl Fn(&mut MethodConfig)) {
+    let mut config = scene.method_config(MethodKind::Dgmpm);
+    edit(&mut config);
+    let reference = match config.points_per_cell {
+        1 => StepPath::SinglePoint,
+        _ => StepPath::Nodal,
+    };
+    check_paths::<D>(label, scene, edit, [StepPath::FusedNodal, reference]);
+}
+
+fn rk2(config: &mut MethodConfig, courant: f64) {
+    config.dgmpm_mut().unwrap().integrator = Integrator::Rk2;
+    config.courant = courant;
+}
+
+#[test]
+fn fused_nodal_bar_matches_the_nodal_paths() {
+    let mut bar = Scene::builtin("bar").unwrap();
+    bar.domain.cells = vec![5000];
+    check_nodal::<1>("bar, RK2, Courant 1", &bar, |c| rk2(c, 1.0));
+    check_nodal::<1>("bar, RK2, Courant 0.6", &bar, |c| rk2(c, 0.6));
+    check_nodal::<1>("bar, 4 ppc, Euler", &bar, |c| {
+        (c.points_per_cell, c.courant) = (4, 0.5)
+    });
+    check_nodal::<1>("bar, 2 ppc, RK2, increment", &bar, |c| {
+        rk2(c, 0.8);
+        c.points_per_cell = 2;
+        c.dgmpm_mut().unwrap().update = PointUpdate::Increment;
+    });
+    let mut short = Scene::builtin("bar").unwrap();
+    short.domain.cells = vec![50];
+    check_nodal::<1>("bar, 50 cells, RK2", &short, |c| rk2(c, 0.8));
+}
+
+#[test]
+fn fused_nodal_plate_matches_the_nodal_paths() {
+    let scene = plate([30, 75]);
+    for flux in [TransverseFlux::Ctu, TransverseFlux::DonorCell] {
+        for edges in [EdgeTreatment::Restricted, EdgeTreatment::Ghost] {
+            let label = format!("plate RK2 {flux:?} {edges:?}");
+            check_nodal::<2>(&label, &scene, |c| {
+                rk2(c, 0.7);
+                let o = c.dgmpm_mut().unwrap();
+                (o.flux, o.edges) = (flux, edges);
+            });
+        }
+    }
+    check_nodal::<2>("plate, 4 ppc, Euler CTU", &scene, |c| {
+        (c.points_per_cell, c.courant) = (4, 0.6)
+    });
+    check_nodal::<2>("plate, 4 ppc, RK2 DCU, increment", &scene, |c| {
+        rk2(c, 0.9);
+        c.points_per_cell = 4;
+        let o = c.dgmpm_mut().unwrap();
+        (o.flux, o.update) = (TransverseFlux::DonorCell, PointUpdate::Increment);
+    });
+    let mut cut = plate([30, 75]);
+    let left = cut.boundary.left.as_mut().unwrap();
+    (left.to, left.cover) = (Some(1.03), Some(SegmentCover::Fraction));
+    check_nodal::<2>("plate, fractional cover, RK2", &cut, |c| rk2(c, 0.7));
+    check_nodal::<2>("plate 80x90, RK2, parallel", &plate([80, 90]), |c| {
+        rk2(c, 0.7)
+    });
+}
+
+#[test]
+fn fused_nodal_plane_wave_pressure_and_plasticity_match_the_nodal_paths() {
+    let mut wave = Scene::builtin("plate-wave").unwrap();
+    wave.domain.cells = vec![24, 40];
+    check_nodal::<2>("plate-wave, RK2", &wave, |c| rk2(c, 0.7));
+    let mut pressure = plate([20, 70]);
+    pressure.boundary.top = Some(EdgeSpec {
+        kind: EdgeKind::Pressure,
+        value: Some(1e8),
+        from: None,
+        to: None,
+        cover: None,
+        history: Some(LoadShape::Ramp),
+        duration: Some(2e-5),
+    });
+    check_nodal::<2>("plate, pressure, RK2", &pressure, |c| rk2(c, 0.7));
+    let mut plastic = Scene::builtin("ep-plate").unwrap();
+    plastic.domain.cells = vec![24, 40];
+    check_nodal::<2>("ep-plate, elastic solver, RK2", &plastic, |c| rk2(c, 0.7));
 }

@@ -25,8 +25,12 @@
 //! `BAND_ROWS` computed twice). The bands are fixed by the grid, so results do not depend
 //! on the thread count. Tested equal to the phase-by-phase cell path to 1e-13.
 //!
+//! The nodal paths' stages run the same 2D sweep with face states from the DG nodes and
+//! the nodal rates in place of the cell update ([`StepPath::FusedNodal`], `nodal.rs`).
+//!
 //! Files: this one (buffers, dispatch, the cell update), `plane.rs` (the 2D sweep and its
-//! face rows), `bar.rs` (the 1D sweep).
+//! face rows, for both), `bar.rs` (the 1D sweep), `nodal.rs` (the nodal stage: its
+//! dispatch, buffers, cell update and 1D sweep).
 use crate::faces::Fields;
 use crate::riemann::Conserved;
 use crate::{DgmpmSolver, StepPath, CHUNK};
@@ -36,6 +40,7 @@ use impact_core::{Tensor, Vector};
 use std::any::Any;
 
 mod bar;
+mod nodal;
 mod plane;
 
 /// Cell rows per band of the 2D sweep (the unit of parallel work).
@@ -50,6 +55,11 @@ pub(crate) struct Band<const D: usize> {
     y_godunov: [Vec<Conserved<D>>; 2],
     /// Final (CTU-corrected) fluxes of face rows `j` and `j+1`.
     y_final: [Vec<Conserved<D>>; 2],
+    /// Nodal sweep with CTU (empty otherwise): `F_x(q_C,low - q_C,high)` of the cells of
+    /// rows `j` and `j+1` (`nx` each), the part of their x-fluctuation the fluxes miss.
+    x_side: [Vec<Conserved<D>>; 2],
+    /// Nodal sweep with CTU: the y-fluctuations `w_y` of row `j`'s cells (`nx`).
+    w_y: Vec<Conserved<D>>,
     /// Power of the boundary conditions on the band's faces.
     power: f64,
     /// Force on the body through the band's loaded boundary faces.
@@ -62,6 +72,8 @@ impl<const D: usize> Default for Band<D> {
             x_godunov: Default::default(),
             y_godunov: Default::default(),
             y_final: Default::default(),
+            x_side: Default::default(),
+            w_y: Vec::new(),
             power: 0.0,
             force: Vector::<D>::zeros(),
         }
@@ -77,19 +89,27 @@ pub(crate) struct FusedBuffers<const D: usize> {
 }
 
 impl<const D: usize> FusedBuffers<D> {
-    /// Whether the buffers are not allocated.
-    pub(crate) fn is_empty(&self) -> bool {
-        self.bands.is_empty()
+    /// Entries of the next state (0 before allocation).
+    pub(crate) fn next_len(&self) -> usize {
+        self.next_tensor.len()
     }
 
     /// Buffers for `grid`'s cells: in 2D bands of [`BAND_ROWS`] rows, each with its face
-    /// rows; in 1D one (empty) band per chunk of [`CHUNK`] cells.
-    pub(crate) fn new(cells: [usize; D]) -> Self {
+    /// rows; in 1D one (empty) band per chunk of [`CHUNK`] cells. `nodes_per_cell`: 1 for
+    /// the cell path's next state (one per point), `2^D` for the nodal sweep's (one per DG
+    /// node), which with `ctu` also keeps the rows of the cells' side terms.
+    pub(crate) fn new(cells: [usize; D], nodes_per_cell: usize, ctu: bool) -> Self {
         let count: usize = cells.iter().product();
         let bands = match D {
             2 => {
                 let nx = cells[0];
+                let sides = if nodes_per_cell > 1 && ctu { nx } else { 0 };
                 let band = Band {
+                    x_side: [
+                        vec![Conserved::zeros(); sides],
+                        vec![Conserved::zeros(); sides],
+                    ],
+                    w_y: vec![Conserved::zeros(); sides],
                     x_godunov: [
                         vec![Conserved::zeros(); nx + 1],
                         vec![Conserved::zeros(); nx + 1],
@@ -104,8 +124,8 @@ impl<const D: usize> FusedBuffers<D> {
         };
         Self {
             bands,
-            next_tensor: vec![Tensor::<D>::zeros(); count],
-            next_velocity: vec![Vector::<D>::zeros(); count],
+            next_tensor: vec![Tensor::<D>::zeros(); count * nodes_per_cell],
+            next_velocity: vec![Vector::<D>::zeros(); count * nodes_per_cell],
         }
     }
 }
@@ -126,21 +146,36 @@ impl<const D: usize> DgmpmSolver<D> {
         dt: f64,
     ) -> (f64, Vector<D>) {
         debug_assert_eq!(self.path, StepPath::Fused);
+        self.by_dimension(
+            points,
+            |solver, points| solver.sweep_2d(points, dt),
+            |solver, points| solver.sweep_1d(points, dt),
+        )
+    }
+
+    /// `two` or `one` on the solver and the points at their concrete dimension (the
+    /// sweeps are written for 2D and 1D; `Any` downcasts, no unsafe code), the force
+    /// returned at `D`.
+    fn by_dimension(
+        &mut self,
+        points: &mut MaterialPoints<D>,
+        two: impl FnOnce(&mut DgmpmSolver<2>, &mut MaterialPoints<2>) -> (f64, Vector<2>),
+        one: impl FnOnce(&mut DgmpmSolver<1>, &mut MaterialPoints<1>) -> (f64, Vector<1>),
+    ) -> (f64, Vector<D>) {
         let solver: &mut dyn Any = self;
         let points: &mut dyn Any = points;
+        let same = "internal: same D";
         let mut force = [0.0; 2];
         let power = if let Some(solver) = solver.downcast_mut::<DgmpmSolver<2>>() {
-            let points = points.downcast_mut::<MaterialPoints<2>>();
-            let (power, f) = solver.sweep_2d(points.expect("internal: same D"), dt);
+            let (power, f) = two(solver, points.downcast_mut().expect(same));
             force = [f[0], f[1]];
             power
         } else if let Some(solver) = solver.downcast_mut::<DgmpmSolver<1>>() {
-            let points = points.downcast_mut::<MaterialPoints<1>>();
-            let (power, f) = solver.sweep_1d(points.expect("internal: same D"), dt);
+            let (power, f) = one(solver, points.downcast_mut().expect(same));
             force[0] = f[0];
             power
         } else {
-            unreachable!("internal: the fused path is refused beyond 2D")
+            unreachable!("internal: the fused sweeps are refused beyond 2D")
         };
         (power, Vector::<D>::from_fn(|k, _| force[k]))
     }
@@ -184,10 +219,9 @@ impl<const D: usize> DgmpmSolver<D> {
         }
         std::mem::swap(&mut points.stress, &mut buffers.next_tensor);
         std::mem::swap(&mut points.velocity, &mut buffers.next_velocity);
-        let power = buffers.bands.iter().map(|b| b.power).sum();
-        let force = buffers.bands.iter().map(|b| b.force).sum();
+        let totals = buffers.totals();
         self.fused = buffers;
-        (power, force)
+        totals
     }
 
     /// Phase 4 for one cell: `q ← q - Δt (ρV/m) Σ_l (F_l,high - F_l,low)/Δx_l` (momentum

@@ -1,168 +1,227 @@
-//! The fused path in 2D (module doc of [`super`]): the sweep of one band of rows with its
-//! rolling face rows, and the rows of Godunov and final fluxes.
-use super::BAND_ROWS;
+//! The fused sweeps in 2D (module doc of [`super`]): the sweep of one band of rows with
+//! its rolling face rows, and the rows of Godunov and final fluxes; the cell path's and the
+//! nodal sweep's, one generic function.
+use super::{Band, Next, BAND_ROWS};
 use crate::faces::Fields;
-use crate::riemann::axis::{axis_flux_2d, axis_transverse_2d, AxisConstants};
-use crate::riemann::Conserved;
+use crate::riemann::axis::{axis_flux_2d, axis_normal_flux_2d, axis_transverse_2d, AxisConstants};
+use crate::riemann::{Conserved, FullState};
 use crate::DgmpmSolver;
 use impact_core::method::TransverseFlux;
 use impact_core::points::MaterialPoints;
 use impact_core::Vector;
 
+/// The constants of one 2D sweep: the axis solvers', whether CTU corrects, and the
+/// corrections' scales (x-faces by the y-fluctuations, `Δt/2Δy`; y-faces by the x ones).
+pub(super) struct Sweep2d {
+    constants: AxisConstants,
+    ctu: bool,
+    scale: [f64; 2],
+}
+
+/// The x-faces' fluxes and the cells' side terms of one cell row (the side terms empty
+/// on the cell path).
+type XRow<'a> = (&'a [Conserved<2>], &'a [Conserved<2>]);
+
 impl DgmpmSolver<2> {
-    /// The 2D sweep (module doc of [`super`]), band by band. A band of rows `j0..j1`
-    /// first forms face row `j0` (its Godunov fluxes, [`Self::y_godunov_row`], and under
-    /// CTU the x-fluxes of row `j0 - 1` for its final fluxes, [`Self::y_final_row`]) and
-    /// the x-fluxes of row `j0` ([`Self::x_godunov_row`]); then for each row `j`:
-    /// 1. the Godunov fluxes of face row `j + 1` and of the x-faces of row `j + 1`;
-    /// 2. the final fluxes of face row `j + 1` (corrections from the x-fluctuations of
-    ///    rows `j` and `j + 1`);
-    /// 3. along the row, the final x-fluxes (corrections from the y-fluctuations of the
-    ///    cells on either side) and the cell updates;
-    /// 4. the rolling rows shift by one.
-    ///
-    /// Boundary faces add their power and force to the band's.
+    /// The constants of a 2D sweep with step `dt`.
+    pub(super) fn sweep_2d_constants(&self, dt: f64) -> Sweep2d {
+        Sweep2d {
+            constants: AxisConstants::new(&self.elastic),
+            ctu: self.options.flux == TransverseFlux::Ctu,
+            scale: [
+                dt / (2.0 * self.grid.spacing[1]),
+                dt / (2.0 * self.grid.spacing[0]),
+            ],
+        }
+    }
+
+    /// The 2D sweep of the cell path: [`Self::band_2d`] with the cell update.
     pub(super) fn sweep_2d(&mut self, points: &mut MaterialPoints<2>, dt: f64) -> (f64, Vector<2>) {
-        let [nx, ny] = self.grid.cells;
-        let constants = AxisConstants::new(&self.elastic);
-        let ctu = self.options.flux == TransverseFlux::Ctu;
+        let nx = self.grid.cells[0];
+        let k = self.sweep_2d_constants(dt);
         let u = self.update_constants(dt);
-        // x-faces are corrected by the y-fluctuations (Δt/2Δy), y-faces by the x ones
-        let scale = [
-            dt / (2.0 * self.grid.spacing[1]),
-            dt / (2.0 * self.grid.spacing[0]),
-        ];
         self.sweep_bands(
             points,
             BAND_ROWS * nx,
             |this, b, band, fields, mass, next| {
-                let rows = b * BAND_ROWS..((b + 1) * BAND_ROWS).min(ny);
-                let c = &constants;
-                band.power = 0.0;
-                band.force = Vector::<2>::zeros();
-                let j0 = rows.start;
-                // prologue: face row j0 (Godunov and final) and the x-fluxes of cell row j0
-                let power = this.x_godunov_row(j0, fields, c, &mut band.x_godunov[0]);
-                band.power += power;
-                let power = this.y_godunov_row(j0, fields, c, &mut band.y_godunov[0]);
-                if j0 == 0 {
-                    band.power += power;
-                }
-                if ctu && j0 > 0 {
-                    // the row below the band: its x-fluxes, recomputed here
-                    this.x_godunov_row(j0 - 1, fields, c, &mut band.x_godunov[1]);
-                }
-                let [x_row, x_below] = &band.x_godunov;
-                let below = (j0 > 0).then_some(&x_below[..]);
-                let finals = &mut band.y_final[0];
-                this.y_final_row(
-                    j0,
-                    &band.y_godunov[0],
-                    below,
-                    Some(x_row),
-                    fields,
-                    ctu,
-                    c,
-                    scale[1],
-                    finals,
-                );
-                if j0 == 0 {
-                    for i in 0..nx {
-                        band.force += this.boundary_face_force(1, [i, 0], &band.y_final[0][i]);
-                    }
-                }
-                for j in rows.clone() {
-                    let top = j + 1 == ny;
-                    let power = this.y_godunov_row(j + 1, fields, c, &mut band.y_godunov[1]);
-                    if top {
-                        band.power += power;
-                    }
-                    if !top {
-                        let power = this.x_godunov_row(j + 1, fields, c, &mut band.x_godunov[1]);
-                        if j + 1 < rows.end {
-                            band.power += power;
-                        }
-                    }
-                    let [x_row, x_above] = &band.x_godunov;
-                    let above = (!top).then_some(&x_above[..]);
-                    let finals = &mut band.y_final[1];
-                    this.y_final_row(
-                        j + 1,
-                        &band.y_godunov[1],
-                        Some(x_row),
-                        above,
-                        fields,
-                        ctu,
-                        c,
-                        scale[1],
-                        finals,
+                let Next {
+                    tensor,
+                    velocity,
+                    position,
+                } = next;
+                this.band_2d::<false>(b, band, fields, &k, |cell, local, faces| {
+                    let state = fields.cell(cell);
+                    let old = (&state.tensor, &state.velocity, mass[cell]);
+                    let out = (
+                        &mut tensor[local],
+                        &mut velocity[local],
+                        &mut position[local],
                     );
-                    if top {
-                        for i in 0..nx {
-                            band.force += this.boundary_face_force(1, [i, ny], &band.y_final[1][i]);
-                        }
-                    }
-                    // the x-faces' final fluxes, rolling along the row, and the cell updates
-                    let row = j * nx;
-                    let (y_low, y_high) = (&band.y_godunov[0], &band.y_godunov[1]);
-                    let w_y = |i: usize| y_high[i].add_scaled(&y_low[i], -1.0);
-                    let x_final = |i: usize, band_force: &mut Vector<2>| -> Conserved<2> {
-                        let godunov = band.x_godunov[0][i];
-                        if !ctu {
-                            if i == 0 || i == nx {
-                                *band_force += this.boundary_face_force(0, [i, j], &godunov);
-                            }
-                            return godunov;
-                        }
-                        if i == 0 || i == nx {
-                            let w = [(i > 0).then(|| w_y(i - 1)), (i < nx).then(|| w_y(i))];
-                            let correction = this.face_correction(0, [i, j], w, fields, scale[0]);
-                            let flux = godunov.add_scaled(&correction, 1.0);
-                            *band_force += this.boundary_face_force(0, [i, j], &flux);
-                            return flux;
-                        }
-                        let total = axis_transverse_2d::<0>(&w_y(i - 1), &w_y(i), c);
-                        godunov.add_scaled(&Conserved::zeros().add_scaled(&total, -scale[0]), 1.0)
-                    };
-                    let mut force = Vector::<2>::zeros();
-                    let mut low = x_final(0, &mut force);
-                    let local = (j - j0) * nx;
-                    for i in 0..nx {
-                        let high = x_final(i + 1, &mut force);
-                        let state = fields.cell(row + i);
-                        let faces = [[&low, &high], [&band.y_final[0][i], &band.y_final[1][i]]];
-                        let old = (&state.tensor, &state.velocity, mass[row + i]);
-                        let k = local + i;
-                        let out = (
-                            &mut next.tensor[k],
-                            &mut next.velocity[k],
-                            &mut next.position[k],
-                        );
-                        Self::update_cell(&u, faces, old, out);
-                        low = high;
-                    }
-                    band.force += force;
-                    band.x_godunov.swap(0, 1);
-                    band.y_godunov.swap(0, 1);
-                    band.y_final.swap(0, 1);
-                }
+                    Self::update_cell(&u, faces, old, out);
+                });
             },
         )
     }
 
-    /// Godunov fluxes of the x-faces of cell row `j` into `out` (`nx + 1`); returns the
-    /// power of its two boundary faces.
-    fn x_godunov_row(
+    /// The 2D sweep of band `b` (module doc of [`super`]): its rows `j0..j1`. It first
+    /// forms face row `j0` (its Godunov fluxes, [`Self::y_godunov_row`], and under CTU the
+    /// x-fluxes of row `j0 - 1` for its final fluxes, [`Self::y_final_row`]) and the
+    /// x-fluxes of row `j0` ([`Self::x_godunov_row`]); then for each row `j`:
+    /// 1. the Godunov fluxes of face row `j + 1` and of the x-faces of row `j + 1`;
+    /// 2. the final fluxes of face row `j + 1` (corrections from the x-fluctuations of
+    ///    rows `j` and `j + 1`);
+    /// 3. along the row, the final x-fluxes (corrections from the y-fluctuations of the
+    ///    cells on either side) and `update(cell, index in the band, [[x low, x high],
+    ///    [y low, y high]])` of each cell;
+    /// 4. the rolling rows shift by one.
+    ///
+    /// `NODAL`: face states are the averages of each side's DG nodes, and a cell's
+    /// fluctuation `w_l` adds `F_l(q_C,low - q_C,high)` to its flux difference (the cell
+    /// path's states are one per cell, where that term vanishes). Boundary faces add their
+    /// power and force to the band's.
+    pub(super) fn band_2d<const NODAL: bool>(
+        &self,
+        b: usize,
+        band: &mut Band<2>,
+        fields: Fields<'_, 2>,
+        k: &Sweep2d,
+        mut update: impl FnMut(usize, usize, [[&Conserved<2>; 2]; 2]),
+    ) {
+        let [nx, ny] = self.grid.cells;
+        let (c, ctu, scale) = (&k.constants, k.ctu, k.scale);
+        let rows = b * BAND_ROWS..((b + 1) * BAND_ROWS).min(ny);
+        band.power = 0.0;
+        band.force = Vector::<2>::zeros();
+        let j0 = rows.start;
+        // prologue: face row j0 (Godunov and final) and the x-fluxes of cell row j0
+        let (x_row, x_side) = (&mut band.x_godunov[0], &mut band.x_side[0]);
+        band.power += self.x_godunov_row::<NODAL>(j0, fields, c, x_row, x_side);
+        let power = self.y_godunov_row::<NODAL>(j0, fields, c, &mut band.y_godunov[0]);
+        if j0 == 0 {
+            band.power += power;
+        }
+        if ctu && j0 > 0 {
+            // the row below the band: its x-fluxes, recomputed here
+            let (x_row, x_side) = (&mut band.x_godunov[1], &mut band.x_side[1]);
+            self.x_godunov_row::<NODAL>(j0 - 1, fields, c, x_row, x_side);
+        }
+        let below = (j0 > 0).then_some((&band.x_godunov[1][..], &band.x_side[1][..]));
+        let here = Some((&band.x_godunov[0][..], &band.x_side[0][..]));
+        let godunov = &band.y_godunov[0];
+        let finals = &mut band.y_final[0];
+        self.y_final_row::<NODAL>(j0, godunov, [below, here], fields, k, finals);
+        if j0 == 0 {
+            for i in 0..nx {
+                band.force += self.boundary_face_force(1, [i, 0], &band.y_final[0][i]);
+            }
+        }
+        for j in rows.clone() {
+            let top = j + 1 == ny;
+            let power = self.y_godunov_row::<NODAL>(j + 1, fields, c, &mut band.y_godunov[1]);
+            if top {
+                band.power += power;
+            }
+            if !top {
+                let (x_row, x_side) = (&mut band.x_godunov[1], &mut band.x_side[1]);
+                let power = self.x_godunov_row::<NODAL>(j + 1, fields, c, x_row, x_side);
+                if j + 1 < rows.end {
+                    band.power += power;
+                }
+            }
+            let here = Some((&band.x_godunov[0][..], &band.x_side[0][..]));
+            let above = (!top).then_some((&band.x_godunov[1][..], &band.x_side[1][..]));
+            let godunov = &band.y_godunov[1];
+            let finals = &mut band.y_final[1];
+            self.y_final_row::<NODAL>(j + 1, godunov, [here, above], fields, k, finals);
+            if top {
+                for i in 0..nx {
+                    band.force += self.boundary_face_force(1, [i, ny], &band.y_final[1][i]);
+                }
+            }
+            // the x-faces' final fluxes, rolling along the row, and the cell updates
+            let row = j * nx;
+            let (y_low, y_high) = (&band.y_godunov[0], &band.y_godunov[1]);
+            if NODAL && ctu {
+                for (i, w) in band.w_y.iter_mut().enumerate() {
+                    let (low, high) = (
+                        fields.at::<true>(row + i, 1, false),
+                        fields.at::<true>(row + i, 1, true),
+                    );
+                    let w_flux = y_high[i].add_scaled(&y_low[i], -1.0);
+                    *w = w_flux.add_scaled(&difference_flux::<1>(&low, &high, c), 1.0);
+                }
+            }
+            let w_y = |i: usize| match NODAL {
+                true => band.w_y[i],
+                false => y_high[i].add_scaled(&y_low[i], -1.0),
+            };
+            let x_final = |i: usize, band_force: &mut Vector<2>| -> Conserved<2> {
+                let godunov = band.x_godunov[0][i];
+                if !ctu {
+                    if i == 0 || i == nx {
+                        *band_force += self.boundary_face_force(0, [i, j], &godunov);
+                    }
+                    return godunov;
+                }
+                if i == 0 || i == nx {
+                    let w = [(i > 0).then(|| w_y(i - 1)), (i < nx).then(|| w_y(i))];
+                    let correction = self.face_correction(0, [i, j], w, fields, scale[0]);
+                    let flux = godunov.add_scaled(&correction, 1.0);
+                    *band_force += self.boundary_face_force(0, [i, j], &flux);
+                    return flux;
+                }
+                let total = axis_transverse_2d::<0>(&w_y(i - 1), &w_y(i), c);
+                godunov.add_scaled(&Conserved::zeros().add_scaled(&total, -scale[0]), 1.0)
+            };
+            let mut force = Vector::<2>::zeros();
+            let mut low = x_final(0, &mut force);
+            let local = (j - j0) * nx;
+            for i in 0..nx {
+                let high = x_final(i + 1, &mut force);
+                let faces = [[&low, &high], [&band.y_final[0][i], &band.y_final[1][i]]];
+                update(row + i, local + i, faces);
+                low = high;
+            }
+            band.force += force;
+            band.x_godunov.swap(0, 1);
+            band.x_side.swap(0, 1);
+            band.y_godunov.swap(0, 1);
+            band.y_final.swap(0, 1);
+        }
+    }
+
+    /// Godunov fluxes of the x-faces of cell row `j` into `out` (`nx + 1`); `NODAL` with
+    /// CTU also each cell's `F_x(q_C,low - q_C,high)` into `sides` (`nx`; empty otherwise).
+    /// Returns the power of its two boundary faces.
+    fn x_godunov_row<const NODAL: bool>(
         &self,
         j: usize,
         fields: Fields<'_, 2>,
         c: &AxisConstants,
         out: &mut [Conserved<2>],
+        sides: &mut [Conserved<2>],
     ) -> f64 {
         let nx = self.grid.cells[0];
         let row = j * nx;
-        for i in 1..nx {
-            out[i] = axis_flux_2d::<0>(&fields.cell(row + i - 1), &fields.cell(row + i), c);
+        if NODAL {
+            // each cell's two x-side states, formed once: its high side is the next face's left
+            let with_sides = !sides.is_empty();
+            let mut previous_high = None;
+            for i in 0..nx {
+                let low = fields.at::<true>(row + i, 0, false);
+                let high = fields.at::<true>(row + i, 0, true);
+                if let Some(left) = &previous_high {
+                    out[i] = axis_flux_2d::<0>(left, &low, c);
+                }
+                if with_sides {
+                    sides[i] = difference_flux::<0>(&low, &high, c);
+                }
+                previous_high = Some(high);
+            }
+        } else {
+            for i in 1..nx {
+                out[i] = axis_flux_2d::<0>(&fields.cell(row + i - 1), &fields.cell(row + i), c);
+            }
         }
         let mut power = 0.0;
         for i in [0, nx] {
@@ -175,7 +234,7 @@ impl DgmpmSolver<2> {
 
     /// Godunov fluxes of face row `j` (the y-faces between cell rows `j - 1` and `j`) into
     /// `out` (`nx`); returns the power of the row if it is a boundary.
-    fn y_godunov_row(
+    fn y_godunov_row<const NODAL: bool>(
         &self,
         j: usize,
         fields: Fields<'_, 2>,
@@ -194,32 +253,37 @@ impl DgmpmSolver<2> {
         }
         let (below, above) = ((j - 1) * nx, j * nx);
         for (i, out) in out.iter_mut().enumerate() {
-            *out = axis_flux_2d::<1>(&fields.cell(below + i), &fields.cell(above + i), c);
+            let lower = fields.at::<NODAL>(below + i, 1, true);
+            let upper = fields.at::<NODAL>(above + i, 1, false);
+            *out = axis_flux_2d::<1>(&lower, &upper, c);
         }
         0.0
     }
 
     /// Final fluxes of face row `j` into `out`: its Godunov fluxes plus, under CTU, the
     /// corrections from the x-fluctuations of the cell rows below and above it (their
-    /// x-fluxes `below` and `above`; `None` behind an edge: ghost cells).
-    #[allow(clippy::too_many_arguments)]
-    fn y_final_row(
+    /// x-fluxes and side terms, [`XRow`]; `None` behind an edge: ghost cells).
+    fn y_final_row<const NODAL: bool>(
         &self,
         j: usize,
         godunov: &[Conserved<2>],
-        below: Option<&[Conserved<2>]>,
-        above: Option<&[Conserved<2>]>,
+        [below, above]: [Option<XRow<'_>>; 2],
         fields: Fields<'_, 2>,
-        ctu: bool,
-        c: &AxisConstants,
-        scale: f64,
+        k: &Sweep2d,
         out: &mut [Conserved<2>],
     ) {
-        if !ctu {
+        if !k.ctu {
             out.copy_from_slice(godunov);
             return;
         }
-        let w = |row: &[Conserved<2>], i: usize| row[i + 1].add_scaled(&row[i], -1.0);
+        let (c, scale) = (&k.constants, k.scale[1]);
+        let w = |(fluxes, sides): XRow<'_>, i: usize| {
+            let w = fluxes[i + 1].add_scaled(&fluxes[i], -1.0);
+            match NODAL {
+                true => w.add_scaled(&sides[i], 1.0),
+                false => w,
+            }
+        };
         match (below, above) {
             (Some(below), Some(above)) => {
                 for (i, out) in out.iter_mut().enumerate() {
@@ -237,4 +301,20 @@ impl DgmpmSolver<2> {
             }
         }
     }
+}
+
+/// `F_{e_L}(q_low - q_high)` of a cell's two `L`-side states (the flux is linear): the
+/// part of the cell's fluctuation `w_L` its face fluxes miss on the nodal sweep
+/// (`DgmpmSolver::transverse_corrections`).
+#[inline(always)]
+fn difference_flux<const L: usize>(
+    low: &FullState<2>,
+    high: &FullState<2>,
+    c: &AxisConstants,
+) -> Conserved<2> {
+    let difference = FullState {
+        tensor: low.tensor - high.tensor,
+        velocity: low.velocity - high.velocity,
+    };
+    axis_normal_flux_2d::<L>(&difference, c)
 }

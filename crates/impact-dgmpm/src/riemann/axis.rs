@@ -81,6 +81,27 @@ pub fn axis_flux_2d<const L: usize>(
     Conserved { tensor, momentum }
 }
 
+/// The normal flux of a state through a face normal to `e_L` (2D):
+/// `F_{e_L}(q) = -(C : sym(v ⊗ e_L), σ e_L)`, equal to `normal_flux(q.on_face(e_L))`; the
+/// nodal sweep applies it to the difference of a cell's two side states.
+#[inline(always)]
+pub fn axis_normal_flux_2d<const L: usize>(
+    state: &FullState<2>,
+    c: &AxisConstants,
+) -> Conserved<2> {
+    let t = 1 - L;
+    let (v_n, v_t) = (state.velocity[L], state.velocity[t]);
+    let mut tensor = Tensor::<2>::zeros();
+    tensor[(L, L)] = -(v_n * c.two_mu + c.lambda * v_n);
+    tensor[(t, t)] = -(c.lambda * v_n);
+    tensor[(L, t)] = -(v_t * c.mu);
+    tensor[(t, L)] = -(v_t * c.mu);
+    let mut momentum = Vector::<2>::zeros();
+    momentum[L] = -state.tensor[(L, L)];
+    momentum[t] = -state.tensor[(t, L)];
+    Conserved { tensor, momentum }
+}
+
 /// Godunov flux through a face of the bar (1D, `Z = sqrt(ρE)`, `C = E`):
 /// `F = -(E v*, σ*)`.
 #[inline(always)]
@@ -165,6 +186,23 @@ mod tests {
             let fast = match axis {
                 0 => axis_flux_2d::<0>(&l, &r, &c),
                 _ => axis_flux_2d::<1>(&l, &r, &c),
+            };
+            close(&fast, &general);
+        }
+    }
+
+    /// The axis normal flux is the general normal flux for `n = e_x` and `n = e_y`.
+    #[test]
+    fn axis_normal_flux_equals_the_general_flux() {
+        let m = steel();
+        let c = AxisConstants::new(&m);
+        let (state, _) = states();
+        for axis in 0..2 {
+            let n = crate::unit::<2>(axis);
+            let general = normal_flux(&state.on_face(&n), &n, &m);
+            let fast = match axis {
+                0 => axis_normal_flux_2d::<0>(&state, &c),
+                _ => axis_normal_flux_2d::<1>(&state, &c),
             };
             close(&fast, &general);
         }
