@@ -61,10 +61,10 @@ fn main() {
         o.integrator = Integrator::Rk2;
     }
     rk2.courant = 0.5;
-    configs.push(("dgmpm (RK2, CTU: nodal path)", rk2));
+    configs.push(("dgmpm (RK2, CTU: fused nodal)", rk2));
     let mut four = scene.method_config(MethodKind::Dgmpm);
     four.points_per_cell = 4;
-    configs.push(("dgmpm (Euler, 4 ppc: nodal path)", four));
+    configs.push(("dgmpm (Euler, 4 ppc: fused nodal)", four));
     configs.push(("mpm (USL, linear)", scene.method_config(MethodKind::Mpm)));
     configs.push(("fem (Q4)", scene.method_config(MethodKind::Fem)));
     for (label, config) in configs {

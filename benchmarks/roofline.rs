@@ -7,8 +7,9 @@
 //! 2. One DGMPM step on one thread (a rayon pool of 1), interleaved with the triad passes:
 //!    the 1000×750 plate at 1 point per cell (Euler, CTU, Courant 1) on the fused path
 //!    (the default) and on the phase-by-phase cell path, the bar at 10^6 cells on both,
-//!    and the 1000×750 plate with RK2 (the nodal path); median of 10 steps after 3 warm-up
-//!    steps, in ns per cell-update.
+//!    and the 1000×750 plate with RK2 (Courant 0.5) on the fused nodal sweep (the default)
+//!    and on the phase-by-phase nodal path; median of 10 steps after 3 warm-up steps, in ns
+//!    per cell-update.
 //! 3. The bytes a 2D step must move per cell, counted from the code (each array read or
 //!    written once per phase, caches assumed to reuse a neighbour's data within a row;
 //!    `T` = 32 B stress, `V` = 16 B velocity or position, `F` = 48 B one face's flux, two
@@ -24,7 +25,14 @@
 //!      updates the position `2V` (32): 136 B, 184 B with write-allocate (its face rows
 //!      stay in cache: about 430 KB per band at 1000 cells a row);
 //!    - the fused path in 1D (`T` = `V` = 8 B): reads `T + V` and the mass (24), writes the
-//!      next `T + V` (16), updates the position (16): 56 B, 72 B with write-allocate.
+//!      next `T + V` (16), updates the position (16): 56 B, 72 B with write-allocate;
+//!    - the fused nodal sweep, RK2, one point per cell (4 nodes per cell, `S` = 8 B a shape
+//!      value, `G` = 16 B a gradient): phase 1 reads the point's `T + V`, mass and `4S`
+//!      (88) and writes the nodes' mass, `T` and `V` (`4·56` = 224); each stage reads the
+//!      nodes' `T + V` and mass (224), `4S + 4G` (96) and the volume (8) and writes the next
+//!      `T + V` (192), the second stage also reads the start-of-step `T + V` (192); phase 5
+//!      reads the nodes' `T + V` and `4S` (224) and writes the point's `T + V` (48);
+//!      `move_points` 48: 1,864 B, 2,520 B with write-allocate.
 //!
 //!    The roofline time is bytes / triad bandwidth.
 use impact_core::method::{Integrator, MethodKind};
@@ -39,6 +47,8 @@ const CELL_PATH_BYTES: (f64, f64) = (776.0, 920.0);
 /// The same for the fused path, in 2D and in 1D.
 const FUSED_PATH_BYTES: (f64, f64) = (136.0, 184.0);
 const FUSED_BAR_BYTES: (f64, f64) = (56.0, 72.0);
+/// The same for the fused nodal sweep with RK2 (2D, one point per cell).
+const FUSED_NODAL_RK2_BYTES: (f64, f64) = (1864.0, 2520.0);
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -99,18 +109,32 @@ fn main() {
         let (mut plate_cell, _) = plate_run(Some(StepPath::Cell));
         let (mut bar, bar_cells) = bar_run(None);
         let (mut bar_cell, _) = bar_run(Some(StepPath::Cell));
-        let (mut rk2, rk2_cells) = method::<2>("plate", vec![1000, 750], None, |c| {
-            c.courant = 0.5;
-            if let Some(o) = c.dgmpm_mut() {
-                o.integrator = Integrator::Rk2;
-            }
-        });
+        let rk2_run = |path| {
+            method::<2>("plate", vec![1000, 750], path, |c| {
+                c.courant = 0.5;
+                if let Some(o) = c.dgmpm_mut() {
+                    o.integrator = Integrator::Rk2;
+                }
+            })
+        };
+        let (mut rk2, rk2_cells) = rk2_run(None);
+        let (mut rk2_phases, _) = rk2_run(Some(StepPath::SinglePoint));
         assert_eq!(plate.solver.step_path(), StepPath::Fused);
         assert_eq!(bar.solver.step_path(), StepPath::Fused);
-        let runs: [(&str, &mut dyn Method<2>, usize); 3] = [
+        assert_eq!(rk2.solver.step_path(), StepPath::FusedNodal);
+        let runs: [(&str, &mut dyn Method<2>, usize); 4] = [
             ("plate 1000x750, fused path", &mut plate, plate_cells),
             ("plate 1000x750, cell path", &mut plate_cell, plate_cells),
-            ("plate 1000x750, RK2 (nodal path)", &mut rk2, rk2_cells),
+            (
+                "plate 1000x750, RK2, fused nodal sweep",
+                &mut rk2,
+                rk2_cells,
+            ),
+            (
+                "plate 1000x750, RK2, nodal phases",
+                &mut rk2_phases,
+                rk2_cells,
+            ),
         ];
         let bars: [(&str, &mut dyn Method<1>, usize); 2] = [
             ("bar 10^6 cells, fused path", &mut bar, bar_cells),
@@ -153,7 +177,8 @@ fn main() {
         for (path, ns, bytes) in [
             ("plate, fused", medians[0], FUSED_PATH_BYTES),
             ("plate, cell", medians[1], CELL_PATH_BYTES),
-            ("bar, fused", medians[3], FUSED_BAR_BYTES),
+            ("plate RK2, fused nodal", medians[2], FUSED_NODAL_RK2_BYTES),
+            ("bar, fused", medians[4], FUSED_BAR_BYTES),
         ] {
             for (label, bytes) in [
                 ("without write-allocate", bytes.0),
@@ -168,9 +193,10 @@ fn main() {
             }
         }
         println!(
-            "fused over cell path: plate {:.2}x, bar {:.2}x",
+            "fused over phase path: plate {:.2}x, bar {:.2}x, plate RK2 {:.2}x",
             medians[1] / medians[0],
-            medians[4] / medians[3]
+            medians[5] / medians[4],
+            medians[3] / medians[2]
         );
     });
 }

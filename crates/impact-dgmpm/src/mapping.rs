@@ -24,24 +24,36 @@ impl<const D: usize> DgmpmSolver<D> {
         let single = self.path == StepPath::SinglePoint
             || (self.path == StepPath::FusedNodal && points_per_cell == 1);
         let nodes = &mut self.nodes;
+        // chunks of CELL_GRAIN cells, walked cell by cell
+        let per_chunk = CELL_GRAIN * nodes_per_cell;
         let parts = (
-            chunks(&mut nodes.mass, nodes_per_cell),
-            chunks(&mut nodes.tensor, nodes_per_cell),
-            chunks(&mut nodes.velocity, nodes_per_cell),
+            chunks(&mut nodes.mass, per_chunk),
+            chunks(&mut nodes.tensor, per_chunk),
+            chunks(&mut nodes.velocity, per_chunk),
         );
-        for_each_chunk(
-            self.parallel,
-            CELL_GRAIN,
-            parts,
-            |c, (mass, tensor, vel)| {
-                if single {
-                    for a in 0..nodes_per_cell {
-                        mass[a] = shape[c * nodes_per_cell + a] * points.mass[c];
-                        tensor[a] = source[c];
-                        vel[a] = points.velocity[c];
+        for_each_chunk(self.parallel, 1, parts, |r, (mass, tensor, vel)| {
+            let first = r * CELL_GRAIN;
+            let cells = mass.len() / nodes_per_cell;
+            if single {
+                let shape = &shape[first * nodes_per_cell..(first + cells) * nodes_per_cell];
+                let cell_points = first..first + cells;
+                let (q, v, m) = (
+                    &source[cell_points.clone()],
+                    &points.velocity[cell_points.clone()],
+                    &points.mass[cell_points],
+                );
+                for j in 0..cells {
+                    let nodes = j * nodes_per_cell..(j + 1) * nodes_per_cell;
+                    for (a, i) in nodes.enumerate() {
+                        mass[i] = shape[j * nodes_per_cell + a] * m[j];
+                        tensor[i] = q[j];
+                        vel[i] = v[j];
                     }
-                    return;
                 }
+                return;
+            }
+            for j in 0..cells {
+                let c = first + j;
                 for a in 0..nodes_per_cell {
                     let mut m = 0.0;
                     let mut q = Tensor::<D>::zeros();
@@ -52,17 +64,18 @@ impl<const D: usize> DgmpmSolver<D> {
                         q += source[p] * w;
                         v += points.velocity[p] * w;
                     }
-                    mass[a] = m;
+                    let i = j * nodes_per_cell + a;
+                    mass[i] = m;
                     if m > 0.0 {
-                        tensor[a] = q / m;
-                        vel[a] = v / m;
+                        tensor[i] = q / m;
+                        vel[i] = v / m;
                     } else {
-                        tensor[a] = Tensor::<D>::zeros();
-                        vel[a] = Vector::<D>::zeros();
+                        tensor[i] = Tensor::<D>::zeros();
+                        vel[i] = Vector::<D>::zeros();
                     }
                 }
-            },
-        );
+            }
+        });
     }
 
     /// Phase 5: points take the new nodal field, `q_α = Σ_i S_iα q_i^{n+1}`
@@ -75,30 +88,38 @@ impl<const D: usize> DgmpmSolver<D> {
         let nodes = &self.nodes;
         let increment = self.options.update == PointUpdate::Increment;
         let (target, velocity) = self.point_fields_mut(points);
-        let parts = (
-            chunks(target, points_per_cell),
-            chunks(velocity, points_per_cell),
-        );
-        for_each_chunk(self.parallel, CELL_GRAIN, parts, |c, (pq, pv)| {
-            for k in 0..points_per_cell {
-                let p = c * points_per_cell + k;
+        // chunks of CELL_GRAIN cells, walked point by point
+        let per_chunk = CELL_GRAIN * points_per_cell;
+        let parts = (chunks(target, per_chunk), chunks(velocity, per_chunk));
+        for_each_chunk(self.parallel, 1, parts, |r, (pq, pv)| {
+            let first = r * per_chunk;
+            for k in 0..pq.len() {
+                let p = first + k;
+                let c = p / points_per_cell;
+                let s = &shape[p * nodes_per_cell..(p + 1) * nodes_per_cell];
+                let cell_nodes = c * nodes_per_cell..(c + 1) * nodes_per_cell;
+                let (nq, nv) = (
+                    &nodes.tensor[cell_nodes.clone()],
+                    &nodes.velocity[cell_nodes.clone()],
+                );
                 let mut q = Tensor::<D>::zeros();
                 let mut v = Vector::<D>::zeros();
-                for a in 0..nodes_per_cell {
-                    let w = shape[p * nodes_per_cell + a];
-                    let i = c * nodes_per_cell + a;
-                    if increment {
-                        q += (nodes.tensor[i] - nodes.start_tensor[i]) * w;
-                        v += (nodes.velocity[i] - nodes.start_velocity[i]) * w;
-                    } else {
-                        q += nodes.tensor[i] * w;
-                        v += nodes.velocity[i] * w;
-                    }
-                }
                 if increment {
+                    let (q0, v0) = (
+                        &nodes.start_tensor[cell_nodes.clone()],
+                        &nodes.start_velocity[cell_nodes],
+                    );
+                    for a in 0..nodes_per_cell {
+                        q += (nq[a] - q0[a]) * s[a];
+                        v += (nv[a] - v0[a]) * s[a];
+                    }
                     pq[k] += q;
                     pv[k] += v;
                 } else {
+                    for a in 0..nodes_per_cell {
+                        q += nq[a] * s[a];
+                        v += nv[a] * s[a];
+                    }
                     pq[k] = q;
                     pv[k] = v;
                 }
