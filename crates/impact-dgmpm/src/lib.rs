@@ -32,6 +32,12 @@
 //! the same phases in one sweep over the cell rows, each face solved once, rolling rows of
 //! faces instead of face arrays ([`fused`]); tested bit for bit equal to the cell path.
 //!
+//! **Fused nodal sweep** (the nodal paths with linear elasticity in 1D or 2D: RK2, several
+//! points per cell, the increment update; the default there): phases 2-4 of each stage in
+//! the same sweep, the face states read from the DG nodes and each cell's nodal rates and
+//! update formed from its four final fluxes (`DgmpmSolver::rates_of_cell`, shared with
+//! the phase path); no face or rate arrays. Tested bit for bit equal to the nodal phases.
+//!
 //! Choices where the paper is silent, with their reasons:
 //! - **Point update** ([`PointUpdate`]): the default is `Nodal` (points take the
 //!   interpolated new nodal field, `q_α = Σ_i S_iα q_i^{n+1}`). The point state then stays
@@ -75,7 +81,8 @@
 //! - [`ctu`]: phase 2b, corner transport upwind corrections.
 //! - [`integrator`]: phases 3-4 and the step (`stage`, once for Euler, twice for RK2).
 //! - [`cell_path`]: the cell-centred update of the cell path.
-//! - [`fused`]: the cell path's phases in one sweep (linear, 1D and 2D).
+//! - [`fused`]: the cell path's phases in one sweep, and the nodal stages' (linear, 1D
+//!   and 2D).
 //! - `step_path.rs`: [`StepPath`], which of these computations a step runs.
 //! - [`riemann`]: the Riemann solvers (one file each); a new solver goes there.
 //! - [`method`]: the [`Method`](impact_core::Method) impl.

@@ -2,11 +2,15 @@
 //! forces), phase 3 (grid→particles), phase 4 (the MUSL remap), phase 5 (stress update)
 //! and the prescribed point velocities.
 //!
-//! Scatters (points adding to the nodes of their cell) are coloured by cell layer along the
-//! last axis: a point of cell layer `j` writes node layers `j` and `j + 1` only, so the
-//! even layers, then the odd ones, write disjoint bands of the nodal arrays, each band on
-//! its own rayon task (disjoint writes through `split_at_mut`, no partial sums, no lock,
-//! no unsafe). The points are counting-sorted by layer when their cells change (once in the
+//! Scatters (points adding to the nodes of their cell) are coloured by blocks of cell
+//! layers along the last axis: a point of cell layer `j` writes node layers `j` to
+//! `j + w - 1` only (`w` nodes per axis), so a block of `B ≥ w - 1` layers writes within the
+//! `2B` node layers up to the next block but one, and the even blocks, then the odd ones,
+//! write disjoint bands of the nodal arrays, each band on its own rayon task (disjoint
+//! writes through `split_at_mut`, no partial sums, no lock, no unsafe). Blocks of
+//! `BLOCK_LAYERS` (8) layers, fixed by the grid: a block's nodes stay in cache while its
+//! points add to them (colouring single layers sent every node layer through memory once
+//! per colour), and sums do not depend on the thread count. The points are counting-sorted by layer when their cells change (once in the
 //! total Lagrangian frame). Point loops write disjoint points.
 use crate::{Band, MpmSolver, MAX_NODES};
 use impact_core::method::{Model, MpmFrame};
@@ -16,6 +20,9 @@ use impact_core::{Grid, Tensor, Vector};
 
 /// Points (or nodes) per chunk of the point and node loops.
 const CHUNK: usize = 2048;
+/// Point layers per block of the coloured scatter (module doc): a block's node layers
+/// (about 40 KB each at 1000 cells a row in 2D) stay in cache while its points add to them.
+const BLOCK_LAYERS: usize = 8;
 
 /// Which nodal sums a scatter fills.
 #[derive(Clone, Copy)]
@@ -51,11 +58,11 @@ impl<const D: usize> Weights<'_, D> {
 impl<const D: usize> MpmSolver<D> {
     /// Add `contribution(p, band)` of every point to the nodal sums named by `fill` (which
     /// are zeroed first). A point whose stencil starts at node layer `j` (along the last
-    /// axis) writes node layers `j` to `j + w − 1` only (`w` nodes per axis), so the points
-    /// of layers `j ≡ c (mod w)` write disjoint bands of `w` node layers: `w` colour passes
-    /// over disjoint chunks of the nodal arrays (in parallel when worth it; module doc). A
-    /// serial run adds in point order instead (the same sums up to round-off). The
-    /// contribution reads each point's stencil through [`Weights`].
+    /// axis) writes node layers `j` to `j + w − 1` only (`w` nodes per axis), so blocks of
+    /// `B ≥ w − 1` such layers, every other block, write disjoint bands of `2B` node
+    /// layers: two colour passes over disjoint chunks of the nodal arrays (in parallel when
+    /// worth it; module doc). A serial run adds in point order instead (the same sums up to
+    /// round-off). The contribution reads each point's stencil through [`Weights`].
     fn scatter(
         &mut self,
         fill: Fill,
@@ -100,32 +107,35 @@ impl<const D: usize> MpmSolver<D> {
             }
             return;
         }
-        let band = width * layer_nodes;
-        let grain = (CHUNK / band).max(1);
-        for colour in 0..width {
-            let from = colour * layer_nodes;
+        // blocks of `block` point layers write `block + w - 1` node layers, within the
+        // `2 block` layers up to the next block of the same colour
+        let block = BLOCK_LAYERS.max(width - 1);
+        let band = 2 * block * layer_nodes;
+        for colour in 0..2 {
+            let from = (colour * block * layer_nodes).min(nodes.mass.len());
             let bands = (
                 chunks(&mut nodes.mass[from..], band),
                 chunks(&mut nodes.momentum[from..], band),
                 chunks(&mut nodes.force[from..], band),
             );
-            for_each_chunk(self.parallel, grain, bands, |r, (mass, momentum, force)| {
+            for_each_chunk(self.parallel, 1, bands, |r, (mass, momentum, force)| {
                 // colour 0's bands cover every node once, each written first by its own
                 // task: zeroed there, while in cache (no pass of its own)
                 if colour == 0 {
                     zero(mass, momentum, force);
                 }
-                let layer = colour + width * r;
-                if layer >= layers {
+                let first = (colour + 2 * r) * block;
+                if first >= layers {
                     return;
                 }
+                let last = (first + block).min(layers);
                 let mut sums = Band {
                     mass,
                     momentum,
                     force,
-                    offset: layer * layer_nodes,
+                    offset: first * layer_nodes,
                 };
-                for &p in &order[starts[layer]..starts[layer + 1]] {
+                for &p in &order[starts[first]..starts[last]] {
                     contribution(p, &mut sums);
                 }
             });

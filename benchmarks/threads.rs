@@ -1,0 +1,102 @@
+//! Thread scaling of one step, measured inside one process (issue 14):
+//! `cargo bench --bench threads [-- NX NY [THREADS...]]` (default: the 1000×750 plate, one
+//! and two threads; on a bigger machine, e.g. `-- 2000 1500 1 2 4 8 16`).
+//!
+//! Each method (DGMPM, MPM, FEM, their defaults on the partial plate impact) is built twice:
+//! inside a one-thread pool, so that its loops take their serial form (what a run with
+//! `RAYON_NUM_THREADS=1` executes), and in the global pool, so that they take their
+//! parallel form. Each round steps the serial build on one thread, then the parallel build
+//! on a pool of each thread count, `STEPS` steps each (each build keeps its own state; the
+//! step's cost does not depend on the state of the wave); the median over `ROUNDS` rounds
+//! of the time per step is reported, and the speed-up of each count over the serial
+//! build. Separate processes (criterion runs, `benchmarks/scaling.sh`) varied by up to
+//! ±30 % from one run to the next on the shared 2-core VM (page placement, neighbours),
+//! so the ratio is taken within one process, its runs interleaved.
+use impact_core::method::MethodKind;
+use impact_core::{Method, Problem, Scene};
+use std::time::Instant;
+
+const ROUNDS: usize = 7;
+const STEPS: usize = 4;
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Seconds per step of `STEPS` steps of `m` on `pool`, from step `first` on.
+fn time_steps(pool: &rayon::ThreadPool, m: &mut dyn Method<2>, first: usize) -> f64 {
+    let dt = m.stable_dt();
+    pool.install(|| {
+        let start = Instant::now();
+        for k in first..first + STEPS {
+            m.step(k as f64 * dt, dt);
+        }
+        start.elapsed().as_secs_f64() / STEPS as f64
+    })
+}
+
+fn main() {
+    let args: Vec<usize> = std::env::args()
+        .skip(1)
+        .filter_map(|a| a.parse().ok())
+        .collect();
+    let cells = match args.as_slice() {
+        [nx, ny, ..] => vec![*nx, *ny],
+        _ => vec![1000, 750],
+    };
+    let counts = match args.get(2..) {
+        Some(counts) if !counts.is_empty() => counts.to_vec(),
+        _ => vec![1, 2],
+    };
+    let pool = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool")
+    };
+    let one = pool(1);
+    let pools: Vec<_> = counts.iter().map(|&n| pool(n)).collect();
+    let mut scene = Scene::builtin("plate").expect("shipped scene");
+    scene.domain.cells = cells.clone();
+    let problem = Problem::<2>::from_scene(&scene).expect("valid scene");
+    println!(
+        "plate {}x{}, global pool of {} threads; ms per step, medians of {ROUNDS} interleaved rounds of {STEPS} steps",
+        cells[0],
+        cells[1],
+        rayon::current_num_threads()
+    );
+    for kind in MethodKind::ALL {
+        let config = scene.method_config(kind);
+        let mut serial = one.install(|| impact::build(&problem, config).expect("builds"));
+        let mut parallel = impact::build(&problem, config).expect("builds");
+        let mut serial_times = vec![];
+        let mut times = vec![vec![]; counts.len()];
+        for round in 0..=ROUNDS {
+            let first = round * STEPS;
+            let t = time_steps(&one, serial.as_mut(), first);
+            let runs: Vec<f64> = pools
+                .iter()
+                .map(|p| time_steps(p, parallel.as_mut(), first))
+                .collect();
+            // round 0 warms up
+            if round > 0 {
+                serial_times.push(t);
+                runs.into_iter()
+                    .zip(&mut times)
+                    .for_each(|(t, v)| v.push(t));
+            }
+        }
+        let base = median(serial_times);
+        print!(
+            "{:<6} serial build, 1 thread {:.2}",
+            kind.name(),
+            base * 1e3
+        );
+        for (n, t) in counts.iter().zip(times) {
+            let t = median(t);
+            print!("; {n} threads {:.2} ({:.2}x)", t * 1e3, base / t);
+        }
+        println!();
+    }
+}
