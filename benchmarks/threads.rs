@@ -12,6 +12,10 @@
 //! build. Separate processes (criterion runs, `benchmarks/scaling.sh`) varied by up to
 //! ±30 % from one run to the next on the shared 2-core VM (page placement, neighbours),
 //! so the ratio is taken within one process, its runs interleaved.
+//!
+//! First, a STREAM-style triad `a = b + s·c` over 40 M doubles on each pool (the same
+//! loop as `roofline.rs`, split in chunks of 64 K on the pool): a phase bound by memory
+//! bandwidth cannot speed up by more than the triad does.
 use impact_core::method::MethodKind;
 use impact_core::{Method, Problem, Scene};
 use std::time::Instant;
@@ -19,9 +23,36 @@ use std::time::Instant;
 const ROUNDS: usize = 7;
 const STEPS: usize = 4;
 
+/// "1 thread", "n threads".
+fn threads(n: usize) -> String {
+    match n {
+        1 => "1 thread".into(),
+        _ => format!("{n} threads"),
+    }
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
+}
+
+/// Bandwidth of one triad pass on `pool`, GB/s (24 B per element: two reads, one write).
+fn triad(pool: &rayon::ThreadPool, a: &mut [f64], b: &[f64], c: &[f64]) -> f64 {
+    use rayon::prelude::*;
+    let start = Instant::now();
+    pool.install(|| {
+        let chunk = 1 << 16;
+        a.par_chunks_mut(chunk)
+            .zip(b.par_chunks(chunk))
+            .zip(c.par_chunks(chunk))
+            .for_each(|((a, b), c)| {
+                for ((a, b), c) in a.iter_mut().zip(b).zip(c) {
+                    *a = b + 3.0 * c;
+                }
+            });
+    });
+    std::hint::black_box(&a);
+    24.0 * a.len() as f64 / start.elapsed().as_secs_f64() / 1e9
 }
 
 /// Seconds per step of `STEPS` steps of `m` on `pool`, from step `first` on.
@@ -66,6 +97,22 @@ fn main() {
         cells[1],
         rayon::current_num_threads()
     );
+    {
+        let n = 40_000_000;
+        let (mut a, b, c) = (vec![0.0; n], vec![1.0; n], vec![2.0; n]);
+        let mut bandwidth = vec![vec![]; counts.len()];
+        for _ in 0..ROUNDS {
+            for (p, v) in pools.iter().zip(&mut bandwidth) {
+                v.push(triad(p, &mut a, &b, &c));
+            }
+        }
+        let medians: Vec<f64> = bandwidth.into_iter().map(median).collect();
+        print!("triad (median GB/s)");
+        for (n, gb) in counts.iter().zip(&medians) {
+            print!("; {} {gb:.1} ({:.2}x)", threads(*n), gb / medians[0]);
+        }
+        println!();
+    }
     for kind in MethodKind::ALL {
         let config = scene.method_config(kind);
         let mut serial = one.install(|| impact::build(&problem, config).expect("builds"));
@@ -95,7 +142,7 @@ fn main() {
         );
         for (n, t) in counts.iter().zip(times) {
             let t = median(t);
-            print!("; {n} threads {:.2} ({:.2}x)", t * 1e3, base / t);
+            print!("; {} {:.2} ({:.2}x)", threads(*n), t * 1e3, base / t);
         }
         println!();
     }
