@@ -21,6 +21,8 @@ if ! cargo fmt --version >/dev/null 2>&1 || ! cargo clippy --version >/dev/null 
 fi
 cargo fmt --all -- --check
 cargo clippy --all-targets -- -D warnings
+# the API docs build without broken or private links
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 cargo test --workspace --release
 
 # HDF5 (optional feature): needs Debian's libhdf5-dev

@@ -3,7 +3,7 @@
 //! This library holds what the CLI and the cross-method tests share: a validated
 //! [`study::Study`] (scene + command-line overrides), building a method from its
 //! configuration ([`build`]), running methods with metrics and outputs ([`run`]), the
-//! `check` gate and its pass/fail rule ([`check`]), the references ([`reference`]),
+//! `check` gate and its pass/fail rule ([`check`]), the references ([`reference`](mod@reference)),
 //! stability sweeps and work-precision ladders. `src/main.rs` only parses arguments and
 //! prints.
 pub mod check;

@@ -1,5 +1,5 @@
 //! Method options, typed end to end: each option is one enum whose names are spelled once
-//! (in [`option_enum!`]) and serve the scene parser (serde), the command line
+//! (in `option_enum!`) and serve the scene parser (serde), the command line
 //! (`clap::ValueEnum`, behind the `clap` feature), tables, file names and the flags the
 //! work-precision ladder passes on ([`MethodConfig::to_flags`]).
 //!

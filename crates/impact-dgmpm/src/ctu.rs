@@ -29,7 +29,7 @@ impl<const D: usize> DgmpmSolver<D> {
 
     /// Phase 2b (2D, CTU only): corner transport upwind (LeVeque 2002, §21.2). The
     /// fluctuation entering cell `C` through a face normal to `e_l` is split by the
-    /// transverse solver ([`riemann::transverse_split`], applied as
+    /// transverse solver (`riemann::transverse_split`, applied as
     /// [`transverse_into_face`]) along `e_k`, and its up- and down-going parts correct the
     /// fluxes of `C`'s faces normal to `e_k`:
     /// `F_k(C, high) -= Δt/(2Δx_l) B⁺A^±Δq`, `F_k(C, low) -= Δt/(2Δx_l) B⁻A^±Δq`.

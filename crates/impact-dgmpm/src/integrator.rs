@@ -1,5 +1,5 @@
 //! Phases 3-4 and the step: nodal rates of the semi-discrete system (paper eq. 16), the
-//! nodal update, and one [`DgmpmSolver::stage`] that forward Euler calls once and RK2
+//! nodal update, and one `DgmpmSolver::stage` that forward Euler calls once and RK2
 //! (Heun) twice.
 use crate::riemann::Conserved;
 use crate::{DgmpmSolver, DgmpmState, Physics, StepPath, CHUNK, MAX_NODES};
@@ -26,7 +26,7 @@ where
 }
 
 impl<const D: usize> DgmpmSolver<D> {
-    /// Phase 3: nodal rates `dq_i/dt`, `dv_i/dt` of every cell ([`Self::cell_rates_into`]).
+    /// Phase 3: nodal rates `dq_i/dt`, `dv_i/dt` of every cell (`cell_rates_into`).
     pub fn nodal_rates(&mut self, points: &MaterialPoints<D>) {
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
         let mut rate_tensor = std::mem::take(&mut self.nodes.rate_tensor);
@@ -218,7 +218,7 @@ impl<const D: usize> DgmpmSolver<D> {
         D > 1 && self.options.flux == TransverseFlux::Ctu
     }
 
-    /// One step. Nodal paths: phase 1, then one [`Self::stage`] (forward Euler) or two
+    /// One step. Nodal paths: phase 1, then one `stage` (forward Euler) or two
     /// (Heun: `q¹ = q⁰ + Δt L(q⁰)`, `q = ½ q⁰ + ½ (q¹ + Δt L(q¹))`), then phase 5. Cell
     /// path: `interface_fluxes`, `transverse_corrections` (CTU), `boundary_force` and
     /// [`Self::cell_update`]. Adds the work and impulse of the loads to the state.

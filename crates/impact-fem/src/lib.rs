@@ -98,7 +98,7 @@ pub struct FemSolver<const D: usize> {
     stencil: Option<stencil::Stencil<D>>,
 }
 
-/// Explicit FEM as a [`Method`].
+/// Explicit FEM as a [`Method`](impact_core::Method).
 #[derive(Debug, Clone)]
 pub struct Fem<const D: usize> {
     /// Configuration and buffers.

@@ -167,7 +167,7 @@ pub struct MpmSolver<const D: usize> {
     fuse_gathers: bool,
 }
 
-/// USL MPM as a [`Method`].
+/// USL MPM as a [`Method`](impact_core::Method).
 #[derive(Debug, Clone)]
 pub struct Mpm<const D: usize> {
     /// Configuration and buffers.

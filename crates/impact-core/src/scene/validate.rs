@@ -111,7 +111,7 @@ pub fn points_per_axis(dim: usize, ppc: usize) -> Option<usize> {
     (1..=64usize).find(|n| n.checked_pow(power) == Some(ppc))
 }
 
-/// Check output times (also used for CLI flags): at most [`MAX_OUTPUTS`], positive,
+/// Check output times (also used for CLI flags): at most `MAX_OUTPUTS`, positive,
 /// finite, strictly increasing.
 pub fn check_output_times(field: &str, times: &[f64]) -> Result<(), SceneError> {
     if times.is_empty() || times.len() > MAX_OUTPUTS {

@@ -1,6 +1,6 @@
 //! The linear-elastic solvers with the normal along a grid axis, written out component by
-//! component: the Godunov flux of [`super::linear`] and the transverse solver of
-//! [`super::transverse`] for `n = e_L` (1D and 2D small strain). They are the same
+//! component: the Godunov flux of `super::linear` and the transverse solver of
+//! `super::transverse` for `n = e_L` (1D and 2D small strain). They are the same
 //! formulas with every product by a zero or unit component of `n` left out, which the
 //! general functions (a normal known only at run time) cannot skip; the fused cell path
 //! ([`crate::fused`]) calls them on interior faces. Tested equal to the general functions

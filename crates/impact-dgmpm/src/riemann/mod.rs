@@ -1,13 +1,13 @@
 //! Riemann solvers: pure functions with fixed signatures, each file tested alone against
 //! hand-worked states (in the manner of clawpack's `riemann` package).
 //!
-//! - [`linear`]: the exact linear-elastic solver normal to a face, the Godunov flux and the
+//! - `linear`: the exact linear-elastic solver normal to a face, the Godunov flux and the
 //!   fluctuations (paper §4, eqs. 18-21).
 //! - [`axis`]: the same flux and the transverse solver written out for a grid-axis normal
 //!   (the fused cell path's interior faces).
-//! - [`ghost`]: ghost states and boundary half-problems (LeVeque 2002, §7.3), and the
+//! - `ghost`: ghost states and boundary half-problems (LeVeque 2002, §7.3), and the
 //!   restriction of CTU corrections on boundary faces.
-//! - [`transverse`]: the transverse solver of corner transport upwind (LeVeque 2002, §21.2).
+//! - `transverse`: the transverse solver of corner transport upwind (LeVeque 2002, §21.2).
 //! - [`svk`]: Saint-Venant–Kirchhoff, approximate (acoustic, [`svk_approximate`]) and exact
 //!   1D ([`svk_exact`]).
 //!
