@@ -66,11 +66,11 @@ impl<const D: usize> DgmpmSolver<D> {
             &nodes.velocity[cell_nodes.clone()],
             &nodes.mass[cell_nodes],
         );
-        self.rates_of_cell(c, points, nodal, faces, (rq, rv));
+        self.rates_of_cell(c, &points.volume, nodal, faces, (rq, rv));
     }
 
     /// The nodal rates `(dq_i/dt, dv_i/dt)` of cell `c` into `(rq, rv)` (module doc of
-    /// the crate), given its nodes' fields and masses `(q_i, v_i, M_i)` and its faces'
+    /// the crate), given the points' volumes `V_α`, its nodes' fields and masses `(q_i, v_i, M_i)` and its faces'
     /// final fluxes `[low, high]` per axis: the volume term on the points, with the nodal
     /// field interpolated there (paper eq. 14-15), and the face fluxes,
     /// `M_i dv_i/dt = -Σ_α V_α σ_h(X_α) ∇S_iα + Σ_f ∫_f S_i t*_out dΓ`,
@@ -83,7 +83,7 @@ impl<const D: usize> DgmpmSolver<D> {
     pub(crate) fn rates_of_cell(
         &self,
         c: usize,
-        points: &MaterialPoints<D>,
+        volume: &[f64],
         (nq, nv, nm): (&[Tensor<D>], &[Vector<D>], &[f64]),
         faces: [[&Conserved<D>; 2]; D],
         (rq, rv): (&mut [Tensor<D>], &mut [Vector<D>]),
@@ -112,7 +112,7 @@ impl<const D: usize> DgmpmSolver<D> {
                 qh += nq[b] * s[b];
                 vh += nv[b] * s[b];
             }
-            let vol = points.volume[p];
+            let vol = volume[p];
             // the stress that acts: σ_h, or Π(F_h)
             let stress = match &svk {
                 None => qh,
@@ -184,16 +184,18 @@ impl<const D: usize> DgmpmSolver<D> {
 
     /// One stage of the nodal paths: phase 2 (fluxes; 2b, CTU corrections), the boundary
     /// force, phase 3 (rates) and phase 4 (update with `start_weight`); on
-    /// [`StepPath::FusedNodal`] in one sweep ([`crate::fused`]). Returns the power
-    /// and force of the boundary conditions at the stage's state.
+    /// [`StepPath::FusedNodal`] in one sweep ([`crate::fused`]), the step's `last` stage
+    /// with phase 5 in it. Returns the power and force of the boundary conditions at the
+    /// stage's state.
     fn stage(
         &mut self,
         points: &mut MaterialPoints<D>,
         dt: f64,
         start_weight: f64,
+        last: bool,
     ) -> (f64, Vector<D>) {
         if self.path == StepPath::FusedNodal {
-            return self.fused_nodal_stage(points, dt, start_weight);
+            return self.fused_nodal_stage(points, dt, start_weight, last);
         }
         let power = self.interface_fluxes(points);
         if self.ctu() {
@@ -251,10 +253,11 @@ impl<const D: usize> DgmpmSolver<D> {
         }
         self.particles_to_nodes(&state.points);
         let integrator = self.options.integrator;
-        // (the fused nodal stage keeps the start-of-step fields by swapping buffers)
+        // (the fused nodal stages keep the start-of-step fields by swapping buffers)
+        let fused = self.path == StepPath::FusedNodal;
         let keep_start =
             integrator == Integrator::Rk2 || self.options.update == PointUpdate::Increment;
-        if keep_start && self.path != StepPath::FusedNodal {
+        if keep_start && !fused {
             let nodes = &mut self.nodes;
             nodes.start_tensor.copy_from_slice(&nodes.tensor);
             nodes.start_velocity.copy_from_slice(&nodes.velocity);
@@ -264,7 +267,8 @@ impl<const D: usize> DgmpmSolver<D> {
             Integrator::Rk2 => t,
         };
         self.set_load_time(first_time);
-        let (power, force) = self.stage(&mut state.points, dt, 0.0);
+        let euler = integrator == Integrator::Euler;
+        let (power, force) = self.stage(&mut state.points, dt, 0.0, euler);
         match integrator {
             Integrator::Euler => {
                 state.work += dt * power;
@@ -272,12 +276,15 @@ impl<const D: usize> DgmpmSolver<D> {
             }
             Integrator::Rk2 => {
                 self.set_load_time(t + dt);
-                let (power2, force2) = self.stage(&mut state.points, dt, 0.5);
+                let (power2, force2) = self.stage(&mut state.points, dt, 0.5, true);
                 state.work += 0.5 * dt * (power + power2);
                 state.impulse += (force + force2) * (0.5 * dt);
             }
         }
-        self.nodes_to_particles(&mut state.points);
+        if !fused {
+            // (the fused nodal sweep ran phase 5 in its last stage)
+            self.nodes_to_particles(&mut state.points);
+        }
         self.plastic_correction(&mut state.points);
         self.move_points(&mut state.points, dt);
     }

@@ -463,21 +463,29 @@ impl<const D: usize> DgmpmSolver<D> {
         let grid = &self.grid;
         let nodes = grid.cell_count() * Grid::<D>::NODES_PER_CELL;
         let fused_nodal = self.path == StepPath::FusedNodal;
-        let nodes_now = (self.nodes.mass.len(), !self.nodes.rate_tensor.is_empty());
-        if self.path.nodal() && nodes_now != (nodes, !fused_nodal) {
-            let keep_start = self.options.integrator == Integrator::Rk2
-                || self.options.update == PointUpdate::Increment;
+        let rk2 = self.options.integrator == Integrator::Rk2;
+        // the start-of-step fields: RK2, and the increment update of the phase paths (the
+        // fused sweep's single Euler stage reads its own input instead)
+        let keep_start = rk2 || (self.options.update == PointUpdate::Increment && !fused_nodal);
+        let nodes_now = (
+            self.nodes.mass.len(),
+            !self.nodes.rate_tensor.is_empty(),
+            !self.nodes.start_tensor.is_empty(),
+        );
+        if self.path.nodal() && nodes_now != (nodes, !fused_nodal, keep_start) {
             self.nodes = NodalFields::new(nodes, keep_start, !fused_nodal);
         }
         let ctu = D > 1 && self.options.flux == TransverseFlux::Ctu;
         if self.path.fused() {
-            let per_cell = if fused_nodal {
-                Grid::<D>::NODES_PER_CELL
-            } else {
-                1
+            // the next state: one per point on the cell path; per node between RK2's two
+            // nodal stages (the last stage writes the points)
+            let layout = match (fused_nodal, rk2) {
+                (false, _) => fused::Layout::cell(),
+                (true, true) => fused::Layout::nodal(Grid::<D>::NODES_PER_CELL, ctu),
+                (true, false) => fused::Layout::nodal(0, ctu),
             };
-            if self.fused.next_len() != grid.cell_count() * per_cell {
-                self.fused = fused::FusedBuffers::new(grid.cells, per_cell, ctu);
+            if self.fused.layout() != Some(layout) {
+                self.fused = fused::FusedBuffers::new(grid.cells, layout);
             }
         } else if self.face_flux[0].is_empty() {
             self.face_flux = std::array::from_fn(|l| vec![Conserved::zeros(); grid.face_count(l)]);

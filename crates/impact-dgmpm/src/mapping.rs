@@ -10,6 +10,34 @@ use impact_core::{Grid, Tensor, Vector};
 /// Cells per rayon leaf of the per-cell loops.
 const CELL_GRAIN: usize = 512;
 
+/// Phase 5 at one point with shape values `s` on its cell's nodes: the interpolated new
+/// nodal field `Σ_i S_i (q_i, v_i)` ([`PointUpdate::Nodal`]), or with the nodes' start-of-step
+/// fields `start` its increment `Σ_i S_i (q_i - q_i^n, v_i - v_i^n)` ([`PointUpdate::Increment`]).
+#[inline(always)]
+pub(crate) fn point_from_nodes<const D: usize>(
+    s: &[f64],
+    (nq, nv): (&[Tensor<D>], &[Vector<D>]),
+    start: Option<(&[Tensor<D>], &[Vector<D>])>,
+) -> (Tensor<D>, Vector<D>) {
+    let mut q = Tensor::<D>::zeros();
+    let mut v = Vector::<D>::zeros();
+    match start {
+        Some((q0, v0)) => {
+            for a in 0..s.len() {
+                q += (nq[a] - q0[a]) * s[a];
+                v += (nv[a] - v0[a]) * s[a];
+            }
+        }
+        None => {
+            for a in 0..s.len() {
+                q += nq[a] * s[a];
+                v += nv[a] * s[a];
+            }
+        }
+    }
+    (q, v)
+}
+
 impl<const D: usize> DgmpmSolver<D> {
     /// Phase 1: lumped nodal mass `M_i = Σ_α S_iα m_α` and mass-weighted nodal fields
     /// `M_i q_i = Σ_α S_iα m_α q_α` (paper eq. 17), `q` being `σ` (small strain) or `F`
@@ -98,28 +126,21 @@ impl<const D: usize> DgmpmSolver<D> {
                 let c = p / points_per_cell;
                 let s = &shape[p * nodes_per_cell..(p + 1) * nodes_per_cell];
                 let cell_nodes = c * nodes_per_cell..(c + 1) * nodes_per_cell;
-                let (nq, nv) = (
+                let new = (
                     &nodes.tensor[cell_nodes.clone()],
                     &nodes.velocity[cell_nodes.clone()],
                 );
-                let mut q = Tensor::<D>::zeros();
-                let mut v = Vector::<D>::zeros();
-                if increment {
-                    let (q0, v0) = (
+                let start = increment.then(|| {
+                    (
                         &nodes.start_tensor[cell_nodes.clone()],
                         &nodes.start_velocity[cell_nodes],
-                    );
-                    for a in 0..nodes_per_cell {
-                        q += (nq[a] - q0[a]) * s[a];
-                        v += (nv[a] - v0[a]) * s[a];
-                    }
+                    )
+                });
+                let (q, v) = point_from_nodes(s, new, start);
+                if increment {
                     pq[k] += q;
                     pv[k] += v;
                 } else {
-                    for a in 0..nodes_per_cell {
-                        q += nq[a] * s[a];
-                        v += nv[a] * s[a];
-                    }
                     pq[k] = q;
                     pv[k] = v;
                 }

@@ -7,7 +7,8 @@
 //!
 //! The fused nodal sweep ([`StepPath::FusedNodal`]) equals the phase-by-phase nodal paths
 //! ([`StepPath::SinglePoint`] at one point per cell, [`StepPath::Nodal`] otherwise) to
-//! 1e-13 on the same scenes with RK2, several points per cell and the increment update.
+//! 1e-13 on the same scenes with RK2, several points per cell and the increment update
+//! (with forward Euler, whose one stage also runs phase 5, and with RK2).
 use impact_core::method::{
     EdgeKind, EdgeTreatment, Integrator, LoadShape, MethodConfig, MethodKind, PointUpdate,
     SegmentCover, TransverseFlux,
@@ -208,6 +209,10 @@ fn fused_nodal_bar_matches_the_nodal_paths() {
         c.points_per_cell = 2;
         c.dgmpm_mut().unwrap().update = PointUpdate::Increment;
     });
+    check_nodal::<1>("bar, 2 ppc, Euler, increment", &bar, |c| {
+        (c.points_per_cell, c.courant) = (2, 0.5);
+        c.dgmpm_mut().unwrap().update = PointUpdate::Increment;
+    });
     let mut short = Scene::builtin("bar").unwrap();
     short.domain.cells = vec![50];
     check_nodal::<1>("bar, 50 cells, RK2", &short, |c| rk2(c, 0.8));
@@ -228,6 +233,10 @@ fn fused_nodal_plate_matches_the_nodal_paths() {
     }
     check_nodal::<2>("plate, 4 ppc, Euler CTU", &scene, |c| {
         (c.points_per_cell, c.courant) = (4, 0.6)
+    });
+    check_nodal::<2>("plate, 4 ppc, Euler CTU, increment", &scene, |c| {
+        (c.points_per_cell, c.courant) = (4, 0.6);
+        c.dgmpm_mut().unwrap().update = PointUpdate::Increment;
     });
     check_nodal::<2>("plate, 4 ppc, RK2 DCU, increment", &scene, |c| {
         rk2(c, 0.9);

@@ -80,30 +80,57 @@ impl<const D: usize> Default for Band<D> {
     }
 }
 
-/// The buffers of the fused path: one [`Band`] per band and the points' next state.
+/// What the fused buffers hold: next-state entries per cell (1 on the cell path, `2^D`
+/// between RK2's nodal stages, 0 where the only stage writes the points) and whether the
+/// bands keep the nodal side terms (nodal sweep with CTU).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Layout {
+    next_per_cell: usize,
+    sides: bool,
+}
+
+impl Layout {
+    /// The cell path's: one next state per cell (point).
+    pub(crate) fn cell() -> Self {
+        Self {
+            next_per_cell: 1,
+            sides: false,
+        }
+    }
+
+    /// The nodal sweep's, with `next_per_cell` next nodal states per cell.
+    pub(crate) fn nodal(next_per_cell: usize, ctu: bool) -> Self {
+        Self {
+            next_per_cell,
+            sides: ctu,
+        }
+    }
+}
+
+/// The buffers of the fused sweeps: one [`Band`] per band and the next state.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct FusedBuffers<const D: usize> {
     bands: Vec<Band<D>>,
     next_tensor: Vec<Tensor<D>>,
     next_velocity: Vec<Vector<D>>,
+    layout: Option<Layout>,
 }
 
 impl<const D: usize> FusedBuffers<D> {
-    /// Entries of the next state (0 before allocation).
-    pub(crate) fn next_len(&self) -> usize {
-        self.next_tensor.len()
+    /// The layout allocated (`None` before allocation).
+    pub(crate) fn layout(&self) -> Option<Layout> {
+        self.layout
     }
 
     /// Buffers for `grid`'s cells: in 2D bands of [`BAND_ROWS`] rows, each with its face
-    /// rows; in 1D one (empty) band per chunk of [`CHUNK`] cells. `nodes_per_cell`: 1 for
-    /// the cell path's next state (one per point), `2^D` for the nodal sweep's (one per DG
-    /// node), which with `ctu` also keeps the rows of the cells' side terms.
-    pub(crate) fn new(cells: [usize; D], nodes_per_cell: usize, ctu: bool) -> Self {
+    /// rows (and the side terms' rows, `layout.sides`); in 1D one (empty) band per chunk of
+    /// [`CHUNK`] cells; the next state as `layout` says.
+    pub(crate) fn new(cells: [usize; D], layout: Layout) -> Self {
         let count: usize = cells.iter().product();
         let bands = match D {
             2 => {
                 let nx = cells[0];
-                let sides = if nodes_per_cell > 1 && ctu { nx } else { 0 };
+                let sides = if layout.sides { nx } else { 0 };
                 let band = Band {
                     x_side: [
                         vec![Conserved::zeros(); sides],
@@ -122,10 +149,12 @@ impl<const D: usize> FusedBuffers<D> {
             }
             _ => vec![Band::default(); count.div_ceil(CHUNK)],
         };
+        let next = count * layout.next_per_cell;
         Self {
             bands,
-            next_tensor: vec![Tensor::<D>::zeros(); count * nodes_per_cell],
-            next_velocity: vec![Vector::<D>::zeros(); count * nodes_per_cell],
+            next_tensor: vec![Tensor::<D>::zeros(); next],
+            next_velocity: vec![Vector::<D>::zeros(); next],
+            layout: Some(layout),
         }
     }
 }
