@@ -251,10 +251,13 @@ impl<const D: usize> DgmpmSolver<D> {
             self.move_points(&mut state.points, dt);
             return;
         }
-        self.particles_to_nodes(&state.points);
+        let fused = self.path == StepPath::FusedNodal;
+        if !(fused && self.fused_nodal_single()) {
+            // (RK2 at one point per cell on the fused sweep forms its nodes from the points)
+            self.particles_to_nodes(&state.points);
+        }
         let integrator = self.options.integrator;
         // (the fused nodal stages keep the start-of-step fields by swapping buffers)
-        let fused = self.path == StepPath::FusedNodal;
         let keep_start =
             integrator == Integrator::Rk2 || self.options.update == PointUpdate::Increment;
         if keep_start && !fused {

@@ -141,7 +141,7 @@ pub struct DgmpmState<const D: usize> {
 /// `F` under Saint-Venant–Kirchhoff (paper eq. 6-7).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct NodalFields<const D: usize> {
-    /// Lumped mass `M_i`.
+    /// Lumped mass `M_i` (empty on the fused sweep's RK2 at one point per cell).
     pub mass: Vec<f64>,
     /// Tensor field `q_i` (σ or F).
     pub tensor: Vec<Tensor<D>>,
@@ -157,21 +157,40 @@ pub(crate) struct NodalFields<const D: usize> {
     pub rate_velocity: Vec<Vector<D>>,
 }
 
+/// Which nodal buffers are allocated, for `nodes` nodes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct NodalLayout {
+    nodes: usize,
+    /// Lumped masses (not on the fused sweep's RK2 at one point per cell: `S_i m_p`).
+    mass: bool,
+    /// Start-of-step fields (RK2, the increment update; not where formed from the points).
+    start: bool,
+    /// Rates (the phase paths; the fused sweep updates without them).
+    rates: bool,
+}
+
 impl<const D: usize> NodalFields<D> {
-    /// Buffers for `nodes` nodes; the start-of-step fields only if `keep_start` (RK2 or the
-    /// increment point update read them; forward Euler with the nodal update never does),
-    /// the rates only if `rates` (the fused nodal sweep updates without them).
-    fn new(nodes: usize, keep_start: bool, rates: bool) -> Self {
-        let start = if keep_start { nodes } else { 0 };
-        let rate_len = if rates { nodes } else { 0 };
+    /// The buffers `layout` names; the others empty.
+    fn new(layout: NodalLayout) -> Self {
+        let len = |keep: bool| if keep { layout.nodes } else { 0 };
         Self {
-            mass: vec![0.0; nodes],
-            tensor: vec![Tensor::<D>::zeros(); nodes],
-            velocity: vec![Vector::<D>::zeros(); nodes],
-            start_tensor: vec![Tensor::<D>::zeros(); start],
-            start_velocity: vec![Vector::<D>::zeros(); start],
-            rate_tensor: vec![Tensor::<D>::zeros(); rate_len],
-            rate_velocity: vec![Vector::<D>::zeros(); rate_len],
+            mass: vec![0.0; len(layout.mass)],
+            tensor: vec![Tensor::<D>::zeros(); layout.nodes],
+            velocity: vec![Vector::<D>::zeros(); layout.nodes],
+            start_tensor: vec![Tensor::<D>::zeros(); len(layout.start)],
+            start_velocity: vec![Vector::<D>::zeros(); len(layout.start)],
+            rate_tensor: vec![Tensor::<D>::zeros(); len(layout.rates)],
+            rate_velocity: vec![Vector::<D>::zeros(); len(layout.rates)],
+        }
+    }
+
+    /// The layout allocated.
+    fn layout(&self) -> NodalLayout {
+        NodalLayout {
+            nodes: self.tensor.len(),
+            mass: !self.mass.is_empty(),
+            start: !self.start_tensor.is_empty(),
+            rates: !self.rate_tensor.is_empty(),
         }
     }
 }
@@ -464,22 +483,26 @@ impl<const D: usize> DgmpmSolver<D> {
         let nodes = grid.cell_count() * Grid::<D>::NODES_PER_CELL;
         let fused_nodal = self.path == StepPath::FusedNodal;
         let rk2 = self.options.integrator == Integrator::Rk2;
+        // RK2 at one point per cell on the fused nodal sweep: nodal fields only
+        let single = fused_nodal && self.fused_nodal_single();
         // the start-of-step fields: RK2, and the increment update of the phase paths (the
         // fused sweep's single Euler stage reads its own input instead)
-        let keep_start = rk2 || (self.options.update == PointUpdate::Increment && !fused_nodal);
-        let nodes_now = (
-            self.nodes.mass.len(),
-            !self.nodes.rate_tensor.is_empty(),
-            !self.nodes.start_tensor.is_empty(),
-        );
-        if self.path.nodal() && nodes_now != (nodes, !fused_nodal, keep_start) {
-            self.nodes = NodalFields::new(nodes, keep_start, !fused_nodal);
+        let increment = self.options.update == PointUpdate::Increment;
+        let keep_start = !single && (rk2 || (increment && !fused_nodal));
+        let wanted = NodalLayout {
+            nodes,
+            mass: !single,
+            start: keep_start,
+            rates: !fused_nodal,
+        };
+        if self.path.nodal() && self.nodes.layout() != wanted {
+            self.nodes = NodalFields::new(wanted);
         }
         let ctu = D > 1 && self.options.flux == TransverseFlux::Ctu;
         if self.path.fused() {
             // the next state: one per point on the cell path; per node between RK2's two
-            // nodal stages (the last stage writes the points)
-            let layout = match (fused_nodal, rk2) {
+            // nodal stages unless the first writes in place (the last writes the points)
+            let layout = match (fused_nodal, rk2 && !single) {
                 (false, _) => fused::Layout::cell(),
                 (true, true) => fused::Layout::nodal(Grid::<D>::NODES_PER_CELL, ctu),
                 (true, false) => fused::Layout::nodal(0, ctu),

@@ -248,6 +248,10 @@ fn fused_nodal_plate_matches_the_nodal_paths() {
     let left = cut.boundary.left.as_mut().unwrap();
     (left.to, left.cover) = (Some(1.03), Some(SegmentCover::Fraction));
     check_nodal::<2>("plate, fractional cover, RK2", &cut, |c| rk2(c, 0.7));
+    check_nodal::<2>("plate, RK2, increment", &scene, |c| {
+        rk2(c, 0.7);
+        c.dgmpm_mut().unwrap().update = PointUpdate::Increment;
+    });
     check_nodal::<2>("plate 80x90, RK2, parallel", &plate([80, 90]), |c| {
         rk2(c, 0.7)
     });

@@ -10,13 +10,24 @@
 //! 3. the boundary force and power of the loaded faces;
 //! 4. phase 3, the nodal rates of each cell from its four final face fluxes
 //!    (`DgmpmSolver::rates_of_cell`, paper eq. 14-16), and at once phase 4,
-//!    `q_i ← a q_i^n + (1 - a)(q_i + Δt q̇_i)` ([`crate::integrator::stage_update`]).
+//!    `q_i ← a q_i^n + (1 - a)(q_i + Δt q̇_i)` ([`crate::integrator::stage_update`]);
+//! 5. in the step's last stage, phase 5 for the cell's points
+//!    ([`crate::mapping::point_from_nodes`]): the new nodal fields are not stored.
 //!
 //! The 2D sweep is the cell path's ([`super`], `plane.rs`) with the nodal face states; the
-//! 1D one walks each chunk of cells. No face array and no rate array is allocated: the new
-//! nodal fields go to a second buffer, swapped in after the sweep (after Heun's first
-//! stage the old fields become the start-of-step fields, so they are never copied).
-//! Tested against the phase-by-phase nodal paths to 1e-13.
+//! 1D one walks each chunk of cells. No face array and no rate array is allocated. Between
+//! RK2's stages the new nodal fields go to a second buffer, swapped in after the sweep
+//! (the old ones become the start-of-step fields, so they are never copied).
+//!
+//! **RK2 at one point per cell.** Phase 1 is the identity there (every node of a cell
+//! carries its point's state, `StepPath::SinglePoint`) and the lumped masses are
+//! `M_i = S_i m_p`, so phase 1 is not run: the first stage reads the points (its face
+//! states are then the cells' states and the side terms vanish, as on the cell path) and
+//! writes the nodal fields in place; the masses and the start-of-step fields are formed
+//! from the point where a stage needs them (the second stage reads a point's state before
+//! it writes it). No nodal mass, start or next buffer is allocated.
+//!
+//! Tested against the phase-by-phase nodal paths to 1e-13 (bit for bit in practice).
 use super::{Band, FusedBuffers, CHUNK};
 use crate::faces::Fields;
 use crate::integrator::stage_update;
@@ -24,14 +35,13 @@ use crate::mapping::point_from_nodes;
 use crate::riemann::axis::{axis_flux_1d, AxisConstants};
 use crate::riemann::Conserved;
 use crate::{DgmpmSolver, StepPath, MAX_NODES};
-use impact_core::method::PointUpdate;
+use impact_core::method::{Integrator, PointUpdate};
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
 use impact_core::{Grid, Tensor, Vector};
 
 /// Where one band's stage update goes: the new nodal fields (`2^D` entries per cell), or
-/// in the step's last stage the band's points (phase 5 in the sweep; the new nodal fields
-/// are not stored).
+/// in the step's last stage the band's points (phase 5 in the sweep).
 pub(super) enum NodalOut<'a, const D: usize> {
     Nodes {
         tensor: &'a mut [Tensor<D>],
@@ -43,16 +53,46 @@ pub(super) enum NodalOut<'a, const D: usize> {
     },
 }
 
-/// The stage's step, start weight `a` (0: Euler and Heun's first stage; ½: Heun's second)
-/// and whether it is the step's last.
+/// What a stage reads: the points' volumes, the nodal fields it starts from, the lumped
+/// masses and the start-of-step fields (RK2's second stage); with one point per cell
+/// instead the points' masses (`M_i = S_i m_p`) and, in the first stage, their states.
+#[derive(Clone, Copy)]
+pub(super) struct NodalIn<'a, const D: usize> {
+    volume: &'a [f64],
+    tensor: &'a [Tensor<D>],
+    velocity: &'a [Vector<D>],
+    mass: &'a [f64],
+    start: (&'a [Tensor<D>], &'a [Vector<D>]),
+    point_mass: &'a [f64],
+    points: Option<(&'a [Tensor<D>], &'a [Vector<D>])>,
+}
+
+/// The stage's step, start weight `a` (0: Euler and Heun's first stage; ½: Heun's second),
+/// whether it is the step's last, and whether the nodes are formed from the points (RK2 at
+/// one point per cell: module doc).
 #[derive(Clone, Copy)]
 pub(super) struct Stage {
     dt: f64,
     start_weight: f64,
     last: bool,
+    single: bool,
+}
+
+impl Stage {
+    /// Whether the stage reads the points instead of nodal fields (the first stage with
+    /// one point per cell).
+    fn reads_points(self) -> bool {
+        self.single && self.start_weight == 0.0
+    }
 }
 
 impl<const D: usize> DgmpmSolver<D> {
+    /// Whether the fused nodal path forms its nodes from the points without phase 1 (RK2
+    /// at one point per cell; module doc of `fused::nodal`).
+    pub(crate) fn fused_nodal_single(&self) -> bool {
+        self.points_per_cell == 1 && self.options.integrator == Integrator::Rk2
+    }
+
     /// One stage of the fused nodal path (module doc): the new nodal fields replace the
     /// old ones or, in the step's `last` stage, go to the points (phase 5). Returns the
     /// power and the force of the boundary conditions.
@@ -68,6 +108,7 @@ impl<const D: usize> DgmpmSolver<D> {
             dt,
             start_weight,
             last,
+            single: self.fused_nodal_single(),
         };
         self.by_dimension(
             points,
@@ -76,56 +117,70 @@ impl<const D: usize> DgmpmSolver<D> {
         )
     }
 
-    /// Run `sweep(band index, band, face fields, the points' volumes, output)` on every
-    /// band. A stage before the last writes the new nodal fields and swaps them in (after
-    /// a first stage, `a = 0`, the old ones become the start-of-step fields, kept for
-    /// RK2); the last writes the points. Returns the bands' power and force, added up.
-    #[allow(clippy::type_complexity)]
+    /// Run `sweep(band index, band, face fields, inputs, output)` on every band. A stage
+    /// before the last writes the new nodal fields: in place when it reads the points,
+    /// otherwise to the next buffer, swapped in after (after a first stage, `a = 0`, the
+    /// old fields become the start-of-step fields). The last stage writes the points.
+    /// Returns the bands' power and force, added up.
     fn nodal_bands(
         &mut self,
         points: &mut MaterialPoints<D>,
         cells_per_band: usize,
         stage: Stage,
-        sweep: impl Fn(&Self, usize, &mut Band<D>, Fields<'_, D>, &[f64], &mut NodalOut<'_, D>) + Sync,
+        sweep: impl Fn(&Self, usize, &mut Band<D>, Fields<'_, D>, NodalIn<'_, D>, &mut NodalOut<'_, D>)
+            + Sync,
     ) -> (f64, Vector<D>) {
         let mut buffers = std::mem::take(&mut self.fused);
+        let mut nodes = std::mem::take(&mut self.nodes);
         {
             let this = &*self;
-            let fields = Fields::nodal(&this.nodes.tensor, &this.nodes.velocity);
             let MaterialPoints {
                 stress,
                 velocity,
                 volume,
+                mass,
                 ..
             } = points;
-            let volume: &[f64] = volume;
-            if stage.last {
-                let per_band = cells_per_band * this.points_per_cell;
-                let parts = (
-                    chunks(&mut buffers.bands, 1),
-                    (chunks(stress, per_band), chunks(velocity, per_band)),
-                );
-                for_each_chunk(this.parallel, 1, parts, |b, (band, (tensor, velocity))| {
-                    let mut out = NodalOut::Points { tensor, velocity };
-                    sweep(this, b, &mut band[0], fields, volume, &mut out);
-                });
+            let bands = &mut buffers.bands;
+            let nodal_per_band = cells_per_band * Grid::<D>::NODES_PER_CELL;
+            let point_per_band = cells_per_band * this.points_per_cell;
+            if stage.reads_points() {
+                // RK2's first stage at one point per cell: the points in, the nodes out
+                let inputs = NodalIn {
+                    volume,
+                    tensor: &[],
+                    velocity: &[],
+                    mass: &[],
+                    start: (&[], &[]),
+                    point_mass: mass,
+                    points: Some((stress, velocity)),
+                };
+                let fields = Fields::per_cell(stress, velocity);
+                let out = (&mut nodes.tensor[..], &mut nodes.velocity[..]);
+                this.run_bands(bands, fields, inputs, (out, nodal_per_band, false), &sweep);
             } else {
-                let per_band = cells_per_band * Grid::<D>::NODES_PER_CELL;
-                let parts = (
-                    chunks(&mut buffers.bands, 1),
-                    (
-                        chunks(&mut buffers.next_tensor, per_band),
-                        chunks(&mut buffers.next_velocity, per_band),
+                let inputs = NodalIn {
+                    volume,
+                    tensor: &nodes.tensor,
+                    velocity: &nodes.velocity,
+                    mass: &nodes.mass,
+                    start: (&nodes.start_tensor, &nodes.start_velocity),
+                    point_mass: mass,
+                    points: None,
+                };
+                let fields = Fields::nodal(&nodes.tensor, &nodes.velocity);
+                let out = match stage.last {
+                    true => ((&mut stress[..], &mut velocity[..]), point_per_band, true),
+                    false => (
+                        (&mut buffers.next_tensor[..], &mut buffers.next_velocity[..]),
+                        nodal_per_band,
+                        false,
                     ),
-                );
-                for_each_chunk(this.parallel, 1, parts, |b, (band, (tensor, velocity))| {
-                    let mut out = NodalOut::Nodes { tensor, velocity };
-                    sweep(this, b, &mut band[0], fields, volume, &mut out);
-                });
+                };
+                this.run_bands(bands, fields, inputs, out, &sweep);
             }
         }
-        if !stage.last {
-            let nodes = &mut self.nodes;
+        if !stage.last && !stage.reads_points() {
             if stage.start_weight == 0.0 && !nodes.start_tensor.is_empty() {
                 std::mem::swap(&mut nodes.start_tensor, &mut nodes.tensor);
                 std::mem::swap(&mut nodes.start_velocity, &mut nodes.velocity);
@@ -133,41 +188,105 @@ impl<const D: usize> DgmpmSolver<D> {
             std::mem::swap(&mut nodes.tensor, &mut buffers.next_tensor);
             std::mem::swap(&mut nodes.velocity, &mut buffers.next_velocity);
         }
+        self.nodes = nodes;
         let totals = buffers.totals();
         self.fused = buffers;
         totals
+    }
+
+    /// [`Self::nodal_bands`]' loop: `sweep` on every band with its chunk of the output
+    /// (`per_band` entries; the points' if `to_points`, else nodal fields).
+    #[allow(clippy::type_complexity)]
+    fn run_bands(
+        &self,
+        bands: &mut [Band<D>],
+        fields: Fields<'_, D>,
+        inputs: NodalIn<'_, D>,
+        ((tensor, velocity), per_band, to_points): (
+            (&mut [Tensor<D>], &mut [Vector<D>]),
+            usize,
+            bool,
+        ),
+        sweep: &(impl Fn(&Self, usize, &mut Band<D>, Fields<'_, D>, NodalIn<'_, D>, &mut NodalOut<'_, D>)
+              + Sync),
+    ) {
+        let parts = (
+            chunks(bands, 1),
+            (chunks(tensor, per_band), chunks(velocity, per_band)),
+        );
+        for_each_chunk(self.parallel, 1, parts, |b, (band, (tensor, velocity))| {
+            let mut out = match to_points {
+                true => NodalOut::Points { tensor, velocity },
+                false => NodalOut::Nodes { tensor, velocity },
+            };
+            sweep(self, b, &mut band[0], fields, inputs, &mut out);
+        });
     }
 
     /// Phases 3-4 of cell `cell` (entry `local` of its band) from its faces' final fluxes
     /// `[low, high]` per axis: [`Self::rates_of_cell`] and the stage update of its nodes;
     /// in the last stage then phase 5 for the cell's points (`point_from_nodes`, the
     /// step's start being the start-of-step fields for RK2 and this stage's for Euler).
+    /// With one point per cell the nodal fields, masses and start-of-step fields are formed
+    /// from the point (module doc): the point's state is read before it is written.
     #[inline(always)]
-    fn nodal_cell_update(
+    fn nodal_cell_update<const SINGLE: bool>(
         &self,
         (cell, local): (usize, usize),
         faces: [[&Conserved<D>; 2]; D],
-        volume: &[f64],
+        inputs: NodalIn<'_, D>,
         stage: Stage,
         out: &mut NodalOut<'_, D>,
     ) {
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
-        let nodes = &self.nodes;
         let range = cell * nodes_per_cell..(cell + 1) * nodes_per_cell;
-        let (q, v) = (&nodes.tensor[range.clone()], &nodes.velocity[range.clone()]);
-        let mut rate_tensor = [Tensor::<D>::zeros(); MAX_NODES];
-        let mut rate_velocity = [Vector::<D>::zeros(); MAX_NODES];
-        let nodal = (q, v, &nodes.mass[range.clone()]);
-        let rates = (&mut rate_tensor[..], &mut rate_velocity[..]);
-        self.rates_of_cell(cell, volume, nodal, faces, rates);
         let Stage {
             dt, start_weight, ..
         } = stage;
-        let starts = (start_weight != 0.0).then(|| {
-            (
-                &nodes.start_tensor[range.clone()],
-                &nodes.start_velocity[range.clone()],
-            )
+        debug_assert_eq!(SINGLE, stage.single);
+        let single = SINGLE;
+        // one point per cell: the point's state on every node, M_i = S_i m_p
+        let mut point_q = [Tensor::<D>::zeros(); MAX_NODES];
+        let mut point_v = [Vector::<D>::zeros(); MAX_NODES];
+        let mut point_m = [0.0; MAX_NODES];
+        let point_state = match (SINGLE, inputs.points, &*out) {
+            (false, ..) => None,
+            (true, Some((q, v)), _) => Some((q[cell], v[cell])),
+            (true, None, NodalOut::Points { tensor, velocity }) => {
+                Some((tensor[local], velocity[local]))
+            }
+            (true, None, NodalOut::Nodes { .. }) => None,
+        };
+        if let Some((q, v)) = point_state {
+            point_q[..nodes_per_cell].fill(q);
+            point_v[..nodes_per_cell].fill(v);
+        }
+        if single {
+            for a in 0..nodes_per_cell {
+                point_m[a] = self.shape[cell * nodes_per_cell + a] * inputs.point_mass[cell];
+            }
+        }
+        let (q, v) = match SINGLE && inputs.points.is_some() {
+            true => (&point_q[..nodes_per_cell], &point_v[..nodes_per_cell]),
+            false => (
+                &inputs.tensor[range.clone()],
+                &inputs.velocity[range.clone()],
+            ),
+        };
+        let mass = match single {
+            true => &point_m[..nodes_per_cell],
+            false => &inputs.mass[range.clone()],
+        };
+        let mut rate_tensor = [Tensor::<D>::zeros(); MAX_NODES];
+        let mut rate_velocity = [Vector::<D>::zeros(); MAX_NODES];
+        let rates = (&mut rate_tensor[..], &mut rate_velocity[..]);
+        self.rates_of_cell(cell, inputs.volume, (q, v, mass), faces, rates);
+        let starts = (start_weight != 0.0).then(|| match single {
+            true => (&point_q[..nodes_per_cell], &point_v[..nodes_per_cell]),
+            false => (
+                &inputs.start.0[range.clone()],
+                &inputs.start.1[range.clone()],
+            ),
         });
         let mut new_q = [Tensor::<D>::zeros(); MAX_NODES];
         let mut new_v = [Vector::<D>::zeros(); MAX_NODES];
@@ -187,6 +306,7 @@ impl<const D: usize> DgmpmSolver<D> {
         }
         match out {
             NodalOut::Nodes { tensor, velocity } => {
+                // the band's chunk of the nodal fields (in place) or of the next buffer
                 let out = local * nodes_per_cell..(local + 1) * nodes_per_cell;
                 tensor[out.clone()].copy_from_slice(&new_q[..nodes_per_cell]);
                 velocity[out].copy_from_slice(&new_v[..nodes_per_cell]);
@@ -217,7 +337,8 @@ impl<const D: usize> DgmpmSolver<D> {
 }
 
 impl DgmpmSolver<2> {
-    /// The 2D nodal sweep: [`Self::band_2d`] with nodal face states and the nodal update.
+    /// The 2D nodal sweep: [`Self::band_2d`] with the nodal update, the face states from
+    /// the nodes (or, read from the points, the cells' states).
     fn nodal_sweep_2d(&mut self, points: &mut MaterialPoints<2>, stage: Stage) -> (f64, Vector<2>) {
         let nx = self.grid.cells[0];
         let k = self.sweep_2d_constants(stage.dt);
@@ -226,10 +347,19 @@ impl DgmpmSolver<2> {
             points,
             cells_per_band,
             stage,
-            |this, b, band, fields, volume, out| {
-                this.band_2d::<true>(b, band, fields, &k, |cell, local, faces| {
-                    this.nodal_cell_update((cell, local), faces, volume, stage, out);
-                });
+            |this, b, band, fields, inputs, out| {
+                // the three kinds of stage, each compiled apart
+                match (stage.reads_points(), stage.single) {
+                    (true, _) => this.band_2d::<false>(b, band, fields, &k, |c, l, faces| {
+                        this.nodal_cell_update::<true>((c, l), faces, inputs, stage, out)
+                    }),
+                    (false, true) => this.band_2d::<true>(b, band, fields, &k, |c, l, faces| {
+                        this.nodal_cell_update::<true>((c, l), faces, inputs, stage, out)
+                    }),
+                    (false, false) => this.band_2d::<true>(b, band, fields, &k, |c, l, faces| {
+                        this.nodal_cell_update::<false>((c, l), faces, inputs, stage, out)
+                    }),
+                }
             },
         )
     }
@@ -237,7 +367,8 @@ impl DgmpmSolver<2> {
 
 impl DgmpmSolver<1> {
     /// The 1D nodal sweep: each chunk of cells solves its low face (node 1 of the cell
-    /// below against its node 0), then per cell its high face and the update.
+    /// below against its node 0, or the two cells' states when read from the points), then
+    /// per cell its high face and the update.
     fn nodal_sweep_1d(&mut self, points: &mut MaterialPoints<1>, stage: Stage) -> (f64, Vector<1>) {
         let constants = AxisConstants::new(&self.elastic);
         let count = self.grid.cells[0];
@@ -245,16 +376,19 @@ impl DgmpmSolver<1> {
             points,
             CHUNK,
             stage,
-            |this, b, band, fields, volume, out| {
+            |this, b, band, fields, inputs, out| {
                 let start = b * CHUNK;
                 let len = CHUNK.min(count - start);
                 band.power = 0.0;
                 band.force = Vector::<1>::zeros();
                 let face = |left: usize| {
-                    let (l, r) = (
-                        fields.at::<true>(left, 0, true),
-                        fields.at::<true>(left + 1, 0, false),
-                    );
+                    let (l, r) = match stage.reads_points() {
+                        true => (fields.cell(left), fields.cell(left + 1)),
+                        false => (
+                            fields.at::<true>(left, 0, true),
+                            fields.at::<true>(left + 1, 0, false),
+                        ),
+                    };
                     axis_flux_1d(&l, &r, &constants)
                 };
                 // the chunk's low face is counted by the chunk below it (or here at the bar's end)
@@ -268,7 +402,15 @@ impl DgmpmSolver<1> {
                         true => face(cell),
                         false => this.boundary_flux(0, [count], fields, band),
                     };
-                    this.nodal_cell_update((cell, j), [[&low, &high]], volume, stage, out);
+                    let faces = [[&low, &high]];
+                    match stage.single {
+                        true => {
+                            this.nodal_cell_update::<true>((cell, j), faces, inputs, stage, out)
+                        }
+                        false => {
+                            this.nodal_cell_update::<false>((cell, j), faces, inputs, stage, out)
+                        }
+                    }
                     low = high;
                 }
             },
