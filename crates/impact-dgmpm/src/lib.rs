@@ -36,7 +36,9 @@
 //! points per cell, the increment update; the default there): phases 2-4 of each stage in
 //! the same sweep, the face states read from the DG nodes and each cell's nodal rates and
 //! update formed from its four final fluxes (`DgmpmSolver::rates_of_cell`, shared with
-//! the phase path); no face or rate arrays. Tested bit for bit equal to the nodal phases.
+//! the phase path), phase 5 in the step's last stage, and with RK2 at one point per cell no
+//! phase 1 (the first stage reads the points); no face or rate arrays. Tested bit for bit
+//! equal to the nodal phases.
 //!
 //! Choices where the paper is silent, with their reasons:
 //! - **Point update** ([`PointUpdate`]): the default is `Nodal` (points take the
