@@ -145,6 +145,9 @@ pub struct MpmSolver<const D: usize> {
     /// layer starts in that order (`layers + 1` entries): the colouring of the scatters.
     layer_order: Vec<usize>,
     layer_start: Vec<usize>,
+    /// Whether `layer_order` is the points' own order (then it is not read, and is freed in
+    /// the total Lagrangian frame).
+    in_layer_order: bool,
     parallel: bool,
     /// Nodes holding at most this mass are empty: `1e-10` of the lightest point. A smooth
     /// stencil (GIMP, B-splines) gives round-off weights (~1e-15) to nodes at its edge; with
@@ -232,6 +235,7 @@ impl<const D: usize> Mpm<D> {
                 nodes: NodeSums::new(nodes),
                 layer_order: vec![0; np],
                 layer_start: vec![0; grid.cells[D - 1] + 2],
+                in_layer_order: false,
                 parallel,
                 point_base: vec![0; np],
                 stencil,

@@ -119,8 +119,12 @@ impl<const D: usize> MpmSolver<D> {
     }
 
     /// Sort the points by the layer (along the last axis) of their stencil's base node into
-    /// `layer_order` (a counting sort, stable: points already in cell order keep it).
+    /// `layer_order` (a counting sort, stable: points already in cell order keep it). Where
+    /// that order is the points' own, the scatters read no order (`in_layer_order`), and in
+    /// the total Lagrangian frame, sorted once, `layer_order` is freed.
     pub(crate) fn sort_by_layer(&mut self) {
+        // freed by an earlier sort in the total Lagrangian frame
+        self.layer_order.resize(self.point_base.len(), 0);
         let layer_nodes: usize = self.grid.cells[..D - 1].iter().map(|n| n + 1).product();
         let starts = &mut self.layer_start;
         starts.iter_mut().for_each(|s| *s = 0);
@@ -140,5 +144,9 @@ impl<const D: usize> MpmSolver<D> {
             starts[k] = starts[k - 1];
         }
         starts[0] = 0;
+        self.in_layer_order = self.layer_order.iter().enumerate().all(|(k, &p)| k == p);
+        if self.in_layer_order && self.options.frame == MpmFrame::TotalLagrangian {
+            self.layer_order = Vec::new();
+        }
     }
 }
