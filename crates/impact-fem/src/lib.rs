@@ -15,27 +15,31 @@
 //! displacement in one pass over the nodes, the prescribed velocities set before it),
 //! [`FemSolver::internal_forces_into`] (which already
 //! prepares `a^{n+1}` for the next step, so the full-step velocity
-//! `v^{n+1} = v^{n+1/2} + Δt/2 a^{n+1}` is available for output and energy).
+//! `v^{n+1} = v^{n+1/2} + Δt/2 a^{n+1}` is available for output and energy). On the
+//! stencil path (linear elasticity) the two phases run fused in one pass over the node
+//! layers, the update one layer ahead of the force (`stencil.rs`, bit for bit the two
+//! phases, which [`FemSolver::set_fused_step`] restores).
 //!
 //! Loads: a pressure is the consistent nodal force of the loaded edge (in 1D `p A` on the
 //! end node); a prescribed velocity is imposed on the nodes of its edge segment (the
 //! paper's plate: nodes with `y ≤ 1 m`); a symmetry edge zeroes the normal velocity.
 //!
-//! Layout: this file holds the solver, its assembly (lumped mass, boundary loads, the
-//! coloured internal force) and the central-difference phases; `method.rs` the `Method`
-//! impl; `stencil.rs` the internal force of linear elasticity as a node stencil (the
+//! Layout: this file holds the solver and its assembly (lumped mass, boundary loads, the
+//! coloured internal force); `central.rs` the central-difference phases and the step;
+//! `method.rs` the `Method` impl; `stencil.rs` the internal force of linear elasticity as a node stencil (the
 //! default there; the Gauss-point path stays the reference it is tested against).
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
 use impact_core::method::SegmentCover;
 use impact_core::method::{MethodConfig, Model};
-use impact_core::parallel::{chunks, for_each_chunk, worth_parallel};
+use impact_core::parallel::{chunks, for_each_chunk, threads, worth_parallel};
 use impact_core::problem::Boundary;
 use impact_core::{
     Constraint, CoreError, Grid, LinearElastic, LoadHistory, Problem, Tensor, Vector,
 };
 
+mod central;
 mod method;
 mod plastic;
 mod stencil;
@@ -96,6 +100,12 @@ pub struct FemSolver<const D: usize> {
     /// Linear elasticity: the internal force as a node stencil (`stencil.rs`); `None`: the
     /// Gauss-point path.
     stencil: Option<stencil::Stencil<D>>,
+    /// Whether the stencil path fuses the nodal update into the internal force
+    /// ([`stencil::Stencil::step_into`]).
+    fuse_step: bool,
+    /// Layers per band of the fused step, and its halo buffer (two layers per band).
+    band_layers: usize,
+    halo: Vec<Vector<D>>,
 }
 
 /// Explicit FEM as a [`Method`](impact_core::Method).
@@ -158,12 +168,17 @@ impl<const D: usize> Fem<D> {
                 _ => None,
             },
             stencil: None,
+            fuse_step: true,
+            band_layers: 0,
+            halo: Vec::new(),
         };
         if problem.model == Model::LinearElastic {
-            solver.stencil = Some(stencil::Stencil::new(
-                &solver.grid,
-                &solver.element_stiffness(),
-            ));
+            let stencil = stencil::Stencil::new(&solver.grid, &solver.element_stiffness());
+            let band_layers = stencil.band_layers(threads(), parallel);
+            let bands = stencil.layers().div_ceil(band_layers);
+            solver.halo = vec![Vector::<D>::zeros(); 2 * bands * stencil.layer_nodes()];
+            solver.band_layers = band_layers;
+            solver.stencil = Some(stencil);
             // the stencil writes the acceleration only: no force array
             solver.force = Vec::new();
         }
@@ -401,6 +416,7 @@ impl<const D: usize> FemSolver<D> {
     /// tested against; benchmarks).
     pub fn use_gauss_path(&mut self) {
         self.stencil = None;
+        self.halo = Vec::new();
         self.force = vec![Vector::<D>::zeros(); self.mass.len()];
     }
 
@@ -509,67 +525,6 @@ impl<const D: usize> FemSolver<D> {
         for &n in &self.loaded_nodes {
             acceleration[n] = (self.external[n] - self.force[n]) / self.mass[n];
         }
-    }
-
-    /// `f_ext` at time `t`: `Σ g(t) f` over the loaded nodes (the others stay zero).
-    pub fn set_load_time(&mut self, t: f64) {
-        for &(node, _, _) in &self.loaded {
-            self.external[node] = Vector::<D>::zeros();
-        }
-        for &(node, force, history) in &self.loaded {
-            self.external[node] += force * history.factor(t);
-        }
-    }
-
-    /// The central-difference update of the nodes, in one pass:
-    /// `v^{n+1/2} = v^{n-1/2} + Δt_avg a^n` (`Δt_avg` the mean of the last and this step),
-    /// `u^{n+1} = u^n + Δt v^{n+1/2}`. The prescribed velocity components take their value
-    /// at `t_half` first (their acceleration is zeroed, so the pass keeps them). Returns
-    /// the work of the constraints' reactions and of the external forces,
-    /// `Δt r · v_d + Δt f_ext · v^{n+1/2}`; adds the impulse of both to the state.
-    pub fn nodal_update(&self, state: &mut FemState<D>, dt: f64, t_half: f64) -> f64 {
-        let dt_avg = 0.5 * (state.last_dt + dt);
-        for &n in &self.loaded_nodes {
-            state.impulse += self.external[n] * dt_avg;
-        }
-        let mut work = 0.0;
-        for c in &self.constraints {
-            let (node, axis, value) = (c.carrier, c.axis, c.at(t_half));
-            // the velocity the update would give it, then the reaction that holds it
-            let free = state.velocity_half[node][axis] + state.acceleration[node][axis] * dt_avg;
-            let reaction = self.mass[node] * (value - free) / dt_avg;
-            state.velocity_half[node][axis] = value;
-            state.acceleration[node][axis] = 0.0;
-            work += dt * reaction * value;
-            state.impulse[axis] += reaction * dt_avg;
-        }
-        let acceleration = &state.acceleration;
-        let parts = (
-            chunks(&mut state.velocity_half, CHUNK),
-            chunks(&mut state.displacement, CHUNK),
-        );
-        for_each_chunk(self.parallel, 1, parts, |r, (velocity, displacement)| {
-            for (j, (v, u)) in velocity.iter_mut().zip(displacement.iter_mut()).enumerate() {
-                *v += acceleration[r * CHUNK + j] * dt_avg;
-                *u += *v * dt;
-            }
-        });
-        // f_ext is zero but at the loaded nodes
-        let velocity = &state.velocity_half;
-        let external: f64 = (self.loaded_nodes.iter())
-            .map(|&n| dt * self.external[n].dot(&velocity[n]))
-            .sum();
-        work + external
-    }
-
-    /// One step (module doc) from `t^n = t` to `t^{n+1} = t + Δt`: `a^n` used by the
-    /// velocity update was computed with `f_ext(t^n)`; the new acceleration takes
-    /// `f_ext(t^{n+1})`, and prescribed velocities their value at `t^{n+1/2}`.
-    pub fn step(&mut self, state: &mut FemState<D>, t: f64, dt: f64) {
-        state.work += self.nodal_update(state, dt, t + 0.5 * dt);
-        self.set_load_time(t + dt);
-        self.internal_forces_into(&state.displacement, &mut state.acceleration);
-        state.last_dt = dt;
     }
 
     /// Full-step velocity `v^{n} = v^{n-1/2} + Δt/2 a^n` of node `i`.

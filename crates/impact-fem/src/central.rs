@@ -1,0 +1,120 @@
+//! The central-difference phases of the step (module doc of the crate): the loads at a
+//! time, the nodal update with its prescribed velocities, the work of the loads, and the
+//! step itself (two phases, or fused into one pass on the stencil path).
+use crate::{FemSolver, FemState, CHUNK};
+use impact_core::parallel::{chunks, for_each_chunk};
+use impact_core::Vector;
+
+impl<const D: usize> FemSolver<D> {
+    /// `f_ext` at time `t`: `Σ g(t) f` over the loaded nodes (the others stay zero).
+    pub fn set_load_time(&mut self, t: f64) {
+        for &(node, _, _) in &self.loaded {
+            self.external[node] = Vector::<D>::zeros();
+        }
+        for &(node, force, history) in &self.loaded {
+            self.external[node] += force * history.factor(t);
+        }
+    }
+
+    /// The central-difference update of the nodes, in one pass:
+    /// `v^{n+1/2} = v^{n-1/2} + Δt_avg a^n` (`Δt_avg` the mean of the last and this step),
+    /// `u^{n+1} = u^n + Δt v^{n+1/2}`. The prescribed velocity components take their value
+    /// at `t_half` first (their acceleration is zeroed, so the pass keeps them). Returns
+    /// the work of the constraints' reactions and of the external forces,
+    /// `Δt r · v_d + Δt f_ext · v^{n+1/2}`; adds the impulse of both to the state.
+    pub fn nodal_update(&self, state: &mut FemState<D>, dt: f64, t_half: f64) -> f64 {
+        let dt_avg = 0.5 * (state.last_dt + dt);
+        let work = self.hold_velocities(state, dt, t_half);
+        let acceleration = &state.acceleration;
+        let parts = (
+            chunks(&mut state.velocity_half, CHUNK),
+            chunks(&mut state.displacement, CHUNK),
+        );
+        for_each_chunk(self.parallel, 1, parts, |r, (velocity, displacement)| {
+            for (j, (v, u)) in velocity.iter_mut().zip(displacement.iter_mut()).enumerate() {
+                *v += acceleration[r * CHUNK + j] * dt_avg;
+                *u += *v * dt;
+            }
+        });
+        work + self.external_work(state, dt)
+    }
+
+    /// The prescribed velocity components of `v^{n+1/2}` take their value at `t_half`, and
+    /// their acceleration is zeroed (so the update keeps them); returns the work of the
+    /// reactions, `Δt r · v_d`, and adds their impulse and the loads' to the state.
+    fn hold_velocities(&self, state: &mut FemState<D>, dt: f64, t_half: f64) -> f64 {
+        let dt_avg = 0.5 * (state.last_dt + dt);
+        for &n in &self.loaded_nodes {
+            state.impulse += self.external[n] * dt_avg;
+        }
+        let mut work = 0.0;
+        for c in &self.constraints {
+            let (node, axis, value) = (c.carrier, c.axis, c.at(t_half));
+            // the velocity the update would give it, then the reaction that holds it
+            let free = state.velocity_half[node][axis] + state.acceleration[node][axis] * dt_avg;
+            let reaction = self.mass[node] * (value - free) / dt_avg;
+            state.velocity_half[node][axis] = value;
+            state.acceleration[node][axis] = 0.0;
+            work += dt * reaction * value;
+            state.impulse[axis] += reaction * dt_avg;
+        }
+        work
+    }
+
+    /// Work of the external forces over the step, `Δt f_ext · v^{n+1/2}` (`f_ext` is zero
+    /// but at the loaded nodes).
+    fn external_work(&self, state: &FemState<D>, dt: f64) -> f64 {
+        let velocity = &state.velocity_half;
+        (self.loaded_nodes.iter())
+            .map(|&n| dt * self.external[n].dot(&velocity[n]))
+            .sum()
+    }
+
+    /// One step (module doc) from `t^n = t` to `t^{n+1} = t + Δt`: `a^n` used by the
+    /// velocity update was computed with `f_ext(t^n)`; the new acceleration takes
+    /// `f_ext(t^{n+1})`, and prescribed velocities their value at `t^{n+1/2}`. With the
+    /// stencil, the nodal update and the internal force run in one pass
+    /// (`Stencil::step_into` in `stencil.rs`) unless [`Self::set_fused_step`] turned it off.
+    pub fn step(&mut self, state: &mut FemState<D>, t: f64, dt: f64) {
+        match &self.stencil {
+            Some(stencil) if self.fuse_step => {
+                let dt_avg = 0.5 * (state.last_dt + dt);
+                let work = self.hold_velocities(state, dt, t + 0.5 * dt);
+                let fields = (
+                    &mut state.displacement[..],
+                    &mut state.velocity_half[..],
+                    &mut state.acceleration[..],
+                );
+                let bands = (&mut self.halo[..], self.band_layers);
+                let times = (dt, dt_avg);
+                stencil.step_into(fields, &self.inv_mass, times, bands, self.parallel);
+                state.work += work + self.external_work(state, dt);
+                self.set_load_time(t + dt);
+                for &n in &self.loaded_nodes {
+                    state.acceleration[n] += self.external[n] * self.inv_mass[n];
+                }
+            }
+            _ => {
+                state.work += self.nodal_update(state, dt, t + 0.5 * dt);
+                self.set_load_time(t + dt);
+                self.internal_forces_into(&state.displacement, &mut state.acceleration);
+            }
+        }
+        state.last_dt = dt;
+    }
+
+    /// Bands of layers the fused step runs in parallel (1 where it runs serially; 0
+    /// without the stencil).
+    pub fn fused_bands(&self) -> usize {
+        match &self.stencil {
+            Some(stencil) => stencil.layers().div_ceil(self.band_layers),
+            None => 0,
+        }
+    }
+
+    /// Run the stencil path's step as its two phases (`false`: the reference the fused
+    /// pass is tested against) or fused (`true`, the default).
+    pub fn set_fused_step(&mut self, fused: bool) {
+        self.fuse_step = fused;
+    }
+}
