@@ -16,6 +16,8 @@
 //! First, a STREAM-style triad `a = b + s·c` over 40 M doubles on each pool (the same
 //! loop as `roofline.rs`, split in chunks of 64 K on the pool): a phase bound by memory
 //! bandwidth cannot speed up by more than the triad does.
+mod common;
+use common::{median, plate_arguments, pool};
 use impact_core::method::MethodKind;
 use impact_core::{Method, Problem, Scene};
 use std::time::Instant;
@@ -29,11 +31,6 @@ fn threads(n: usize) -> String {
         1 => "1 thread".into(),
         _ => format!("{n} threads"),
     }
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 /// Bandwidth of one triad pass on `pool`, GB/s (24 B per element: two reads, one write).
@@ -68,23 +65,11 @@ fn time_steps(pool: &rayon::ThreadPool, m: &mut dyn Method<2>, first: usize) -> 
 }
 
 fn main() {
-    let args: Vec<usize> = std::env::args()
-        .skip(1)
-        .filter_map(|a| a.parse().ok())
-        .collect();
-    let cells = match args.as_slice() {
-        [nx, ny, ..] => vec![*nx, *ny],
-        _ => vec![1000, 750],
-    };
-    let counts = match args.get(2..) {
-        Some(counts) if !counts.is_empty() => counts.to_vec(),
-        _ => vec![1, 2],
-    };
-    let pool = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("a thread pool")
+    let (cells, counts) = plate_arguments();
+    let counts = if counts.is_empty() {
+        vec![1, 2]
+    } else {
+        counts
     };
     let one = pool(1);
     let pools: Vec<_> = counts.iter().map(|&n| pool(n)).collect();
