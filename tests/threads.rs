@@ -1,7 +1,8 @@
 //! Parallel loops give the serial results: every method on the plate (4,800 cells, above
 //! the parallel threshold) stepped in a 1-thread and a 2-thread rayon pool agrees to
-//! round-off (the serial scatters of MPM and FEM add in point order, the parallel ones by
-//! colour). MPM is also checked with the widest stencil (cubic B-splines, 4 node layers per
+//! round-off (MPM's serial scatter adds layer by layer and FEM's Gauss path element by
+//! element, the parallel ones by colour; FEM's stencil and its fused step in bands, bit
+//! for bit). MPM is also checked with the widest stencil (cubic B-splines, 4 node layers per
 //! colour band) in the updated Lagrangian frame, where points change cells.
 use impact_core::method::{MethodConfig, MethodKind, MpmFrame, MpmShape, Samples};
 use impact_core::{Problem, Scene};

@@ -10,8 +10,11 @@
 //! writes through `split_at_mut`, no partial sums, no lock, no unsafe). Blocks of
 //! `BLOCK_LAYERS` (8) layers, fixed by the grid: a block's nodes stay in cache while its
 //! points add to them (colouring single layers sent every node layer through memory once
-//! per colour), and sums do not depend on the thread count. The points are counting-sorted by layer when their cells change (once in the
-//! total Lagrangian frame). Point loops write disjoint points.
+//! per colour), and sums do not depend on the thread count. A serial run takes one pass,
+//! layer by layer, zeroing each node layer just before its first point. The points are
+//! counting-sorted by layer when their cells change (once in the total Lagrangian frame,
+//! where they are in layer order from the start and the scatters read them directly).
+//! Point loops write disjoint points.
 use crate::{Band, MpmSolver, MAX_NODES};
 use impact_core::method::{Model, MpmFrame};
 use impact_core::parallel::{chunks, for_each_chunk};
@@ -61,8 +64,10 @@ impl<const D: usize> MpmSolver<D> {
     /// axis) writes node layers `j` to `j + w − 1` only (`w` nodes per axis), so blocks of
     /// `B ≥ w − 1` such layers, every other block, write disjoint bands of `2B` node
     /// layers: two colour passes over disjoint chunks of the nodal arrays (in parallel when
-    /// worth it; module doc). A serial run adds in point order instead (the same sums up to
-    /// round-off). The contribution reads each point's stencil through [`Weights`].
+    /// worth it; module doc). A serial run adds in one pass, layer by layer (the same sums
+    /// up to round-off), and zeroes each node layer just before its first point, while it
+    /// is in cache, instead of in a pass of its own. The contribution reads each point's
+    /// stencil through [`Weights`].
     fn scatter(
         &mut self,
         fill: Fill,
@@ -95,17 +100,30 @@ impl<const D: usize> MpmSolver<D> {
             }
         };
         if !self.parallel {
-            // one pass in point order (the colouring only serves the parallel passes)
-            zero(&mut nodes.mass, &mut nodes.momentum, &mut nodes.force);
+            // one pass, layer by layer; each node layer is zeroed just before the first
+            // point that writes it (no pass of its own)
             let mut sums = Band {
                 mass: &mut nodes.mass,
                 momentum: &mut nodes.momentum,
                 force: &mut nodes.force,
                 offset: 0,
             };
-            for p in 0..self.point_base.len() {
-                contribution(p, &mut sums);
+            let mut zeroed = 0;
+            let mut zero_to = |sums: &mut Band<'_, D>, layer: usize| {
+                let range = zeroed * layer_nodes..layer * layer_nodes;
+                if !range.is_empty() {
+                    let (m, p, f) = (&mut *sums.mass, &mut *sums.momentum, &mut *sums.force);
+                    zero(&mut m[range.clone()], &mut p[range.clone()], &mut f[range]);
+                    zeroed = layer;
+                }
+            };
+            for layer in 0..layers {
+                zero_to(&mut sums, (layer + width).min(layers));
+                for k in starts[layer]..starts[layer + 1] {
+                    contribution(if in_order { k } else { order[k] }, &mut sums);
+                }
             }
+            zero_to(&mut sums, layers);
             return;
         }
         // blocks of `block` point layers write `block + w - 1` node layers, within the
