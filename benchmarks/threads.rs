@@ -6,8 +6,11 @@
 //! inside a one-thread pool, so that its loops take their serial form (what a run with
 //! `RAYON_NUM_THREADS=1` executes), and in the global pool, so that they take their
 //! parallel form. Each round steps the serial build on one thread, then the parallel build
-//! on a pool of each thread count, `STEPS` steps each (each build keeps its own state; the
-//! step's cost does not depend on the state of the wave); the median over `ROUNDS` rounds
+//! on a pool of each thread count, at least `STEPS` steps each and at least `WINDOW` seconds
+//! of the serial build (the step count is set from the warm-up round, so a cheap step is
+//! not timed over a window short enough for the machine's noise to dominate; each build
+//! keeps its own state; the step's cost does not depend on the state of the wave); the
+//! median over `ROUNDS` rounds
 //! of the time per step is reported, and the speed-up of each count over the serial
 //! build. Separate processes (criterion runs, `benchmarks/scaling.sh`) varied by up to
 //! ±30 % from one run to the next on the shared 2-core VM (page placement, neighbours),
@@ -24,6 +27,8 @@ use std::time::Instant;
 
 const ROUNDS: usize = 7;
 const STEPS: usize = 4;
+/// Shortest timed window of the serial build, seconds.
+const WINDOW: f64 = 0.08;
 
 /// "1 thread", "n threads".
 fn threads(n: usize) -> String {
@@ -52,15 +57,19 @@ fn triad(pool: &rayon::ThreadPool, a: &mut [f64], b: &[f64], c: &[f64]) -> f64 {
     24.0 * a.len() as f64 / start.elapsed().as_secs_f64() / 1e9
 }
 
-/// Seconds per step of `STEPS` steps of `m` on `pool`, from step `first` on.
-fn time_steps(pool: &rayon::ThreadPool, m: &mut dyn Method<2>, first: usize) -> f64 {
+/// Seconds per step of `steps` steps of `m` on `pool`, from step `first` on.
+fn time_steps(
+    pool: &rayon::ThreadPool,
+    m: &mut dyn Method<2>,
+    (first, steps): (usize, usize),
+) -> f64 {
     let dt = m.stable_dt();
     pool.install(|| {
         let start = Instant::now();
-        for k in first..first + STEPS {
+        for k in first..first + steps {
             m.step(k as f64 * dt, dt);
         }
-        start.elapsed().as_secs_f64() / STEPS as f64
+        start.elapsed().as_secs_f64() / steps as f64
     })
 }
 
@@ -77,7 +86,7 @@ fn main() {
     scene.domain.cells = cells.clone();
     let problem = Problem::<2>::from_scene(&scene).expect("valid scene");
     println!(
-        "plate {}x{}, global pool of {} threads; ms per step, medians of {ROUNDS} interleaved rounds of {STEPS} steps",
+        "plate {}x{}, global pool of {} threads; ms per step, medians of {ROUNDS} interleaved rounds of at least {STEPS} steps and {WINDOW} s",
         cells[0],
         cells[1],
         rayon::current_num_threads()
@@ -104,13 +113,17 @@ fn main() {
         let mut parallel = impact::build(&problem, config).expect("builds");
         let mut serial_times = vec![];
         let mut times = vec![vec![]; counts.len()];
+        let (mut first, mut steps) = (0, STEPS);
         for round in 0..=ROUNDS {
-            let first = round * STEPS;
-            let t = time_steps(&one, serial.as_mut(), first);
+            let t = time_steps(&one, serial.as_mut(), (first, steps));
             let runs: Vec<f64> = pools
                 .iter()
-                .map(|p| time_steps(p, parallel.as_mut(), first))
+                .map(|p| time_steps(p, parallel.as_mut(), (first, steps)))
                 .collect();
+            first += steps;
+            if round == 0 {
+                steps = STEPS.max((WINDOW / t).ceil() as usize);
+            }
             // round 0 warms up
             if round > 0 {
                 serial_times.push(t);
