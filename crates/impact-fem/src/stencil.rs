@@ -156,8 +156,8 @@ impl<const D: usize> Stencil<D> {
     /// `out = -(K u) · (1/m)` on the nodes of layer `layer` (module doc), from `around`:
     /// the displacement of the layer below, of the layer, of the layer above (the first or
     /// the last empty at the mesh's edges). In 2D the interior nodes of an interior layer
-    /// take [`interior_row_2d`], the same sum with its nine blocks fixed (no per-node
-    /// type, no bounds checks).
+    /// take [`interior_row_2d`] (the pairs of blocks, no per-node type, no bounds checks);
+    /// edge nodes, and 3D, the general sum over the node type's blocks.
     fn layer_into(
         &self,
         layer: usize,
