@@ -5,6 +5,20 @@ use crate::{FemSolver, FemState, CHUNK};
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::Vector;
 
+/// The central-difference update of one node: `v += Δt_avg a`, then `u += Δt v`. The one
+/// place these operations are written, so the two-phase step, the fused pass and its halo
+/// (`stencil.rs`) give the same bits.
+#[inline]
+pub(crate) fn advance_node<const D: usize>(
+    u: &mut Vector<D>,
+    v: &mut Vector<D>,
+    a: &Vector<D>,
+    (dt, dt_avg): (f64, f64),
+) {
+    *v += a * dt_avg;
+    *u += *v * dt;
+}
+
 impl<const D: usize> FemSolver<D> {
     /// `f_ext` at time `t`: `Σ g(t) f` over the loaded nodes (the others stay zero).
     pub fn set_load_time(&mut self, t: f64) {
@@ -32,8 +46,7 @@ impl<const D: usize> FemSolver<D> {
         );
         for_each_chunk(self.parallel, 1, parts, |r, (velocity, displacement)| {
             for (j, (v, u)) in velocity.iter_mut().zip(displacement.iter_mut()).enumerate() {
-                *v += acceleration[r * CHUNK + j] * dt_avg;
-                *u += *v * dt;
+                advance_node(u, v, &acceleration[r * CHUNK + j], (dt, dt_avg));
             }
         });
         work + self.external_work(state, dt)
@@ -90,9 +103,7 @@ impl<const D: usize> FemSolver<D> {
                 stencil.step_into(fields, &self.inv_mass, times, bands, self.parallel);
                 state.work += work + self.external_work(state, dt);
                 self.set_load_time(t + dt);
-                for &n in &self.loaded_nodes {
-                    state.acceleration[n] += self.external[n] * self.inv_mass[n];
-                }
+                self.add_loads_into(&mut state.acceleration);
             }
             _ => {
                 state.work += self.nodal_update(state, dt, t + 0.5 * dt);

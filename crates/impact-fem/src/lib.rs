@@ -346,13 +346,18 @@ impl<const D: usize> FemSolver<D> {
         if let Some(stencil) = &self.stencil {
             let buffers = (&self.inv_mass[..], &mut acceleration[..]);
             stencil.accelerations_into(displacement, buffers, CHUNK, self.parallel);
-            for &n in &self.loaded_nodes {
-                acceleration[n] += self.external[n] * self.inv_mass[n];
-            }
+            self.add_loads_into(acceleration);
             return;
         }
         self.gauss_forces_into(displacement);
         self.acceleration_into(acceleration);
+    }
+
+    /// `a += f_ext/m` at the loaded nodes (the stencil path writes `-f_int/m` only).
+    fn add_loads_into(&self, acceleration: &mut [Vector<D>]) {
+        for &n in &self.loaded_nodes {
+            acceleration[n] += self.external[n] * self.inv_mass[n];
+        }
     }
 
     /// The Gauss-point path of [`Self::internal_forces_into`] (force only).

@@ -33,6 +33,7 @@
 //! formed first into a halo buffer, from the same values with the same operations (bit
 //! for bit what the neighbour stores). The separate phases stay the reference the fused
 //! step is tested against (`tests/fused_step.rs`).
+use crate::central::advance_node;
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::{Grid, Tensor, Vector};
 
@@ -317,7 +318,10 @@ impl<const D: usize> Stencil<D> {
                     .zip(&v[nodes.clone()])
                     .zip(&a[nodes]);
                 for (o, ((u, v), a)) in out.iter_mut().zip(old) {
-                    *o = u + (v + a * dt_avg) * dt;
+                    // the neighbour's update of this node, not stored
+                    let (mut u, mut v) = (*u, *v);
+                    advance_node(&mut u, &mut v, a, (dt, dt_avg));
+                    *o = u;
                 }
             };
             for_each_chunk(parallel, 1, chunks(halo, 2 * n), |b, h| {
@@ -345,8 +349,7 @@ impl<const D: usize> Stencil<D> {
             let advance = |k: usize, u: &mut [Vector<D>], v: &mut [Vector<D>], a: &[Vector<D>]| {
                 let new = u[nodes(k)].iter_mut().zip(&mut v[nodes(k)]);
                 for ((u, v), a) in new.zip(&a[nodes(k)]) {
-                    *v += a * dt_avg;
-                    *u += *v * dt;
+                    advance_node(u, v, a, (dt, dt_avg));
                 }
             };
             let (halo_below, halo_above) = halo[2 * b * n..2 * (b + 1) * n].split_at(n);

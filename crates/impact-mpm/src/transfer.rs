@@ -78,6 +78,8 @@ impl<const D: usize> MpmSolver<D> {
         let width = self.stencil.width;
         let (order, starts) = (&self.layer_order, &self.layer_start);
         let in_order = self.in_layer_order;
+        // the point at place `k` of the layer order
+        let point_at = |k: usize| if in_order { k } else { order[k] };
         let weights = Weights {
             stride: self.weight_stride,
             offsets: &self.stencil.offsets,
@@ -120,7 +122,7 @@ impl<const D: usize> MpmSolver<D> {
             for layer in 0..layers {
                 zero_to(&mut sums, (layer + width).min(layers));
                 for k in starts[layer]..starts[layer + 1] {
-                    contribution(if in_order { k } else { order[k] }, &mut sums);
+                    contribution(point_at(k), &mut sums);
                 }
             }
             zero_to(&mut sums, layers);
@@ -155,8 +157,7 @@ impl<const D: usize> MpmSolver<D> {
                     offset: first * layer_nodes,
                 };
                 for k in starts[first]..starts[last] {
-                    let p = if in_order { k } else { order[k] };
-                    contribution(p, &mut sums);
+                    contribution(point_at(k), &mut sums);
                 }
             });
         }
