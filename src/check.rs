@@ -353,7 +353,7 @@ pub fn check_study<const D: usize>(
         let (rows, pass) = judge(
             &dgmpm_record,
             &mpm_record,
-            |t| reference.front(t).is_some(),
+            |t| reference.front(t).is_ok(),
             &options.thresholds,
         );
         reports.push(CheckReport {

@@ -10,7 +10,9 @@
 //!   finer grid ([`Converged`], computed by the caller, e.g. DGMPM on a refined grid). The
 //!   samples are compared with its averages over their regions; the front is at `c_p t`,
 //!   with the jump from 0 to the reference's average over the cell just behind the front.
-use crate::exact::{BarExact, ElastoplasticWave, EndLoad, Front, StandingWave, SvkBarExact};
+use crate::exact::{
+    BarExact, ElastoplasticWave, EndLoad, Front, NoFront, StandingWave, SvkBarExact,
+};
 use crate::initial::InitialState;
 use crate::load::LoadHistory;
 use crate::method::{Method, Samples};
@@ -321,24 +323,36 @@ impl Reference {
         }
     }
 
-    /// The leading front at `t`.
-    pub fn front(&self, t: f64) -> Option<Front> {
+    /// The leading front at `t`, or why there is none.
+    pub fn front(&self, t: f64) -> Result<Front, NoFront> {
         match self {
             Reference::Bar(b) => b.leading_front(t),
             Reference::SvkBar(b) => b.leading_front(t),
-            Reference::Standing(_) => None,
-            Reference::Elastoplastic(w) => (t <= w.valid_until).then(|| w.fronts(t)[0]),
+            Reference::Standing(_) => Err(NoFront::NotAStep),
+            Reference::Elastoplastic(w) => {
+                if t <= w.valid_until {
+                    Ok(w.fronts(t)[0])
+                } else {
+                    Err(NoFront::PastValidity)
+                }
+            }
             Reference::Converged(c) => {
                 let position = c.speed * t;
-                if !(position > 1.5 * c.coarse_dx && position < c.length) {
-                    return None;
+                if position <= 1.5 * c.coarse_dx {
+                    return Err(NoFront::NotYetFormed);
+                }
+                if position >= c.length {
+                    return Err(NoFront::LeftTheBody);
                 }
                 // the reference along the bottom band, one coarse cell behind the front
                 let band = [c.spacing[1] * 0.0, c.spacing[1] * c.cells[1] as f64];
                 let lo = [position - 1.5 * c.coarse_dx, band[0]];
                 let hi = [position - 0.5 * c.coarse_dx, band[0] + c.coarse_dx];
                 let behind = c.average(&c.stress_xx, lo, hi, t);
-                behind.is_finite().then_some(Front {
+                if !behind.is_finite() {
+                    return Err(NoFront::NoReference);
+                }
+                Ok(Front {
                     position,
                     direction: 1.0,
                     ahead: 0.0,
@@ -446,7 +460,7 @@ impl Reference {
         method.sample_into(samples);
         let profile = self.profile(samples, t);
         // a front without a jump (a zero load) has nothing to measure
-        let front = self.front(t).filter(|f| f.behind != f.ahead);
+        let front = self.front(t).ok().filter(|f| f.behind != f.ahead);
         let ProfileMetrics {
             l1_rel,
             linf_rel,

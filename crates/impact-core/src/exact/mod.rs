@@ -79,6 +79,52 @@ pub struct Front {
     pub window: (f64, f64),
 }
 
+/// Why a reference has no measurable front at some time: the front metrics (width,
+/// overshoot, position) and the gate report this reason instead of a number.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum NoFront {
+    /// The load is not a step (a ramp or sine starts with a kink, not a jump; a smooth
+    /// initial state has no discontinuity).
+    NotAStep,
+    /// The front has not yet moved far enough from the loaded face to be resolved.
+    NotYetFormed,
+    /// The front has reached the far side of the body (or left the measured line).
+    LeftTheBody,
+    /// Another discontinuity lies within the measuring window (fronts merged or crossing).
+    Merged,
+    /// The jump across the front is too small against the load's stress scale to measure
+    /// a width or an overshoot relative to it.
+    JumpTooSmall,
+    /// The reference behind the front is not a plateau (it varies by more than the jump
+    /// within the window), so width and overshoot relative to the jump are meaningless.
+    NoPlateau,
+    /// The run has no reference solution.
+    NoReference,
+    /// The reference is past the time it holds for.
+    PastValidity,
+}
+
+impl NoFront {
+    /// A sentence for tables and reports.
+    pub fn describe(self) -> &'static str {
+        match self {
+            NoFront::NotAStep => "no front: the load is not a step (no jump to measure)",
+            NoFront::NotYetFormed => "no front yet: it is within 1.5 cells of the loaded face",
+            NoFront::LeftTheBody => "no front: it has reached the far side of the body",
+            NoFront::Merged => "no front: another discontinuity lies within the measuring window",
+            NoFront::JumpTooSmall => {
+                "no front: the jump across it is under 5 % of the load's stress scale"
+            }
+            NoFront::NoPlateau => {
+                "no front: the reference behind it is not a plateau (varies by more than the jump)"
+            }
+            NoFront::NoReference => "no front: the run has no reference solution",
+            NoFront::PastValidity => "no front: past the time the reference holds for",
+        }
+    }
+}
+
 impl BarExact {
     /// Build from bar length, density, modulus and pressure.
     pub fn new(length: f64, density: f64, young: f64, pressure: f64) -> Self {
@@ -294,17 +340,20 @@ impl BarExact {
     /// The most recent discontinuity inside the bar at `t` (the leading front), with the
     /// stress on both sides and the interval where it is the only one.
     /// Only a step load has one (a ramp or sine starts with a kink, not a jump).
-    pub fn leading_front(&self, t: f64) -> Option<Front> {
+    pub fn leading_front(&self, t: f64) -> Result<Front, NoFront> {
         let ct = self.speed * t;
         let l = self.length;
-        if ct <= 0.0 || !self.history.is_step() {
-            return None;
+        if !self.history.is_step() {
+            return Err(NoFront::NotAStep);
+        }
+        if ct <= 0.0 {
+            return Err(NoFront::NotYetFormed);
         }
         // number of full bar transits completed
         let transits = (ct / l).floor();
         let r = ct - transits * l;
         if r <= 0.0 || r >= l {
-            return None;
+            return Err(NoFront::LeftTheBody);
         }
         let (position, direction) = if (transits as usize).is_multiple_of(2) {
             (r, 1.0)
@@ -314,7 +363,7 @@ impl BarExact {
         let eps = 1e-9 * l;
         let ahead = self.stress(position + direction * eps, t);
         let behind = self.stress(position - direction * eps, t);
-        Some(Front {
+        Ok(Front {
             position,
             direction,
             ahead,
@@ -418,7 +467,7 @@ mod tests {
                     .sum()
             };
             assert_relative_eq!(e, b.work(t), max_relative = 1e-3);
-            assert!(b.leading_front(t).is_none());
+            assert_eq!(b.leading_front(t), Err(NoFront::NotAStep));
         }
     }
 

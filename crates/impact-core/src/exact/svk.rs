@@ -1,5 +1,5 @@
 //! The Saint-Venant–Kirchhoff bar of paper §5.3 before the first reflection.
-use super::Front;
+use super::{Front, NoFront};
 
 /// Exact solution of the Saint-Venant–Kirchhoff bar of paper §5.3 before the wave reaches
 /// the free end: at rest (`F = 1`), loaded at `X = 0` from `t = 0` by a step pressure `p`
@@ -145,9 +145,15 @@ impl SvkBarExact {
     }
 
     /// The leading front at `t` (while the solution holds).
-    pub fn leading_front(&self, t: f64) -> Option<Front> {
+    pub fn leading_front(&self, t: f64) -> Result<Front, NoFront> {
         let position = self.leading_speed() * t;
-        (position > 0.0 && position < self.length).then_some(Front {
+        if position <= 0.0 {
+            return Err(NoFront::NotYetFormed);
+        }
+        if position >= self.length {
+            return Err(NoFront::LeftTheBody);
+        }
+        Ok(Front {
             position,
             direction: 1.0,
             ahead: 0.0,
