@@ -55,6 +55,8 @@ pub struct CheckRow {
     pub second: Option<SecondFront>,
     /// The verdict.
     pub verdict: Verdict,
+    /// Why the front was not compared (with [`Verdict::NoFront`]).
+    pub reason: Option<impact_core::exact::NoFront>,
 }
 
 /// The metrics of the second front of a row.
@@ -120,16 +122,15 @@ impl Thresholds {
     }
 }
 
-/// The pass/fail rule on two runs: `has_front(t)` tells whether the reference has a front
-/// at `t`. An undefined width or overshoot counts as infinitely bad. The gate passes when
-/// both runs reached every output time, at least one time was compared, and every
-/// compared time passes.
-pub fn judge(
-    dgmpm: &RunRecord,
-    mpm: &RunRecord,
-    has_front: impl Fn(f64) -> bool,
-    thresholds: &Thresholds,
-) -> (Vec<CheckRow>, bool) {
+/// The pass/fail rule on two runs measured against the same reference: a time whose
+/// metrics say the reference has no front there ([`FrontStatus::NoFront`], with its
+/// reason) is not compared; an undefined width or overshoot counts as infinitely bad. The
+/// gate passes when both runs reached every output time, at least one time was compared,
+/// and every compared time passes.
+///
+/// [`FrontStatus::NoFront`]: impact_core::metrics::FrontStatus::NoFront
+pub fn judge(dgmpm: &RunRecord, mpm: &RunRecord, thresholds: &Thresholds) -> (Vec<CheckRow>, bool) {
+    use impact_core::metrics::FrontStatus;
     let mut ok = dgmpm.error.is_none() && mpm.error.is_none();
     let worse = |v: Option<f64>| v.unwrap_or(f64::INFINITY);
     let n = dgmpm.times.len().max(mpm.times.len());
@@ -158,11 +159,16 @@ pub fn judge(
                 })
             },
             verdict,
+            reason: None,
         };
         let mut r = row(Verdict::NoFront);
+        let no_front = |x: &impact_core::reference::TimeMetrics| x.front == FrontStatus::NoFront;
         r.verdict = if d.is_none() || m.is_none() {
             Verdict::RunStopped
-        } else if !has_front(t) {
+        } else if d.is_some_and(no_front) || m.is_some_and(no_front) {
+            r.reason = d
+                .and_then(|x| x.front_reason)
+                .or(m.and_then(|x| x.front_reason));
             Verdict::NoFront
         } else {
             compared += 1;
@@ -350,12 +356,7 @@ pub fn check_study<const D: usize>(
     let mut reports = Vec::new();
     for mpm in options.against.unwrap_or(Against::SceneMpm).configs(mpm) {
         let mpm_record = run(mpm)?;
-        let (rows, pass) = judge(
-            &dgmpm_record,
-            &mpm_record,
-            |t| reference.front(t).is_ok(),
-            &options.thresholds,
-        );
+        let (rows, pass) = judge(&dgmpm_record, &mpm_record, &options.thresholds);
         reports.push(CheckReport {
             dgmpm,
             mpm,

@@ -184,7 +184,11 @@ pub fn write_junit(path: &Path, scene: &str, reports: &[CheckReport]) -> anyhow:
                     );
                 }
                 Verdict::NoFront => {
-                    xml.push_str("<skipped message=\"the reference has no front at this time\"/>");
+                    let why = row.reason.map_or(
+                        "the reference has no front at this time",
+                        impact_core::exact::NoFront::describe,
+                    );
+                    let _ = write!(xml, "<skipped message=\"{}\"/>", escape(why));
                 }
             }
             xml.push_str("</testcase>\n");

@@ -305,7 +305,7 @@ fn fmt_error(value: f64, basis: ErrorBasis) -> String {
 }
 
 fn print_rows(r: &RunRecord) {
-    let mut notes: Vec<&str> = Vec::new();
+    let mut notes: Vec<String> = Vec::new();
     for t in &r.times {
         say!(
             "{:<6} {:>7.3} {:>4} {:>8} {:>6} {:>8.4} {:>10.6} {:>10} {:>10} {:>11} {:>10} {:>11} {:>8} {:>8}",
@@ -328,11 +328,17 @@ fn print_rows(r: &RunRecord) {
             fmt_opt(t.front_position, 3),
             fmt_opt(t.front_exact, 3)
         );
+        let front_note = match (t.front, t.front_reason) {
+            (FrontStatus::Measured, _) => None,
+            (_, Some(reason)) => Some(format!("t = {:.4} ms: {}", t.t * 1e3, reason.describe())),
+            (status, None) => Some(status.describe().to_string()),
+        };
         for note in [
-            (t.errors != ErrorBasis::Relative).then(|| t.errors.describe()),
-            (t.front != FrontStatus::Measured).then(|| t.front.describe()),
-            (!t.energy_relative)
-                .then_some("energy_rel: the loads did no work, so the energy column is E_h in J"),
+            (t.errors != ErrorBasis::Relative).then(|| t.errors.describe().to_string()),
+            front_note,
+            (!t.energy_relative).then(|| {
+                "energy_rel: the loads did no work, so the energy column is E_h in J".to_string()
+            }),
         ]
         .into_iter()
         .flatten()
@@ -371,6 +377,10 @@ fn run_scene<const D: usize>(study: &Study, args: &RunArgs) -> Result<()> {
         D,
         problem.grid.cell_count(),
         describe_times(&problem.output_times, study.scene.transit().1)
+    );
+    say!(
+        "metrics line: {}",
+        impact_core::line::MeasureLine::of(&problem).describe::<D>()
     );
     let options = RunOptions {
         out: args
@@ -467,7 +477,10 @@ fn print_check(scene: &str, report: &impact::check::CheckReport) {
             fmt_opt(r.mpm_front, 3),
             fmt_opt(r.dgmpm_overshoot, 3),
             fmt_opt(r.mpm_overshoot, 3),
-            r.verdict.label()
+            match r.reason {
+                Some(reason) => format!("skip ({})", reason.describe()),
+                None => r.verdict.label().to_string(),
+            }
         );
         if let Some(s) = r.second {
             say!(
@@ -491,7 +504,7 @@ fn print_check(scene: &str, report: &impact::check::CheckReport) {
         .iter()
         .any(|r| matches!(r.verdict, Verdict::Pass | Verdict::Fail))
     {
-        say!("no output time has a front to compare");
+        say!("no output time has a measurable front to compare: the gate gives no pass");
     }
     say!(
         "{}",

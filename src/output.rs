@@ -11,7 +11,7 @@
 use crate::run::{Observer, RunRecord};
 use anyhow::Context;
 use impact_core::method::Samples;
-use impact_core::reference::{bottom_row, Reference, TimeMetrics};
+use impact_core::reference::{line_samples, Reference, TimeMetrics};
 use impact_core::{Grid, Method, StressMeasure, Vector};
 use impact_io::vtu::{write_pvd, write_vtu, CellType, DataArray, UnstructuredGrid, VtuEncoding};
 use serde::Serialize;
@@ -79,6 +79,8 @@ pub struct FileWriter<'a, const D: usize> {
     pub measure: StressMeasure,
     /// How the `.vtu` arrays are encoded (`--vtu`).
     pub encoding: VtuEncoding,
+    /// Where the profile is taken (default: the bottom row along x).
+    pub line: impact_core::line::MeasureLine,
     /// The `.h5` time series (feature `hdf5`), opened at the first output.
     #[cfg(feature = "hdf5")]
     h5: Option<impact_io::h5::TimeSeries>,
@@ -112,6 +114,13 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             plane_strain: None,
             measure: StressMeasure::Cauchy,
             encoding: VtuEncoding::Binary,
+            line: impact_core::line::MeasureLine {
+                axis: 0,
+                start: grid.origin[0],
+                end: grid.upper()[0],
+                offset: if D == 1 { 0.0 } else { grid.origin[1] },
+                origin: impact_core::line::LineOrigin::NoLoad,
+            },
             #[cfg(feature = "hdf5")]
             h5: None,
         }
@@ -176,22 +185,41 @@ fn vtk_order(d: usize) -> (&'static [usize], CellType) {
 }
 
 impl<const D: usize> FileWriter<'_, D> {
-    /// The bottom-row profile: kept for the figures and written as CSV (with reference
-    /// columns when there is one).
+    /// The profile along the measuring line ([`impact_core::line`]): kept for the figures
+    /// and written as CSV (with reference columns when there is one). Along y the columns
+    /// are named for y (`y`, `..._yy`, `velocity_y`).
     fn profile(&mut self, index: usize, t: f64) -> anyhow::Result<()> {
         let s = &self.samples;
-        let bottom = bottom_row(s);
-        let mut order: Vec<usize> = (0..s.len()).filter(|&i| bottom[i]).collect();
-        order.sort_by(|&a, &b| s.reference[a][0].total_cmp(&s.reference[b][0]));
+        let a = self.line.axis;
+        let mut order = line_samples(s, &self.line);
+        order.sort_by(|&i, &j| s.reference[i][a].total_cmp(&s.reference[j][a]));
         let col = |f: &dyn Fn(usize) -> f64| order.iter().map(|&i| f(i)).collect::<Vec<f64>>();
-        let x = col(&|i| s.reference[i][0]);
-        let xc = col(&|i| s.position[i][0]);
-        let sxx = col(&|i| s.stress[i][(0, 0)]);
-        let vx = col(&|i| s.velocity[i][0]);
+        let x = col(&|i| s.reference[i][a]);
+        let xc = col(&|i| s.position[i][a]);
+        let sxx = col(&|i| s.stress[i][(a, a)]);
+        let vx = col(&|i| s.velocity[i][a]);
         let path = self.dir.join(format!("{}_t{}.csv", self.method, index));
-        let stress_column = self.measure.xx_column();
+        let along = |name: &str| {
+            if a == 0 {
+                name.to_string()
+            } else {
+                name.replace("xx", "yy").replace("_x", "_y")
+            }
+        };
+        let stress_column = along(self.measure.xx_column());
         let reference_column = format!("reference_{stress_column}");
-        let mut header = vec!["x", "x_current", stress_column, "velocity_x"];
+        let (position, current, velocity, reference_velocity) = (
+            ["x", "y"][a].to_string(),
+            along("x_current"),
+            along("velocity_x"),
+            along("reference_velocity_x"),
+        );
+        let mut header = vec![
+            position.as_str(),
+            current.as_str(),
+            stress_column.as_str(),
+            velocity.as_str(),
+        ];
         let mut columns: Vec<Vec<f64>> = vec![x.clone(), xc, sxx.clone(), vx];
         if !s.plastic_strain.is_empty() {
             header.push("equivalent_plastic_strain");
@@ -205,7 +233,7 @@ impl<const D: usize> FileWriter<'_, D> {
                     r.averages(&(c - h), &(c + h), t)
                 })
                 .collect();
-            header.extend([reference_column.as_str(), "reference_velocity_x"]);
+            header.extend([reference_column.as_str(), reference_velocity.as_str()]);
             columns.push(exact.iter().map(|e| e.0).collect());
             columns.push(exact.iter().map(|e| e.1).collect());
         }

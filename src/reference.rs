@@ -15,7 +15,15 @@ pub fn reference_for<const D: usize>(
     say: bool,
 ) -> anyhow::Result<Option<impact_core::reference::Reference>> {
     use impact_core::reference::{Converged, Reference};
+    let line = impact_core::line::MeasureLine::of(problem);
     if let Some(r) = Reference::for_problem(problem) {
+        if line.axis != 0 {
+            anyhow::bail!(
+                "invalid value for `metrics.line`: {} (allowed: a line along x: the scene's \
+                 exact solution is a plane wave along x, measured along x)",
+                line.describe::<D>()
+            );
+        }
         return Ok(Some(r));
     }
     if D != 2 {
@@ -62,7 +70,7 @@ pub fn reference_for<const D: usize>(
         }
         let progress = say.then(|| crate::run::progress_bar("reference"));
         let (stress_xx, velocity_x, work) =
-            converged_run(problem, &fine, config, progress.as_ref())?;
+            converged_run(problem, &fine, config, line.axis, progress.as_ref())?;
         if let Some(p) = progress {
             p.finish_and_clear();
         }
@@ -84,18 +92,63 @@ pub fn reference_for<const D: usize>(
         work,
     } = stored;
     let cells = fine.grid.cells;
+    let (load_scale, step_load) = load_scale(problem);
+    // the band across the line where the jump is read: from the low side of the coarse
+    // row the line runs in, one coarse cell length along the line wide (so a square on a
+    // square grid; the band the plate's front was always measured in), within the body
+    let band = if D == 1 {
+        [0.0, fine.grid.spacing[0]]
+    } else {
+        let other = 1 - line.axis;
+        let h = problem.grid.spacing[other];
+        let row = ((line.offset / h).floor() as usize).min(problem.grid.cells[other] - 1);
+        let top = problem.grid.upper()[other];
+        let low = (row as f64 * h)
+            .min(top - problem.grid.spacing[line.axis])
+            .max(0.0);
+        [low, (low + problem.grid.spacing[line.axis]).min(top)]
+    };
     Ok(Some(Reference::Converged(Box::new(Converged {
         description,
-        cells: [cells[0], cells[D - 1]],
-        spacing: [fine.grid.spacing[0], fine.grid.spacing[D - 1]],
+        cells: [cells[0], if D == 1 { 1 } else { cells[1] }],
+        spacing: [
+            fine.grid.spacing[0],
+            if D == 1 {
+                fine.grid.spacing[0]
+            } else {
+                fine.grid.spacing[1]
+            },
+        ],
         times: problem.output_times.clone(),
-        stress_xx,
-        velocity_x,
+        stress: stress_xx,
+        velocity: velocity_x,
         speed: problem.material.p_wave_speed::<D>(),
-        length: problem.grid.upper()[0] - problem.grid.origin[0],
-        coarse_dx: problem.grid.spacing[0],
+        line,
+        coarse_dx: problem.grid.spacing[line.axis],
+        band,
+        load_scale,
+        step_load,
         work,
     }))))
+}
+
+/// The stress scale of the loads of `problem` (the largest `p`, or `Z v_d` for an
+/// impactor, with `Z = ρ c_p`) and whether every load is a step.
+fn load_scale<const D: usize>(problem: &Problem<D>) -> (f64, bool) {
+    use impact_core::Boundary;
+    let impedance = problem.material.density * problem.material.p_wave_speed::<D>();
+    let (mut scale, mut step) = (0.0f64, true);
+    for (load, factor) in problem.boundaries.iter().flatten().filter_map(|b| match b {
+        Boundary::Pressure(load) => Some((load, 1.0)),
+        Boundary::Velocity { load, .. } => Some((load, impedance)),
+        Boundary::Free | Boundary::Symmetry => None,
+    }) {
+        if load.value != 0.0 {
+            scale = scale.max(load.value.abs() * factor);
+            step &= load.history.is_step();
+        }
+    }
+    (scale, step)
 }
 
 /// The converged reference's configuration.
@@ -131,13 +184,14 @@ fn converged_config(model: &impact_core::method::Model) -> MethodConfig {
     }
 }
 
-/// Step the fine `problem` to the coarse problem's output times, keeping σ_xx, v_x (one
-/// point per cell, stored cell by cell) and the external work at each.
+/// Step the fine `problem` to the coarse problem's output times, keeping σ_aa, v_a along
+/// `axis` (one point per cell, stored cell by cell) and the external work at each.
 #[allow(clippy::type_complexity)]
 fn converged_run<const D: usize>(
     problem: &Problem<D>,
     fine: &Problem<D>,
     config: MethodConfig,
+    axis: usize,
     progress: Option<&indicatif::ProgressBar>,
 ) -> anyhow::Result<(Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<f64>)> {
     let mut method = crate::build(fine, config)?;
@@ -150,8 +204,8 @@ fn converged_run<const D: usize>(
         |m, _, _, _| {
             m.sample_into(&mut samples);
             // one point per cell, stored cell by cell: sample i is cell i
-            stress_xx.push(samples.stress.iter().map(|s| s[(0, 0)]).collect());
-            velocity_x.push(samples.velocity.iter().map(|v| v[0]).collect());
+            stress_xx.push(samples.stress.iter().map(|s| s[(axis, axis)]).collect());
+            velocity_x.push(samples.velocity.iter().map(|v| v[axis]).collect());
             work.push(m.external_work());
             Ok(())
         },

@@ -90,7 +90,8 @@ pub fn run_method<const D: usize>(
 ) -> anyhow::Result<(RunRecord, Option<Blowup>)> {
     let mut method = crate::build(problem, config)?;
     observer.start(method.as_ref())?;
-    let dx = problem.grid.spacing[0];
+    let line = impact_core::line::MeasureLine::of(problem);
+    let dx = problem.grid.spacing[line.axis];
     let mut samples = Samples::<D>::default();
     let mut times = Vec::new();
     let mut steps_at_output = 0;
@@ -104,7 +105,7 @@ pub fn run_method<const D: usize>(
         crate::interrupt::guard(),
         |m, index, t, steps| {
             let metrics = match reference {
-                Some(r) => r.evaluate(m, &mut samples, t, dx),
+                Some(r) => r.evaluate(m, &mut samples, t, &line, dx),
                 None => TimeMetrics::without_reference(t, m.energy(), m.external_work()),
             };
             steps_at_output = steps;
@@ -222,6 +223,7 @@ pub fn run_study<const D: usize>(
         writer.collect = !options.no_files;
         writer.encoding = options.vtu;
         writer.measure = problem.model.stress_measure();
+        writer.line = impact_core::line::MeasureLine::of(&problem);
         if D == 2 && problem.model == Model::LinearElastic {
             writer.plane_strain = Some(problem.material);
         }

@@ -18,10 +18,12 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod controller;
+pub mod converged;
 pub mod error;
 pub mod exact;
 pub mod grid;
 pub mod initial;
+pub mod line;
 pub mod load;
 pub mod material;
 pub mod method;

@@ -213,6 +213,9 @@ pub struct Problem<const D: usize> {
     pub output_times: Vec<f64>,
     /// End time (s).
     pub t_end: f64,
+    /// The measuring line stated by the scene; `None`: inferred from the loads
+    /// ([`crate::line::MeasureLine::of`]).
+    pub line: Option<crate::line::MeasureLine>,
 }
 
 impl<const D: usize> Problem<D> {
@@ -270,6 +273,7 @@ impl<const D: usize> Problem<D> {
             layout: scene.point_layout(),
             output_times,
             t_end,
+            line: scene.measure_line(),
         };
         problem.set_schedule(None, scene.time.t_end)?;
         Ok(problem)

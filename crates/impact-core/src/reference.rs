@@ -8,12 +8,18 @@
 //!   `σ_yy = λ/(λ+2μ) σ_xx`; the profile is the bottom row of samples.
 //! - otherwise (the partial impact of §5.2): a converged numerical solution tabulated on a
 //!   finer grid ([`Converged`], computed by the caller, e.g. DGMPM on a refined grid). The
-//!   samples are compared with its averages over their regions; the front is at `c_p t`,
-//!   with the jump from 0 to the reference's average over the cell just behind the front.
+//!   samples are compared with its averages over their regions; the front is at `c_p t`
+//!   from the loaded face along the measuring line (file `converged.rs`).
+//!
+//! Profiles, errors and fronts are measured along the measuring line ([`MeasureLine`]):
+//! the normal stress along it at the samples whose region it crosses. The exact solutions
+//! above are plane waves along x, measured along x.
+pub use crate::converged::Converged;
 use crate::exact::{
     BarExact, ElastoplasticWave, EndLoad, Front, NoFront, StandingWave, SvkBarExact,
 };
 use crate::initial::InitialState;
+use crate::line::MeasureLine;
 use crate::load::LoadHistory;
 use crate::method::{Method, Samples};
 use crate::metrics::{energy_error, ErrorBasis, FrontStatus, Profile, ProfileMetrics};
@@ -35,70 +41,6 @@ pub enum Reference {
     /// The elastic precursor and plastic wave of a J2 rod or plane wave (until the
     /// precursor reaches the far end); the front is the precursor.
     Elastoplastic(ElastoplasticWave),
-}
-
-/// A converged numerical solution: `σ_xx` and `v_x` per cell of a fine regular grid at
-/// each output time, and the speed of the leading front.
-#[derive(Debug, Clone)]
-pub struct Converged {
-    /// What it is (printed in the output).
-    pub description: String,
-    /// Cells per axis of the fine grid (`[nx, ny]`; `ny = 1` in 1D).
-    pub cells: [usize; 2],
-    /// Fine cell size per axis.
-    pub spacing: [f64; 2],
-    /// Output times.
-    pub times: Vec<f64>,
-    /// `σ_xx` per fine cell (x fastest) per output time.
-    pub stress_xx: Vec<Vec<f64>>,
-    /// `v_x` per fine cell per output time.
-    pub velocity_x: Vec<Vec<f64>>,
-    /// Speed of the leading front (`c_p`).
-    pub speed: f64,
-    /// Length along x.
-    pub length: f64,
-    /// Cell size of the grid being measured along x (for the front's jump).
-    pub coarse_dx: f64,
-    /// Work done by the loads at each output time, per the reference run.
-    pub work: Vec<f64>,
-}
-
-impl Converged {
-    /// Average of `field` over the box `[lo, hi]` at output time `t` (overlap-weighted).
-    fn average(&self, field: &[Vec<f64>], lo: [f64; 2], hi: [f64; 2], t: f64) -> f64 {
-        let Some(k) = self
-            .times
-            .iter()
-            .position(|&s| (s - t).abs() <= 1e-9 * t.abs().max(1e-300))
-        else {
-            return f64::NAN;
-        };
-        let values = &field[k];
-        let range = |l: usize| {
-            let a = ((lo[l] / self.spacing[l]).floor().max(0.0)) as usize;
-            let b = ((hi[l] / self.spacing[l]).ceil() as usize).min(self.cells[l]);
-            a..b
-        };
-        let (mut sum, mut weight) = (0.0, 0.0);
-        for j in range(1) {
-            let wy = overlap(j, self.spacing[1], lo[1], hi[1]);
-            for i in range(0) {
-                let w = wy * overlap(i, self.spacing[0], lo[0], hi[0]);
-                sum += w * values[j * self.cells[0] + i];
-                weight += w;
-            }
-        }
-        if weight > 0.0 {
-            sum / weight
-        } else {
-            f64::NAN
-        }
-    }
-}
-
-fn overlap(i: usize, h: f64, lo: f64, hi: f64) -> f64 {
-    let (a, b) = (i as f64 * h, (i + 1) as f64 * h);
-    (b.min(hi) - a.max(lo)).max(0.0)
 }
 
 /// Metrics of one method at one output time (a row of the table and of `summary.json`).
@@ -128,6 +70,8 @@ pub struct TimeMetrics {
     pub front_exact: Option<f64>,
     /// Why the front metrics are or are not there.
     pub front: FrontStatus,
+    /// Why the reference has no front at this time (with [`FrontStatus::NoFront`]).
+    pub front_reason: Option<NoFront>,
     /// `(E_h - W)/W` with `W` the exact work of the load (the method's own if no exact);
     /// `E_h` in J where `W = 0` (`energy_relative` false).
     pub energy_error: f64,
@@ -157,6 +101,7 @@ impl TimeMetrics {
             front_position: None,
             front_exact: None,
             front: FrontStatus::NoFront,
+            front_reason: Some(NoFront::NoReference),
             plastic_front_width_cells: None,
             plastic_overshoot_pct: None,
             plastic_front_position: None,
@@ -204,6 +149,9 @@ impl Serialize for TimeMetrics {
             }
         }
         map.serialize_entry("front", &self.front)?;
+        if let Some(reason) = self.front_reason {
+            map.serialize_entry("front_reason", &reason)?;
+        }
         let key = if self.energy_relative {
             "energy_rel"
         } else {
@@ -316,8 +264,8 @@ impl Reference {
                 let lo2 = [lo[0], if D > 1 { lo[1] } else { 0.0 }];
                 let hi2 = [hi[0], if D > 1 { hi[1] } else { c.spacing[1] }];
                 (
-                    c.average(&c.stress_xx, lo2, hi2, t),
-                    c.average(&c.velocity_x, lo2, hi2, t),
+                    c.average(&c.stress, lo2, hi2, t),
+                    c.average(&c.velocity, lo2, hi2, t),
                 )
             }
         }
@@ -336,30 +284,7 @@ impl Reference {
                     Err(NoFront::PastValidity)
                 }
             }
-            Reference::Converged(c) => {
-                let position = c.speed * t;
-                if position <= 1.5 * c.coarse_dx {
-                    return Err(NoFront::NotYetFormed);
-                }
-                if position >= c.length {
-                    return Err(NoFront::LeftTheBody);
-                }
-                // the reference along the bottom band, one coarse cell behind the front
-                let band = [c.spacing[1] * 0.0, c.spacing[1] * c.cells[1] as f64];
-                let lo = [position - 1.5 * c.coarse_dx, band[0]];
-                let hi = [position - 0.5 * c.coarse_dx, band[0] + c.coarse_dx];
-                let behind = c.average(&c.stress_xx, lo, hi, t);
-                if !behind.is_finite() {
-                    return Err(NoFront::NoReference);
-                }
-                Ok(Front {
-                    position,
-                    direction: 1.0,
-                    ahead: 0.0,
-                    behind,
-                    window: (0.0, c.length),
-                })
-            }
+            Reference::Converged(c) => c.front(t),
         }
     }
 
@@ -372,11 +297,7 @@ impl Reference {
             // W = p u(0, t) (rod) or V (−σ_xx) t per unit area: the state at X = 0 is
             // constant behind the plastic wave
             Reference::Elastoplastic(w) => Some(-w.behind.0 * w.behind.1 * t),
-            Reference::Converged(c) => c
-                .times
-                .iter()
-                .position(|&s| (s - t).abs() <= 1e-9 * t)
-                .map(|k| c.work[k]),
+            Reference::Converged(c) => c.work_at(t),
         }
     }
 
@@ -409,27 +330,25 @@ impl Reference {
             Reference::SvkBar(b) => b.pressure.abs(),
             Reference::Standing(w) => w.peak_stress_xx(),
             Reference::Elastoplastic(w) => w.behind.0.abs(),
-            Reference::Converged(c) => c
-                .stress_xx
-                .iter()
-                .flatten()
-                .fold(0.0f64, |m, v| m.max(v.abs())),
+            Reference::Converged(c) => c.peak_stress(),
         }
     }
 
-    /// `σ_xx` profile along `x` of `samples` (at their reference positions) with the exact
-    /// averages over each sample's region.
-    pub fn profile<const D: usize>(&self, samples: &Samples<D>, t: f64) -> Profile {
+    /// The profile of the normal stress `σ_aa` along `line` (axis `a`) of `samples` (at
+    /// their reference positions) with the reference's averages over each sample's region.
+    pub fn profile<const D: usize>(
+        &self,
+        samples: &Samples<D>,
+        t: f64,
+        line: &MeasureLine,
+    ) -> Profile {
         let mut p = Profile::default();
-        let bottom = bottom_row(samples);
-        for i in 0..samples.len() {
-            if !bottom[i] {
-                continue;
-            }
+        let a = line.axis;
+        for i in line_samples(samples, line) {
             let (x, h) = (samples.reference[i], samples.half_size[i]);
-            p.x.push(x[0]);
-            p.width.push(2.0 * h[0]);
-            p.value.push(samples.stress[i][(0, 0)]);
+            p.x.push(x[a]);
+            p.width.push(2.0 * h[a]);
+            p.value.push(samples.stress[i][(a, a)]);
             p.exact.push(self.averages(&(x - h), &(x + h), t).0);
         }
         p.sort();
@@ -449,18 +368,28 @@ impl Reference {
         hi - lo
     }
 
-    /// All metrics of `method` at time `t` (`samples` is a reusable buffer).
+    /// All metrics of `method` at time `t` along `line` (`samples` is a reusable buffer;
+    /// front widths in cells of the grid's size along the line).
     pub fn evaluate<const D: usize, M: Method<D> + ?Sized>(
         &self,
         method: &M,
         samples: &mut Samples<D>,
         t: f64,
+        line: &MeasureLine,
         dx: f64,
     ) -> TimeMetrics {
         method.sample_into(samples);
-        let profile = self.profile(samples, t);
+        let profile = self.profile(samples, t, line);
         // a front without a jump (a zero load) has nothing to measure
-        let front = self.front(t).ok().filter(|f| f.behind != f.ahead);
+        let front = self.front(t).and_then(|f| {
+            if f.behind != f.ahead {
+                Ok(f)
+            } else {
+                Err(NoFront::JumpTooSmall)
+            }
+        });
+        let front_reason = front.err();
+        let front = front.ok();
         let ProfileMetrics {
             l1_rel,
             linf_rel,
@@ -512,6 +441,7 @@ impl Reference {
             front_position,
             front_exact: front.map(|f| f.position),
             front: status,
+            front_reason,
             energy_error,
             energy_relative,
         }
@@ -527,19 +457,18 @@ fn total_volume<const D: usize>(samples: &Samples<D>) -> f64 {
         .sum()
 }
 
-/// Which samples form the bottom row (all of them in 1D): those whose region touches the
-/// lowest sample region's bottom.
-pub fn bottom_row<const D: usize>(samples: &Samples<D>) -> Vec<bool> {
-    if D == 1 {
-        return vec![true; samples.len()];
-    }
-    let low = (0..samples.len())
-        .map(|i| samples.reference[i][1] - samples.half_size[i][1])
-        .fold(f64::MAX, f64::min);
-    (0..samples.len())
+/// The samples on `line` ([`MeasureLine::holds`]), in storage order.
+pub fn line_samples<const D: usize>(samples: &Samples<D>, line: &MeasureLine) -> Vec<usize> {
+    let top = (0..samples.len())
         .map(|i| {
-            samples.reference[i][1] - samples.half_size[i][1]
-                <= low + 1e-9 * samples.half_size[i][1].max(1e-300)
+            let other = if D == 1 { 0 } else { 1 - line.axis };
+            samples.reference[i][other] + samples.half_size[i][other]
+        })
+        .fold(f64::MIN, f64::max);
+    (0..samples.len())
+        .filter(|&i| {
+            let (x, h) = (samples.reference[i], samples.half_size[i]);
+            line.holds(&(x - h), &(x + h), top)
         })
         .collect()
 }

@@ -34,7 +34,9 @@ use crate::options::{
 mod boundary;
 mod initial;
 mod layout;
+mod metrics;
 mod validate;
+pub use metrics::{LineSpec, MetricsSpec};
 use serde::{Deserialize, Serialize};
 pub use validate::{
     check_courant, check_output_times, check_points_per_cell, check_work, points_per_axis,
@@ -69,6 +71,9 @@ pub struct Scene {
     /// FEM options.
     #[serde(default)]
     pub fem: FemSpec,
+    /// Where profiles and fronts are measured (default: inferred from the loads).
+    #[serde(default)]
+    pub metrics: Option<MetricsSpec>,
 }
 
 /// Geometry: a box `[0, length]` meshed by `cells` regular cells.

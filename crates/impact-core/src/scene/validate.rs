@@ -184,6 +184,7 @@ impl Scene {
         self.check_derived()?;
         self.check_layout()?;
         self.check_initial()?;
+        self.check_metrics()?;
         self.check_boundaries()
     }
 

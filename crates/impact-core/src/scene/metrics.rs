@@ -1,0 +1,84 @@
+//! The scene's `[metrics]` section: where profiles and fronts are measured
+//! ([`crate::line`]).
+//!
+//! ```toml
+//! [metrics]
+//! line = { from = [0.0, 0.0], to = [4.0, 0.0] }   # the paper's bottom row of the plate
+//! ```
+use super::Scene;
+use crate::error::SceneError;
+use crate::line::{LineOrigin, MeasureLine};
+use serde::{Deserialize, Serialize};
+
+/// The `[metrics]` section.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MetricsSpec {
+    /// The measuring line (default: inferred from the loads, [`MeasureLine::infer`]).
+    #[serde(default)]
+    pub line: Option<LineSpec>,
+}
+
+/// A straight line parallel to an axis, from the face a front enters by.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LineSpec {
+    /// Start (m), one coordinate per axis.
+    pub from: Vec<f64>,
+    /// End (m), one coordinate per axis.
+    pub to: Vec<f64>,
+}
+
+const ALLOWED: &str = "a segment parallel to x or y inside the body, one coordinate per axis, \
+     e.g. `line = { from = [0.0, 1.5], to = [4.0, 1.5] }`";
+
+impl Scene {
+    /// Check `[metrics]`: the line has one coordinate per axis, lies in the body
+    /// `[0, length]` and runs parallel to one axis with a non-zero length.
+    pub(super) fn check_metrics(&self) -> Result<(), SceneError> {
+        let Some(line) = self.metrics.as_ref().and_then(|m| m.line.as_ref()) else {
+            return Ok(());
+        };
+        let shown = format!("from {:?} to {:?}", line.from, line.to);
+        if line.from.len() != self.dim || line.to.len() != self.dim {
+            return Err(SceneError::new("metrics.line", shown, ALLOWED));
+        }
+        for (name, point) in [("from", &line.from), ("to", &line.to)] {
+            for (l, &x) in point.iter().enumerate() {
+                let length = self.domain.length.get(l).copied().unwrap_or(0.0);
+                let tol = 1e-9 * length.abs();
+                if !(x.is_finite() && x >= -tol && x <= length + tol) {
+                    return Err(SceneError::new(
+                        format!("metrics.line.{name}[{l}]"),
+                        x,
+                        format!("a coordinate inside the body, in [0, {length}] m"),
+                    ));
+                }
+            }
+        }
+        let moving: Vec<usize> = (0..self.dim)
+            .filter(|&l| line.from[l] != line.to[l])
+            .collect();
+        if moving.len() != 1 {
+            return Err(SceneError::new("metrics.line", shown, ALLOWED));
+        }
+        Ok(())
+    }
+
+    /// The stated line, if any (a scene that passed [`Scene::validate`]).
+    pub fn measure_line(&self) -> Option<MeasureLine> {
+        let line = self.metrics.as_ref()?.line.as_ref()?;
+        let axis = (0..self.dim).find(|&l| line.from[l] != line.to[l])?;
+        Some(MeasureLine {
+            axis,
+            start: line.from[axis],
+            end: line.to[axis],
+            offset: if self.dim == 1 {
+                0.0
+            } else {
+                line.from[1 - axis]
+            },
+            origin: LineOrigin::Stated,
+        })
+    }
+}
