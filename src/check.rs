@@ -324,12 +324,6 @@ pub fn check_study<const D: usize>(
     options.validate(study)?;
     study.check_work(&[MethodKind::Dgmpm, MethodKind::Mpm])?;
     let problem = study.problem::<D>()?;
-    let reference = crate::reference_for(&problem, options.progress)?.with_context(|| {
-        format!(
-            "scene {} has no reference to measure fronts against",
-            study.name()
-        )
-    })?;
     let dgmpm = CheckOptions::apply(
         options.dgmpm_courant,
         options.dgmpm_points_per_cell,
@@ -340,6 +334,20 @@ pub fn check_study<const D: usize>(
         options.mpm_points_per_cell,
         study.config(MethodKind::Mpm),
     );
+    let mpms = options.against.unwrap_or(Against::SceneMpm).configs(mpm);
+    for config in std::iter::once(dgmpm).chain(mpms.iter().copied()) {
+        if let Some(warning) =
+            crate::guard::check_stable(&problem, config, study.overrides.allow_unstable)?
+        {
+            eprintln!("warning: {warning}");
+        }
+    }
+    let reference = crate::reference_for(&problem, options.progress)?.with_context(|| {
+        format!(
+            "scene {} has no reference to measure fronts against",
+            study.name()
+        )
+    })?;
     let run = |config: MethodConfig| -> Result<RunRecord> {
         let name = config.kind().name();
         let (record, _) = match options.progress {
@@ -354,7 +362,7 @@ pub fn check_study<const D: usize>(
     };
     let dgmpm_record = run(dgmpm)?;
     let mut reports = Vec::new();
-    for mpm in options.against.unwrap_or(Against::SceneMpm).configs(mpm) {
+    for mpm in mpms {
         let mpm_record = run(mpm)?;
         let (rows, pass) = judge(&dgmpm_record, &mpm_record, &options.thresholds);
         reports.push(CheckReport {

@@ -10,6 +10,7 @@ pub mod check;
 pub mod check_report;
 pub mod convergence;
 pub mod figures;
+pub mod guard;
 pub mod interrupt;
 pub mod output;
 pub mod output_bench;

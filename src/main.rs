@@ -401,17 +401,18 @@ fn run_scene<const D: usize>(study: &Study, args: &RunArgs) -> Result<()> {
     if args.no_files {
         say!("wrote {}", dir.join("summary.json").display());
         if !report.failures.is_empty() {
-            bail!("{}", report.failures.join("; "));
+            return Err(impact::run::BlewUp(report.failures.join("; ")).into());
         }
         return Ok(());
     }
     say!("wrote {}", dir.display());
     if !report.failures.is_empty() {
-        bail!(
+        return Err(impact::run::BlewUp(format!(
             "{} (frames written before the blow-up are kept in {})",
             report.failures.join("; "),
             dir.display()
-        );
+        ))
+        .into());
     }
     Ok(())
 }
@@ -445,6 +446,15 @@ fn check_command(args: &CheckArgs) -> Result<bool> {
     if let Some(path) = &args.junit {
         impact::check_report::write_junit(path, study.name(), &reports)
             .with_context(|| format!("writing {}", path.display()))?;
+    }
+    // a run the guard stopped: exit 3 (the reports above say which, at what time)
+    if let Some(stopped) = reports
+        .iter()
+        .flat_map(|r| [&r.dgmpm_record.error, &r.mpm_record.error])
+        .flatten()
+        .next()
+    {
+        return Err(impact::run::BlewUp(stopped.clone()).into());
     }
     Ok(reports.iter().all(|r| r.pass))
 }
@@ -722,8 +732,16 @@ fn main() {
         Ok(false) => std::process::exit(1),
         Err(e) => {
             eprintln!("error: {e:#}");
-            let interrupted = e.downcast_ref::<impact::interrupt::Interrupted>().is_some();
-            std::process::exit(if interrupted { 130 } else { 2 });
+            // exit codes: 0 done or the gate passes, 1 the gate fails, 2 bad input,
+            // 3 a run blew up (its frames kept), 130 interrupted
+            let code = if e.downcast_ref::<impact::interrupt::Interrupted>().is_some() {
+                130
+            } else if e.downcast_ref::<impact::run::BlewUp>().is_some() {
+                3
+            } else {
+                2
+            };
+            std::process::exit(code);
         }
     }
 }

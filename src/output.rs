@@ -34,6 +34,9 @@ pub struct Summary {
     /// Peak resident memory of the process (MiB, Linux `VmHWM`), if known.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub peak_rss_mib: Option<f64>,
+    /// Configurations run above their von Neumann limit under `--allow-unstable`.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub allowed_unstable: Vec<String>,
 }
 
 /// Peak resident set size of this process in MiB (Linux: `VmHWM` of `/proc/self/status`).

@@ -92,7 +92,7 @@ pub fn reference_for<const D: usize>(
         work,
     } = stored;
     let cells = fine.grid.cells;
-    let (load_scale, step_load) = load_scale(problem);
+    let (load_scale, step_load) = problem.load_scale();
     // the band across the line where the jump is read: from the low side of the coarse
     // row the line runs in, one coarse cell length along the line wide (so a square on a
     // square grid; the band the plate's front was always measured in), within the body
@@ -130,25 +130,6 @@ pub fn reference_for<const D: usize>(
         step_load,
         work,
     }))))
-}
-
-/// The stress scale of the loads of `problem` (the largest `p`, or `Z v_d` for an
-/// impactor, with `Z = ρ c_p`) and whether every load is a step.
-fn load_scale<const D: usize>(problem: &Problem<D>) -> (f64, bool) {
-    use impact_core::Boundary;
-    let impedance = problem.material.density * problem.material.p_wave_speed::<D>();
-    let (mut scale, mut step) = (0.0f64, true);
-    for (load, factor) in problem.boundaries.iter().flatten().filter_map(|b| match b {
-        Boundary::Pressure(load) => Some((load, 1.0)),
-        Boundary::Velocity { load, .. } => Some((load, impedance)),
-        Boundary::Free | Boundary::Symmetry => None,
-    }) {
-        if load.value != 0.0 {
-            scale = scale.max(load.value.abs() * factor);
-            step &= load.history.is_step();
-        }
-    }
-    (scale, step)
 }
 
 /// The converged reference's configuration.

@@ -99,10 +99,13 @@ pub fn run_method<const D: usize>(
     let observer = std::sync::Mutex::new(observer);
     // a hook that panicked has ended the run already; the observer is still usable
     let lock = std::sync::PoisonError::into_inner;
+    let mut guard = crate::interrupt::guard();
+    guard.stress_scale = problem.load_scale().0.max(f64::MIN_POSITIVE);
+    guard.impedance = problem.material.density * problem.material.p_wave_speed::<D>();
     let result = controller::run::<D, dyn Method<D>, anyhow::Error>(
         method.as_mut(),
         &problem.output_times,
-        crate::interrupt::guard(),
+        guard,
         |m, index, t, steps| {
             let metrics = match reference {
                 Some(r) => r.evaluate(m, &mut samples, t, &line, dx),
@@ -188,6 +191,7 @@ pub fn run_study<const D: usize>(
         false => study.check_work(kinds)?,
     }
     let problem = study.problem::<D>()?;
+    let unstable = check_all_stable(study, &problem, kinds)?;
     let folder = impact_io::folder::OutputFolder::open(&options.out)?;
     let dir = &folder.path().to_path_buf();
     let reference = match options.no_reference {
@@ -202,6 +206,7 @@ pub fn run_study<const D: usize>(
             .map_or("none (errors not computed)".into(), |r| r.describe()),
         runs: Vec::new(),
         peak_rss_mib: None,
+        allowed_unstable: unstable,
     };
     let (mut collected, mut failures) = (Vec::<Collected>::new(), Vec::new());
     let mut done: Vec<MethodKind> = Vec::new();
@@ -237,7 +242,7 @@ pub fn run_study<const D: usize>(
             maps: std::mem::take(&mut writer.maps),
         });
         if let Some(b) = blowup {
-            let cause = crate::stability::diagnose_blowup(&problem, config)
+            let cause = crate::guard::diagnose_blowup(&problem, config)
                 .map_or(String::new(), |c| format!("; {c}"));
             let message = format!("{b}{cause}");
             record.error = Some(message.clone());
@@ -257,6 +262,32 @@ pub fn run_study<const D: usize>(
         failures,
     })
 }
+
+/// The stability guard before any work (module [`crate::guard`]): every configuration of
+/// `kinds` within its von Neumann limit, or `--allow-unstable` (then the sentences to
+/// print and record).
+pub fn check_all_stable<const D: usize>(
+    study: &crate::Study,
+    problem: &impact_core::Problem<D>,
+    kinds: &[impact_core::MethodKind],
+) -> anyhow::Result<Vec<String>> {
+    let mut allowed = Vec::new();
+    for &kind in kinds {
+        let config = study.config(kind);
+        if let Some(warning) =
+            crate::guard::check_stable(problem, config, study.overrides.allow_unstable)?
+        {
+            eprintln!("warning: {warning}");
+            allowed.push(warning);
+        }
+    }
+    Ok(allowed)
+}
+
+/// A run stopped by the stability guard (exit code 3; its frames are kept).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct BlewUp(pub String);
 
 /// The run's figures: `stress.png` (profiles at up to three output times), `svk.png` (1D
 /// SVK) and `stress_map.png` (2D: every method and the reference at those times).

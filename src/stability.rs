@@ -515,16 +515,11 @@ pub fn diagnose_blowup<const D: usize>(
         format!(
             "the Courant number {} is above {limit:.3}, the stability limit measured for this \
              configuration ({}, {} points per cell, {}; the test of `impact stability`: {steps} \
-             steps of the unloaded body from a random perturbation): lower --courant{}",
+             steps of the unloaded body from a random perturbation): lower --courant",
             config.courant,
             config.kind(),
             config.points_per_cell,
             config.integrator_label(),
-            if config.dgmpm().is_some() {
-                " or use --integrator rk2"
-            } else {
-                ""
-            }
         )
     })
 }

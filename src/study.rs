@@ -74,6 +74,10 @@ pub struct Overrides {
     /// J2 hardening modulus H in Pa (scenes with model = "j2").
     #[arg(long, allow_negative_numbers = true)]
     pub hardening: Option<f64>,
+    /// Run a DGMPM configuration whose Courant number is above its von Neumann limit
+    /// (refused otherwise); the outputs record it.
+    #[arg(long)]
+    pub allow_unstable: bool,
 }
 
 impl Overrides {

@@ -106,11 +106,13 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
             out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::DonorCell, 1.0));
         } else {
             out.push(dgmpm(ppc, Integrator::Euler, TransverseFlux::Ctu, euler));
+            // donor-cell with Euler at 4 points per cell: von Neumann limit 0.5518 (the
+            // run refuses 0.6, the Courant number used until issue 23)
             out.push(dgmpm(
                 ppc,
                 Integrator::Euler,
                 TransverseFlux::DonorCell,
-                0.6,
+                if ppc == 1 { 0.6 } else { 0.5 },
             ));
             out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::DonorCell, 0.95));
             out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::Ctu, 0.7));

@@ -279,6 +279,26 @@ impl<const D: usize> Problem<D> {
         Ok(problem)
     }
 
+    /// The loads' stress scale and whether every load is a step: the largest `|p|`, or
+    /// `Z |v_d|` for an impactor (`Z = ρ c_p`), over the loads of non-zero magnitude (0
+    /// with none; a fixed wall is no load).
+    pub fn load_scale(&self) -> (f64, bool) {
+        let impedance = self.material.density * self.material.p_wave_speed::<D>();
+        let (mut scale, mut step) = (0.0f64, true);
+        for boundary in self.boundaries.iter().flatten() {
+            let (load, factor) = match boundary {
+                Boundary::Pressure(load) => (load, 1.0),
+                Boundary::Velocity { load, .. } => (load, impedance),
+                Boundary::Free | Boundary::Symmetry => continue,
+            };
+            if load.value != 0.0 {
+                scale = scale.max(load.value.abs() * factor);
+                step &= load.history.is_step();
+            }
+        }
+        (scale, step)
+    }
+
     /// Replace the output times and/or the end time. With only `t_end`, outputs after it
     /// are dropped and `t_end` becomes the last output.
     pub fn set_schedule(

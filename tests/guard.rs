@@ -1,0 +1,200 @@
+//! The stability guard (issue 23): a DGMPM configuration above its von Neumann limit is
+//! refused before any work (exit 2), or run under `--allow-unstable` and stopped by the
+//! max-norm growth test whatever its boundary conditions (exit 3, the flag recorded);
+//! stable long runs whose energy grows physically are not stopped.
+mod common;
+use common::{impact, json, text, tmp};
+
+fn stderr(o: &std::process::Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A 6 m steel bar, 150 cells, with the given ends and an optional initial velocity.
+fn bar_file(name: &str, left: &str, right: &str, initial: &str) -> std::path::PathBuf {
+    let text = format!(
+        "name = \"{name}\"\ndim = 1\n[domain]\nlength = [6.0]\ncells = [150]\n\
+         [material]\nmodel = \"linear-elastic\"\nyoung = 2.0e11\npoisson = 0.3\n\
+         density = 7800.0\n[boundary]\nleft = {left}\nright = {right}\n{initial}\
+         [time]\noutput_transits = [50, 100, 200]\n"
+    );
+    let path = tmp(&format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// The issue's case: 2 points per cell, Euler, Courant 0.70 (von Neumann limit 0.6862).
+/// Refused with the limit, the advice to lower the Courant number or use RK2, and the
+/// way to run it anyway.
+#[test]
+fn above_the_von_neumann_limit_is_refused_before_any_work() {
+    let out = tmp("refused");
+    let o = impact(&[
+        "run",
+        "bar",
+        "--method",
+        "dgmpm",
+        "--points-per-cell",
+        "2",
+        "--courant",
+        "0.70",
+        "--t-end",
+        "0.05",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let e = stderr(&o);
+    assert!(e.contains("von Neumann limit 0.686"), "{e}");
+    assert!(
+        e.contains("--integrator rk2") && e.contains("--allow-unstable"),
+        "{e}"
+    );
+    assert!(!out.exists(), "a refused run writes nothing");
+    // with RK2 in use, the advice never says "use RK2"
+    let o = impact(&[
+        "run",
+        "bar",
+        "--method",
+        "dgmpm",
+        "--points-per-cell",
+        "2",
+        "--courant",
+        "1.3",
+        "--integrator",
+        "rk2",
+        "--quiet",
+        "--no-files",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("von Neumann limit") && !e.contains("use --integrator rk2"),
+        "{e}"
+    );
+    // the gate refuses it too, before its runs
+    let o = impact(&[
+        "check",
+        "bar",
+        "--dgmpm-points-per-cell",
+        "2",
+        "--dgmpm-courant",
+        "0.75",
+        "--quiet",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+}
+
+/// Run anyway: the max-norm test stops it (the energy test does not: the free bar's
+/// kinetic energy grows like t²), exit 3, with the step, time, place, the limit; the
+/// summary records that it ran above its limit.
+#[test]
+fn an_allowed_unstable_run_is_stopped_by_the_max_norm_test() {
+    let out = tmp("allowed");
+    let o = impact(&[
+        "run",
+        "bar",
+        "--method",
+        "dgmpm",
+        "--points-per-cell",
+        "2",
+        "--courant",
+        "0.70",
+        "--t-end",
+        "0.05",
+        "--allow-unstable",
+        "--quiet",
+        "--no-files",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(3), "{}", text(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("blew up at step") && e.contains("growing mode"),
+        "{e}"
+    );
+    assert!(e.contains("von Neumann limit of this configuration"), "{e}");
+    let s = json(&out.join("summary.json"));
+    assert!(
+        s["allowed_unstable"][0].as_str().unwrap().contains("0.686"),
+        "{s}"
+    );
+    assert!(s["runs"][0]["error"].as_str().unwrap().contains("blew up"));
+}
+
+/// The same unstable configuration on other ends and loads: fixed ends with an initial
+/// velocity (no load, no work) and a pressure between a loaded and a fixed end. The
+/// growing mode is caught on each.
+#[test]
+fn the_growing_mode_is_caught_on_any_ends() {
+    for (name, left, right, initial) in [
+        (
+            "fixed-velocity",
+            "{ kind = \"velocity\", value = 0.0 }",
+            "{ kind = \"velocity\", value = 0.0 }",
+            "[initial]\nvelocity = [\"5.0 * sin(3.14159265358979 * x / 6.0)\"]\n",
+        ),
+        (
+            "pressure-fixed",
+            "{ kind = \"pressure\", value = 1.0e8 }",
+            "{ kind = \"symmetry\" }",
+            "",
+        ),
+    ] {
+        let path = bar_file(name, left, right, initial);
+        let o = impact(&[
+            "run",
+            path.to_str().unwrap(),
+            "--method",
+            "dgmpm",
+            "--points-per-cell",
+            "2",
+            "--courant",
+            "0.75",
+            "--t-end",
+            "0.05",
+            "--allow-unstable",
+            "--quiet",
+            "--no-files",
+            "--out",
+            tmp(&format!("{name}-out")).to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(3), "{name}: {}", text(&o));
+    }
+}
+
+/// Stable long runs are not stopped: just below the limit (Courant 0.68) for 0.05 s
+/// (6,000 transits of a cell), the free bar under a constant pressure (energy growing like
+/// t²), and fixed ends (stress doubling at each reflection).
+#[test]
+fn stable_long_runs_are_not_stopped() {
+    let fixed = bar_file(
+        "fixed-far-end",
+        "{ kind = \"pressure\", value = 1.0e9 }",
+        "{ kind = \"velocity\", value = 0.0 }",
+        "",
+    );
+    for scene in ["bar", fixed.to_str().unwrap()] {
+        for method in [
+            &[
+                "--method",
+                "dgmpm",
+                "--points-per-cell",
+                "2",
+                "--courant",
+                "0.68",
+            ][..],
+            &["--method", "dgmpm,mpm,fem"][..],
+        ] {
+            let mut args = vec!["run", scene, "--t-end", "0.05", "--quiet", "--no-files"];
+            args.extend_from_slice(method);
+            let out = tmp("stable");
+            args.extend_from_slice(&["--out", out.to_str().unwrap()]);
+            let o = impact(&args);
+            assert!(o.status.success(), "{scene} {method:?}: {}", text(&o));
+        }
+    }
+}
