@@ -19,8 +19,8 @@ default restricts them) and the bonded impactor. Every cell, every output, all f
 the plane wave to 1e-12, the partial plate to 1e-10.
 
 Clawpack builds Fortran at install time: scripts/test.sh installs `gfortran` through apt
-and `clawpack` into the venv when it can; without them this module is skipped with the
-reason printed.
+and `clawpack` into the venv, and fails with the reason when it cannot (run alone, outside
+test.sh, without clawpack this module is skipped with the reason printed).
 """
 import pathlib
 import subprocess

@@ -335,13 +335,11 @@ pub fn check_study<const D: usize>(
         study.config(MethodKind::Mpm),
     );
     let mpms = options.against.unwrap_or(Against::SceneMpm).configs(mpm);
-    for config in std::iter::once(dgmpm).chain(mpms.iter().copied()) {
-        if let Some(warning) =
-            crate::guard::check_stable(&problem, config, study.overrides.allow_unstable)?
-        {
-            eprintln!("warning: {warning}");
-        }
-    }
+    crate::run::check_all_stable(
+        study,
+        &problem,
+        std::iter::once(dgmpm).chain(mpms.iter().copied()),
+    )?;
     let reference = crate::reference_for(&problem, options.progress)?.with_context(|| {
         format!(
             "scene {} has no reference to measure fronts against",

@@ -29,14 +29,17 @@ pub struct Summary {
     pub dim: usize,
     /// Reference the errors are measured against.
     pub reference: String,
+    /// Where profiles, errors and fronts are measured ([`impact_core::line`]).
+    pub metrics_line: String,
     /// One entry per method.
     pub runs: Vec<RunRecord>,
     /// Peak resident memory of the process (MiB, Linux `VmHWM`), if known.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub peak_rss_mib: Option<f64>,
-    /// Configurations run above their von Neumann limit under `--allow-unstable`.
+    /// The stability guard's notes: configurations run above their von Neumann limit
+    /// under `--allow-unstable`, or not checked ([`crate::guard`]).
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub allowed_unstable: Vec<String>,
+    pub stability: Vec<String>,
 }
 
 /// Peak resident set size of this process in MiB (Linux: `VmHWM` of `/proc/self/status`).

@@ -191,7 +191,7 @@ pub fn run_study<const D: usize>(
         false => study.check_work(kinds)?,
     }
     let problem = study.problem::<D>()?;
-    let unstable = check_all_stable(study, &problem, kinds)?;
+    let stability = check_all_stable(study, &problem, kinds.iter().map(|&k| study.config(k)))?;
     let folder = impact_io::folder::OutputFolder::open(&options.out)?;
     let dir = &folder.path().to_path_buf();
     let reference = match options.no_reference {
@@ -204,9 +204,10 @@ pub fn run_study<const D: usize>(
         reference: reference
             .as_ref()
             .map_or("none (errors not computed)".into(), |r| r.describe()),
+        metrics_line: impact_core::line::MeasureLine::of(&problem).describe::<D>(),
         runs: Vec::new(),
         peak_rss_mib: None,
-        allowed_unstable: unstable,
+        stability,
     };
     let (mut collected, mut failures) = (Vec::<Collected>::new(), Vec::new());
     let mut done: Vec<MethodKind> = Vec::new();
@@ -264,24 +265,29 @@ pub fn run_study<const D: usize>(
 }
 
 /// The stability guard before any work (module [`crate::guard`]): every configuration of
-/// `kinds` within its von Neumann limit, or `--allow-unstable` (then the sentences to
-/// print and record).
+/// `kinds` within its von Neumann limit, or `--allow-unstable`; the notes (printed on
+/// stderr) of the configurations run above their limit or not checked, to record.
 pub fn check_all_stable<const D: usize>(
     study: &crate::Study,
     problem: &impact_core::Problem<D>,
-    kinds: &[impact_core::MethodKind],
+    configs: impl IntoIterator<Item = impact_core::method::MethodConfig>,
 ) -> anyhow::Result<Vec<String>> {
-    let mut allowed = Vec::new();
-    for &kind in kinds {
-        let config = study.config(kind);
-        if let Some(warning) =
-            crate::guard::check_stable(problem, config, study.overrides.allow_unstable)?
-        {
-            eprintln!("warning: {warning}");
-            allowed.push(warning);
+    use crate::guard::Stability;
+    let mut notes = Vec::new();
+    for config in configs {
+        match crate::guard::check_stable(problem, config, study.overrides.allow_unstable)? {
+            Stability::Stable => {}
+            Stability::Unchecked(note) => {
+                eprintln!("note: {note}");
+                notes.push(note);
+            }
+            Stability::AllowedUnstable(warning) => {
+                eprintln!("warning: {warning}");
+                notes.push(warning);
+            }
         }
     }
-    Ok(allowed)
+    Ok(notes)
 }
 
 /// A run stopped by the stability guard (exit code 3; its frames are kept).

@@ -118,10 +118,7 @@ fn an_allowed_unstable_run_is_stopped_by_the_max_norm_test() {
     );
     assert!(e.contains("von Neumann limit of this configuration"), "{e}");
     let s = json(&out.join("summary.json"));
-    assert!(
-        s["allowed_unstable"][0].as_str().unwrap().contains("0.686"),
-        "{s}"
-    );
+    assert!(s["stability"][0].as_str().unwrap().contains("0.686"), "{s}");
     assert!(s["runs"][0]["error"].as_str().unwrap().contains("blew up"));
 }
 
