@@ -217,7 +217,8 @@ fn mpm_blow_up_stops_cleanly_and_keeps_frames() {
         out.to_str().unwrap(),
     ]);
     let all = text(&o);
-    assert_eq!(o.status.code(), Some(2), "{all}");
+    // exit 3: a blow-up, told apart from bad input (2)
+    assert_eq!(o.status.code(), Some(3), "{all}");
     assert!(
         all.contains("mpm blew up at step") && all.contains("t = ") && all.contains("near x = "),
         "{all}"

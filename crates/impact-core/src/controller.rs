@@ -65,9 +65,9 @@ impl Default for Guard {
     }
 }
 
-/// The largest stress component `max_i max_rc |σ_rc|` of `samples` and where (the
-/// sample's reference position).
-fn peak_stress<const D: usize>(samples: &Samples<D>) -> (f64, Vec<f64>) {
+/// The largest stress component `max_i max_rc |σ_rc|` of `samples` and the index of its
+/// sample (a NaN wins).
+fn peak_stress<const D: usize>(samples: &Samples<D>) -> (f64, usize) {
     let mut peak = (0.0f64, 0usize);
     for (i, s) in samples.stress.iter().enumerate() {
         let m = s.amax();
@@ -75,12 +75,7 @@ fn peak_stress<const D: usize>(samples: &Samples<D>) -> (f64, Vec<f64>) {
             peak = (m, i);
         }
     }
-    let place = samples
-        .reference
-        .get(peak.1)
-        .map(|x| x.iter().copied().collect())
-        .unwrap_or_default();
-    (peak.0, place)
+    peak
 }
 
 /// What a run did.
@@ -202,13 +197,14 @@ where
         }
         if guard.stress_scale > 0.0 {
             m.sample_into(&mut samples);
-            let (peak, place) = peak_stress(&samples);
+            let (peak, at) = peak_stress(&samples);
             let half = history.partition_point(|&(s, _)| s < 0.5 * t);
             let at_half = history.get(half).map_or(peak, |h| h.1);
             if history.len() > WARMUP_CHECKS
                 && peak > STRESS_EXCESS * stress_scale
                 && peak > STRESS_GROWTH * at_half
             {
+                let place = samples.reference[at].iter().copied().collect();
                 return Err(blowup(
                     place,
                     format!(
