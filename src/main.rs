@@ -332,7 +332,7 @@ fn print_rows(r: &RunRecord) {
             (t.errors != ErrorBasis::Relative).then(|| t.errors.describe()),
             (t.front != FrontStatus::Measured).then(|| t.front.describe()),
             (!t.energy_relative)
-                .then_some("energy_rel: the loads did no work, so the energy column is E_h in J"),
+                .then_some("energy_rel: nothing was put in (no work, no initial energy), so the energy column is E_h in J"),
         ]
         .into_iter()
         .flatten()

@@ -128,8 +128,10 @@ pub struct TimeMetrics {
     pub front_exact: Option<f64>,
     /// Why the front metrics are or are not there.
     pub front: FrontStatus,
-    /// `(E_h - W)/W` with `W` the exact work of the load (the method's own if no exact);
-    /// `E_h` in J where `W = 0` (`energy_relative` false).
+    /// `(E_h - E*)/E*` with `E* = W + E_0` the energy the state should hold: the exact
+    /// work of the loads plus the exact initial energy (the method's own work and initial
+    /// energy if the reference knows neither); `E_h` in J where `E* = 0` (`energy_relative`
+    /// false). [`energy_error`] states the rule.
     pub energy_error: f64,
     /// Whether `energy_error` is relative.
     pub energy_relative: bool,
@@ -144,9 +146,9 @@ pub struct TimeMetrics {
 
 impl TimeMetrics {
     /// Metrics of a run without a reference: the energy balance against the method's own
-    /// external work only.
-    pub fn without_reference(t: f64, energy: f64, work: f64) -> Self {
-        let (energy_error, energy_relative) = energy_error(energy, work);
+    /// external work plus its own initial energy, `expected` ([`energy_error`]).
+    pub fn without_reference(t: f64, energy: f64, expected: f64) -> Self {
+        let (energy_error, energy_relative) = energy_error(energy, expected);
         Self {
             t,
             l1: 0.0,
@@ -468,24 +470,27 @@ impl Reference {
             overshoot_pct,
             errors,
         } = profile.metrics(front.as_ref(), dx, self.scale());
-        // the exact plane-wave work is per unit height; the converged one is the total
-        // the energy the discrete state should hold: the work done on it, and for the
-        // standing mode (no load) its constant energy
-        let work = match self {
-            Reference::Bar(_) | Reference::SvkBar(_) | Reference::Elastoplastic(_) => {
+        // the energy the discrete state should hold, E* = W + E_0 (`energy_error`): the
+        // work done on it plus its initial energy; the exact plane-wave work and energy are
+        // per unit height, the converged work is the total (its run starts from the same
+        // initial state, whose energy the method holds at t = 0); the standing mode (no
+        // load) keeps its constant energy
+        let expected = match self {
+            Reference::Bar(b) => Some(b.energy(t) * Self::work_scale(samples)),
+            Reference::SvkBar(_) | Reference::Elastoplastic(_) => {
                 self.work(t).map(|w| w * Self::work_scale(samples))
             }
             Reference::Standing(w) => Some(w.energy(total_volume(samples))),
-            Reference::Converged(_) => self.work(t),
+            Reference::Converged(_) => self.work(t).map(|w| w + method.initial_energy()),
         }
-        .unwrap_or(method.external_work());
+        .unwrap_or(method.external_work() + method.initial_energy());
         let front_position = front.as_ref().and_then(|f| profile.crossing(f, 0.5, dx));
         let status = match (&front, front_width_cells, front_position) {
             (None, _, _) => FrontStatus::NoFront,
             (Some(_), Some(_), Some(_)) => FrontStatus::Measured,
             (Some(_), _, _) => FrontStatus::NotCrossed,
         };
-        let (energy_error, energy_relative) = energy_error(method.energy(), work);
+        let (energy_error, energy_relative) = energy_error(method.energy(), expected);
         // the plastic wave of an elastoplastic reference: the second front
         let (plastic_front_width_cells, plastic_overshoot_pct, plastic_front_position) = match self
         {

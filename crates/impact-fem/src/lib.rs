@@ -64,6 +64,8 @@ pub struct FemState<const D: usize> {
     pub work: f64,
     /// Impulse of the loads and reactions, consistent with `Σ m v^{n+1/2}`.
     pub impulse: Vector<D>,
+    /// Energy of the state at `t = 0` (J).
+    pub initial_energy: f64,
 }
 
 /// Configuration and buffers of the explicit FEM.
@@ -193,10 +195,13 @@ impl<const D: usize> Fem<D> {
             last_dt: 0.0,
             work: 0.0,
             impulse: Vector::<D>::zeros(),
+            initial_energy: 0.0,
         };
         solver.set_load_time(0.0);
         solver.internal_forces_into(&state.displacement, &mut state.acceleration);
-        Ok(Self { solver, state })
+        let mut fem = Self { solver, state };
+        fem.state.initial_energy = impact_core::Method::energy(&fem);
+        Ok(fem)
     }
 }
 

@@ -80,6 +80,8 @@ pub struct MpmState<const D: usize> {
     pub work: f64,
     /// Impulse of the loads and of the prescribed velocities since `t = 0`.
     pub impulse: Vector<D>,
+    /// Energy of the state at `t = 0` (J).
+    pub initial_energy: f64,
 }
 
 /// Nodal sums of the background grid (struct of arrays).
@@ -251,6 +253,7 @@ impl<const D: usize> Mpm<D> {
                 points,
                 work: 0.0,
                 impulse: Vector::<D>::zeros(),
+                initial_energy: 0.0,
             },
         };
         mpm.solver.allocate_weights(&mpm.state.points);
@@ -258,6 +261,7 @@ impl<const D: usize> Mpm<D> {
             .solver
             .impose_point_velocities(&mut mpm.state.points, 0.0);
         mpm.state.impulse += kick;
+        mpm.state.initial_energy = impact_core::Method::energy(&mpm);
         Ok(mpm)
     }
 }
