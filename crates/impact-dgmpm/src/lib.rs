@@ -207,7 +207,7 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) grid: Grid<D>,
     pub(crate) material: LinearElastic,
     pub(crate) boundaries: [[Boundary; 2]; D],
-    /// The loads' magnitudes at the current stage's time (`set_load_time`).
+    /// The loads' magnitudes averaged over the current step (`set_load_window`).
     pub(crate) load_now: [[f64; 2]; D],
     pub(crate) points_per_cell: usize,
     pub(crate) parallel: bool,
