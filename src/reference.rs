@@ -5,20 +5,25 @@ use impact_core::{Method, Problem};
 /// Refinement factor of the converged reference of scenes without an exact solution.
 pub const REFERENCE_REFINEMENT: usize = 4;
 
-/// The reference of `problem`: its exact solution when it has one; otherwise, in 2D, a
-/// converged solution: DGMPM (1 point per cell, CTU, forward Euler, Courant 1) on a grid
-/// [`REFERENCE_REFINEMENT`] times finer, at the same output times, computed once and then
-/// read from the cache ([`crate::reference_cache`]). `say` prints what is computed or read
-/// (on stderr) and shows a progress bar.
+/// The reference of `problem`: its exact solution when it has one; otherwise (in 1D and
+/// 2D) a converged solution: DGMPM (1 point per cell, CTU in 2D, forward Euler, Courant 1)
+/// on a grid [`REFERENCE_REFINEMENT`] times finer, at the same output times, computed once
+/// and then read from the cache ([`crate::reference_cache`]), its description stating
+/// why there is no exact one. `say` prints what is computed or read (on stderr) and shows
+/// a progress bar.
 pub fn reference_for<const D: usize>(
     problem: &Problem<D>,
     say: bool,
 ) -> anyhow::Result<Option<impact_core::reference::Reference>> {
     use impact_core::reference::{Converged, Reference};
-    if let Some(r) = Reference::for_problem(problem) {
-        return Ok(Some(r));
-    }
-    if D != 2 {
+    let why = match Reference::exact(problem) {
+        Ok(r) => return Ok(Some(r)),
+        Err(why) => why,
+    };
+    if !(D == 1 || D == 2) {
+        if say {
+            eprintln!("reference: none because {why}");
+        }
         return Ok(None);
     }
     let r = REFERENCE_REFINEMENT;
@@ -28,8 +33,8 @@ pub fn reference_for<const D: usize>(
             use std::io::Write as _;
             let _ = writeln!(
                 std::io::stderr(),
-                "no converged reference: a grid {r}x finer ({fine_cells:.2e} cells) exceeds the \
-                 {:.0e}-cell limit; errors are not computed",
+                "reference: none because {why}, and a converged reference on a grid {r}x finer \
+                 ({fine_cells:.2e} cells) exceeds the {:.0e}-cell limit; errors are not computed",
                 impact_core::scene::MAX_POINTS
             );
         }
@@ -42,14 +47,19 @@ pub fn reference_for<const D: usize>(
     }
     let config = converged_config(&fine.model);
     let options = *config.dgmpm().expect("internal: a DGMPM configuration");
+    let grid = match D {
+        1 => format!("{} cells", fine.grid.cells[0]),
+        _ => format!("a {}x{} grid", fine.grid.cells[0], fine.grid.cells[D - 1]),
+    };
+    let flux = match D {
+        1 => String::new(),
+        _ => format!("{}, ", options.flux.name().to_uppercase()),
+    };
     let description = format!(
-        "converged reference: DGMPM (1 ppc, {}, {}, Courant {}) on a {}x{} grid ({}x finer)",
-        options.flux.name().to_uppercase(),
+        "converged reference: DGMPM (1 ppc, {flux}{}, Courant {}) on {grid} ({r}x finer); no \
+         exact solution: {why}",
         options.integrator.name(),
         config.courant,
-        fine.grid.cells[0],
-        fine.grid.cells[1],
-        r
     );
     let entry = crate::reference_cache::Entry::new(
         &crate::reference_cache::folder(),
@@ -84,10 +94,15 @@ pub fn reference_for<const D: usize>(
         work,
     } = stored;
     let cells = fine.grid.cells;
+    // 1D: one band of unit height
+    let (ny, hy) = match D {
+        1 => (1, 1.0),
+        _ => (cells[D - 1], fine.grid.spacing[D - 1]),
+    };
     Ok(Some(Reference::Converged(Box::new(Converged {
         description,
-        cells: [cells[0], cells[D - 1]],
-        spacing: [fine.grid.spacing[0], fine.grid.spacing[D - 1]],
+        cells: [cells[0], ny],
+        spacing: [fine.grid.spacing[0], hy],
         times: problem.output_times.clone(),
         stress_xx,
         velocity_x,
