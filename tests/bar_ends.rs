@@ -146,3 +146,51 @@ fn energy_of_a_free_free_bar_with_an_initial_velocity_is_relative_in_every_metho
         }
     }
 }
+
+/// The plane wave (2D, symmetry top and bottom) uses the same solution for a load on the
+/// right edge or on both, and a fixed far edge: DGMPM at Courant 1 (CTU) matches the
+/// exact uniaxial-strain averages along the bottom row to round-off.
+#[test]
+fn plane_waves_loaded_on_either_edge_are_exact() {
+    let text = impact_core::scene::builtin("plate-wave").unwrap();
+    let head = &text[..text.find("[boundary]").unwrap()];
+    let tail = &text[text.find("[time]").unwrap()..];
+    for edges in [
+        "left = { kind = \"free\" }\nright = { kind = \"normal-velocity\", value = 5.0 }",
+        "left = { kind = \"pressure\", value = 4.0e8 }\nright = { kind = \"symmetry\" }",
+        "left = { kind = \"velocity\", value = 5.0, history = \"pulse\", duration = 1.2e-4 }\nright = { kind = \"pressure\", value = 2.0e8, history = \"ramp\", duration = 1.0e-4 }",
+    ] {
+        let toml = format!(
+            "{head}[boundary]\n{edges}\nbottom = {{ kind = \"symmetry\" }}\ntop = {{ kind = \"symmetry\" }}\n{tail}"
+        );
+        let scene = Scene::from_toml(&toml, "test").unwrap();
+        let problem = Problem::<2>::from_scene(&scene).unwrap();
+        let reference = Reference::exact(&problem).unwrap();
+        let (rec, _) = impact::run::run_method(
+            &problem,
+            scene.method_config(MethodKind::Dgmpm),
+            Some(&reference),
+            &mut impact::run::Silent,
+        )
+        .unwrap();
+        let l1 = rec.times.iter().map(|t| t.l1).fold(0.0, f64::max);
+        println!("plane wave {edges:?}: DGMPM L1 {l1:.2e}");
+        assert!(l1 < 1e-12, "{edges}: L1 {l1:e}");
+    }
+}
+
+/// Scenes without an exact solution say why (the CLI prints it and falls back to a
+/// converged reference).
+#[test]
+fn scenes_without_an_exact_solution_say_why() {
+    let text = impact_core::scene::builtin("plate").unwrap();
+    let problem = Problem::<2>::from_scene(&Scene::from_toml(text, "plate").unwrap()).unwrap();
+    let why = Reference::exact(&problem).unwrap_err();
+    assert!(why.contains("symmetry top and bottom"), "{why}");
+    let text = impact_core::scene::builtin("svk-bar").unwrap();
+    let mut scene = Scene::from_toml(text, "svk-bar").unwrap();
+    scene.boundary.right = scene.boundary.left.clone();
+    let problem = Problem::<1>::from_scene(&scene).unwrap();
+    let why = Reference::exact(&problem).unwrap_err();
+    assert!(why.contains("Saint-Venant–Kirchhoff"), "{why}");
+}
