@@ -33,8 +33,8 @@ pub fn reference_for<const D: usize>(
             use std::io::Write as _;
             let _ = writeln!(
                 std::io::stderr(),
-                "reference: none because {why}, and a converged reference on a grid {r}x finer \
-                 ({fine_cells:.2e} cells) exceeds the {:.0e}-cell limit; errors are not computed",
+                "no converged reference: a grid {r}x finer ({fine_cells:.2e} cells) exceeds the \
+                 {:.0e}-cell limit; errors are not computed (no exact solution: {why})",
                 impact_core::scene::MAX_POINTS
             );
         }
