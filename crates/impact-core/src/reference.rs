@@ -417,7 +417,11 @@ impl Reference {
     /// What the errors are measured against.
     pub fn describe(&self) -> String {
         match self {
-            Reference::Bar(_) => "exact solution (averages over each sample's region)".into(),
+            Reference::Bar(b) => format!(
+                "exact solution (averages over each sample's region): d'Alembert with images, \
+                 {}",
+                b.describe()
+            ),
             Reference::SvkBar(b) => format!(
                 "exact SVK {} (averages over each sample's region; valid until t = {:.4e} s)",
                 if b.is_shock() { "shock" } else { "centred fan" },

@@ -180,6 +180,41 @@ impl BarExact {
         self
     }
 
+    /// The ends and the initial state in words, e.g. `left: pressure 1e9 Pa (step);
+    /// right: free; from rest`.
+    pub fn describe(&self) -> String {
+        let end = |e: &BarEnd| {
+            let (shape, scale) = e.history().shape();
+            let history = if e.history().is_step() {
+                "step".to_string()
+            } else {
+                format!("{shape}, {scale:e} s")
+            };
+            match *e {
+                BarEnd::Traction { pressure, .. } if pressure == 0.0 => "free".to_string(),
+                BarEnd::Velocity { velocity, .. } if velocity == 0.0 => {
+                    "zero normal velocity (fixed or symmetry)".to_string()
+                }
+                BarEnd::Traction { pressure, .. } => {
+                    format!("pressure {pressure:e} Pa ({history})")
+                }
+                BarEnd::Velocity { velocity, .. } => {
+                    format!("velocity {velocity:e} m/s ({history})")
+                }
+            }
+        };
+        format!(
+            "left: {}; right: {}; {}",
+            end(&self.ends[0]),
+            end(&self.ends[1]),
+            if self.initial.is_some() {
+                "from the scene's initial state"
+            } else {
+                "from rest"
+            }
+        )
+    }
+
     /// Whether the bar starts from a state other than rest.
     pub fn has_initial_state(&self) -> bool {
         self.initial.is_some()
