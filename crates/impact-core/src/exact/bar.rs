@@ -191,8 +191,8 @@ impl BarExact {
                 format!("{shape}, {scale:e} s")
             };
             match *e {
-                BarEnd::Traction { pressure, .. } if pressure == 0.0 => "free".to_string(),
-                BarEnd::Velocity { velocity, .. } if velocity == 0.0 => {
+                BarEnd::Traction { pressure: 0.0, .. } => "free".to_string(),
+                BarEnd::Velocity { velocity: 0.0, .. } => {
                     "zero normal velocity (fixed or symmetry)".to_string()
                 }
                 BarEnd::Traction { pressure, .. } => {
