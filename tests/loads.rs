@@ -157,7 +157,8 @@ fn segment_cover_sets_the_resultant() {
 /// ramp, sine or pulse pressure delivers, `Method::external_impulse`, equals `p I(T)` to
 /// 1e-12 in every method at several resolutions (step sizes unrelated to the pulse's
 /// end). FEM's central differences count the impulse that reached `v^{N-1/2}`, half a
-/// step behind: `p I(T - Δt/2)`.
+/// step behind: `p I(T - Δt/2)`; its full-step velocity (the outputs') carries the
+/// momentum `p I(T)`. The momentum of every method equals `p I(T)` (free right end).
 #[test]
 fn history_loads_deliver_their_impulse_to_round_off() {
     let pressure = 1e9;
@@ -186,6 +187,19 @@ fn history_loads_deliver_their_impulse_to_round_off() {
                 assert!(
                     error < 1e-12,
                     "{shape} {cells} {kind}: impulse {impulse:e} against p I(T) = {expected:e}"
+                );
+                // momentum of the full-step state from the samples: ρ |region| v
+                let mut samples = impact_core::Samples::<1>::default();
+                m.sample_into(&mut samples);
+                let momentum: f64 = (0..samples.len())
+                    .map(|i| 7800.0 * 2.0 * samples.half_size[i][0] * samples.velocity[i][0])
+                    .sum();
+                let full = pressure * history.integral(end);
+                let error = (momentum - full).abs() / full.abs();
+                println!("{shape} {cells} {kind}: momentum error {error:.2e}");
+                assert!(
+                    error < 1e-11,
+                    "{shape} {cells} {kind}: momentum {momentum:e} against {full:e}"
                 );
             }
         }
@@ -218,6 +232,37 @@ fn pulse_loaded_bar_converges() {
         assert!(
             rows[1][j] < rows[0][j] && rows[2][j] < rows[1][j],
             "column {j} of {rows:?}"
+        );
+    }
+}
+
+/// A prescribed velocity acts at its step average too: FEM's loaded node moves by
+/// `v_d I(T)` to round-off under a ramp, sine or pulse velocity, whatever the step.
+#[test]
+fn velocity_loads_give_the_exact_displacement() {
+    for shape in [LoadShape::Ramp, LoadShape::Sine, LoadShape::Pulse] {
+        let duration = 0.23e-3;
+        let history = impact_core::LoadHistory::new(shape, duration);
+        let mut scene = Scene::builtin("bar").unwrap();
+        scene.domain.cells = vec![1000];
+        let left = scene.boundary.left.as_mut().unwrap();
+        left.kind = impact_core::method::EdgeKind::Velocity;
+        left.value = Some(4.0);
+        left.history = Some(shape);
+        left.duration = Some(duration);
+        let problem = Problem::<1>::from_scene(&scene).unwrap();
+        let mut fem = impact_fem::Fem::new(&problem, scene.method_config(MethodKind::Fem)).unwrap();
+        let dt = impact_core::Method::stable_dt(&fem);
+        let steps = (0.9 * 6.0 / C0 / dt).floor() as usize;
+        for k in 0..steps {
+            impact_core::Method::step(&mut fem, k as f64 * dt, dt);
+        }
+        let expected = 4.0 * history.integral(steps as f64 * dt);
+        let u = fem.state.displacement[0][0];
+        println!("{shape}: loaded node moved {u:e} (v_d I(T) = {expected:e})");
+        assert!(
+            (u - expected).abs() < 1e-12 * expected.abs(),
+            "{shape}: {u:e} against {expected:e}"
         );
     }
 }
