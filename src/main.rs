@@ -337,7 +337,9 @@ fn print_rows(r: &RunRecord) {
             (t.errors != ErrorBasis::Relative).then(|| t.errors.describe().to_string()),
             front_note,
             (!t.energy_relative).then(|| {
-                "energy_rel: the loads did no work, so the energy column is E_h in J".to_string()
+                "energy_rel: nothing was put in (no work, no initial energy), so the energy \
+                 column is E_h in J"
+                    .to_string()
             }),
         ]
         .into_iter()

@@ -59,7 +59,8 @@ pub fn run(cells: usize, rounds: usize) -> Result<(usize, f64, Vec<FrameCost>)> 
     }
     let scratch = std::env::temp_dir().join(format!("impact-output-bench-{}", std::process::id()));
     impact_io::create_dir(&scratch)?;
-    let metrics = TimeMetrics::without_reference(t, method.energy(), method.external_work());
+    let expected = method.external_work() + method.initial_energy();
+    let metrics = TimeMetrics::without_reference(t, method.energy(), expected);
     let mut costs: Vec<FrameCost> = [VtuEncoding::Binary, VtuEncoding::Ascii]
         .into_iter()
         .map(|encoding| FrameCost {

@@ -5,28 +5,35 @@ use impact_core::{Method, Problem};
 /// Refinement factor of the converged reference of scenes without an exact solution.
 pub const REFERENCE_REFINEMENT: usize = 4;
 
-/// The reference of `problem`: its exact solution when it has one; otherwise, in 2D, a
-/// converged solution: DGMPM (1 point per cell, CTU, forward Euler, Courant 1) on a grid
-/// [`REFERENCE_REFINEMENT`] times finer, at the same output times, computed once and then
-/// read from the cache ([`crate::reference_cache`]). `say` prints what is computed or read
-/// (on stderr) and shows a progress bar.
+/// The reference of `problem`: its exact solution when it has one; otherwise (in 1D and
+/// 2D) a converged solution: DGMPM (1 point per cell, CTU in 2D, forward Euler, Courant 1)
+/// on a grid [`REFERENCE_REFINEMENT`] times finer, at the same output times, computed once
+/// and then read from the cache ([`crate::reference_cache`]), its description stating
+/// why there is no exact one. `say` prints what is computed or read (on stderr) and shows
+/// a progress bar.
 pub fn reference_for<const D: usize>(
     problem: &Problem<D>,
     say: bool,
 ) -> anyhow::Result<Option<impact_core::reference::Reference>> {
     use impact_core::reference::{Converged, Reference};
     let line = impact_core::line::MeasureLine::of(problem);
-    if let Some(r) = Reference::for_problem(problem) {
-        if line.axis != 0 {
-            anyhow::bail!(
-                "invalid value for `metrics.line`: {} (allowed: a line along x: the scene's \
-                 exact solution is a plane wave along x, measured along x)",
-                line.describe::<D>()
-            );
+    let why = match Reference::exact(problem) {
+        Ok(r) => {
+            if line.axis != 0 {
+                anyhow::bail!(
+                    "invalid value for `metrics.line`: {} (allowed: a line along x: the \
+                     scene's exact solution is a plane wave along x, measured along x)",
+                    line.describe::<D>()
+                );
+            }
+            return Ok(Some(r));
         }
-        return Ok(Some(r));
-    }
-    if D != 2 {
+        Err(why) => why,
+    };
+    if !(D == 1 || D == 2) {
+        if say {
+            eprintln!("reference: none because {why}");
+        }
         return Ok(None);
     }
     let r = REFERENCE_REFINEMENT;
@@ -37,7 +44,7 @@ pub fn reference_for<const D: usize>(
             let _ = writeln!(
                 std::io::stderr(),
                 "no converged reference: a grid {r}x finer ({fine_cells:.2e} cells) exceeds the \
-                 {:.0e}-cell limit; errors are not computed",
+                 {:.0e}-cell limit; errors are not computed (no exact solution: {why})",
                 impact_core::scene::MAX_POINTS
             );
         }
@@ -50,14 +57,19 @@ pub fn reference_for<const D: usize>(
     }
     let config = converged_config(&fine.model);
     let options = *config.dgmpm().expect("internal: a DGMPM configuration");
+    let grid = match D {
+        1 => format!("{} cells", fine.grid.cells[0]),
+        _ => format!("a {}x{} grid", fine.grid.cells[0], fine.grid.cells[D - 1]),
+    };
+    let flux = match D {
+        1 => String::new(),
+        _ => format!("{}, ", options.flux.name().to_uppercase()),
+    };
     let description = format!(
-        "converged reference: DGMPM (1 ppc, {}, {}, Courant {}) on a {}x{} grid ({}x finer)",
-        options.flux.name().to_uppercase(),
+        "converged reference: DGMPM (1 ppc, {flux}{}, Courant {}) on {grid} ({r}x finer); no \
+         exact solution: {why}",
         options.integrator.name(),
         config.courant,
-        fine.grid.cells[0],
-        fine.grid.cells[1],
-        r
     );
     let entry = crate::reference_cache::Entry::new(
         &crate::reference_cache::folder(),
@@ -93,11 +105,16 @@ pub fn reference_for<const D: usize>(
     } = stored;
     let cells = fine.grid.cells;
     let (load_scale, step_load) = problem.load_scale();
+    // 1D: one band of unit height
+    let (ny, hy) = match D {
+        1 => (1, 1.0),
+        _ => (cells[D - 1], fine.grid.spacing[D - 1]),
+    };
     // the band across the line where the jump is read: from the low side of the coarse
     // row the line runs in, one coarse cell length along the line wide (so a square on a
     // square grid; the band the plate's front was always measured in), within the body
     let band = if D == 1 {
-        [0.0, fine.grid.spacing[0]]
+        [0.0, hy]
     } else {
         let other = 1 - line.axis;
         let h = problem.grid.spacing[other];
@@ -110,15 +127,8 @@ pub fn reference_for<const D: usize>(
     };
     Ok(Some(Reference::Converged(Box::new(Converged {
         description,
-        cells: [cells[0], if D == 1 { 1 } else { cells[1] }],
-        spacing: [
-            fine.grid.spacing[0],
-            if D == 1 {
-                fine.grid.spacing[0]
-            } else {
-                fine.grid.spacing[1]
-            },
-        ],
+        cells: [cells[0], ny],
+        spacing: [fine.grid.spacing[0], hy],
         times: problem.output_times.clone(),
         stress: stress_xx,
         velocity: velocity_x,

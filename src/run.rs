@@ -109,7 +109,11 @@ pub fn run_method<const D: usize>(
         |m, index, t, steps| {
             let metrics = match reference {
                 Some(r) => r.evaluate(m, &mut samples, t, &line, dx),
-                None => TimeMetrics::without_reference(t, m.energy(), m.external_work()),
+                None => TimeMetrics::without_reference(
+                    t,
+                    m.energy(),
+                    m.external_work() + m.initial_energy(),
+                ),
             };
             steps_at_output = steps;
             times.push(metrics);

@@ -27,6 +27,22 @@
 //! diffusion grows with `1 - C`: on the SVK tension shock (150 cells, Courant 1, 123 steps)
 //! equal steps ran at an effective 0.976 and smeared the shock to 2.44/3.24/3.85 cells;
 //! full steps give 1.51/2.01/2.26 cells and a 3× smaller L1 error.
+//!
+//! No sliver steps ([`Span`]): when `t_out` falls a hair past a whole number `m` of stable
+//! steps, the shortened last step would be a near-zero sliver, and a sliver is not a
+//! harmless step: each DGMPM step applies the point-node projection, which at 2 points per
+//! cell changed σ by 0.5-1.2 % of the amplitude, so results jumped with the output time
+//! (issue 23). When the remainder `r = span - m Δt_stable` is at most
+//! [`MERGE_FRACTION`]` · Δt_stable`, the span is covered by `m` equal steps
+//! `span/m = Δt_stable (1 + r/(m Δt_stable))` instead: none exceeds the stable step by more
+//! than the fraction `r/(m Δt)` ≤ [`MERGE_FRACTION`]`/m`, and the amplification this can
+//! cause over the whole span is bounded (for upwind transport at `C = 1 + δ`,
+//! `|G| ≤ 1 + 2δ`, so `(1 + 2r/(mΔt))^m ≤ e^{2·MERGE_FRACTION}` ≈ 1.002). The result is then
+//! continuous in `t_out` on both sides of a whole number of steps (a hair before: the last
+//! step tends to `Δt_stable`; a hair after: the `m` steps tend to `Δt_stable`), and an
+//! output time that is a whole number of stable steps is still reached with exactly the
+//! stable step (the paper's numbers are unchanged). A remainder above the fraction is a
+//! real last step, taken as before.
 use crate::method::{Blowup, Method, Samples};
 
 /// Stability guard settings.
@@ -116,6 +132,64 @@ impl<E: std::fmt::Display> std::fmt::Display for RunError<E> {
 }
 
 impl<E: std::fmt::Debug + std::fmt::Display> std::error::Error for RunError<E> {}
+
+/// Largest remainder, as a fraction of the stable step, that is merged into the whole
+/// steps before it instead of taken as a last step of its own (module doc).
+pub const MERGE_FRACTION: f64 = 1e-3;
+
+/// The steps from one output time to the next (module doc): `steps` steps, step `k`
+/// ending at [`Span::step`]`(k).1`, the last one exactly at `t_out`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Span {
+    /// Start `t`.
+    pub start: f64,
+    /// End `t_out`.
+    pub end: f64,
+    /// Number of steps.
+    pub steps: usize,
+    /// Size of every step but the last: `Δt_stable`, or `span/steps` when a small
+    /// remainder was merged.
+    pub size: f64,
+}
+
+impl Span {
+    /// The schedule from `start` to `end` with stable step `dt_stable`: full stable steps
+    /// and a shortened last one, or, when the remainder past `m` whole steps is at most
+    /// [`MERGE_FRACTION`] of a step, `m` equal steps.
+    pub fn new(start: f64, end: f64, dt_stable: f64) -> Self {
+        let span = end - start;
+        // a span within 1e-12 of a whole number of steps is that number (round-off)
+        let n = ((span / dt_stable) * (1.0 - 1e-12)).ceil().max(1.0) as usize;
+        let last = span - (n - 1) as f64 * dt_stable;
+        if n > 1 && last <= MERGE_FRACTION * dt_stable {
+            let steps = n - 1;
+            return Self {
+                start,
+                end,
+                steps,
+                size: span / steps as f64,
+            };
+        }
+        Self {
+            start,
+            end,
+            steps: n,
+            size: dt_stable,
+        }
+    }
+
+    /// Start and end of step `k` (`k < steps`); the last ends exactly at `end`.
+    #[inline]
+    pub fn step(&self, k: usize) -> (f64, f64) {
+        let t0 = self.start + k as f64 * self.size;
+        let t1 = if k + 1 == self.steps {
+            self.end
+        } else {
+            t0 + self.size
+        };
+        (t0, t1)
+    }
+}
 
 /// Run `method` from `t = 0` through every output time. `on_output(method, index, t,
 /// step)` is called at each output time; `on_progress(t)` after each step.
@@ -224,13 +298,12 @@ where
         Ok(())
     };
     for (index, &t_out) in output_times.iter().enumerate() {
-        let span = t_out - t;
-        if span > 0.0 {
-            let n = ((span / dt_stable) * (1.0 - 1e-12)).ceil().max(1.0) as usize;
+        let span = Span::new(t, t_out, dt_stable);
+        if t_out - t > 0.0 {
+            let n = span.steps;
             let start = std::time::Instant::now();
             for k in 0..n {
-                let t0 = t + k as f64 * dt_stable;
-                let t1 = if k + 1 == n { t_out } else { t0 + dt_stable };
+                let (t0, t1) = span.step(k);
                 method.step(t0, t1 - t0);
                 steps += 1;
                 if steps.is_multiple_of(guard.check_every.max(1)) {
@@ -257,4 +330,42 @@ where
         steps,
         wall_s: wall,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Whole steps land with the stable step; a hair past them is merged (no sliver, no
+    /// step above the stable one by more than the merged fraction); a real remainder is a
+    /// last step of its own.
+    #[test]
+    fn spans_take_no_sliver_steps() {
+        let dt = 0.1;
+        let whole = Span::new(0.0, 10.0 * dt, dt);
+        assert_eq!((whole.steps, whole.size), (10, dt));
+        assert_eq!(whole.step(9).1, 10.0 * dt);
+        let hair = Span::new(0.0, 10.0 * dt * (1.0 + 1e-10), dt);
+        assert_eq!(hair.steps, 10);
+        assert!(hair.size > dt && hair.size < dt * (1.0 + 2e-10));
+        let (t0, t1) = hair.step(9);
+        assert_eq!(t1, 10.0 * dt * (1.0 + 1e-10));
+        assert!((t1 - t0 - hair.size).abs() < 1e-15);
+        // a remainder of 1e-4 steps after 3 steps: 3 steps of (1 + 1e-4/3) Δt
+        let small = Span::new(1.0, 1.0 + 3.0001 * dt, dt);
+        assert_eq!(small.steps, 3);
+        assert!(small.size <= dt * (1.0 + MERGE_FRACTION / 3.0));
+        // a real remainder: 3 full steps and 0.3 of one
+        let real = Span::new(0.0, 3.3 * dt, dt);
+        assert_eq!((real.steps, real.size), (4, dt));
+        let (t0, t1) = real.step(3);
+        assert!((t1 - t0 - 0.3 * dt).abs() < 1e-15);
+        // a span shorter than a step is one step
+        let short = Span::new(0.0, 1e-6 * dt, dt);
+        assert_eq!(short.steps, 1);
+        assert_eq!(short.step(0), (0.0, 1e-6 * dt));
+        // a hair before a whole number: the last step is within a hair of Δt
+        let before = Span::new(0.0, 10.0 * dt * (1.0 - 1e-10), dt);
+        assert_eq!((before.steps, before.size), (10, dt));
+    }
 }

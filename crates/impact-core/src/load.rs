@@ -9,6 +9,19 @@
 //! `g(t) = 0` for `t < 0`. The exact bar solutions superpose delayed copies of `g`, and
 //! their cell averages need its integral `I(t) = ∫_0^t g(s) ds`, given in closed form by
 //! [`LoadHistory::integral`].
+//!
+//! **Loads integrated exactly over each step.** The methods apply a load over a step
+//! `[t0, t1]` at its step average `ḡ = (I(t1) - I(t0))/(t1 - t0)`
+//! ([`LoadHistory::mean`]), in every stage of the step (DGMPM's ghost traction or
+//! velocity in the Euler stage and in both of Heun's, MPM's and FEM's nodal forces, the
+//! prescribed velocities of velocity edges). The impulse a pressure delivers over the
+//! steps is then `p Σ (I(t_{k+1}) - I(t_k)) = p I(T)` to round-off whatever the step, and
+//! a prescribed velocity moves the loaded face by `v_d I(T)` exactly. Point values at the
+//! midpoint (the earlier choice) deliver `p Σ g(t_{k+1/2}) Δt`, which misses the impulse
+//! of a pulse by up to `p Δt/2` when its end falls inside a step (+0.08 %, +0.22 %,
+//! −0.14 % at 800/1000/1200 cells of the paper's bar) and kept DGMPM's L1 error at 8.3e-4
+//! under refinement. The paper (§5) has only step loads and is silent on this; for a
+//! step `ḡ = 1` exactly, so the paper's results are unchanged bit for bit.
 use crate::options::LoadShape;
 use std::f64::consts::PI;
 
@@ -88,6 +101,22 @@ impl LoadHistory {
         }
     }
 
+    /// The step average `ḡ = (I(t1) - I(t0))/(t1 - t0)` over `[t0, t1]` (module doc);
+    /// `g(t0)` for an empty window (`t1 ≤ t0`, e.g. the state at `t = 0`); exactly 1 for a
+    /// step once `t0 ≥ 0`.
+    #[inline]
+    pub fn mean(&self, t0: f64, t1: f64) -> f64 {
+        if self.is_step() && t0 >= 0.0 {
+            return 1.0;
+        }
+        let span = t1 - t0;
+        if span > 0.0 {
+            (self.integral(t1) - self.integral(t0)) / span
+        } else {
+            self.factor(t0)
+        }
+    }
+
     /// The time after `t = 0` where `g` jumps or has a kink (ramp end, pulse end).
     pub fn breakpoint(&self) -> Option<f64> {
         match *self {
@@ -138,5 +167,29 @@ mod tests {
             assert_eq!(history.factor(-1e-9), 0.0);
             assert_eq!(history.integral(-1.0), 0.0);
         }
+    }
+
+    /// The step mean telescopes: `Σ ḡ_k Δt_k = I(T)` to round-off over uneven steps, a
+    /// step's mean is exactly 1, and an empty window gives the point value.
+    #[test]
+    fn step_means_deliver_the_integral() {
+        for shape in LoadShape::ALL {
+            let history = LoadHistory::new(shape, 0.37);
+            let (mut t, mut total) = (0.0, 0.0);
+            let mut k = 0;
+            while t < 1.3 {
+                let dt = 0.011 + 0.007 * ((k % 5) as f64);
+                total += history.mean(t, t + dt) * dt;
+                t += dt;
+                k += 1;
+            }
+            let exact = history.integral(t);
+            assert!(
+                (total - exact).abs() <= 1e-13 * exact.abs().max(0.1),
+                "{shape}: {total} against {exact}"
+            );
+            assert_eq!(history.mean(0.2, 0.2), history.factor(0.2));
+        }
+        assert_eq!(LoadHistory::Step.mean(0.1, 0.1 + 1e-3), 1.0);
     }
 }

@@ -99,6 +99,9 @@ pub trait Method<const D: usize>: Send {
     fn energy(&self) -> f64;
     /// Work done by the loads since `t = 0` (J), as the method delivered it.
     fn external_work(&self) -> f64;
+    /// Kinetic plus strain energy of the discrete state at `t = 0` (J), as built: the
+    /// energy the state should hold is this plus [`Self::external_work`].
+    fn initial_energy(&self) -> f64;
     /// Total momentum of the discrete state.
     fn momentum(&self) -> Vector<D>;
     /// Impulse delivered since `t = 0` by the loads and the prescribed velocities

@@ -228,14 +228,20 @@ impl Profile {
     }
 }
 
-/// Energy error `(E_h - W)/W` of a discrete energy `E_h` against the work `W`, or, where
-/// no work was done (`W = 0`, relative error undefined), `E_h` itself in J; the flag says
-/// which (`true`: relative).
-pub fn energy_error(energy: f64, work: f64) -> (f64, bool) {
-    if work == 0.0 || !work.is_finite() {
-        (energy, false)
+/// Energy error of a discrete energy `E_h` against the energy the state should hold,
+/// `E* = W + E_0`: the work of the loads plus the energy at `t = 0` (issue 23: one rule for
+/// every method and reference). Relative, `(E_h - E*)/E*`, where `E* ≠ 0`; where nothing
+/// was put in (`E* = 0`: no work, a state at rest; the relative error is undefined)
+/// `E_h - E* = E_h` in J. The flag says which (`true`: relative). A free-free bar with an
+/// initial velocity has `W = 0` and `E* = E_0 > 0`: relative to `E_0`, never to `W`.
+pub fn energy_error(energy: f64, expected: f64) -> (f64, bool) {
+    if expected == 0.0 || !expected.is_finite() {
+        (
+            energy - if expected.is_finite() { expected } else { 0.0 },
+            false,
+        )
     } else {
-        ((energy - work) / work, true)
+        ((energy - expected) / expected, true)
     }
 }
 

@@ -65,6 +65,13 @@ impl Load {
         self.value * self.history.factor(t)
     }
 
+    /// The magnitude over the step `[t0, t1]`, `value · ḡ` ([`LoadHistory::mean`]: the
+    /// step's impulse to round-off).
+    #[inline]
+    pub fn mean(&self, (t0, t1): (f64, f64)) -> f64 {
+        self.value * self.history.mean(t0, t1)
+    }
+
     /// Share of `[centre - half_width, centre + half_width]` along the edge that the load
     /// acts on: 1 without a segment; by [`SegmentCover::Centre`] 1 if the centre lies in
     /// the segment (with a 1e-12 tolerance) and 0 otherwise; by
@@ -109,6 +116,13 @@ impl Constraint {
     #[inline]
     pub fn at(&self, t: f64) -> f64 {
         self.value * self.history.factor(t)
+    }
+
+    /// The prescribed value over the step `[t0, t1]`, `value · ḡ` ([`LoadHistory::mean`]:
+    /// the step's displacement to round-off).
+    #[inline]
+    pub fn mean(&self, (t0, t1): (f64, f64)) -> f64 {
+        self.value * self.history.mean(t0, t1)
     }
 }
 

@@ -1,11 +1,13 @@
 //! The reference a scene is measured against, and the per-output-time metrics of a method.
 //!
-//! - `bar` (1D, pressure at the left end, free right end): the exact d'Alembert solution
-//!   [`BarExact`]; the profile is `σ_xx` sampled where each method stores it against the
-//!   exact average over the region each sample stands for.
-//! - plane wave (2D, velocity on the whole left edge, free right edge, symmetry top and
-//!   bottom): the same solution in uniaxial strain, `c_p = sqrt((λ+2μ)/ρ)`, with
+//! - 1D linear elasticity (any end conditions, any load histories, any initial state):
+//!   the exact d'Alembert solution with images [`BarExact`]; the profile is `σ_xx`
+//!   sampled where each method stores it against the exact average over the region each
+//!   sample stands for.
+//! - plane wave (2D, symmetry top and bottom, any conditions on the whole left and right
+//!   edges, at rest): the same solution in uniaxial strain, `c_p = sqrt((λ+2μ)/ρ)`, with
 //!   `σ_yy = λ/(λ+2μ) σ_xx`; the profile is the bottom row of samples.
+//! - [`Reference::exact`] says why a scene has no exact reference.
 //! - otherwise (the partial impact of §5.2): a converged numerical solution tabulated on a
 //!   finer grid ([`Converged`], computed by the caller, e.g. DGMPM on a refined grid). The
 //!   samples are compared with its averages over their regions; the front is at `c_p t`
@@ -16,14 +18,14 @@
 //! above are plane waves along x, measured along x.
 pub use crate::converged::Converged;
 use crate::exact::{
-    BarExact, ElastoplasticWave, EndLoad, Front, NoFront, StandingWave, SvkBarExact,
+    BarEnd, BarExact, ElastoplasticWave, Front, NoFront, StandingWave, SvkBarExact,
 };
 use crate::initial::InitialState;
 use crate::line::MeasureLine;
 use crate::load::LoadHistory;
 use crate::method::{Method, Samples};
 use crate::metrics::{energy_error, ErrorBasis, FrontStatus, Profile, ProfileMetrics};
-use crate::problem::{Boundary, Load, Problem};
+use crate::problem::{Boundary, Load, Model, Problem};
 use crate::Vector;
 use serde::Serialize;
 
@@ -72,8 +74,10 @@ pub struct TimeMetrics {
     pub front: FrontStatus,
     /// Why the reference has no front at this time (with [`FrontStatus::NoFront`]).
     pub front_reason: Option<NoFront>,
-    /// `(E_h - W)/W` with `W` the exact work of the load (the method's own if no exact);
-    /// `E_h` in J where `W = 0` (`energy_relative` false).
+    /// `(E_h - E*)/E*` with `E* = W + E_0` the energy the state should hold: the exact
+    /// work of the loads plus the exact initial energy (the method's own work and initial
+    /// energy if the reference knows neither); `E_h` in J where `E* = 0` (`energy_relative`
+    /// false). [`energy_error`] states the rule.
     pub energy_error: f64,
     /// Whether `energy_error` is relative.
     pub energy_relative: bool,
@@ -88,9 +92,9 @@ pub struct TimeMetrics {
 
 impl TimeMetrics {
     /// Metrics of a run without a reference: the energy balance against the method's own
-    /// external work only.
-    pub fn without_reference(t: f64, energy: f64, work: f64) -> Self {
-        let (energy_error, energy_relative) = energy_error(energy, work);
+    /// external work plus its own initial energy, `expected` ([`energy_error`]).
+    pub fn without_reference(t: f64, energy: f64, expected: f64) -> Self {
+        let (energy_error, energy_relative) = energy_error(energy, expected);
         Self {
             t,
             l1: 0.0,
@@ -165,41 +169,78 @@ impl Serialize for TimeMetrics {
 }
 
 impl Reference {
-    /// The reference of `problem`, if it has an exact solution.
+    /// The reference of `problem`, if it has an exact solution ([`Self::exact`] says why
+    /// not).
     pub fn for_problem<const D: usize>(problem: &Problem<D>) -> Option<Self> {
+        Self::exact(problem).ok()
+    }
+
+    /// The exact reference of `problem`, or why it has none (a sentence for "reference:
+    /// none because ...").
+    ///
+    /// - linear elasticity, 1D, or 2D with symmetry top and bottom (a plane wave in
+    ///   uniaxial strain) and loads over whole edges: [`BarExact`] with any condition at
+    ///   each end and any load history; in 1D from any initial state (d'Alembert);
+    /// - the standing P mode with symmetry edges all round: [`StandingWave`];
+    /// - J2: a step pressure at the left end of a free rod (1D) or a step velocity on the
+    ///   whole left edge of a free plane wave (2D): [`ElastoplasticWave`];
+    /// - Saint-Venant–Kirchhoff: a step pressure at the left end of a free bar (1D):
+    ///   [`SvkBarExact`].
+    pub fn exact<const D: usize>(problem: &Problem<D>) -> Result<Self, String> {
         let m = problem.material;
         let all_symmetry = problem
             .boundaries
             .iter()
             .all(|pair| *pair == [Boundary::Symmetry; 2]);
+        let plane = (1..D).all(|k| problem.boundaries[k] == [Boundary::Symmetry; 2]);
+        let length = problem.grid.upper()[0] - problem.grid.origin[0];
         match (&problem.initial, problem.model) {
             (InitialState::Rest, _) => {}
-            (InitialState::StandingWave(w), crate::problem::Model::LinearElastic)
-                if all_symmetry =>
-            {
-                return Some(Reference::Standing(*w))
+            (InitialState::StandingWave(w), Model::LinearElastic) if all_symmetry => {
+                return Ok(Reference::Standing(*w))
             }
-            _ => return None,
+            (_, Model::LinearElastic) if D == 1 => {}
+            (_, Model::LinearElastic) => {
+                return Err(
+                    "the scene starts from an initial state that is not the standing \
+                            mode with symmetry edges all round, and in 2D only those have an \
+                            exact solution"
+                        .into(),
+                )
+            }
+            _ => {
+                return Err(format!(
+                    "the scene starts from an initial state, and under {} only a body at \
+                     rest has an exact solution",
+                    model_name(&problem.model)
+                ))
+            }
         }
-        if let crate::problem::Model::J2(j2) = problem.model {
-            let length = problem.grid.upper()[0] - problem.grid.origin[0];
-            let plane = (1..D).all(|k| problem.boundaries[k] == [Boundary::Symmetry; 2]);
+        if let Model::J2(j2) = problem.model {
             let step = |load: &Load| load.segment.is_none() && load.history.is_step();
             return match problem.boundaries[0] {
-                [Boundary::Pressure(load), Boundary::Free] if D == 1 && step(&load) => Some(
+                [Boundary::Pressure(load), Boundary::Free] if D == 1 && step(&load) => Ok(
                     Reference::Elastoplastic(ElastoplasticWave::rod(&j2, length, load.value)),
                 ),
                 [Boundary::Velocity { load, .. }, Boundary::Free]
                     if D == 2 && plane && step(&load) =>
                 {
-                    Some(Reference::Elastoplastic(ElastoplasticWave::plane(
+                    Ok(Reference::Elastoplastic(ElastoplasticWave::plane(
                         &j2, length, load.value,
                     )))
                 }
-                _ => None,
+                _ => Err(
+                    "under J2 plasticity the exact solution is the elastic precursor and \
+                          plastic wave of a step pressure at the left end of a rod with a free \
+                          right end (1D) or of a step velocity on the whole left edge of a \
+                          plane wave (2D, symmetry top and bottom, free right edge)"
+                        .into(),
+                ),
             };
         }
-        if let crate::problem::Model::Svk(svk) = problem.model {
+        if let Model::Svk(svk) = problem.model {
+            let reason = "under Saint-Venant–Kirchhoff the exact solution is the fan or shock \
+                          of a step pressure at the left end of a 1D bar with a free right end";
             return match (D, problem.boundaries[0]) {
                 (
                     1,
@@ -208,42 +249,35 @@ impl Reference {
                         segment: None,
                         history: LoadHistory::Step,
                     }), Boundary::Free],
-                ) => SvkBarExact::new(svk, problem.grid.upper()[0] - problem.grid.origin[0], value)
-                    .map(Reference::SvkBar),
-                _ => None,
+                ) => SvkBarExact::new(svk, length, value)
+                    .map(Reference::SvkBar)
+                    .ok_or_else(|| {
+                        format!(
+                            "the SVK bar's pressure {value:e} Pa is beyond the range its \
+                             exact fan or shock covers"
+                        )
+                    }),
+                _ => Err(reason.into()),
             };
         }
-        let length = problem.grid.upper()[0] - problem.grid.origin[0];
-        let b = &problem.boundaries;
-        let plane = (1..D).all(|k| b[k] == [Boundary::Symmetry; 2]);
-        let (load, history) = match b[0] {
-            [Boundary::Pressure(Load {
-                value,
-                segment: None,
-                history,
-            }), Boundary::Free]
-                if plane =>
-            {
-                (EndLoad::Pressure(value), history)
-            }
-            [Boundary::Velocity {
-                load:
-                    Load {
-                        value,
-                        segment: None,
-                        history,
-                    },
-                ..
-            }, Boundary::Free]
-                if plane =>
-            {
-                (EndLoad::Velocity(value), history)
-            }
-            _ => return None,
+        if !plane {
+            return Err(
+                "in 2D the exact solution is the plane wave: it needs symmetry top and \
+                        bottom edges (this scene has other conditions there; a converged \
+                        reference stands in)"
+                    .into(),
+            );
+        }
+        let height = if D > 1 {
+            problem.grid.upper()[1] - problem.grid.origin[1]
+        } else {
+            0.0
         };
-        Some(Reference::Bar(
-            BarExact::with_load(length, m.density, m.p_modulus::<D>(), load).with_history(history),
-        ))
+        let ends = [0, 1].map(|side| bar_end(&problem.boundaries[0][side], side, height));
+        let ends = [ends[0].clone()?, ends[1].clone()?];
+        let bar = BarExact::with_ends(length, m.density, m.p_modulus::<D>(), ends)
+            .with_initial(&problem.initial);
+        Ok(Reference::Bar(bar))
     }
 
     /// Average of `σ_xx` and `v_x` over the box `[lo, hi]` (only x matters for the exact
@@ -304,7 +338,11 @@ impl Reference {
     /// What the errors are measured against.
     pub fn describe(&self) -> String {
         match self {
-            Reference::Bar(_) => "exact solution (averages over each sample's region)".into(),
+            Reference::Bar(b) => format!(
+                "exact solution (averages over each sample's region): d'Alembert with images, \
+                 {}",
+                b.describe()
+            ),
             Reference::SvkBar(b) => format!(
                 "exact SVK {} (averages over each sample's region; valid until t = {:.4e} s)",
                 if b.is_shock() { "shock" } else { "centred fan" },
@@ -397,24 +435,27 @@ impl Reference {
             overshoot_pct,
             errors,
         } = profile.metrics(front.as_ref(), dx, self.scale());
-        // the exact plane-wave work is per unit height; the converged one is the total
-        // the energy the discrete state should hold: the work done on it, and for the
-        // standing mode (no load) its constant energy
-        let work = match self {
-            Reference::Bar(_) | Reference::SvkBar(_) | Reference::Elastoplastic(_) => {
+        // the energy the discrete state should hold, E* = W + E_0 (`energy_error`): the
+        // work done on it plus its initial energy; the exact plane-wave work and energy are
+        // per unit height, the converged work is the total (its run starts from the same
+        // initial state, whose energy the method holds at t = 0); the standing mode (no
+        // load) keeps its constant energy
+        let expected = match self {
+            Reference::Bar(b) => Some(b.energy(t) * Self::work_scale(samples)),
+            Reference::SvkBar(_) | Reference::Elastoplastic(_) => {
                 self.work(t).map(|w| w * Self::work_scale(samples))
             }
             Reference::Standing(w) => Some(w.energy(total_volume(samples))),
-            Reference::Converged(_) => self.work(t),
+            Reference::Converged(_) => self.work(t).map(|w| w + method.initial_energy()),
         }
-        .unwrap_or(method.external_work());
+        .unwrap_or(method.external_work() + method.initial_energy());
         let front_position = front.as_ref().and_then(|f| profile.crossing(f, 0.5, dx));
         let status = match (&front, front_width_cells, front_position) {
             (None, _, _) => FrontStatus::NoFront,
             (Some(_), Some(_), Some(_)) => FrontStatus::Measured,
             (Some(_), _, _) => FrontStatus::NotCrossed,
         };
-        let (energy_error, energy_relative) = energy_error(method.energy(), work);
+        let (energy_error, energy_relative) = energy_error(method.energy(), expected);
         // the plastic wave of an elastoplastic reference: the second front
         let (plastic_front_width_cells, plastic_overshoot_pct, plastic_front_position) = match self
         {
@@ -445,6 +486,49 @@ impl Reference {
             energy_error,
             energy_relative,
         }
+    }
+}
+
+/// The condition of the bar's end `side` (0 left, 1 right) from the boundary of a 1D bar
+/// or of a plane wave of `height` (a load must cover the whole edge).
+fn bar_end(boundary: &Boundary, side: usize, height: f64) -> Result<BarEnd, String> {
+    let whole = |load: &Load| match load.segment {
+        None => Ok(()),
+        Some(seg) if height > 0.0 && seg.from <= 0.0 && seg.to >= height => Ok(()),
+        Some(seg) => Err(format!(
+            "the load on the {} edge covers [{}, {}] m of it, and the exact plane-wave \
+             solution needs a load over the whole edge (a converged reference stands in)",
+            ["left", "right"][side],
+            seg.from,
+            seg.to
+        )),
+    };
+    Ok(match boundary {
+        Boundary::Free => BarEnd::FREE,
+        Boundary::Symmetry => BarEnd::FIXED,
+        Boundary::Pressure(load) => {
+            whole(load)?;
+            BarEnd::Traction {
+                pressure: load.value,
+                history: load.history,
+            }
+        }
+        Boundary::Velocity { load, .. } => {
+            whole(load)?;
+            BarEnd::Velocity {
+                velocity: load.value,
+                history: load.history,
+            }
+        }
+    })
+}
+
+/// The model's name in reasons.
+fn model_name(model: &Model) -> &'static str {
+    match model {
+        Model::LinearElastic => "linear elasticity",
+        Model::Svk(_) => "Saint-Venant–Kirchhoff",
+        Model::J2(_) => "J2 plasticity",
     }
 }
 

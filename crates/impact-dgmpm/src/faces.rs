@@ -187,7 +187,7 @@ impl<const D: usize> DgmpmSolver<D> {
 
     /// Ghost condition of the boundary at side `side` of axis `l`, for the face centred at
     /// the tangential coordinate `s` along the edge, with the loads at their magnitudes at
-    /// the stage's time ([`Self::set_load_time`]). A segment end that cuts the face
+    /// their step averages ([`Self::set_load_window`]). A segment end that cuts the face
     /// decides by the face centre or, under `cover = "fraction"`, scales a pressure by the
     /// covered share and blends an impactor with the free face
     /// ([`GhostCondition::PartialVelocity`]).
@@ -223,12 +223,13 @@ impl<const D: usize> DgmpmSolver<D> {
         }
     }
 
-    /// Set the loads' magnitudes to their values at time `t`, `p g(t)` (`crate::load`
-    /// of impact-core): the stage's flux time.
-    pub fn set_load_time(&mut self, t: f64) {
+    /// Set the loads' magnitudes to their step averages over `window = (t0, t1)`,
+    /// `p ḡ` with `ḡ = (I(t1) - I(t0))/(t1 - t0)` (`impact_core::load`: the step delivers
+    /// the load's impulse to round-off; 1 for a step load).
+    pub fn set_load_window(&mut self, window: (f64, f64)) {
         for (now, pair) in self.load_now.iter_mut().zip(&self.boundaries) {
             for (value, bc) in now.iter_mut().zip(pair) {
-                *value = bc.load().map_or(0.0, |load| load.at(t));
+                *value = bc.load().map_or(0.0, |load| load.mean(window));
             }
         }
     }

@@ -225,12 +225,14 @@ impl<const D: usize> DgmpmSolver<D> {
     /// path: `interface_fluxes`, `transverse_corrections` (CTU), `boundary_force` and
     /// [`Self::cell_update`]. Adds the work and impulse of the loads to the state.
     ///
-    /// Loads act at their magnitude at the flux time: `t + Δt/2` for one stage (at Courant
-    /// 1 in 1D the boundary cell then takes the load's average over the step to second
-    /// order, as the exact solution's cell average does), `t` and `t + Δt` for Heun's two.
+    /// Loads act at their step average `p ḡ`, `ḡ = (I(t + Δt) - I(t))/Δt`
+    /// (`impact_core::load`), in the one stage of Euler and in both of Heun's: the boundary
+    /// force times `Δt` is then the load's impulse over the step to round-off (Heun's
+    /// `½Δt (F¹ + F²)` too), and at Courant 1 in 1D the boundary cell takes exactly the
+    /// load's average over the step, as the exact solution's cell average does.
     pub fn step(&mut self, state: &mut DgmpmState<D>, t: f64, dt: f64) {
+        self.set_load_window((t, t + dt));
         if self.path == StepPath::Fused {
-            self.set_load_time(t + 0.5 * dt);
             let (power, force) = self.fused_step(&mut state.points, dt);
             state.work += dt * power;
             state.impulse += force * dt;
@@ -238,7 +240,6 @@ impl<const D: usize> DgmpmSolver<D> {
             return;
         }
         if self.path == StepPath::Cell {
-            self.set_load_time(t + 0.5 * dt);
             let power = self.interface_fluxes(&state.points);
             if self.ctu() {
                 self.transverse_corrections(&state.points, dt);
@@ -265,11 +266,6 @@ impl<const D: usize> DgmpmSolver<D> {
             nodes.start_tensor.copy_from_slice(&nodes.tensor);
             nodes.start_velocity.copy_from_slice(&nodes.velocity);
         }
-        let first_time = match integrator {
-            Integrator::Euler => t + 0.5 * dt,
-            Integrator::Rk2 => t,
-        };
-        self.set_load_time(first_time);
         let euler = integrator == Integrator::Euler;
         let (power, force) = self.stage(&mut state.points, dt, 0.0, euler);
         match integrator {
@@ -278,7 +274,6 @@ impl<const D: usize> DgmpmSolver<D> {
                 state.impulse += force * dt;
             }
             Integrator::Rk2 => {
-                self.set_load_time(t + dt);
                 let (power2, force2) = self.stage(&mut state.points, dt, 0.5, true);
                 state.work += 0.5 * dt * (power + power2);
                 state.impulse += (force + force2) * (0.5 * dt);

@@ -136,6 +136,8 @@ pub struct DgmpmState<const D: usize> {
     pub work: f64,
     /// Impulse delivered through the boundary since `t = 0`.
     pub impulse: Vector<D>,
+    /// Energy of the state at `t = 0` (J).
+    pub initial_energy: f64,
 }
 
 /// Nodal buffers of the nodal paths (`cells × 2^D` each; empty on the cell path). The
@@ -205,7 +207,7 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) grid: Grid<D>,
     pub(crate) material: LinearElastic,
     pub(crate) boundaries: [[Boundary; 2]; D],
-    /// The loads' magnitudes at the current stage's time (`set_load_time`).
+    /// The loads' magnitudes averaged over the current step (`set_load_window`).
     pub(crate) load_now: [[f64; 2]; D],
     pub(crate) points_per_cell: usize,
     pub(crate) parallel: bool,
@@ -322,14 +324,17 @@ impl<const D: usize> Dgmpm<D> {
         // the peak holds one copy)
         points.compact_half_sizes();
         let solver = DgmpmSolver::new(problem, config, options, &points)?;
-        Ok(Self {
+        let mut dgmpm = Self {
             solver,
             state: DgmpmState {
                 points,
                 work: 0.0,
                 impulse: Vector::<D>::zeros(),
+                initial_energy: 0.0,
             },
-        })
+        };
+        dgmpm.state.initial_energy = impact_core::Method::energy(&dgmpm);
+        Ok(dgmpm)
     }
 }
 

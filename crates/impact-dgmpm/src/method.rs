@@ -38,6 +38,9 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
     fn external_work(&self) -> f64 {
         self.state.work
     }
+    fn initial_energy(&self) -> f64 {
+        self.state.initial_energy
+    }
     fn momentum(&self) -> Vector<D> {
         self.state.points.momentum()
     }

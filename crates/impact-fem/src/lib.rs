@@ -23,6 +23,14 @@
 //! Loads: a pressure is the consistent nodal force of the loaded edge (in 1D `p A` on the
 //! end node); a prescribed velocity is imposed on the nodes of its edge segment (the
 //! paper's plate: nodes with `y ≤ 1 m`); a symmetry edge zeroes the normal velocity.
+//! Both act at their step averages (`impact_core::load`): the velocity update
+//! `v^{n+1/2} = v^{n-1/2} + Δt_avg a^n` covers `[t^n - Δt_{n-1}/2, t^n + Δt_n/2]`, so
+//! `a^n` takes the load's mean over that window (the impulse `p I(t^{n+1/2})` reaches
+//! `v^{n+1/2}` to round-off), while `a^{n+1}` as the step leaves it holds the mean over
+//! the trailing half step `[t^{n+1} - Δt_n/2, t^{n+1}]`, so the full-step velocity
+//! `v^{n+1/2} + Δt_n/2 a^{n+1}` of the outputs has received `p I(t^{n+1})`; a prescribed
+//! velocity takes its mean over `[t^n, t^{n+1}]`, the step `u^{n+1} - u^n = Δt v^{n+1/2}`
+//! it sets.
 //!
 //! Layout: this file holds the solver and its assembly (lumped mass, boundary loads, the
 //! coloured internal force); `central.rs` the central-difference phases and the step;
@@ -64,6 +72,8 @@ pub struct FemState<const D: usize> {
     pub work: f64,
     /// Impulse of the loads and reactions, consistent with `Σ m v^{n+1/2}`.
     pub impulse: Vector<D>,
+    /// Energy of the state at `t = 0` (J).
+    pub initial_energy: f64,
 }
 
 /// Configuration and buffers of the explicit FEM.
@@ -77,7 +87,7 @@ pub struct FemSolver<const D: usize> {
     mass: Vec<f64>,
     /// `1/m` per node (the stencil's acceleration multiplies by it).
     inv_mass: Vec<f64>,
-    /// `f_ext(t)` of the last [`FemSolver::set_load_time`].
+    /// `f_ext` of the last [`FemSolver::set_load_window`].
     external: Vec<Vector<D>>,
     /// The loaded nodes' forces at full magnitude and their histories: `f_ext(t)` is
     /// `Σ g(t) f` over them.
@@ -193,10 +203,13 @@ impl<const D: usize> Fem<D> {
             last_dt: 0.0,
             work: 0.0,
             impulse: Vector::<D>::zeros(),
+            initial_energy: 0.0,
         };
-        solver.set_load_time(0.0);
+        solver.set_load_window((0.0, 0.0));
         solver.internal_forces_into(&state.displacement, &mut state.acceleration);
-        Ok(Self { solver, state })
+        let mut fem = Self { solver, state };
+        fem.state.initial_energy = impact_core::Method::energy(&fem);
+        Ok(fem)
     }
 }
 

@@ -84,6 +84,9 @@ impl<const D: usize> Method<D> for Fem<D> {
         }
         kinetic + strain_energy
     }
+    fn initial_energy(&self) -> f64 {
+        self.state.initial_energy
+    }
     fn external_work(&self) -> f64 {
         self.state.work
     }

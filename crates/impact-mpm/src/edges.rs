@@ -20,8 +20,8 @@ use impact_core::problem::Boundary;
 use impact_core::{Constraint, Grid, Load, LoadHistory, Problem, Vector};
 
 /// A padding node's velocity component from its mirror node:
-/// `v = offset(t) + sign · v(mirror)`, `offset = 2V(t)` for odd components (`sign = -1`)
-/// about a nonzero wall velocity, 0 otherwise.
+/// `v = offset + sign · v(mirror)`, `offset = 2V` for odd components (`sign = -1`)
+/// about a nonzero wall velocity `V` (its step average), 0 otherwise.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct MirrorConstraint {
     /// The padding node.
@@ -37,11 +37,11 @@ pub(crate) struct MirrorConstraint {
 }
 
 impl MirrorConstraint {
-    /// The offset at time `t`.
+    /// The offset over the step `window = (t0, t1)` (the wall's step-average velocity).
     #[inline]
-    pub fn offset(&self, t: f64) -> f64 {
+    pub fn offset(&self, window: (f64, f64)) -> f64 {
         if self.sign < 0.0 {
-            2.0 * self.wall.at(t)
+            2.0 * self.wall.mean(window)
         } else {
             0.0
         }

@@ -8,11 +8,12 @@ const CHUNK: usize = 4096;
 
 impl<const D: usize> MpmSolver<D> {
     /// Phase 2: `p_i += Δt f_i` and `1/m_i` (nodes with mass; 0 for empty ones), then the
-    /// prescribed nodal velocities at `t_new`, the end of the step.
+    /// prescribed nodal velocities, their averages over the step `window` (the velocity
+    /// that moves the points over it: the displacement of the loaded face is exact).
     /// Returns the work done in the step by the velocity constraints, `Δt Σ r · v_d`, and
     /// the impulse of the reaction forces, `Δt Σ r`.
-    pub fn grid_update(&mut self, dt: f64, t_new: f64) -> (f64, Vector<D>) {
-        self.fold_padding(t_new);
+    pub fn grid_update(&mut self, dt: f64, window: (f64, f64)) -> (f64, Vector<D>) {
+        self.fold_padding(window);
         let nodes = &mut self.nodes;
         let floor = self.empty_mass;
         let (mass, force) = (&nodes.mass, &nodes.force);
@@ -46,11 +47,11 @@ impl<const D: usize> MpmSolver<D> {
             }
         };
         for c in &self.node_constraints {
-            hold(nodes, c.carrier, c.axis, c.at(t_new));
+            hold(nodes, c.carrier, c.axis, c.mean(window));
         }
         // the padding from the interior it mirrors (never itself constrained)
         for c in &self.mirror_constraints {
-            let value = c.offset(t_new) + c.sign * velocity_of(nodes, c.mirror, c.axis, floor);
+            let value = c.offset(window) + c.sign * velocity_of(nodes, c.mirror, c.axis, floor);
             hold(nodes, c.node, c.axis, value);
         }
         (work, impulse)
@@ -62,7 +63,7 @@ impl<const D: usize> MpmSolver<D> {
     /// and the momentum and force reflected like the velocity (odd normal component about
     /// the wall's velocity `V`: `p_n += 2 V m - p_n`; even or odd tangential ones). Near
     /// the wall the interior nodes then hold the full sums of a body mirrored across it.
-    pub(crate) fn fold_padding(&mut self, t: f64) {
+    pub(crate) fn fold_padding(&mut self, window: (f64, f64)) {
         let (nodes, floor) = (&mut self.nodes, self.empty_mass);
         for c in &self.mirror_constraints {
             let (from, to, axis) = (c.node, c.mirror, c.axis);
@@ -70,7 +71,8 @@ impl<const D: usize> MpmSolver<D> {
             if axis == 0 {
                 nodes.mass[to] += mass;
             }
-            nodes.momentum[to][axis] += c.offset(t) * mass + c.sign * nodes.momentum[from][axis];
+            nodes.momentum[to][axis] +=
+                c.offset(window) * mass + c.sign * nodes.momentum[from][axis];
             nodes.force[to][axis] += c.sign * nodes.force[from][axis];
         }
         // the padding then starts from the mirror of the folded interior, so its update is
@@ -80,24 +82,25 @@ impl<const D: usize> MpmSolver<D> {
             let (from, to, axis) = (c.node, c.mirror, c.axis);
             let (m, m_to) = (nodes.mass[from], nodes.mass[to]);
             if m > floor && m_to > floor {
-                let velocity = c.offset(t) + c.sign * nodes.momentum[to][axis] / m_to;
+                let velocity = c.offset(window) + c.sign * nodes.momentum[to][axis] / m_to;
                 nodes.momentum[from][axis] = velocity * m;
                 nodes.force[from][axis] = c.sign * nodes.force[to][axis] * (m / m_to);
             }
         }
     }
 
-    /// The prescribed nodal velocities on the momentum (after the MUSL remap).
-    pub(crate) fn constrain_momentum(&mut self, t: f64) {
+    /// The prescribed nodal velocities (step averages over `window`) on the momentum
+    /// (after the MUSL remap).
+    pub(crate) fn constrain_momentum(&mut self, window: (f64, f64)) {
         let (nodes, floor) = (&mut self.nodes, self.empty_mass);
         for c in &self.mirror_constraints {
-            let value = c.offset(t) + c.sign * velocity_of(nodes, c.mirror, c.axis, floor);
+            let value = c.offset(window) + c.sign * velocity_of(nodes, c.mirror, c.axis, floor);
             if nodes.mass[c.node] > floor {
                 nodes.momentum[c.node][c.axis] = value * nodes.mass[c.node];
             }
         }
         for c in &self.node_constraints {
-            let (v, axis, value) = (c.carrier, c.axis, c.at(t));
+            let (v, axis, value) = (c.carrier, c.axis, c.mean(window));
             if nodes.mass[v] > floor {
                 nodes.momentum[v][axis] = value * nodes.mass[v];
             }

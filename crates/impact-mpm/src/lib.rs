@@ -80,6 +80,8 @@ pub struct MpmState<const D: usize> {
     pub work: f64,
     /// Impulse of the loads and of the prescribed velocities since `t = 0`.
     pub impulse: Vector<D>,
+    /// Energy of the state at `t = 0` (J).
+    pub initial_energy: f64,
 }
 
 /// Nodal sums of the background grid (struct of arrays).
@@ -251,23 +253,28 @@ impl<const D: usize> Mpm<D> {
                 points,
                 work: 0.0,
                 impulse: Vector::<D>::zeros(),
+                initial_energy: 0.0,
             },
         };
         mpm.solver.allocate_weights(&mpm.state.points);
+        // the scene's initial state; the impactor's kick below is the load's doing (the
+        // reference's work counts it)
+        mpm.state.initial_energy = impact_core::Method::energy(&mpm);
         let kick = mpm
             .solver
-            .impose_point_velocities(&mut mpm.state.points, 0.0);
+            .impose_point_velocities(&mut mpm.state.points, (0.0, 0.0));
         mpm.state.impulse += kick;
         Ok(mpm)
     }
 }
 
 impl<const D: usize> MpmSolver<D> {
-    /// One step (module doc) from `t` to `t + Δt`. Surface loads act at their magnitude at
-    /// `t + Δt/2` (the step's impulse to second order); prescribed velocities take their
-    /// value at `t + Δt`, the time of the velocities they set.
+    /// One step (module doc) from `t` to `t + Δt`. Surface loads act at their step average
+    /// `p ḡ`, `ḡ = (I(t + Δt) - I(t))/Δt` (`impact_core::load`: the step's impulse to
+    /// round-off); prescribed velocities take their step average too (the velocity that
+    /// moves the points over the step: the loaded face's displacement is exact).
     pub fn step(&mut self, state: &mut MpmState<D>, t: f64, dt: f64) {
-        let (mid, end) = (t + 0.5 * dt, t + dt);
+        let window = (t, t + dt);
         let usl = self.options.stress_update != StressUpdate::Usf;
         self.particles_to_grid(&state.points, usl);
         self.shapes_ready = true;
@@ -275,12 +282,12 @@ impl<const D: usize> MpmSolver<D> {
             self.update_stress(&mut state.points, dt);
             self.internal_forces(&state.points);
         }
-        self.external_forces(&state.points, mid);
-        let power_start = self.load_power(&state.points, mid);
+        self.external_forces(&state.points, window);
+        let power_start = self.load_power(&state.points, window);
         for load in &self.loads {
-            state.impulse += load.force * (load.history.factor(mid) * dt);
+            state.impulse += load.force * (load.history.mean(t, t + dt) * dt);
         }
-        let (work, impulse) = self.grid_update(dt, end);
+        let (work, impulse) = self.grid_update(dt, window);
         state.work += work;
         state.impulse += impulse;
         let fused = self.fused_gather(&state.points);
@@ -290,10 +297,10 @@ impl<const D: usize> MpmSolver<D> {
             self.grid_to_particles(&mut state.points, dt);
         }
         // trapezoidal work of the loads over the step
-        state.work += 0.5 * dt * (power_start + self.load_power(&state.points, mid));
-        state.impulse += self.impose_point_velocities(&mut state.points, end);
+        state.work += 0.5 * dt * (power_start + self.load_power(&state.points, window));
+        state.impulse += self.impose_point_velocities(&mut state.points, window);
         if self.options.stress_update == StressUpdate::Musl {
-            self.remap_momentum(&state.points, end);
+            self.remap_momentum(&state.points, window);
         }
         if usl && !fused {
             self.update_stress(&mut state.points, dt);

@@ -31,6 +31,9 @@ impl<const D: usize> Method<D> for Mpm<D> {
             }
         })
     }
+    fn initial_energy(&self) -> f64 {
+        self.state.initial_energy
+    }
     fn external_work(&self) -> f64 {
         self.state.work
     }

@@ -203,10 +203,11 @@ impl<const D: usize> MpmSolver<D> {
         });
     }
 
-    /// External surface loads as nodal forces at the current surface positions: a load is
-    /// spread over the nodes of its cell that carry mass (renormalised shape functions), so
-    /// the whole force reaches the body.
-    pub(crate) fn external_forces(&mut self, points: &MaterialPoints<D>, t: f64) {
+    /// External surface loads as nodal forces at the current surface positions, at their
+    /// step average over `window` (`impact_core::load`): a load is spread over the nodes of
+    /// its cell that carry mass (renormalised shape functions), so the whole force reaches
+    /// the body.
+    pub(crate) fn external_forces(&mut self, points: &MaterialPoints<D>, window: (f64, f64)) {
         let npc = Grid::<D>::NODES_PER_CELL;
         let mut s = [0.0; MAX_NODES];
         let mut g = [Vector::<D>::zeros(); MAX_NODES];
@@ -224,7 +225,7 @@ impl<const D: usize> MpmSolver<D> {
             if total <= 0.0 {
                 continue;
             }
-            let force = load.force * load.history.factor(t);
+            let force = load.force * load.history.mean(window.0, window.1);
             for a in 0..npc {
                 let i = self.grid.vertex_of(c, a);
                 if self.nodes.mass[i] > self.empty_mass {
@@ -234,12 +235,12 @@ impl<const D: usize> MpmSolver<D> {
         }
     }
 
-    /// Power of the surface loads at time `t`, `Σ F g(t) · v_p` with `v_p` the velocity of
-    /// the loaded point.
-    pub(crate) fn load_power(&self, points: &MaterialPoints<D>, t: f64) -> f64 {
+    /// Power of the surface loads over the step `window`, `Σ F ḡ · v_p` with `ḡ` the step
+    /// average of `g` and `v_p` the velocity of the loaded point.
+    pub(crate) fn load_power(&self, points: &MaterialPoints<D>, window: (f64, f64)) -> f64 {
         self.loads
             .iter()
-            .map(|l| l.history.factor(t) * l.force.dot(&points.velocity[l.point]))
+            .map(|l| l.history.mean(window.0, window.1) * l.force.dot(&points.velocity[l.point]))
             .sum()
     }
 
@@ -314,7 +315,7 @@ impl<const D: usize> MpmSolver<D> {
 
     /// Phase 4 (MUSL): nodal momentum mapped again from the updated point velocities (with
     /// the shape functions of the start of the step), then the prescribed nodal velocities.
-    pub fn remap_momentum(&mut self, points: &MaterialPoints<D>, t: f64) {
+    pub fn remap_momentum(&mut self, points: &MaterialPoints<D>, window: (f64, f64)) {
         let fill = Fill {
             mass: false,
             momentum: true,
@@ -325,7 +326,7 @@ impl<const D: usize> MpmSolver<D> {
                 sums.momentum[i] += points.velocity[p] * (weights.shape[a] * points.mass[p]);
             }
         });
-        self.constrain_momentum(t);
+        self.constrain_momentum(window);
     }
 
     /// Velocity gradient `∇v = Σ_i v_i ⊗ ∇N_ip` at point `p` (`∇_X` in the total
@@ -398,16 +399,17 @@ impl<const D: usize> MpmSolver<D> {
         }
     }
 
-    /// Points on a velocity edge take the prescribed velocity at time `t` (as the paper
-    /// does). Returns the impulse this gives them, `Σ m_p Δv_p`.
+    /// Points on a velocity edge take the prescribed velocity (as the paper does), its
+    /// average over the step `window` (its value at `t0` for an empty window, the state at
+    /// `t = 0`). Returns the impulse this gives them, `Σ m_p Δv_p`.
     pub(crate) fn impose_point_velocities(
         &self,
         points: &mut MaterialPoints<D>,
-        t: f64,
+        window: (f64, f64),
     ) -> Vector<D> {
         let mut kick = Vector::<D>::zeros();
         for c in &self.point_constraints {
-            let (p, axis, value) = (c.carrier, c.axis, c.at(t));
+            let (p, axis, value) = (c.carrier, c.axis, c.mean(window));
             kick[axis] += points.mass[p] * (value - points.velocity[p][axis]);
             points.velocity[p][axis] = value;
         }
