@@ -6,7 +6,7 @@
 //!   sample stands for.
 //! - plane wave (2D, symmetry top and bottom, any conditions on the whole left and right
 //!   edges, at rest): the same solution in uniaxial strain, `c_p = sqrt((λ+2μ)/ρ)`, with
-//!   `σ_yy = λ/(λ+2μ) σ_xx`; the profile is the bottom row of samples.
+//!   `σ_yy = λ/(λ+2μ) σ_xx`.
 //! - [`Reference::exact`] says why a scene has no exact reference.
 //! - otherwise (the partial impact of §5.2): a converged numerical solution tabulated on a
 //!   finer grid ([`Converged`], computed by the caller, e.g. DGMPM on a refined grid). The
@@ -17,15 +17,11 @@
 //! the normal stress along it at the samples whose region it crosses. The exact solutions
 //! above are plane waves along x, measured along x.
 pub use crate::converged::Converged;
-use crate::exact::{
-    BarEnd, BarExact, ElastoplasticWave, Front, NoFront, StandingWave, SvkBarExact,
-};
-use crate::initial::InitialState;
+use crate::exact::{BarExact, ElastoplasticWave, Front, NoFront, StandingWave, SvkBarExact};
 use crate::line::MeasureLine;
-use crate::load::LoadHistory;
 use crate::method::{Method, Samples};
 use crate::metrics::{energy_error, ErrorBasis, FrontStatus, Profile, ProfileMetrics};
-use crate::problem::{Boundary, Load, Model, Problem};
+use crate::problem::Problem;
 use crate::Vector;
 use serde::Serialize;
 
@@ -169,115 +165,10 @@ impl Serialize for TimeMetrics {
 }
 
 impl Reference {
-    /// The reference of `problem`, if it has an exact solution ([`Self::exact`] says why
-    /// not).
+    /// The reference of `problem`, if it has an exact solution ([`Self::exact`], in
+    /// `exact/select.rs`, says why not).
     pub fn for_problem<const D: usize>(problem: &Problem<D>) -> Option<Self> {
         Self::exact(problem).ok()
-    }
-
-    /// The exact reference of `problem`, or why it has none (a sentence for "reference:
-    /// none because ...").
-    ///
-    /// - linear elasticity, 1D, or 2D with symmetry top and bottom (a plane wave in
-    ///   uniaxial strain) and loads over whole edges: [`BarExact`] with any condition at
-    ///   each end and any load history; in 1D from any initial state (d'Alembert);
-    /// - the standing P mode with symmetry edges all round: [`StandingWave`];
-    /// - J2: a step pressure at the left end of a free rod (1D) or a step velocity on the
-    ///   whole left edge of a free plane wave (2D): [`ElastoplasticWave`];
-    /// - Saint-Venant–Kirchhoff: a step pressure at the left end of a free bar (1D):
-    ///   [`SvkBarExact`].
-    pub fn exact<const D: usize>(problem: &Problem<D>) -> Result<Self, String> {
-        let m = problem.material;
-        let all_symmetry = problem
-            .boundaries
-            .iter()
-            .all(|pair| *pair == [Boundary::Symmetry; 2]);
-        let plane = (1..D).all(|k| problem.boundaries[k] == [Boundary::Symmetry; 2]);
-        let length = problem.grid.upper()[0] - problem.grid.origin[0];
-        match (&problem.initial, problem.model) {
-            (InitialState::Rest, _) => {}
-            (InitialState::StandingWave(w), Model::LinearElastic) if all_symmetry => {
-                return Ok(Reference::Standing(*w))
-            }
-            (_, Model::LinearElastic) if D == 1 => {}
-            (_, Model::LinearElastic) => {
-                return Err(
-                    "the scene starts from an initial state that is not the standing \
-                            mode with symmetry edges all round, and in 2D only those have an \
-                            exact solution"
-                        .into(),
-                )
-            }
-            _ => {
-                return Err(format!(
-                    "the scene starts from an initial state, and under {} only a body at \
-                     rest has an exact solution",
-                    model_name(&problem.model)
-                ))
-            }
-        }
-        if let Model::J2(j2) = problem.model {
-            let step = |load: &Load| load.segment.is_none() && load.history.is_step();
-            return match problem.boundaries[0] {
-                [Boundary::Pressure(load), Boundary::Free] if D == 1 && step(&load) => Ok(
-                    Reference::Elastoplastic(ElastoplasticWave::rod(&j2, length, load.value)),
-                ),
-                [Boundary::Velocity { load, .. }, Boundary::Free]
-                    if D == 2 && plane && step(&load) =>
-                {
-                    Ok(Reference::Elastoplastic(ElastoplasticWave::plane(
-                        &j2, length, load.value,
-                    )))
-                }
-                _ => Err(
-                    "under J2 plasticity the exact solution is the elastic precursor and \
-                          plastic wave of a step pressure at the left end of a rod with a free \
-                          right end (1D) or of a step velocity on the whole left edge of a \
-                          plane wave (2D, symmetry top and bottom, free right edge)"
-                        .into(),
-                ),
-            };
-        }
-        if let Model::Svk(svk) = problem.model {
-            let reason = "under Saint-Venant–Kirchhoff the exact solution is the fan or shock \
-                          of a step pressure at the left end of a 1D bar with a free right end";
-            return match (D, problem.boundaries[0]) {
-                (
-                    1,
-                    [Boundary::Pressure(Load {
-                        value,
-                        segment: None,
-                        history: LoadHistory::Step,
-                    }), Boundary::Free],
-                ) => SvkBarExact::new(svk, length, value)
-                    .map(Reference::SvkBar)
-                    .ok_or_else(|| {
-                        format!(
-                            "the SVK bar's pressure {value:e} Pa is beyond the range its \
-                             exact fan or shock covers"
-                        )
-                    }),
-                _ => Err(reason.into()),
-            };
-        }
-        if !plane {
-            return Err(
-                "in 2D the exact solution is the plane wave: it needs symmetry top and \
-                        bottom edges (this scene has other conditions there; a converged \
-                        reference stands in)"
-                    .into(),
-            );
-        }
-        let height = if D > 1 {
-            problem.grid.upper()[1] - problem.grid.origin[1]
-        } else {
-            0.0
-        };
-        let ends = [0, 1].map(|side| bar_end(&problem.boundaries[0][side], side, height));
-        let ends = [ends[0].clone()?, ends[1].clone()?];
-        let bar = BarExact::with_ends(length, m.density, m.p_modulus::<D>(), ends)
-            .with_initial(&problem.initial);
-        Ok(Reference::Bar(bar))
     }
 
     /// Average of `σ_xx` and `v_x` over the box `[lo, hi]` (only x matters for the exact
@@ -486,49 +377,6 @@ impl Reference {
             energy_error,
             energy_relative,
         }
-    }
-}
-
-/// The condition of the bar's end `side` (0 left, 1 right) from the boundary of a 1D bar
-/// or of a plane wave of `height` (a load must cover the whole edge).
-fn bar_end(boundary: &Boundary, side: usize, height: f64) -> Result<BarEnd, String> {
-    let whole = |load: &Load| match load.segment {
-        None => Ok(()),
-        Some(seg) if height > 0.0 && seg.from <= 0.0 && seg.to >= height => Ok(()),
-        Some(seg) => Err(format!(
-            "the load on the {} edge covers [{}, {}] m of it, and the exact plane-wave \
-             solution needs a load over the whole edge (a converged reference stands in)",
-            ["left", "right"][side],
-            seg.from,
-            seg.to
-        )),
-    };
-    Ok(match boundary {
-        Boundary::Free => BarEnd::FREE,
-        Boundary::Symmetry => BarEnd::FIXED,
-        Boundary::Pressure(load) => {
-            whole(load)?;
-            BarEnd::Traction {
-                pressure: load.value,
-                history: load.history,
-            }
-        }
-        Boundary::Velocity { load, .. } => {
-            whole(load)?;
-            BarEnd::Velocity {
-                velocity: load.value,
-                history: load.history,
-            }
-        }
-    })
-}
-
-/// The model's name in reasons.
-fn model_name(model: &Model) -> &'static str {
-    match model {
-        Model::LinearElastic => "linear elasticity",
-        Model::Svk(_) => "Saint-Venant–Kirchhoff",
-        Model::J2(_) => "J2 plasticity",
     }
 }
 

@@ -16,7 +16,9 @@ mod bar;
 mod bar_initial;
 #[cfg(test)]
 mod bar_tests;
+mod bar_work;
 mod plastic;
+mod select;
 mod standing;
 mod svk;
 pub use bar::{BarEnd, BarExact, EndLoad};
