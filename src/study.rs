@@ -279,10 +279,11 @@ impl Study {
         Ok(Self { scene, overrides })
     }
 
-    /// Refuse, before anything is allocated, a run of `kinds` whose estimated work exceeds
-    /// the budget (`--work-budget`, default [`DEFAULT_WORK_BUDGET`]), the converged
+    /// Refuse, before anything is allocated, a run of `kinds` whose configuration the
+    /// problem cannot run ([`Self::check_configs`]) or whose estimated work exceeds the
+    /// budget (`--work-budget`, default [`DEFAULT_WORK_BUDGET`]), the converged
     /// reference's included.
-    pub fn check_work(&self, kinds: &[MethodKind]) -> Result<(), SceneError> {
+    pub fn check_work(&self, kinds: &[MethodKind]) -> Result<(), CoreError> {
         self.check_methods_work(kinds)?;
         if let Some(reference) = self.reference_work()? {
             check_work(&reference, budget_of(self))?;
@@ -291,14 +292,29 @@ impl Study {
     }
 
     /// [`Self::check_work`] without the reference (`--no-reference`).
-    pub fn check_methods_work(&self, kinds: &[MethodKind]) -> Result<(), SceneError> {
-        for &kind in kinds {
-            check_work(
-                &self.scene.work_estimate(&self.config(kind)),
-                budget_of(self),
-            )?;
+    pub fn check_methods_work(&self, kinds: &[MethodKind]) -> Result<(), CoreError> {
+        let configs: Vec<MethodConfig> = kinds.iter().map(|&k| self.config(k)).collect();
+        self.check_configs(&configs)?;
+        for config in &configs {
+            check_work(&self.scene.work_estimate(config), budget_of(self))?;
         }
         Ok(())
+    }
+
+    /// Refuse every configuration of `configs` the study's problem cannot run (an option
+    /// the material model or the dimension does not take, points per cell the layout does
+    /// not seed: [`Problem::check_config`]), before any reference is computed or any run
+    /// starts. Builds the problem only (no points, no buffers).
+    pub fn check_configs(&self, configs: &[MethodConfig]) -> Result<(), CoreError> {
+        fn each<const D: usize>(study: &Study, configs: &[MethodConfig]) -> Result<(), CoreError> {
+            let problem = study.problem::<D>()?;
+            configs.iter().try_for_each(|c| problem.check_config(c))
+        }
+        match self.dim() {
+            1 => each::<1>(self, configs),
+            2 => each::<2>(self, configs),
+            d => Err(SceneError::new("dim", d, "1 or 2").into()),
+        }
     }
 
     /// The work of the converged reference a 2D scene without an exact solution needs
