@@ -14,6 +14,7 @@ pub mod interrupt;
 pub mod output;
 pub mod output_bench;
 pub mod plots;
+pub mod provenance;
 pub mod reference;
 pub mod reference_cache;
 pub mod run;

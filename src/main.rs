@@ -80,8 +80,16 @@ struct SceneArgs {
 
 #[derive(Args)]
 struct RunArgs {
+    /// A shipped scene name (`impact scenes`) or a path to a scene file (.toml).
+    #[arg(required_unless_present = "from")]
+    scene: Option<String>,
     #[command(flatten)]
-    scene: SceneArgs,
+    overrides: Overrides,
+    /// Run again the exact configuration of an output folder of `impact run` (its
+    /// scene.toml and the methods and flags of its provenance.json), into a new folder
+    /// (default: out/<scene>-rerun). Takes no scene, method or option flags.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["scene", "method", "no_files", "no_reference", "vtu"])]
+    from: Option<PathBuf>,
     /// Methods to run, comma-separated.
     #[arg(
         long,
@@ -350,19 +358,86 @@ fn print_rows(r: &RunRecord) {
     }
 }
 
+/// What `impact run` runs: the study, the methods and the run's options.
+struct RunPlan {
+    study: Study,
+    methods: Vec<MethodKind>,
+    options: RunOptions,
+}
+
+impl RunArgs {
+    /// The plan of the flags given, or of the folder of `--from`.
+    fn plan(&self) -> Result<RunPlan> {
+        if let Some(folder) = &self.from {
+            let given = self.overrides.given();
+            if let Some(flag) = given.first() {
+                bail!(
+                    "invalid value for `{flag}`: given with --from (allowed with --from: --out \
+                     and --quiet; the folder's scene.toml holds every option)"
+                );
+            }
+            let (study, record, flags) = impact::provenance::replay_study(folder)?;
+            let vtu = <impact_io::vtu::VtuEncoding as clap::ValueEnum>::from_str(&flags.vtu, true)
+                .map_err(|e| {
+                    anyhow::anyhow!("--from {}: vtu {:?}: {e}", folder.display(), flags.vtu)
+                })?;
+            let out = self
+                .out
+                .clone()
+                .unwrap_or_else(|| PathBuf::from("out").join(format!("{}-rerun", study.name())));
+            return Ok(RunPlan {
+                options: RunOptions {
+                    out,
+                    quiet: self.quiet,
+                    no_files: flags.no_files,
+                    no_reference: flags.no_reference,
+                    vtu,
+                    source: format!("--from {}", folder.display()),
+                    allow_unstable: record.allow_unstable,
+                },
+                methods: flags.methods,
+                study,
+            });
+        }
+        let scene = self.scene.clone().context("a scene or --from is needed")?;
+        let study = SceneArgs {
+            scene: scene.clone(),
+            overrides: self.overrides.clone(),
+        }
+        .study()?;
+        Ok(RunPlan {
+            options: RunOptions {
+                out: self
+                    .out
+                    .clone()
+                    .unwrap_or_else(|| PathBuf::from("out").join(study.name())),
+                quiet: self.quiet,
+                no_files: self.no_files,
+                no_reference: self.no_reference,
+                vtu: self.vtu,
+                source: scene,
+                allow_unstable: false,
+            },
+            methods: self.method.clone(),
+            study,
+        })
+    }
+}
+
 fn run_command(args: &RunArgs) -> Result<()> {
-    let study = args.scene.study()?;
-    match study.dim() {
-        1 => run_scene::<1>(&study, args),
-        2 => run_scene::<2>(&study, args),
+    let plan = args.plan()?;
+    match plan.study.dim() {
+        1 => run_scene::<1>(&plan),
+        2 => run_scene::<2>(&plan),
         d => bail!("dim = {d} is not supported (allowed: 1 or 2)"),
     }
 }
 
-fn run_scene<const D: usize>(study: &Study, args: &RunArgs) -> Result<()> {
-    match args.no_reference {
-        true => study.check_methods_work(&args.method)?,
-        false => study.check_work(&args.method)?,
+fn run_scene<const D: usize>(plan: &RunPlan) -> Result<()> {
+    let (study, options) = (&plan.study, &plan.options);
+    match options.no_reference {
+        true => study.check_methods_work(&plan.methods)?,
+        false => study.check_work(&plan.methods)?,
     }
     let problem = study.problem::<D>()?;
     say!(
@@ -372,23 +447,13 @@ fn run_scene<const D: usize>(study: &Study, args: &RunArgs) -> Result<()> {
         problem.grid.cell_count(),
         describe_times(&problem.output_times, study.scene.transit().1)
     );
-    let options = RunOptions {
-        out: args
-            .out
-            .clone()
-            .unwrap_or_else(|| PathBuf::from("out").join(study.name())),
-        quiet: args.quiet,
-        no_files: args.no_files,
-        no_reference: args.no_reference,
-        vtu: args.vtu,
-    };
-    let report = run_study::<D>(study, &args.method, &options)?;
+    let report = run_study::<D>(study, &plan.methods, options)?;
     print_header();
     for r in &report.records {
         print_rows(r);
     }
     let dir = &options.out;
-    if args.no_files {
+    if options.no_files {
         say!("wrote {}", dir.join("summary.json").display());
         if !report.failures.is_empty() {
             bail!("{}", report.failures.join("; "));

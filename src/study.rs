@@ -77,6 +77,53 @@ pub struct Overrides {
 }
 
 impl Overrides {
+    /// The flags given, as typed (`--cells`, `--shape`, ...), in declaration order.
+    pub fn given(&self) -> Vec<String> {
+        let set = [
+            ("--cells", self.cells.is_some()),
+            ("--courant", self.courant.is_some()),
+            ("--points-per-cell", self.points_per_cell.is_some()),
+            ("--integrator", self.integrator.is_some()),
+            ("--update", self.update.is_some()),
+            ("--stress-update", self.stress_update.is_some()),
+            ("--frame", self.frame.is_some()),
+            ("--shape", self.shape.is_some()),
+            ("--flux", self.flux.is_some()),
+            ("--riemann", self.riemann.is_some()),
+            ("--edges", self.edges.is_some()),
+            ("--load", self.load.is_some()),
+            ("--load-magnitude", self.load_magnitude.is_some()),
+            ("--t-end", self.t_end.is_some()),
+            ("--output-times", self.output_times.is_some()),
+            ("--work-budget", self.work_budget.is_some()),
+            ("--yield-stress", self.yield_stress.is_some()),
+            ("--hardening", self.hardening.is_some()),
+        ];
+        set.iter()
+            .filter(|(_, given)| *given)
+            .map(|(flag, _)| flag.to_string())
+            .collect()
+    }
+
+    /// Refuse the flags of `not_allowed` that were given: `command` sets or sweeps them
+    /// itself (`why`).
+    pub fn refuse(&self, command: &str, not_allowed: &[&str], why: &str) -> Result<(), SceneError> {
+        match self
+            .given()
+            .into_iter()
+            .find(|f| not_allowed.contains(&f.as_str()))
+        {
+            Some(flag) => Err(SceneError::new(
+                flag.as_str(),
+                "given",
+                format!(
+                    "not with `{command}`, which {why}; allowed: the other method and scene                      flags"
+                ),
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// Apply the scene-level overrides (cells, load) to `scene`, checking each value
     /// (points per cell is checked against the scene's dimension but applied per method).
     fn apply_to_scene(&self, scene: &mut Scene) -> Result<(), SceneError> {
