@@ -235,6 +235,9 @@ pub struct Provenance {
     /// The options of a study's configurations (ladders and sweeps), when it has no runs.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub configurations: Vec<MethodOptionsRecord>,
+    /// What else the command reported (configurations skipped, with their reasons).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
     /// The machine.
     pub machine: Machine,
     /// Start of the command (seconds since the Unix epoch).
@@ -271,6 +274,7 @@ impl Provenance {
             run: None,
             runs: Vec::new(),
             configurations: Vec::new(),
+            notes: Vec::new(),
             machine: Machine::detect(),
             started_unix_s: started.unix_s,
             wall_s: 0.0,
@@ -395,7 +399,8 @@ pub fn write_scene(path: &Path, scene: &Scene) -> Result<()> {
     let text = toml::to_string(scene).context("serialising the resolved scene")?;
     let header = format!(
         "# The resolved scene (every default and command-line override written out), by impact \
-         {} ({GIT_COMMIT}).\n# `impact run --from <this folder>` runs it again.\n",
+         {} ({GIT_COMMIT}).\n# `impact run <this file>` runs it; `impact run --from <folder>` repeats the \
+         run of an `impact run` folder.\n",
         env!("CARGO_PKG_VERSION")
     );
     impact_io::write_atomic(path, |w| {

@@ -312,7 +312,32 @@ pub struct Study {
     pub overrides: Overrides,
 }
 
+/// The scene of `source`: a shipped scene name (`impact scenes`) or the path of a scene
+/// file (a name ending in `.toml` or holding a `/`), parsed but not yet validated
+/// ([`Study::new`] validates it).
+pub fn parse_scene(source: &str) -> Result<Scene, CoreError> {
+    if source.ends_with(".toml") || source.contains('/') {
+        return Scene::parse_file(std::path::Path::new(source));
+    }
+    Scene::builtin(source).ok_or_else(|| {
+        SceneError::new(
+            "scene",
+            format!("unknown scene {source:?}"),
+            format!(
+                "a shipped scene ({}) or a path to a .toml file",
+                impact_core::scene::BUILTIN.join(", ")
+            ),
+        )
+        .into()
+    })
+}
+
 impl Study {
+    /// The study of `source` ([`parse_scene`]) with `overrides`.
+    pub fn load(source: &str, overrides: Overrides) -> Result<Self, CoreError> {
+        Ok(Self::new(parse_scene(source)?, overrides)?)
+    }
+
     /// Validate `scene` (parsed, not yet validated: errors name its fields), apply
     /// `overrides` (errors name the flags) and validate the result again (errors name the
     /// field and say the overrides are in effect).
@@ -387,6 +412,39 @@ impl Study {
             points: coarse.points * refinement * refinement,
             steps: coarse.steps * refinement,
         }))
+    }
+
+    /// The reference a study of `command` measures its errors against, in words: the
+    /// scene's exact solution, or (2D) the converged reference of each grid; refused when
+    /// the scene has neither (a 1D scene without an exact solution), since `command` needs
+    /// errors.
+    pub fn reference_for_errors(&self, command: &str) -> Result<String, CoreError> {
+        fn exact<const D: usize>(study: &Study) -> Result<Option<String>, CoreError> {
+            let problem = study.problem::<D>()?;
+            Ok(impact_core::reference::Reference::for_problem(&problem).map(|r| r.describe()))
+        }
+        let exact = match self.dim() {
+            1 => exact::<1>(self)?,
+            _ => exact::<2>(self)?,
+        };
+        match (exact, self.dim()) {
+            (Some(description), _) => Ok(format!("exact: {description}")),
+            (None, 2) => Ok(format!(
+                "converged: DGMPM on a grid {}x finer than each run's, computed per grid \
+                 (and cached), since the scene has no exact solution",
+                crate::REFERENCE_REFINEMENT
+            )),
+            (None, _) => Err(SceneError::new(
+                "--scene",
+                self.name(),
+                format!(
+                    "a scene with a reference: `{command}` measures errors, and this 1D scene \
+                     has no exact solution for its ends, loads and initial state (1D scenes \
+                     get no converged reference)"
+                ),
+            )
+            .into()),
+        }
     }
 
     /// Scene name.
