@@ -483,7 +483,10 @@ mod tests {
                 for kind in MethodKind::ALL {
                     assert_eq!(again.config(kind), study.config(kind), "{name} {kind}");
                 }
-                assert_eq!(again.scene.schedule_seconds(), study.scene.schedule_seconds());
+                assert_eq!(
+                    again.scene.schedule_seconds(),
+                    study.scene.schedule_seconds()
+                );
             }
         }
     }

@@ -251,11 +251,14 @@ pub const LADDER_FLAGS: &[&str] = &[
     "--shape",
 ];
 
+/// A configuration left out of a ladder: its label and why.
+pub type Skipped = (String, String);
+
 /// The ladder's configurations for `study` (built on its resolved scene, so the method
 /// flags given apply to each), split into those the problem runs and those it refuses
 /// (label and reason: e.g. CTU on a Saint-Venant-Kirchhoff plate). The study's own
 /// configurations are checked first: a flag the problem refuses is an error.
-pub fn usable_configurations(study: &Study) -> Result<(Vec<Config>, Vec<(String, String)>)> {
+pub fn usable_configurations(study: &Study) -> Result<(Vec<Config>, Vec<Skipped>)> {
     let kinds = MethodKind::ALL;
     let configs: Vec<MethodConfig> = kinds.iter().map(|&k| study.config(k)).collect();
     study.check_configs(&configs)?;

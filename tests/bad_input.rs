@@ -411,7 +411,11 @@ fn incompatible_options_are_refused_before_any_work() {
     let cases: [(&[&str], &[&str]); 6] = [
         (
             &["run", "svk-plate", "--flux", "ctu", "--cells", "160"],
-            &["dgmpm.flux (--flux)", "ctu", "\"dcu\" with Saint-Venant-Kirchhoff"],
+            &[
+                "dgmpm.flux (--flux)",
+                "ctu",
+                "\"dcu\" with Saint-Venant-Kirchhoff",
+            ],
         ),
         (
             &["check", "svk-plate", "--flux", "ctu", "--cells", "160"],
@@ -419,19 +423,45 @@ fn incompatible_options_are_refused_before_any_work() {
         ),
         (
             &["run", "svk-plate", "--riemann", "exact"],
-            &["dgmpm.riemann (--riemann)", "exact", "\"approximate\" in 2D"],
+            &[
+                "dgmpm.riemann (--riemann)",
+                "exact",
+                "\"approximate\" in 2D",
+            ],
         ),
         (
             &["run", "svk-bar", "--frame", "updated-lagrangian"],
-            &["mpm.frame (--frame)", "updated-lagrangian", "\"total-lagrangian\""],
+            &[
+                "mpm.frame (--frame)",
+                "updated-lagrangian",
+                "\"total-lagrangian\"",
+            ],
         ),
         (
-            &["run", "ep-bar", "--riemann", "elastoplastic", "--points-per-cell", "2"],
+            &[
+                "run",
+                "ep-bar",
+                "--riemann",
+                "elastoplastic",
+                "--points-per-cell",
+                "2",
+            ],
             &["--points-per-cell", "2", "1 with --riemann elastoplastic"],
         ),
         (
-            &["bench", "work-precision", "--scene", "svk-plate", "--frame", "updated-lagrangian"],
-            &["mpm.frame (--frame)", "updated-lagrangian", "\"total-lagrangian\""],
+            &[
+                "bench",
+                "work-precision",
+                "--scene",
+                "svk-plate",
+                "--frame",
+                "updated-lagrangian",
+            ],
+            &[
+                "mpm.frame (--frame)",
+                "updated-lagrangian",
+                "\"total-lagrangian\"",
+            ],
         ),
     ];
     for (args, fragments) in cases {
@@ -448,7 +478,10 @@ fn incompatible_options_are_refused_before_any_work() {
         assert!(seconds < 1.0, "{args:?}: refused after {seconds:.2} s");
         assert!(!err.contains("panicked"), "{args:?}: {err}");
         for fragment in fragments {
-            assert!(err.contains(fragment), "{args:?}: {err:?} should contain {fragment:?}");
+            assert!(
+                err.contains(fragment),
+                "{args:?}: {err:?} should contain {fragment:?}"
+            );
         }
         assert!(!out.exists(), "{args:?}: nothing written");
     }

@@ -119,7 +119,10 @@ fn run_records_its_configuration_and_from_repeats_it_exactly() {
         .iter()
         .map(|v| v.as_str().unwrap())
         .collect();
-    assert!(argv.windows(2).any(|w| w == ["--shape", "gimp"]), "{argv:?}");
+    assert!(
+        argv.windows(2).any(|w| w == ["--shape", "gimp"]),
+        "{argv:?}"
+    );
     assert!(record["machine"]["cores"].as_u64().unwrap() >= 1);
     assert!(!record["machine"]["cpu_model"].as_str().unwrap().is_empty());
     assert_eq!(record["allow_unstable"], false);
@@ -196,7 +199,10 @@ fn run_records_its_configuration_and_from_repeats_it_exactly() {
     ]);
     assert!(o.status.success(), "{}", text(&o));
     let other = json(&c.join("summary.json"));
-    assert_eq!(run_of(&other["runs"], "mpm")["options"]["shape"], "bspline2");
+    assert_eq!(
+        run_of(&other["runs"], "mpm")["options"]["shape"],
+        "bspline2"
+    );
     // --from takes no option flags, and only an `impact run` folder
     let o = impact(&["run", "--from", a.to_str().unwrap(), "--cells", "10"]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
@@ -254,7 +260,14 @@ fn work_precision_on_a_user_bar() {
     let fem = errors("fem C0.9");
     assert!(fem[1] < fem[0], "{fem:?}");
     // flags the ladder sets itself are refused, naming the flag
-    let o = impact(&["bench", "work-precision", "--scene", &file, "--courant", "0.5"]);
+    let o = impact(&[
+        "bench",
+        "work-precision",
+        "--scene",
+        &file,
+        "--courant",
+        "0.5",
+    ]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(text(&o).contains("--courant"), "{}", text(&o));
     let _ = std::fs::remove_dir_all(&root);
@@ -353,7 +366,10 @@ fn convergence_on_user_scenes() {
     ]);
     assert!(o.status.success(), "{}", text(&o));
     assert!(text(&o).contains("reference: converged"), "{}", text(&o));
-    let cells = impact::convergence::level_cells(&Scene::from_file(out.join("scene.toml").as_path()).unwrap(), 2);
+    let cells = impact::convergence::level_cells(
+        &Scene::from_file(out.join("scene.toml").as_path()).unwrap(),
+        2,
+    );
     assert_eq!(cells, [64, 32]);
     let _ = std::fs::remove_dir_all(&root);
 }
@@ -392,7 +408,11 @@ fn stability_on_user_scenes() {
             .unwrap()
     };
     assert!((limit(1, "euler") - 1.0).abs() < 1e-4);
-    assert!((limit(2, "euler") - 0.6862).abs() < 1e-3, "{}", limit(2, "euler"));
+    assert!(
+        (limit(2, "euler") - 0.6862).abs() < 1e-3,
+        "{}",
+        limit(2, "euler")
+    );
     assert!(rows.as_array().unwrap().iter().all(|r| r["dim"] == 1));
     let file = scene_file(&root, "wide-plate", WIDE_PLATE);
     let out = root.join("plate");

@@ -231,7 +231,8 @@ pub fn run(options: &FiguresOptions) -> Result<Index> {
     let html = index_html(&index);
     impact_io::write_atomic(&dir.join("index.html"), |w| w.write_all(html.as_bytes()))?;
     let mut record = crate::provenance::Provenance::new("figures", &clock);
-    record.reference = "per figure: the shipped scenes' (index.json names each figure's command)".into();
+    record.reference =
+        "per figure: the shipped scenes' (index.json names each figure's command)".into();
     record.write(&dir, &clock)?;
     folder.commit(concat!("impact ", env!("CARGO_PKG_VERSION")))?;
     Ok(index)
