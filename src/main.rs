@@ -104,7 +104,8 @@ struct RunArgs {
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
-    /// Write only summary.json (no profiles, VTK, HDF5 or plots): no I/O at output times.
+    /// Write only summary.json, provenance.json and scene.toml (no profiles, VTK, HDF5 or
+    /// plots): no I/O at output times.
     #[arg(long)]
     no_files: bool,
     /// Skip the reference (exact or converged): errors and fronts are not computed.
@@ -711,12 +712,14 @@ fn stability_scenes(args: &StabilityArgs) -> Result<Vec<(impact_core::Scene, Stu
             .iter()
             .map(|&d| {
                 let study = Study::new(impact::stability::sweep_scene(d), args.overrides.clone())?;
+                impact::work_precision::check_fixed_options(&study)?;
                 let scene = resolved(&study);
                 Ok((scene.clone(), Study::new(scene, Overrides::default())?))
             })
             .collect();
     };
     let study = Study::load(source, args.overrides.clone())?;
+    impact::work_precision::check_fixed_options(&study)?;
     let scene = impact::stability::cut_scene(&resolved(&study));
     let study = Study::new(scene.clone(), Overrides::default())?;
     Ok(vec![(scene, study)])

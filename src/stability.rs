@@ -100,8 +100,12 @@ pub fn refused<const D: usize>(problem: &Problem<D>, base: &impact_core::Scene) 
         .filter(|c| problem.layout.fits(c.points_per_cell) || c.kind() == MethodKind::Fem)
         .filter_map(|c| {
             problem.check_config(c).err().map(|e| {
+                let flux = match (c.dgmpm(), D) {
+                    (Some(o), 2..) => format!(" {}", o.flux),
+                    _ => String::new(),
+                };
                 format!(
-                    "{}D {} {}ppc {}: {e}",
+                    "{}D {} {}ppc {}{flux}: {e}",
                     D,
                     c.kind(),
                     c.points_per_cell,

@@ -256,12 +256,12 @@ pub type Skipped = (String, String);
 
 /// The ladder's configurations for `study` (built on its resolved scene, so the method
 /// flags given apply to each), split into those the problem runs and those it refuses
-/// (label and reason: e.g. CTU on a Saint-Venant-Kirchhoff plate). The study's own
-/// configurations are checked first: a flag the problem refuses is an error.
+/// (label and reason: e.g. CTU on a Saint-Venant-Kirchhoff plate). The options a study
+/// does not vary are checked first ([`check_fixed_options`]): one the problem refuses is an
+/// error.
 pub fn usable_configurations(study: &Study) -> Result<(Vec<Config>, Vec<Skipped>)> {
     let kinds = MethodKind::ALL;
-    let configs: Vec<MethodConfig> = kinds.iter().map(|&k| study.config(k)).collect();
-    study.check_configs(&configs)?;
+    check_fixed_options(study)?;
     let scene = crate::provenance::resolved_scene(study, &kinds);
     let (mut usable, mut skipped) = (Vec::new(), Vec::new());
     for c in configurations(&scene) {
@@ -271,6 +271,25 @@ pub fn usable_configurations(study: &Study) -> Result<(Vec<Config>, Vec<Skipped>
         }
     }
     Ok((usable, skipped))
+}
+
+/// Refuse the DGMPM and MPM options of `study` that a ladder or sweep keeps as given (the
+/// update, Riemann solver and edges; the stress update and frame) when the problem refuses
+/// them, before anything runs. The options the studies vary (Courant number, points per
+/// cell, integrator, flux, shape) are set to values every model takes for this check.
+pub fn check_fixed_options(study: &Study) -> Result<()> {
+    let mut dgmpm = study.config(MethodKind::Dgmpm);
+    (dgmpm.courant, dgmpm.points_per_cell) = (1.0, 1);
+    if let Some(o) = dgmpm.dgmpm_mut() {
+        (o.integrator, o.flux) = (Integrator::Euler, TransverseFlux::DonorCell);
+    }
+    let mut mpm = study.config(MethodKind::Mpm);
+    (mpm.courant, mpm.points_per_cell) = (0.5, 1);
+    if let Some(o) = mpm.mpm_mut() {
+        o.shape = MpmShape::Linear;
+    }
+    study.check_configs(&[dgmpm, mpm])?;
+    Ok(())
 }
 
 /// What a ladder was run on, for its output folder: `provenance.json` (with the

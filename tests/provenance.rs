@@ -443,5 +443,35 @@ fn stability_on_user_scenes() {
     let o = impact(&["stability", "--scene", &file, "--courant", "0.5"]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(text(&o).contains("--courant"));
+    // a Saint-Venant-Kirchhoff plate: the CTU configurations are skipped, each with its
+    // reason, and the others measured
+    let svk = WIDE_PLATE
+        .replace("linear-elastic", "svk")
+        .replace("wide-plate", "svk-wide");
+    let file = scene_file(&root, "svk-wide", &svk);
+    let out = root.join("svk");
+    let o = impact(&[
+        "stability",
+        "--scene",
+        &file,
+        "--steps-2d",
+        "30",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains(
+            "skipped: 2D dgmpm 1ppc euler ctu: invalid scene value for `dgmpm.flux (--flux)`"
+        ),
+        "{}",
+        text(&o)
+    );
+    let rows = json(&out.join("stability.json"));
+    let rows = rows.as_array().unwrap();
+    assert!(rows.iter().all(|r| r["flux"] != "ctu"));
+    assert!(rows
+        .iter()
+        .any(|r| r["method"] == "dgmpm" && r["flux"] == "dcu"));
     let _ = std::fs::remove_dir_all(&root);
 }
