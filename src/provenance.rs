@@ -2,8 +2,8 @@
 //! staging folder before it is committed (so they appear with the results or not at all).
 //!
 //! - `scene.toml`: the resolved scene: every field after the scene file's defaults and the
-//!   command-line overrides (cells, load, schedule, plasticity), with each method's section
-//!   holding the options its run used (the sections of methods not run keep the scene's).
+//!   command-line overrides (cells, load, schedule, plasticity), edges not given written as
+//!   free, the point layout, with each method's section holding the options its run used (the sections of methods not run keep the scene's).
 //!   `Scene::parse_toml` reads it back to the same scene: floats are written in Rust's
 //!   shortest round-trip form.
 //! - `provenance.json`: the command line, impact's version and git commit (`-dirty` when the
@@ -16,8 +16,8 @@
 use crate::study::{Overrides, Study};
 use anyhow::{bail, Context, Result};
 use impact_core::method::{
-    EdgeTreatment, Integrator, LayoutKind, MethodConfig, MethodKind, MethodOptions, MpmFrame,
-    MpmShape, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
+    EdgeKind, EdgeTreatment, Integrator, LayoutKind, MethodConfig, MethodKind, MethodOptions,
+    MpmFrame, MpmShape, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
 };
 use impact_core::Scene;
 use serde::{Deserialize, Serialize};
@@ -371,6 +371,28 @@ pub fn resolved_scene(study: &Study, kinds: &[MethodKind]) -> Scene {
             .unwrap_or(scene.domain.points_per_cell);
     }
     scene.domain.layout.get_or_insert(LayoutKind::Centred);
+    // edges not given are free: written out
+    let free = impact_core::scene::EdgeSpec {
+        kind: EdgeKind::Free,
+        value: None,
+        from: None,
+        to: None,
+        cover: None,
+        history: None,
+        duration: None,
+    };
+    let dim = scene.dim;
+    let b = &mut scene.boundary;
+    for (edge, present) in [
+        (&mut b.left, true),
+        (&mut b.right, true),
+        (&mut b.bottom, dim > 1),
+        (&mut b.top, dim > 1),
+    ] {
+        if present && edge.is_none() {
+            *edge = Some(free.clone());
+        }
+    }
     if let Some(o) = dgmpm.dgmpm() {
         let s = &mut scene.dgmpm;
         s.courant = dgmpm.courant;
