@@ -176,3 +176,130 @@ impl<const D: usize> Problem<D> {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::options::{MethodKind, MpmFrame, RiemannSolver, TransverseFlux};
+    use crate::{Problem, Scene};
+
+    /// The refusal of `config` on `scene`, as text.
+    fn refusal<const D: usize>(
+        scene: &str,
+        change: impl Fn(&mut crate::options::MethodConfig),
+        kind: MethodKind,
+    ) -> Option<String> {
+        let scene = Scene::builtin(scene).unwrap();
+        let problem = Problem::<D>::from_scene(&scene).unwrap();
+        let mut config = scene.method_config(kind);
+        change(&mut config);
+        problem.check_config(&config).err().map(|e| e.to_string())
+    }
+
+    /// Every shipped scene's own configurations pass; each incompatible option is refused
+    /// with its field, its value and what is allowed.
+    #[test]
+    fn incompatible_options_name_the_field_the_value_and_what_is_allowed() {
+        for name in crate::scene::BUILTIN {
+            let scene = Scene::builtin(name).unwrap();
+            for kind in MethodKind::ALL {
+                let config = scene.method_config(kind);
+                let result = match scene.dim {
+                    1 => Problem::<1>::from_scene(&scene)
+                        .unwrap()
+                        .check_config(&config),
+                    _ => Problem::<2>::from_scene(&scene)
+                        .unwrap()
+                        .check_config(&config),
+                };
+                assert!(result.is_ok(), "{name} {kind}: {result:?}");
+            }
+        }
+        let cases = [
+            (
+                refusal::<2>(
+                    "svk-plate",
+                    |c| c.dgmpm_mut().unwrap().flux = TransverseFlux::Ctu,
+                    MethodKind::Dgmpm,
+                ),
+                ["dgmpm.flux (--flux)", "ctu", "\"dcu\""],
+            ),
+            (
+                refusal::<2>(
+                    "svk-plate",
+                    |c| c.dgmpm_mut().unwrap().riemann = RiemannSolver::Exact,
+                    MethodKind::Dgmpm,
+                ),
+                [
+                    "dgmpm.riemann (--riemann)",
+                    "exact",
+                    "\"approximate\" in 2D",
+                ],
+            ),
+            (
+                refusal::<1>(
+                    "svk-bar",
+                    |c| c.mpm_mut().unwrap().frame = MpmFrame::UpdatedLagrangian,
+                    MethodKind::Mpm,
+                ),
+                [
+                    "mpm.frame (--frame)",
+                    "updated-lagrangian",
+                    "\"total-lagrangian\"",
+                ],
+            ),
+            (
+                refusal::<1>(
+                    "ep-bar",
+                    |c| c.dgmpm_mut().unwrap().riemann = RiemannSolver::Approximate,
+                    MethodKind::Dgmpm,
+                ),
+                ["dgmpm.riemann (--riemann)", "approximate", "\"elastic\""],
+            ),
+            (
+                refusal::<1>(
+                    "bar",
+                    |c| c.dgmpm_mut().unwrap().riemann = RiemannSolver::Elastic,
+                    MethodKind::Dgmpm,
+                ),
+                ["dgmpm.riemann (--riemann)", "elastic", "linear elasticity"],
+            ),
+            (
+                refusal::<1>(
+                    "ep-bar",
+                    |c| {
+                        c.dgmpm_mut().unwrap().riemann = RiemannSolver::Elastoplastic;
+                        c.points_per_cell = 2;
+                    },
+                    MethodKind::Dgmpm,
+                ),
+                [
+                    "domain.points_per_cell (--points-per-cell)",
+                    "2",
+                    "1 with --riemann elastoplastic",
+                ],
+            ),
+            (
+                refusal::<2>(
+                    "ep-plate-wave",
+                    |c| c.dgmpm_mut().unwrap().riemann = RiemannSolver::Elastoplastic,
+                    MethodKind::Dgmpm,
+                ),
+                ["dgmpm.flux (--flux)", "ctu", "--flux dcu"],
+            ),
+            (
+                refusal::<2>("plate", |c| c.points_per_cell = 2, MethodKind::Mpm),
+                ["domain.points_per_cell (--points-per-cell)", "2", "1, 4, 9"],
+            ),
+            (
+                refusal::<1>("bar", |c| c.courant = 2.5, MethodKind::Fem),
+                ["fem.courant (--courant)", "2.5", "(0, 2]"],
+            ),
+        ];
+        for (message, fragments) in cases {
+            let message = message.expect("refused");
+            for f in fragments {
+                assert!(message.contains(f), "{message:?} should contain {f:?}");
+            }
+        }
+    }
+}
