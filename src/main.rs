@@ -40,9 +40,11 @@ enum Command {
     /// methods; each method's own flags to it); `--dgmpm-*`/`--mpm-*` set one method.
     Check(CheckArgs),
     /// Critical Courant numbers of every method and configuration: empirical (bisection on
-    /// perturbed runs) and, for DGMPM, von Neumann; writes stability.csv and stability.png.
+    /// perturbed runs) and, for DGMPM, von Neumann, on the default sweep scenes or on
+    /// `--scene <name|file.toml>`; writes stability.csv and stability.png.
     Stability(StabilityArgs),
-    /// Benchmarks: `impact bench work-precision --scene bar|svk-bar|plate-wave|plate`.
+    /// Benchmarks: `impact bench work-precision --scene <name|file.toml>`, `impact bench
+    /// convergence --scene <name|file.toml>`, `impact bench output`.
     Bench {
         #[command(subcommand)]
         what: BenchCommand,

@@ -116,9 +116,7 @@ impl Overrides {
             Some(flag) => Err(SceneError::new(
                 flag.as_str(),
                 "given",
-                format!(
-                    "not with `{command}`, which {why}; allowed: the other method and scene                      flags"
-                ),
+                format!("not with `{command}`, which {why}; the other `impact run` flags are"),
             )),
             None => Ok(()),
         }
