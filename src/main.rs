@@ -490,6 +490,7 @@ fn run_scene<const D: usize>(plan: &RunPlan) -> Result<()> {
 }
 
 fn check_command(args: &CheckArgs) -> Result<bool> {
+    let clock = impact::provenance::Clock::start();
     let options = CheckOptions {
         against: args.against.as_deref().map(Against::parse).transpose()?,
         dgmpm_courant: args.dgmpm_courant,
@@ -512,8 +513,32 @@ fn check_command(args: &CheckArgs) -> Result<bool> {
         print_check(study.name(), report);
     }
     if let Some(path) = &args.json {
-        impact::check_report::write_json(path, study.name(), options.thresholds, &reports)
-            .with_context(|| format!("writing {}", path.display()))?;
+        let mut record = impact::provenance::Provenance::new("check", &clock).with_study_inline(
+            &study,
+            &args.scene.scene,
+            &[MethodKind::Dgmpm, MethodKind::Mpm],
+        );
+        record.reference = study
+            .reference_for_errors("check")
+            .unwrap_or_else(|e| e.to_string());
+        record.runs = reports
+            .iter()
+            .flat_map(|r| [&r.dgmpm_record, &r.mpm_record])
+            .map(|r| impact::provenance::RunEntry {
+                options: r.options.clone(),
+                steps: r.steps,
+                wall_s: r.wall_s,
+                error: r.error.clone(),
+            })
+            .collect();
+        record.finish(&clock);
+        impact::check_report::write_json(
+            path,
+            (study.name(), &record),
+            options.thresholds,
+            &reports,
+        )
+        .with_context(|| format!("writing {}", path.display()))?;
     }
     if let Some(path) = &args.junit {
         impact::check_report::write_junit(path, study.name(), &reports)

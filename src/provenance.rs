@@ -209,6 +209,9 @@ pub struct Provenance {
     /// The resolved scene's file in this folder ([`SCENE_FILE`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scene_file: Option<String>,
+    /// The resolved scene itself, for outputs without a folder (`impact check --json`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resolved_scene: Option<Scene>,
     /// The command-line overrides given (flag names as typed).
     #[serde(default)]
     pub overrides: Vec<String>,
@@ -265,6 +268,7 @@ impl Provenance {
             scene: None,
             scene_source: None,
             scene_file: None,
+            resolved_scene: None,
             overrides: Vec::new(),
             material: None,
             boundary: None,
@@ -284,7 +288,7 @@ impl Provenance {
     /// Fill the scene fields from `study` (`source`: the scene as given) and write the
     /// resolved scene ([`resolved_scene`]) as `scene.toml` into `dir`.
     pub fn with_study(
-        mut self,
+        self,
         study: &Study,
         source: &str,
         kinds: &[MethodKind],
@@ -292,14 +296,33 @@ impl Provenance {
     ) -> Result<Self> {
         let scene = resolved_scene(study, kinds);
         write_scene(&dir.join(SCENE_FILE), &scene)?;
+        let mut record = self.describe(&scene, study, source);
+        record.scene_file = Some(SCENE_FILE.into());
+        Ok(record)
+    }
+
+    /// Fill the scene fields from `study` without writing a file (`impact check`, whose
+    /// JSON report holds the resolved scene itself in `resolved_scene`).
+    pub fn with_study_inline(self, study: &Study, source: &str, kinds: &[MethodKind]) -> Self {
+        let scene = resolved_scene(study, kinds);
+        let mut record = self.describe(&scene, study, source);
+        record.resolved_scene = Some(scene);
+        record
+    }
+
+    fn describe(mut self, scene: &Scene, study: &Study, source: &str) -> Self {
         self.scene = Some(scene.name.clone());
         self.scene_source = Some(source.to_string());
-        self.scene_file = Some(SCENE_FILE.into());
         self.overrides = study.overrides.given();
         self.material = Some(scene.material.clone());
         self.boundary = Some(scene.boundary.clone());
         self.output_times_s = scene.schedule_seconds().0;
-        Ok(self)
+        self
+    }
+
+    /// Set the wall time since `clock`.
+    pub fn finish(&mut self, clock: &Clock) {
+        self.wall_s = clock.start.elapsed().as_secs_f64();
     }
 
     /// Write `provenance.json` into `dir` (atomically), with the wall time since `clock`.

@@ -475,3 +475,35 @@ fn stability_on_user_scenes() {
         .any(|r| r["method"] == "dgmpm" && r["flux"] == "dcu"));
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// `impact check --json` (no output folder) carries the provenance inline: command line,
+/// commit, the options of both runs and the resolved scene.
+#[test]
+fn check_json_carries_its_provenance() {
+    let root = tmp("provenance-check");
+    std::fs::create_dir_all(&root).unwrap();
+    let file = root.join("check.json");
+    let o = impact(&[
+        "check",
+        "bar",
+        "--against",
+        "gimp",
+        "--mpm-points-per-cell",
+        "2",
+        "--quiet",
+        "--json",
+        file.to_str().unwrap(),
+    ]);
+    assert!(o.status.code().is_some_and(|c| c <= 1), "{}", text(&o));
+    let doc = json(&file);
+    let record = &doc["provenance"];
+    assert_eq!(record["command"], "check");
+    assert!(record["git_commit"].as_str().is_some());
+    assert!(record["reference"].as_str().unwrap().starts_with("exact"));
+    let mpm = &run_of(&record["runs"], "mpm")["options"];
+    assert_eq!(mpm["shape"], "gimp");
+    assert_eq!(mpm["points_per_cell"], 2);
+    assert_eq!(doc["reports"][0]["mpm"]["options"], *mpm);
+    assert_eq!(record["resolved_scene"]["name"], "bar");
+    let _ = std::fs::remove_dir_all(&root);
+}
