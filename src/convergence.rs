@@ -193,11 +193,11 @@ pub fn run(
     }
     study.overrides.refuse(
         "bench convergence",
-        crate::work_precision::LADDER_FLAGS,
+        crate::ladder::LADDER_FLAGS,
         "sets the grid, the Courant number and the options its ladder varies",
     )?;
     let reference = study.reference_for_errors("bench convergence")?;
-    let (configs, skipped) = crate::work_precision::usable_configurations(study)?;
+    let (configs, skipped) = crate::ladder::usable_configurations(study)?;
     notes(&format!("reference: {reference}"));
     for (label, why) in &skipped {
         notes(&format!("skipped `{label}`: {why}"));
@@ -209,7 +209,7 @@ pub fn run(
     };
     let table = table(&runs);
     let folder = impact_io::folder::OutputFolder::open(out)?;
-    let mut record = crate::work_precision::provenance(
+    let mut record = crate::ladder::provenance(
         "bench convergence",
         study,
         source,

@@ -11,6 +11,7 @@ pub mod check_report;
 pub mod convergence;
 pub mod figures;
 pub mod interrupt;
+pub mod ladder;
 pub mod output;
 pub mod output_bench;
 pub mod plots;

@@ -618,10 +618,10 @@ fn work_precision_command(
     out: Option<PathBuf>,
 ) -> Result<()> {
     let study = Study::load(scene, overrides.clone())?;
-    let levels = levels.unwrap_or_else(|| impact::work_precision::default_levels(&study));
+    let levels = levels.unwrap_or_else(|| impact::ladder::default_levels(&study));
     let out = out.unwrap_or_else(|| impact::work_precision::default_out(study.name()));
     let exe = std::env::current_exe().context("locating the impact executable")?;
-    let total = impact::work_precision::usable_configurations(&study)
+    let total = impact::ladder::usable_configurations(&study)
         .map_or(0, |(configs, _)| configs.len())
         * levels;
     let bar = indicatif::ProgressBar::new(total as u64);
@@ -701,57 +701,6 @@ fn figures_command(args: &FiguresArgs) -> Result<()> {
     Ok(())
 }
 
-/// The flags `impact stability` sets or varies itself.
-const SWEEP_FLAGS: &[&str] = &[
-    "--cells",
-    "--courant",
-    "--points-per-cell",
-    "--integrator",
-    "--flux",
-    "--update",
-    "--load",
-    "--load-magnitude",
-    "--t-end",
-    "--output-times",
-    "--work-budget",
-];
-
-/// The scenes `impact stability` sweeps: `--scene` cut to a small grid of its own cells
-/// (spacing kept, at rest, every edge unloaded by the sweep), or the default sweep scenes.
-fn stability_scenes(args: &StabilityArgs) -> Result<Vec<(impact_core::Scene, Study)>> {
-    args.overrides.refuse(
-        "impact stability",
-        SWEEP_FLAGS,
-        "sweeps the Courant number, points per cell, integrator, flux and update on an \
-         unloaded cut of the scene",
-    )?;
-    let resolved = |study: &Study| {
-        impact::provenance::resolved_scene(study, &impact_core::method::MethodKind::ALL)
-    };
-    let Some(source) = &args.scene else {
-        let dims = args.dim.clone().unwrap_or_else(|| vec![1, 2]);
-        for &d in &dims {
-            if !(d == 1 || d == 2) {
-                bail!("--dim {d} is not supported (allowed: 1 and/or 2)");
-            }
-        }
-        return dims
-            .iter()
-            .map(|&d| {
-                let study = Study::new(impact::stability::sweep_scene(d), args.overrides.clone())?;
-                impact::work_precision::check_fixed_options(&study)?;
-                let scene = resolved(&study);
-                Ok((scene.clone(), Study::new(scene, Overrides::default())?))
-            })
-            .collect();
-    };
-    let study = Study::load(source, args.overrides.clone())?;
-    impact::work_precision::check_fixed_options(&study)?;
-    let scene = impact::stability::cut_scene(&resolved(&study));
-    let study = Study::new(scene.clone(), Overrides::default())?;
-    Ok(vec![(scene, study)])
-}
-
 fn stability_command(args: &StabilityArgs) -> Result<()> {
     use impact::stability::{sweep, StabilityRow};
     let clock = impact::provenance::Clock::start();
@@ -763,8 +712,9 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
             bail!("invalid value for `{flag}`: {steps} (allowed: 1 to {most} steps per perturbed run)");
         }
     }
-    let mut scenes = stability_scenes(args)?;
-    for (scene, _) in scenes.iter_mut() {
+    let mut scenes =
+        impact::ladder::sweep_scenes(args.scene.as_deref(), args.dim.as_deref(), &args.overrides)?;
+    for scene in scenes.iter_mut() {
         if args.positions.is_some() && scene.dim != 1 && args.scene.is_none() {
             continue;
         }
@@ -800,7 +750,7 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
     let mut rows = Vec::new();
     let mut record = impact::provenance::Provenance::new("stability", &clock);
     record.reference = "none: the sweep measures stability limits, not errors".into();
-    for (scene, _) in &scenes {
+    for scene in &scenes {
         let study = Study::new(scene.clone(), Overrides::default())?;
         let skipped = match scene.dim {
             1 => impact::stability::refused::<1>(&study.problem::<1>()?, scene),
@@ -818,13 +768,13 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
     impact::interrupt::check()?;
     impact::stability::write(folder.path(), &rows)?;
     // the swept scenes: scene.toml (one scene) or scene-<d>d.toml (the default sweep)
-    for (scene, study) in &scenes {
+    for scene in &scenes {
         let file = match scenes.len() {
             1 => impact::provenance::SCENE_FILE.to_string(),
             _ => format!("scene-{}d.toml", scene.dim),
         };
         impact::provenance::write_scene(&folder.path().join(&file), scene)?;
-        record.scene = Some(study.name().to_string());
+        record.scene = Some(scene.name.clone());
         record.scene_file = Some(file);
     }
     if scenes.len() > 1 {
@@ -838,7 +788,7 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
     record.overrides = args.overrides.given();
     record.configurations = scenes
         .iter()
-        .flat_map(|(scene, _)| {
+        .flat_map(|scene| {
             match scene.dim {
                 1 => impact::stability::configurations::<1>(scene),
                 _ => impact::stability::configurations::<2>(scene),

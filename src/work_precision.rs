@@ -5,7 +5,7 @@
 //! `plate-wave`; for `plate`, each run's converged reference (DGMPM on a grid 4× finer).
 //!
 //! Any scene runs (a shipped name or a scene file), with every `impact run` flag the ladder
-//! does not set itself ([`LADDER_FLAGS`]): the study's resolved scene is written to the
+//! does not set itself ([`crate::ladder::LADDER_FLAGS`]): the study's resolved scene is written to the
 //! output folder as `scene.toml` and each run reads it. The reference is stated before the
 //! ladder starts; a 1D scene without an exact solution is refused (no errors to measure).
 //! Ladder configurations the scene's model refuses (CTU with Saint-Venant-Kirchhoff in 2D)
@@ -14,6 +14,7 @@
 //! Courant numbers per configuration stay inside the measured stability limits
 //! (`impact stability`): DGMPM 1 point per cell Euler 1.0 (2D: CTU 1.0, DCU 0.6); several
 //! points per cell with Euler 0.6; RK2 1.0 (2D: DCU 0.95, CTU 0.7); MPM 0.5; FEM 0.9.
+use crate::ladder::{provenance, usable_configurations, LADDER_FLAGS};
 use crate::Study;
 use anyhow::{bail, Context, Result};
 use impact_core::method::{Integrator, MethodConfig, MethodKind, MpmShape, TransverseFlux};
@@ -238,90 +239,6 @@ fn run_one(
                 .then(|| format!("no relative error: {}", r["times"][0]["errors"]))
         }),
     })
-}
-
-/// The flags a ladder sets itself (grid, Courant number and the options it varies): refused
-/// by `bench work-precision` and `bench convergence`.
-pub const LADDER_FLAGS: &[&str] = &[
-    "--cells",
-    "--courant",
-    "--points-per-cell",
-    "--integrator",
-    "--flux",
-    "--shape",
-];
-
-/// A configuration left out of a ladder: its label and why.
-pub type Skipped = (String, String);
-
-/// The ladder's configurations for `study` (built on its resolved scene, so the method
-/// flags given apply to each), split into those the problem runs and those it refuses
-/// (label and reason: e.g. CTU on a Saint-Venant-Kirchhoff plate). The options a study
-/// does not vary are checked first ([`check_fixed_options`]): one the problem refuses is an
-/// error.
-pub fn usable_configurations(study: &Study) -> Result<(Vec<Config>, Vec<Skipped>)> {
-    let kinds = MethodKind::ALL;
-    check_fixed_options(study)?;
-    let scene = crate::provenance::resolved_scene(study, &kinds);
-    let (mut usable, mut skipped) = (Vec::new(), Vec::new());
-    for c in configurations(&scene) {
-        match study.check_configs(&[c.config]) {
-            Ok(()) => usable.push(c),
-            Err(e) => skipped.push((c.label, e.to_string())),
-        }
-    }
-    Ok((usable, skipped))
-}
-
-/// Refuse the DGMPM and MPM options of `study` that a ladder or sweep keeps as given (the
-/// update, Riemann solver and edges; the stress update and frame) when the problem refuses
-/// them, before anything runs. The options the studies vary (Courant number, points per
-/// cell, integrator, flux, shape) are set to values every model takes for this check.
-pub fn check_fixed_options(study: &Study) -> Result<()> {
-    let mut dgmpm = study.config(MethodKind::Dgmpm);
-    (dgmpm.courant, dgmpm.points_per_cell) = (1.0, 1);
-    if let Some(o) = dgmpm.dgmpm_mut() {
-        (o.integrator, o.flux) = (Integrator::Euler, TransverseFlux::DonorCell);
-    }
-    let mut mpm = study.config(MethodKind::Mpm);
-    (mpm.courant, mpm.points_per_cell) = (0.5, 1);
-    if let Some(o) = mpm.mpm_mut() {
-        o.shape = MpmShape::Linear;
-    }
-    study.check_configs(&[dgmpm, mpm])?;
-    Ok(())
-}
-
-/// What a ladder was run on, for its output folder: `provenance.json` (with the
-/// configurations, the reference and what was skipped) and the resolved `scene.toml`.
-pub fn provenance(
-    command: &str,
-    study: &Study,
-    source: &str,
-    reference: &str,
-    configs: &[Config],
-    dir: &Path,
-) -> Result<crate::provenance::Provenance> {
-    let mut record =
-        crate::provenance::Provenance::new(command, &crate::provenance::Clock::start())
-            .with_study(study, source, &MethodKind::ALL, dir)?;
-    record.reference = reference.to_string();
-    record.configurations = configs
-        .iter()
-        .map(|c| crate::provenance::MethodOptionsRecord::of(&c.config, study.dim()))
-        .collect();
-    Ok(record)
-}
-
-/// Default refinement levels of the ladder on `study`: the shipped scenes' (plate-wave 7,
-/// plate 6), 9 in 1D and 5 in 2D otherwise.
-pub fn default_levels(study: &Study) -> usize {
-    match (study.name(), study.dim()) {
-        ("plate-wave", 2) => 7,
-        ("plate", 2) => 6,
-        (_, 1) => 9,
-        _ => 5,
-    }
 }
 
 /// Wall time a configuration needs to reach `target` (log-log interpolation between its
