@@ -323,17 +323,28 @@ pub fn check_study<const D: usize>(
 ) -> Result<Vec<CheckReport>> {
     options.validate(study)?;
     study.check_work(&[MethodKind::Dgmpm, MethodKind::Mpm])?;
+    // every configuration compared, before the reference (issue 23, item 9)
+    let configs = [
+        CheckOptions::apply(
+            options.dgmpm_courant,
+            options.dgmpm_points_per_cell,
+            study.config(MethodKind::Dgmpm),
+        ),
+        CheckOptions::apply(
+            options.mpm_courant,
+            options.mpm_points_per_cell,
+            study.config(MethodKind::Mpm),
+        ),
+    ];
+    study.check_configs(&configs)?;
+    study.check_configs(
+        &options
+            .against
+            .unwrap_or(Against::SceneMpm)
+            .configs(configs[1]),
+    )?;
     let problem = study.problem::<D>()?;
-    let dgmpm = CheckOptions::apply(
-        options.dgmpm_courant,
-        options.dgmpm_points_per_cell,
-        study.config(MethodKind::Dgmpm),
-    );
-    let mpm = CheckOptions::apply(
-        options.mpm_courant,
-        options.mpm_points_per_cell,
-        study.config(MethodKind::Mpm),
-    );
+    let [dgmpm, mpm] = configs;
     let mpms = options.against.unwrap_or(Against::SceneMpm).configs(mpm);
     crate::run::check_all_stable(
         study,

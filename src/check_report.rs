@@ -5,7 +5,10 @@
 //! courant, points_per_cell, integrator), their `stopped` messages, and `rows`, one per
 //! output time (`t` in s, `verdict` = `pass|fail|run-stopped|no-front`, `dgmpm_front`,
 //! `mpm_front` in cells, `dgmpm_overshoot`, `mpm_overshoot` in %, and `second` for the
-//! plastic wave of an elastoplastic reference).
+//! plastic wave of an elastoplastic reference); each configuration also carries every
+//! option (`options`), and `provenance` says what produced the file
+//! ([`crate::provenance::Provenance`]; `check` writes no folder, so no `scene.toml`: the
+//! resolved scene is in `provenance.resolved_scene`).
 //!
 //! JUnit XML (the schema GitHub Actions' test reporters, GitLab's `artifacts:reports:junit`
 //! and Jenkins' `junit` step read): one `<testsuite>` per compared MPM, one `<testcase>`
@@ -23,6 +26,7 @@ struct ConfigJson<'a> {
     courant: f64,
     points_per_cell: usize,
     integrator: &'a str,
+    options: &'a crate::provenance::MethodOptionsRecord,
 }
 
 #[derive(Debug, Serialize)]
@@ -42,6 +46,7 @@ struct CheckJson<'a> {
     pass: bool,
     thresholds: Thresholds,
     reports: Vec<ReportJson<'a>>,
+    provenance: &'a crate::provenance::Provenance,
 }
 
 fn config(record: &crate::run::RunRecord) -> ConfigJson<'_> {
@@ -50,6 +55,7 @@ fn config(record: &crate::run::RunRecord) -> ConfigJson<'_> {
         courant: record.courant,
         points_per_cell: record.points_per_cell,
         integrator: &record.integrator,
+        options: &record.options,
     }
 }
 
@@ -57,14 +63,16 @@ fn shape(report: &CheckReport) -> &'static str {
     report.mpm.mpm().map_or("-", |o| o.shape.name())
 }
 
-/// Write the JSON document (atomically).
+/// Write the JSON document (atomically), with what produced it (`provenance`: command
+/// line, version, commit, machine, options of every run, reference).
 pub fn write_json(
     path: &Path,
-    scene: &str,
+    (scene, provenance): (&str, &crate::provenance::Provenance),
     thresholds: Thresholds,
     reports: &[CheckReport],
 ) -> anyhow::Result<()> {
     let doc = CheckJson {
+        provenance,
         scene,
         pass: reports.iter().all(|r| r.pass),
         thresholds,

@@ -27,9 +27,10 @@
 //!   USL's stress drives the velocity from `t_n` to `t_{n+1}` where leapfrog would take it
 //!   at `t_{n+1/2}`, an `O(Δt)` lag (halving the Courant number at 600 cells halves the
 //!   velocity error: 1.34e-3 to 6.98e-4).
-use crate::work_precision::{cells_x, configurations};
+use crate::work_precision::cells_x;
 use anyhow::{bail, Context, Result};
 use impact_core::controller;
+use impact_core::method::MethodKind;
 use impact_core::method::Samples;
 use impact_core::reference::Reference;
 use impact_core::{Method, Problem, Scene};
@@ -119,7 +120,25 @@ fn run_level<const D: usize>(
     Ok(errors)
 }
 
-/// The refinement ladder `k = 1..=levels` of each configuration on `scene` (dimension `D`).
+/// The cells of level `k` on `scene`: 1D `75·2^k`; 2D `16·2^k` along x and y keeping the
+/// scene's cell shape (`12·2^k` on the 4:3 plates).
+pub fn level_cells(scene: &Scene, k: usize) -> Vec<usize> {
+    let nx = cells_x(scene.dim, k);
+    let first = scene.domain.cells[0] as f64;
+    scene
+        .domain
+        .cells
+        .iter()
+        .enumerate()
+        .map(|(l, &n)| match l {
+            0 => nx,
+            _ => ((n as f64) * nx as f64 / first).round().max(1.0) as usize,
+        })
+        .collect()
+}
+
+/// The refinement ladder `k = 1..=levels` of each configuration on `scene` (dimension `D`),
+/// against the scene's exact solution or (2D) each level's converged reference.
 pub fn ladder<const D: usize>(
     scene: &Scene,
     configs: &[crate::work_precision::Config],
@@ -129,14 +148,19 @@ pub fn ladder<const D: usize>(
     for config in configs {
         for k in 1..=levels {
             let mut s = scene.clone();
-            s.domain.cells = if D == 1 {
-                vec![cells_x(1, k)]
-            } else {
-                vec![cells_x(2, k), cells_x(2, k) * 3 / 4]
-            };
+            // output times stay physical: transits count on the scene's own grid
+            if s.time.output_transits.is_some() {
+                s.time.output_times = Some(s.schedule_seconds().0);
+                s.time.output_transits = None;
+            }
+            s.domain.cells = level_cells(scene, k);
             let problem = Problem::<D>::from_scene(&s)?;
-            let reference = Reference::for_problem(&problem)
-                .context("internal: a smooth scene has an exact solution")?;
+            let reference = crate::reference_for(&problem, false)?.with_context(|| {
+                format!(
+                    "scene {} at {:?} cells has no reference to measure errors against",
+                    s.name, s.domain.cells
+                )
+            })?;
             let errors = run_level(&problem, config.config, &reference)
                 .with_context(|| format!("{} at {:?} cells", config.label, s.domain.cells))?;
             eprintln!(
@@ -153,25 +177,53 @@ pub fn ladder<const D: usize>(
     Ok(out)
 }
 
-/// Run the ladders of `scene` (`smooth-bar` or `smooth-plate`) and write
-/// `convergence.{csv,json,png}` into `out`; returns the table printed.
-pub fn run(scene_name: &str, levels: usize, out: &Path) -> Result<String> {
-    if !(scene_name == "smooth-bar" || scene_name == "smooth-plate") {
-        bail!("--scene {scene_name:?}: allowed: \"smooth-bar\" or \"smooth-plate\"");
-    }
+/// Run the ladders on `study` (`source`: the scene as given) and write
+/// `convergence.{csv,json,png,txt}`, `provenance.json` and `scene.toml` into `out`;
+/// `notes` receives the reference and the configurations skipped before anything runs.
+/// Returns the table printed.
+pub fn run(
+    (study, source): (&crate::Study, &str),
+    levels: usize,
+    out: &Path,
+    mut notes: impl FnMut(&str),
+) -> Result<String> {
+    let clock = crate::provenance::Clock::start();
     if !(2..=8).contains(&levels) {
         bail!("--levels {levels}: allowed: 2 to 8 (at least 4 for the orders the issue asks)");
     }
-    let scene = Scene::builtin(scene_name).context("internal: shipped scene")?;
-    let configs = configurations(&scene);
+    study.overrides.refuse(
+        "bench convergence",
+        crate::ladder::LADDER_FLAGS,
+        "sets the grid, the Courant number and the options its ladder varies",
+    )?;
+    let reference = study.reference_for_errors("bench convergence")?;
+    let (configs, skipped) = crate::ladder::usable_configurations(study)?;
+    notes(&format!("reference: {reference}"));
+    for (label, why) in &skipped {
+        notes(&format!("skipped `{label}`: {why}"));
+    }
+    let scene = crate::provenance::resolved_scene(study, &MethodKind::ALL);
     let runs = match scene.dim {
         1 => ladder::<1>(&scene, &configs, levels)?,
         _ => ladder::<2>(&scene, &configs, levels)?,
     };
     let table = table(&runs);
     let folder = impact_io::folder::OutputFolder::open(out)?;
-    write(folder.path(), scene_name, &runs)?;
+    let mut record = crate::ladder::provenance(
+        "bench convergence",
+        study,
+        source,
+        &reference,
+        &configs,
+        folder.path(),
+    )?;
+    record.notes = skipped
+        .iter()
+        .map(|(l, why)| format!("skipped `{l}`: {why}"))
+        .collect();
+    write(folder.path(), study.name(), &runs)?;
     std::fs::write(folder.path().join("convergence.txt"), &table)?;
+    record.write(folder.path(), &clock)?;
     folder.commit("impact bench convergence")?;
     Ok(table)
 }

@@ -7,7 +7,7 @@ use impact::run::{run_study, RunOptions, RunRecord};
 use impact::{Overrides, Study};
 use impact_core::method::MethodKind;
 use impact_core::metrics::{ErrorBasis, FrontStatus};
-use impact_core::{Problem, Scene};
+use impact_core::Scene;
 use std::path::PathBuf;
 
 /// Print a line to stdout; a closed pipe (`impact run bar | head`) ends the program
@@ -40,9 +40,11 @@ enum Command {
     /// methods; each method's own flags to it); `--dgmpm-*`/`--mpm-*` set one method.
     Check(CheckArgs),
     /// Critical Courant numbers of every method and configuration: empirical (bisection on
-    /// perturbed runs) and, for DGMPM, von Neumann; writes stability.csv and stability.png.
+    /// perturbed runs) and, for DGMPM, von Neumann, on the default sweep scenes or on
+    /// `--scene <name|file.toml>`; writes stability.csv and stability.png.
     Stability(StabilityArgs),
-    /// Benchmarks: `impact bench work-precision --scene bar|svk-bar|plate-wave|plate`.
+    /// Benchmarks: `impact bench work-precision --scene <name|file.toml>`, `impact bench
+    /// convergence --scene <name|file.toml>`, `impact bench output`.
     Bench {
         #[command(subcommand)]
         what: BenchCommand,
@@ -80,8 +82,16 @@ struct SceneArgs {
 
 #[derive(Args)]
 struct RunArgs {
+    /// A shipped scene name (`impact scenes`) or a path to a scene file (.toml).
+    #[arg(required_unless_present = "from")]
+    scene: Option<String>,
     #[command(flatten)]
-    scene: SceneArgs,
+    overrides: Overrides,
+    /// Run again the exact configuration of an output folder of `impact run` (its
+    /// scene.toml and the methods and flags of its provenance.json), into a new folder
+    /// (default: out/<scene>-rerun). Takes no scene, method or option flags.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["scene", "method", "no_files", "no_reference", "vtu"])]
+    from: Option<PathBuf>,
     /// Methods to run, comma-separated.
     #[arg(
         long,
@@ -96,7 +106,8 @@ struct RunArgs {
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
-    /// Write only summary.json (no profiles, VTK, HDF5 or plots): no I/O at output times.
+    /// Write only summary.json, provenance.json and scene.toml (no profiles, VTK, HDF5 or
+    /// plots): no I/O at output times.
     #[arg(long)]
     no_files: bool,
     /// Skip the reference (exact or converged): errors and fronts are not computed.
@@ -152,13 +163,16 @@ enum BenchCommand {
     /// Run time against error over a refinement ladder for every method and configuration;
     /// writes work_precision.{csv,json,png}.
     WorkPrecision {
-        /// Scene: bar, svk-bar, plate-wave or plate.
+        /// Scene: a shipped scene name (bar, svk-bar, plate-wave, plate, ...) or a scene
+        /// file (.toml). Its reference (exact, or in 2D converged per run) is stated; a 1D
+        /// scene without an exact solution is refused.
         #[arg(long, default_value = "bar")]
         scene: String,
-        /// Refinement levels (1D: 75·2^k cells; 2D: 16·2^k × 12·2^k). Default: 9 in 1D
-        /// (to 19,200 cells), 7 for plate-wave (to 1024×768, about 17 min on 2 cores), 6 for
-        /// plate (to 512×388, about 23 min: each run computes its own 4× finer reference, which
-        /// would pass the 1e7-cell input limit at 1024).
+        /// Refinement levels (1D: 75·2^k cells; 2D: 16·2^k cells along x, y keeping the
+        /// scene's cell shape). Default: 9 in 1D (to 19,200 cells), 7 for plate-wave (to
+        /// 1024×768, about 17 min on 2 cores), 6 for plate (to 512×388, about 23 min: each run
+        /// computes its own 4× finer reference, which would pass the 1e7-cell input limit at
+        /// 1024), 5 for other 2D scenes.
         #[arg(long)]
         levels: Option<usize>,
         /// Output folder (default: out/work-precision-<scene>).
@@ -168,19 +182,30 @@ enum BenchCommand {
         /// (its work_precision.json).
         #[arg(long, value_name = "DIR", conflicts_with_all = ["levels", "out"])]
         summarize: Option<PathBuf>,
+        /// Scene and method flags of `impact run` (not those the ladder sets: --cells,
+        /// --courant, --points-per-cell, --integrator, --flux, --shape).
+        #[command(flatten)]
+        overrides: Overrides,
     },
     /// Observed orders of accuracy on smooth exact solutions (standing waves) for every
     /// method and configuration; writes convergence.{csv,json,png,txt}.
     Convergence {
-        /// Scene: smooth-bar or smooth-plate.
+        /// Scene: a shipped scene name (smooth-bar, smooth-plate, ...) or a scene file
+        /// (.toml). Errors are against its exact solution, or in 2D each level's converged
+        /// reference (stated); a 1D scene without an exact solution is refused.
         #[arg(long, default_value = "smooth-bar")]
         scene: String,
-        /// Refinement levels k = 1..levels (1D: 75·2^k cells; 2D: 16·2^k × 12·2^k).
+        /// Refinement levels k = 1..levels (1D: 75·2^k cells; 2D: 16·2^k along x, y keeping
+        /// the scene's cell shape).
         #[arg(long, default_value_t = 4)]
         levels: usize,
         /// Output folder (default: out/convergence-<scene>).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Scene and method flags of `impact run` (not those the ladder sets: --cells,
+        /// --courant, --points-per-cell, --integrator, --flux, --shape).
+        #[command(flatten)]
+        overrides: Overrides,
     },
     /// Size and write time of one output frame (samples and grid `.vtu`) of the partial
     /// plate, binary against ASCII, interleaved rounds.
@@ -196,9 +221,19 @@ enum BenchCommand {
 
 #[derive(Args)]
 struct StabilityArgs {
-    /// Dimensions to sweep.
-    #[arg(long, value_delimiter = ',', default_value = "1,2")]
-    dim: Vec<usize>,
+    /// Sweep on this scene (a shipped name or a scene file): its material, model, point
+    /// layout and cell size, on its grid cut to at most 150 cells (1D) or 16×12 (2D) with
+    /// every edge unloaded. Default: the paper's bar (1D) and the plane wave cut to 16×12
+    /// cells (2D).
+    #[arg(long, conflicts_with = "dim")]
+    scene: Option<String>,
+    /// Scene and method flags of `impact run` that the sweep does not vary (--riemann,
+    /// --edges, --stress-update, --frame, --shape, --yield-stress, --hardening).
+    #[command(flatten)]
+    overrides: Overrides,
+    /// Dimensions to sweep (default 1,2; with --scene, the scene's).
+    #[arg(long, value_delimiter = ',')]
+    dim: Option<Vec<usize>>,
     /// Steps of each perturbed run in 1D.
     #[arg(long, default_value_t = 20000)]
     steps_1d: usize,
@@ -210,8 +245,8 @@ struct StabilityArgs {
     out: PathBuf,
     /// Where the points sit in a cell (DGMPM and MPM): centred sub-cells, shifted by
     /// `--shift`, or at the 1D local `--positions`.
-    #[arg(long, value_enum, default_value = "centred")]
-    layout: impact_core::method::LayoutKind,
+    #[arg(long, value_enum)]
+    layout: Option<impact_core::method::LayoutKind>,
     /// Shift of every point in sub-cell widths, |shift| < 0.5 (`--layout shifted`).
     #[arg(long)]
     shift: Option<f64>,
@@ -225,15 +260,19 @@ impl StabilityArgs {
     /// Put the layout flags on a scene (checked with the scene's validation).
     fn layout_onto(&self, scene: &mut Scene) -> Result<()> {
         use impact_core::method::LayoutKind;
-        scene.domain.layout = Some(self.layout);
-        scene.domain.shift = self.shift;
+        // no layout flag: the scene's layout (centred for the default sweep scenes)
+        if self.layout.is_some() || self.shift.is_some() || self.positions.is_some() {
+            scene.domain.layout = Some(self.layout.unwrap_or(LayoutKind::Centred));
+            scene.domain.shift = self.shift;
+            scene.domain.positions = None;
+        }
         if let Some(list) = &self.positions {
             if scene.dim != 1 {
                 bail!("--positions: 1D only (one local coordinate per point); run with --dim 1");
             }
             scene.domain.points_per_cell = list.len();
             scene.domain.positions = Some(list.iter().map(|u| vec![*u]).collect());
-        } else if self.layout == LayoutKind::Given {
+        } else if self.layout == Some(LayoutKind::Given) {
             bail!("--layout given needs --positions (e.g. --positions 0.2,0.7)");
         }
         scene
@@ -245,20 +284,7 @@ impl StabilityArgs {
 impl SceneArgs {
     /// The study: the scene (shipped or from a file) with the overrides, validated once.
     fn study(&self) -> Result<Study> {
-        let looks_like_file = self.scene.ends_with(".toml") || self.scene.contains('/');
-        let scene = if looks_like_file {
-            Scene::parse_file(std::path::Path::new(&self.scene))?
-        } else {
-            match Scene::builtin(&self.scene) {
-                Some(s) => s,
-                None => bail!(
-                    "unknown scene {:?}: give a shipped scene ({}) or a path to a .toml file",
-                    self.scene,
-                    impact_core::scene::BUILTIN.join(", ")
-                ),
-            }
-        };
-        Ok(Study::new(scene, self.overrides.clone())?)
+        Ok(Study::load(&self.scene, self.overrides.clone())?)
     }
 }
 
@@ -358,19 +384,88 @@ fn print_rows(r: &RunRecord) {
     }
 }
 
+/// What `impact run` runs: the study, the methods and the run's options.
+struct RunPlan {
+    study: Study,
+    methods: Vec<MethodKind>,
+    options: RunOptions,
+}
+
+impl RunArgs {
+    /// The plan of the flags given, or of the folder of `--from`.
+    fn plan(&self) -> Result<RunPlan> {
+        if let Some(folder) = &self.from {
+            let given = self.overrides.given();
+            if let Some(flag) = given.first() {
+                bail!(
+                    "invalid value for `{flag}`: given with --from (allowed with --from: --out \
+                     and --quiet; the folder's scene.toml holds every option)"
+                );
+            }
+            let (mut study, record, flags) = impact::provenance::replay_study(folder)?;
+            // the replayed run was allowed above its von Neumann limit as the original was
+            study.overrides.allow_unstable = record.allow_unstable;
+            let vtu = <impact_io::vtu::VtuEncoding as clap::ValueEnum>::from_str(&flags.vtu, true)
+                .map_err(|e| {
+                    anyhow::anyhow!("--from {}: vtu {:?}: {e}", folder.display(), flags.vtu)
+                })?;
+            let out = self
+                .out
+                .clone()
+                .unwrap_or_else(|| PathBuf::from("out").join(format!("{}-rerun", study.name())));
+            return Ok(RunPlan {
+                options: RunOptions {
+                    out,
+                    quiet: self.quiet,
+                    no_files: flags.no_files,
+                    no_reference: flags.no_reference,
+                    vtu,
+                    source: format!("--from {}", folder.display()),
+                    allow_unstable: record.allow_unstable,
+                },
+                methods: flags.methods,
+                study,
+            });
+        }
+        let scene = self.scene.clone().context("a scene or --from is needed")?;
+        let study = SceneArgs {
+            scene: scene.clone(),
+            overrides: self.overrides.clone(),
+        }
+        .study()?;
+        Ok(RunPlan {
+            options: RunOptions {
+                out: self
+                    .out
+                    .clone()
+                    .unwrap_or_else(|| PathBuf::from("out").join(study.name())),
+                quiet: self.quiet,
+                no_files: self.no_files,
+                no_reference: self.no_reference,
+                vtu: self.vtu,
+                source: scene,
+                allow_unstable: study.overrides.allow_unstable,
+            },
+            methods: self.method.clone(),
+            study,
+        })
+    }
+}
+
 fn run_command(args: &RunArgs) -> Result<()> {
-    let study = args.scene.study()?;
-    match study.dim() {
-        1 => run_scene::<1>(&study, args),
-        2 => run_scene::<2>(&study, args),
+    let plan = args.plan()?;
+    match plan.study.dim() {
+        1 => run_scene::<1>(&plan),
+        2 => run_scene::<2>(&plan),
         d => bail!("dim = {d} is not supported (allowed: 1 or 2)"),
     }
 }
 
-fn run_scene<const D: usize>(study: &Study, args: &RunArgs) -> Result<()> {
-    match args.no_reference {
-        true => study.check_methods_work(&args.method)?,
-        false => study.check_work(&args.method)?,
+fn run_scene<const D: usize>(plan: &RunPlan) -> Result<()> {
+    let (study, options) = (&plan.study, &plan.options);
+    match options.no_reference {
+        true => study.check_methods_work(&plan.methods)?,
+        false => study.check_work(&plan.methods)?,
     }
     let problem = study.problem::<D>()?;
     say!(
@@ -384,23 +479,13 @@ fn run_scene<const D: usize>(study: &Study, args: &RunArgs) -> Result<()> {
         "metrics line: {}",
         impact_core::line::MeasureLine::of(&problem).describe::<D>()
     );
-    let options = RunOptions {
-        out: args
-            .out
-            .clone()
-            .unwrap_or_else(|| PathBuf::from("out").join(study.name())),
-        quiet: args.quiet,
-        no_files: args.no_files,
-        no_reference: args.no_reference,
-        vtu: args.vtu,
-    };
-    let report = run_study::<D>(study, &args.method, &options)?;
+    let report = run_study::<D>(study, &plan.methods, options)?;
     print_header();
     for r in &report.records {
         print_rows(r);
     }
     let dir = &options.out;
-    if args.no_files {
+    if options.no_files {
         say!("wrote {}", dir.join("summary.json").display());
         if !report.failures.is_empty() {
             return Err(impact::run::BlewUp(report.failures.join("; ")).into());
@@ -420,6 +505,7 @@ fn run_scene<const D: usize>(study: &Study, args: &RunArgs) -> Result<()> {
 }
 
 fn check_command(args: &CheckArgs) -> Result<bool> {
+    let clock = impact::provenance::Clock::start();
     let options = CheckOptions {
         against: args.against.as_deref().map(Against::parse).transpose()?,
         dgmpm_courant: args.dgmpm_courant,
@@ -442,8 +528,32 @@ fn check_command(args: &CheckArgs) -> Result<bool> {
         print_check(study.name(), report);
     }
     if let Some(path) = &args.json {
-        impact::check_report::write_json(path, study.name(), options.thresholds, &reports)
-            .with_context(|| format!("writing {}", path.display()))?;
+        let mut record = impact::provenance::Provenance::new("check", &clock).with_study_inline(
+            &study,
+            &args.scene.scene,
+            &[MethodKind::Dgmpm, MethodKind::Mpm],
+        );
+        record.reference = study
+            .reference_for_errors("check")
+            .unwrap_or_else(|e| e.to_string());
+        record.runs = reports
+            .iter()
+            .flat_map(|r| [&r.dgmpm_record, &r.mpm_record])
+            .map(|r| impact::provenance::RunEntry {
+                options: r.options.clone(),
+                steps: r.steps,
+                wall_s: r.wall_s,
+                error: r.error.clone(),
+            })
+            .collect();
+        record.finish(&clock);
+        impact::check_report::write_json(
+            path,
+            (study.name(), &record),
+            options.thresholds,
+            &reports,
+        )
+        .with_context(|| format!("writing {}", path.display()))?;
     }
     if let Some(path) = &args.junit {
         impact::check_report::write_junit(path, study.name(), &reports)
@@ -528,16 +638,18 @@ fn print_check(scene: &str, report: &impact::check::CheckReport) {
     );
 }
 
-fn work_precision_command(scene: &str, levels: Option<usize>, out: Option<PathBuf>) -> Result<()> {
-    let levels = levels.unwrap_or(match scene {
-        "plate-wave" => 7,
-        "plate" => 6,
-        _ => 9,
-    });
-    let out = out.unwrap_or_else(|| impact::work_precision::default_out(scene));
+fn work_precision_command(
+    scene: &str,
+    overrides: &Overrides,
+    levels: Option<usize>,
+    out: Option<PathBuf>,
+) -> Result<()> {
+    let study = Study::load(scene, overrides.clone())?;
+    let levels = levels.unwrap_or_else(|| impact::ladder::default_levels(&study));
+    let out = out.unwrap_or_else(|| impact::work_precision::default_out(study.name()));
     let exe = std::env::current_exe().context("locating the impact executable")?;
-    let total = Scene::builtin(scene)
-        .map_or(0, |s| impact::work_precision::configurations(&s).len())
+    let total = impact::ladder::usable_configurations(&study)
+        .map_or(0, |(configs, _)| configs.len())
         * levels;
     let bar = indicatif::ProgressBar::new(total as u64);
     bar.set_style(
@@ -545,10 +657,17 @@ fn work_precision_command(scene: &str, levels: Option<usize>, out: Option<PathBu
             .expect("internal: valid template")
             .progress_chars("=> "),
     );
-    let (points, sentence) = impact::work_precision::run(&exe, scene, levels, &out, |p| {
-        bar.set_message(format!("{} {} cells", p.config, p.cells));
-        bar.inc(1);
-    })?;
+    let (points, sentence) = impact::work_precision::run(
+        &exe,
+        (&study, scene),
+        levels,
+        &out,
+        |note| bar.suspend(|| say!("{note}")),
+        |p| {
+            bar.set_message(format!("{} {} cells", p.config, p.cells));
+            bar.inc(1);
+        },
+    )?;
     bar.finish_and_clear();
     say!(
         "{:<26} {:>8} {:>7} {:>10} {:>12} {:>9} {:>10}",
@@ -581,6 +700,19 @@ fn work_precision_command(scene: &str, levels: Option<usize>, out: Option<PathBu
     Ok(())
 }
 
+fn convergence_command(
+    scene: &str,
+    overrides: &Overrides,
+    levels: usize,
+    out: Option<PathBuf>,
+) -> Result<()> {
+    let study = Study::load(scene, overrides.clone())?;
+    let out = out.unwrap_or_else(|| impact::convergence::default_out(study.name()));
+    let table = impact::convergence::run((&study, scene), levels, &out, |note| say!("{note}"))?;
+    say!("{table}wrote {}", out.display());
+    Ok(())
+}
+
 fn figures_command(args: &FiguresArgs) -> Result<()> {
     let index = impact::figures::run(&impact::figures::FiguresOptions {
         out: args.out.clone(),
@@ -597,12 +729,8 @@ fn figures_command(args: &FiguresArgs) -> Result<()> {
 }
 
 fn stability_command(args: &StabilityArgs) -> Result<()> {
-    use impact::stability::{sweep, sweep_scene, StabilityRow};
-    for &d in &args.dim {
-        if !(d == 1 || d == 2) {
-            bail!("--dim {d} is not supported (allowed: 1 and/or 2)");
-        }
-    }
+    use impact::stability::{sweep, StabilityRow};
+    let clock = impact::provenance::Clock::start();
     for (flag, steps, most) in [
         ("--steps-1d", args.steps_1d, 1_000_000),
         ("--steps-2d", args.steps_2d, 100_000),
@@ -610,6 +738,14 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
         if steps == 0 || steps > most {
             bail!("invalid value for `{flag}`: {steps} (allowed: 1 to {most} steps per perturbed run)");
         }
+    }
+    let mut scenes =
+        impact::ladder::sweep_scenes(args.scene.as_deref(), args.dim.as_deref(), &args.overrides)?;
+    for scene in scenes.iter_mut() {
+        if args.positions.is_some() && scene.dim != 1 && args.scene.is_none() {
+            continue;
+        }
+        args.layout_onto(scene)?;
     }
     let folder = impact_io::folder::OutputFolder::open(&args.out)?;
     say!(
@@ -639,22 +775,56 @@ fn stability_command(args: &StabilityArgs) -> Result<()> {
         )
     };
     let mut rows = Vec::new();
-    if args.dim.contains(&1) {
-        let mut scene = sweep_scene(1);
-        args.layout_onto(&mut scene)?;
-        let problem = Problem::<1>::from_scene(&scene)?;
-        rows.extend(sweep(&problem, &scene, args.steps_1d, print));
-    }
-    if args.dim.contains(&2) {
-        let mut scene = sweep_scene(2);
-        if args.positions.is_none() {
-            args.layout_onto(&mut scene)?;
+    let mut record = impact::provenance::Provenance::new("stability", &clock);
+    record.reference = "none: the sweep measures stability limits, not errors".into();
+    for scene in &scenes {
+        let study = Study::new(scene.clone(), Overrides::default())?;
+        let skipped = match scene.dim {
+            1 => impact::stability::refused::<1>(&study.problem::<1>()?, scene),
+            _ => impact::stability::refused::<2>(&study.problem::<2>()?, scene),
+        };
+        for note in &skipped {
+            say!("skipped: {note}");
         }
-        let problem = Problem::<2>::from_scene(&scene)?;
-        rows.extend(sweep(&problem, &scene, args.steps_2d, print));
+        record.notes.extend(skipped);
+        match scene.dim {
+            1 => rows.extend(sweep(&study.problem::<1>()?, scene, args.steps_1d, print)),
+            _ => rows.extend(sweep(&study.problem::<2>()?, scene, args.steps_2d, print)),
+        }
     }
     impact::interrupt::check()?;
     impact::stability::write(folder.path(), &rows)?;
+    // the swept scenes: scene.toml (one scene) or scene-<d>d.toml (the default sweep)
+    for scene in &scenes {
+        let file = match scenes.len() {
+            1 => impact::provenance::SCENE_FILE.to_string(),
+            _ => format!("scene-{}d.toml", scene.dim),
+        };
+        impact::provenance::write_scene(&folder.path().join(&file), scene)?;
+        record.scene = Some(scene.name.clone());
+        record.scene_file = Some(file);
+    }
+    if scenes.len() > 1 {
+        record.scene = None;
+        record.scene_file = None;
+        record
+            .notes
+            .push("swept scenes: scene-1d.toml and scene-2d.toml".into());
+    }
+    record.scene_source = args.scene.clone();
+    record.overrides = args.overrides.given();
+    record.configurations = scenes
+        .iter()
+        .flat_map(|scene| {
+            match scene.dim {
+                1 => impact::stability::configurations::<1>(scene),
+                _ => impact::stability::configurations::<2>(scene),
+            }
+            .into_iter()
+            .map(|c| impact::provenance::MethodOptionsRecord::of(&c, scene.dim))
+        })
+        .collect();
+    record.write(folder.path(), &clock)?;
     impact::interrupt::check()?;
     folder.commit(concat!("impact ", env!("CARGO_PKG_VERSION")))?;
     say!("wrote {}", args.out.display());
@@ -683,21 +853,24 @@ fn main() {
             true
         }),
         Command::Bench {
-            what: BenchCommand::WorkPrecision {
-                scene, levels, out, ..
-            },
-        } => work_precision_command(scene, *levels, out.clone()).map(|_| true),
+            what:
+                BenchCommand::WorkPrecision {
+                    scene,
+                    levels,
+                    out,
+                    overrides,
+                    ..
+                },
+        } => work_precision_command(scene, overrides, *levels, out.clone()).map(|_| true),
         Command::Bench {
-            what: BenchCommand::Convergence { scene, levels, out },
-        } => {
-            let out = out
-                .clone()
-                .unwrap_or_else(|| impact::convergence::default_out(scene));
-            impact::convergence::run(scene, *levels, &out).map(|table| {
-                say!("{table}wrote {}", out.display());
-                true
-            })
-        }
+            what:
+                BenchCommand::Convergence {
+                    scene,
+                    levels,
+                    out,
+                    overrides,
+                },
+        } => convergence_command(scene, overrides, *levels, out.clone()).map(|_| true),
         Command::Bench {
             what: BenchCommand::Output { cells, rounds },
         } => impact::output_bench::run(*cells, *rounds).map(|(count, t, costs)| {

@@ -11,6 +11,10 @@ use serde::Serialize;
 pub struct RunRecord {
     /// Method name.
     pub method: String,
+    /// Every option of the run (method, Courant number, points per cell and the method's
+    /// own options: integrator, update, flux, Riemann solver, edges; stress update, frame,
+    /// shape).
+    pub options: crate::provenance::MethodOptionsRecord,
     /// Courant number.
     pub courant: f64,
     /// Points per cell (1 for FEM, which has no points).
@@ -126,6 +130,7 @@ pub fn run_method<const D: usize>(
     );
     let mut record = RunRecord {
         method: config.kind().name().to_string(),
+        options: crate::provenance::MethodOptionsRecord::of(&config, D),
         courant: config.courant,
         points_per_cell: if config.kind() == impact_core::MethodKind::Fem {
             1
@@ -169,6 +174,11 @@ pub struct RunOptions {
     pub vtu: impact_io::vtu::VtuEncoding,
     /// Run without a reference (`--no-reference`).
     pub no_reference: bool,
+    /// The scene as given on the command line (a shipped name, a file, or `--from
+    /// <folder>`), for `provenance.json`.
+    pub source: String,
+    /// `--allow-unstable`: recorded in `provenance.json`.
+    pub allow_unstable: bool,
 }
 
 /// The outcome of [`run_study`].
@@ -190,6 +200,7 @@ pub fn run_study<const D: usize>(
     use crate::output::{FileWriter, Summary};
     use crate::plots::Collected;
     use impact_core::method::{MethodKind, Model};
+    let clock = crate::provenance::Clock::start();
     match options.no_reference {
         true => study.check_methods_work(kinds)?,
         false => study.check_work(kinds)?,
@@ -260,6 +271,7 @@ pub fn run_study<const D: usize>(
     if !options.no_files {
         write_figures(study.name(), &problem, reference.as_ref(), dir, &collected)?;
     }
+    write_provenance(study, options, &done, &summary, dir, &clock)?;
     crate::interrupt::check()?;
     folder.commit(concat!("impact ", env!("CARGO_PKG_VERSION")))?;
     Ok(RunReport {
@@ -298,6 +310,39 @@ pub fn check_all_stable<const D: usize>(
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
 pub struct BlewUp(pub String);
+
+/// `provenance.json` and `scene.toml` of a run of `kinds` into `dir`.
+fn write_provenance(
+    study: &crate::Study,
+    options: &RunOptions,
+    kinds: &[impact_core::MethodKind],
+    summary: &crate::output::Summary,
+    dir: &std::path::Path,
+    clock: &crate::provenance::Clock,
+) -> anyhow::Result<()> {
+    use crate::provenance::{Provenance, RunEntry, RunFlags};
+    let mut record =
+        Provenance::new("run", clock).with_study(study, &options.source, kinds, dir)?;
+    record.reference = summary.reference.clone();
+    record.allow_unstable = options.allow_unstable;
+    record.run = Some(RunFlags {
+        methods: kinds.to_vec(),
+        no_reference: options.no_reference,
+        no_files: options.no_files,
+        vtu: format!("{:?}", options.vtu).to_lowercase(),
+    });
+    record.runs = summary
+        .runs
+        .iter()
+        .map(|r| RunEntry {
+            options: r.options.clone(),
+            steps: r.steps,
+            wall_s: r.wall_s,
+            error: r.error.clone(),
+        })
+        .collect();
+    record.write(dir, clock)
+}
 
 /// The run's figures: `stress.png` (profiles at up to three output times), `svk.png` (1D
 /// SVK) and `stress_map.png` (2D: every method and the reference at those times).

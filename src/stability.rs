@@ -74,6 +74,48 @@ pub fn sweep_scene(dim: usize) -> impact_core::Scene {
     scene
 }
 
+/// `scene` cut for a sweep (`impact stability --scene`): at most 150 cells in 1D and 16×12
+/// in 2D, each cell's size kept (the lengths shrink), at rest, every edge free (the sweep
+/// replaces the edges by its unloaded body's anyway). Material, model, point layout and
+/// method options stay the scene's.
+pub fn cut_scene(scene: &impact_core::Scene) -> impact_core::Scene {
+    let mut s = scene.clone();
+    let most = if s.dim == 1 { [150, 1] } else { [16, 12] };
+    for l in 0..s.dim {
+        let h = s.domain.length[l] / s.domain.cells[l] as f64;
+        s.domain.cells[l] = s.domain.cells[l].min(most[l.min(1)]);
+        s.domain.length[l] = h * s.domain.cells[l] as f64;
+    }
+    s.initial = None;
+    s.boundary = impact_core::scene::BoundarySpec::default();
+    s
+}
+
+/// The sweep's configurations of `base` that `problem` refuses ([`Problem::check_config`]),
+/// each with its reason: [`sweep`] skips them.
+pub fn refused<const D: usize>(problem: &Problem<D>, base: &impact_core::Scene) -> Vec<String> {
+    configurations::<D>(base)
+        .iter()
+        // configurations the layout does not seed are left out of the sweep silently
+        .filter(|c| problem.layout.fits(c.points_per_cell) || c.kind() == MethodKind::Fem)
+        .filter_map(|c| {
+            problem.check_config(c).err().map(|e| {
+                let flux = match (c.dgmpm(), D) {
+                    (Some(o), 2..) => format!(" {}", o.flux),
+                    _ => String::new(),
+                };
+                format!(
+                    "{}D {} {}ppc {}{flux}: {e}",
+                    D,
+                    c.kind(),
+                    c.points_per_cell,
+                    c.integrator_label()
+                )
+            })
+        })
+        .collect()
+}
+
 /// Deterministic uniform numbers in [-1, 1) (64-bit LCG).
 fn noise(state: &mut u64) -> f64 {
     *state = state
@@ -400,6 +442,10 @@ pub fn sweep<const D: usize>(
     let layout = problem.layout.label();
     for c in configurations::<D>(base) {
         if !problem.layout.fits(c.points_per_cell) && c.kind() != MethodKind::Fem {
+            continue;
+        }
+        // an option the model refuses (listed by `refused`)
+        if problem.check_config(&c).is_err() {
             continue;
         }
         let dgmpm = c.kind() == MethodKind::Dgmpm;

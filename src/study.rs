@@ -81,6 +81,51 @@ pub struct Overrides {
 }
 
 impl Overrides {
+    /// The flags given, as typed (`--cells`, `--shape`, ...), in declaration order.
+    pub fn given(&self) -> Vec<String> {
+        let set = [
+            ("--cells", self.cells.is_some()),
+            ("--courant", self.courant.is_some()),
+            ("--points-per-cell", self.points_per_cell.is_some()),
+            ("--integrator", self.integrator.is_some()),
+            ("--update", self.update.is_some()),
+            ("--stress-update", self.stress_update.is_some()),
+            ("--frame", self.frame.is_some()),
+            ("--shape", self.shape.is_some()),
+            ("--flux", self.flux.is_some()),
+            ("--riemann", self.riemann.is_some()),
+            ("--edges", self.edges.is_some()),
+            ("--load", self.load.is_some()),
+            ("--load-magnitude", self.load_magnitude.is_some()),
+            ("--t-end", self.t_end.is_some()),
+            ("--output-times", self.output_times.is_some()),
+            ("--work-budget", self.work_budget.is_some()),
+            ("--yield-stress", self.yield_stress.is_some()),
+            ("--hardening", self.hardening.is_some()),
+        ];
+        set.iter()
+            .filter(|(_, given)| *given)
+            .map(|(flag, _)| flag.to_string())
+            .collect()
+    }
+
+    /// Refuse the flags of `not_allowed` that were given: `command` sets or sweeps them
+    /// itself (`why`).
+    pub fn refuse(&self, command: &str, not_allowed: &[&str], why: &str) -> Result<(), SceneError> {
+        match self
+            .given()
+            .into_iter()
+            .find(|f| not_allowed.contains(&f.as_str()))
+        {
+            Some(flag) => Err(SceneError::new(
+                flag.as_str(),
+                "given",
+                format!("not with `{command}`, which {why}; the other `impact run` flags are"),
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// Apply the scene-level overrides (cells, load) to `scene`, checking each value
     /// (points per cell is checked against the scene's dimension but applied per method).
     fn apply_to_scene(&self, scene: &mut Scene) -> Result<(), SceneError> {
@@ -269,7 +314,32 @@ pub struct Study {
     pub overrides: Overrides,
 }
 
+/// The scene of `source`: a shipped scene name (`impact scenes`) or the path of a scene
+/// file (a name ending in `.toml` or holding a `/`), parsed but not yet validated
+/// ([`Study::new`] validates it).
+pub fn parse_scene(source: &str) -> Result<Scene, CoreError> {
+    if source.ends_with(".toml") || source.contains('/') {
+        return Scene::parse_file(std::path::Path::new(source));
+    }
+    Scene::builtin(source).ok_or_else(|| {
+        SceneError::new(
+            "scene",
+            format!("unknown scene {source:?}"),
+            format!(
+                "a shipped scene ({}) or a path to a .toml file",
+                impact_core::scene::BUILTIN.join(", ")
+            ),
+        )
+        .into()
+    })
+}
+
 impl Study {
+    /// The study of `source` ([`parse_scene`]) with `overrides`.
+    pub fn load(source: &str, overrides: Overrides) -> Result<Self, CoreError> {
+        Ok(Self::new(parse_scene(source)?, overrides)?)
+    }
+
     /// Validate `scene` (parsed, not yet validated: errors name its fields), apply
     /// `overrides` (errors name the flags) and validate the result again (errors name the
     /// field and say the overrides are in effect).
@@ -283,10 +353,11 @@ impl Study {
         Ok(Self { scene, overrides })
     }
 
-    /// Refuse, before anything is allocated, a run of `kinds` whose estimated work exceeds
-    /// the budget (`--work-budget`, default [`DEFAULT_WORK_BUDGET`]), the converged
+    /// Refuse, before anything is allocated, a run of `kinds` whose configuration the
+    /// problem cannot run ([`Self::check_configs`]) or whose estimated work exceeds the
+    /// budget (`--work-budget`, default [`DEFAULT_WORK_BUDGET`]), the converged
     /// reference's included.
-    pub fn check_work(&self, kinds: &[MethodKind]) -> Result<(), SceneError> {
+    pub fn check_work(&self, kinds: &[MethodKind]) -> Result<(), CoreError> {
         self.check_methods_work(kinds)?;
         if let Some(reference) = self.reference_work()? {
             check_work(&reference, budget_of(self))?;
@@ -295,14 +366,29 @@ impl Study {
     }
 
     /// [`Self::check_work`] without the reference (`--no-reference`).
-    pub fn check_methods_work(&self, kinds: &[MethodKind]) -> Result<(), SceneError> {
-        for &kind in kinds {
-            check_work(
-                &self.scene.work_estimate(&self.config(kind)),
-                budget_of(self),
-            )?;
+    pub fn check_methods_work(&self, kinds: &[MethodKind]) -> Result<(), CoreError> {
+        let configs: Vec<MethodConfig> = kinds.iter().map(|&k| self.config(k)).collect();
+        self.check_configs(&configs)?;
+        for config in &configs {
+            check_work(&self.scene.work_estimate(config), budget_of(self))?;
         }
         Ok(())
+    }
+
+    /// Refuse every configuration of `configs` the study's problem cannot run (an option
+    /// the material model or the dimension does not take, points per cell the layout does
+    /// not seed: [`Problem::check_config`]), before any reference is computed or any run
+    /// starts. Builds the problem only (no points, no buffers).
+    pub fn check_configs(&self, configs: &[MethodConfig]) -> Result<(), CoreError> {
+        fn each<const D: usize>(study: &Study, configs: &[MethodConfig]) -> Result<(), CoreError> {
+            let problem = study.problem::<D>()?;
+            configs.iter().try_for_each(|c| problem.check_config(c))
+        }
+        match self.dim() {
+            1 => each::<1>(self, configs),
+            2 => each::<2>(self, configs),
+            d => Err(SceneError::new("dim", d, "1 or 2").into()),
+        }
     }
 
     /// The work of the converged reference a 2D scene without an exact solution needs
@@ -328,6 +414,39 @@ impl Study {
             points: coarse.points * refinement * refinement,
             steps: coarse.steps * refinement,
         }))
+    }
+
+    /// The reference a study of `command` measures its errors against, in words: the
+    /// scene's exact solution, or (2D) the converged reference of each grid; refused when
+    /// the scene has neither (a 1D scene without an exact solution), since `command` needs
+    /// errors.
+    pub fn reference_for_errors(&self, command: &str) -> Result<String, CoreError> {
+        fn exact<const D: usize>(study: &Study) -> Result<Option<String>, CoreError> {
+            let problem = study.problem::<D>()?;
+            Ok(impact_core::reference::Reference::for_problem(&problem).map(|r| r.describe()))
+        }
+        let exact = match self.dim() {
+            1 => exact::<1>(self)?,
+            _ => exact::<2>(self)?,
+        };
+        match (exact, self.dim()) {
+            (Some(description), _) => Ok(format!("exact: {description}")),
+            (None, 2) => Ok(format!(
+                "converged: DGMPM on a grid {}x finer than each run's, computed per grid \
+                 (and cached), since the scene has no exact solution",
+                crate::REFERENCE_REFINEMENT
+            )),
+            (None, _) => Err(SceneError::new(
+                "--scene",
+                self.name(),
+                format!(
+                    "a scene with a reference: `{command}` measures errors, and this 1D scene \
+                     has no exact solution for its ends, loads and initial state (1D scenes \
+                     get no converged reference)"
+                ),
+            )
+            .into()),
+        }
     }
 
     /// Scene name.

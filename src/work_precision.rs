@@ -4,9 +4,18 @@
 //! σ_xx (Π for SVK) against the scene's reference: exact for `bar`, `svk-bar` and
 //! `plate-wave`; for `plate`, each run's converged reference (DGMPM on a grid 4× finer).
 //!
+//! Any scene runs (a shipped name or a scene file), with every `impact run` flag the ladder
+//! does not set itself ([`crate::ladder::LADDER_FLAGS`]): the study's resolved scene is written to the
+//! output folder as `scene.toml` and each run reads it. The reference is stated before the
+//! ladder starts; a 1D scene without an exact solution is refused (no errors to measure).
+//! Ladder configurations the scene's model refuses (CTU with Saint-Venant-Kirchhoff in 2D)
+//! are skipped, each named with its reason.
+//!
 //! Courant numbers per configuration stay inside the measured stability limits
 //! (`impact stability`): DGMPM 1 point per cell Euler 1.0 (2D: CTU 1.0, DCU 0.6); several
 //! points per cell with Euler 0.6; RK2 1.0 (2D: DCU 0.95, CTU 0.7); MPM 0.5; FEM 0.9.
+use crate::ladder::{provenance, usable_configurations, LADDER_FLAGS};
+use crate::Study;
 use anyhow::{bail, Context, Result};
 use impact_core::method::{Integrator, MethodConfig, MethodKind, MpmShape, TransverseFlux};
 use impact_core::Scene;
@@ -22,6 +31,8 @@ pub struct Config {
     /// The configuration (the scene's, with the ladder's points per cell, integrator,
     /// flux and Courant number); its flags come from [`MethodConfig::to_flags`].
     pub config: MethodConfig,
+    /// The scene's dimension.
+    pub dim: usize,
 }
 
 impl Config {
@@ -89,6 +100,7 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
                 integrator.name()
             ),
             config,
+            dim: scene.dim,
         }
     };
     let mut out = Vec::new();
@@ -124,6 +136,7 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
         out.push(Config {
             label: format!("mpm {ppc}ppc C0.5"),
             config,
+            dim: scene.dim,
         });
     }
     // the smooth shape functions (issue 11): at one point per cell in the total Lagrangian
@@ -142,6 +155,7 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
         out.push(Config {
             label: format!("mpm {} {ppc}ppc C0.5", shape.name()),
             config,
+            dim: scene.dim,
         });
     }
     let mut fem = scene.method_config(MethodKind::Fem);
@@ -149,6 +163,7 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
     out.push(Config {
         label: "fem C0.9".into(),
         config: fem,
+        dim: scene.dim,
     });
     out
 }
@@ -162,21 +177,24 @@ pub fn cells_x(dim: usize, k: usize) -> usize {
     }
 }
 
-/// Run one configuration at one level as a child process of `exe`.
+/// Run one configuration at one level as a child process of `exe` on the scene file
+/// `scene` (the study's resolved `scene.toml`).
 fn run_one(
     exe: &Path,
-    scene: &str,
-    dim: usize,
+    scene: &Path,
+    name: &str,
     c: &Config,
     k: usize,
-    t: f64,
+    (t, budget): (f64, Option<f64>),
     dir: &Path,
 ) -> Result<Point> {
-    let name = format!("run-{}-{k}", c.label.replace(' ', "_"));
-    let out = dir.join(&name);
+    let dim = c.dim;
+    let out = dir.join(format!("run-{}-{k}", c.label.replace(' ', "_")));
     let nx = cells_x(dim, k);
     let mut cmd = Command::new(exe);
-    cmd.args(["run", scene, "--quiet", "--no-files"])
+    cmd.arg("run")
+        .arg(scene)
+        .args(["--quiet", "--no-files"])
         .args([
             "--cells",
             &nx.to_string(),
@@ -186,6 +204,9 @@ fn run_one(
         .args(c.flags(dim))
         .arg("--out")
         .arg(&out);
+    if let Some(b) = budget {
+        cmd.args(["--work-budget", &format!("{b:e}")]);
+    }
     let status = cmd
         .output()
         .with_context(|| format!("running {}", exe.display()))?;
@@ -205,7 +226,7 @@ fn run_one(
     // a scratch run: its numbers are read, its folder goes
     let _ = impact_io::folder::remove(&out);
     Ok(Point {
-        scene: scene.into(),
+        scene: name.into(),
         config: c.label.clone(),
         cells_x: nx,
         cells,
@@ -249,43 +270,75 @@ fn time_to_reach(points: &[&Point], target: f64) -> Option<f64> {
     None
 }
 
-/// Run the ladder for `scene` (`levels` refinements) and write `work_precision.csv`,
-/// `work_precision.json`, `work_precision.png` into `out`. Returns the points and a
-/// summary sentence: which configuration reaches a target error fastest, by what factor.
+/// Run the ladder on `study` (`source`: the scene as given; `levels` refinements) and
+/// write `work_precision.csv`, `work_precision.json`, `work_precision.png`,
+/// `provenance.json` and `scene.toml` into `out`. Each run is `impact run` on the resolved
+/// `scene.toml` at the study's first output time. `notes` receives the reference used and
+/// the configurations skipped before anything runs. Returns the points and a summary
+/// sentence: which configuration reaches a target error fastest, by what factor.
 pub fn run(
     exe: &Path,
-    scene: &str,
+    (study, source): (&Study, &str),
     levels: usize,
     out: &Path,
+    mut notes: impl FnMut(&str),
     mut progress: impl FnMut(&Point),
 ) -> Result<(Vec<Point>, String)> {
-    let s = impact_core::Scene::builtin(scene).with_context(|| {
-        format!("unknown scene {scene:?} (allowed: bar, svk-bar, plate-wave, plate)")
-    })?;
-    if !["bar", "svk-bar", "plate-wave", "plate"].contains(&scene) {
-        bail!("work-precision runs on bar, svk-bar, plate-wave or plate, not {scene:?}");
-    }
+    let clock = crate::provenance::Clock::start();
     if levels == 0 || levels > 10 {
         bail!("--levels {levels}: allowed 1 to 10");
     }
-    // the fixed time: the scene's first default output time
-    let t = match s.dim {
-        1 => impact_core::Problem::<1>::from_scene(&s)?.output_times[0],
-        _ => impact_core::Problem::<2>::from_scene(&s)?.output_times[0],
+    study.overrides.refuse(
+        "bench work-precision",
+        LADDER_FLAGS,
+        "sets the grid, the Courant number and the options its ladder varies",
+    )?;
+    let reference = study.reference_for_errors("bench work-precision")?;
+    let (configs, skipped) = usable_configurations(study)?;
+    notes(&format!("reference: {reference}"));
+    for (label, why) in &skipped {
+        notes(&format!("skipped `{label}`: {why}"));
+    }
+    if configs.is_empty() {
+        bail!(
+            "no configuration of the ladder runs on scene {}",
+            study.name()
+        );
+    }
+    // the fixed time: the study's first output time
+    let t = match study.dim() {
+        1 => study.problem::<1>()?.output_times[0],
+        _ => study.problem::<2>()?.output_times[0],
     };
     let folder = impact_io::folder::OutputFolder::open(out)?;
+    let mut record = provenance(
+        "bench work-precision",
+        study,
+        source,
+        &reference,
+        &configs,
+        folder.path(),
+    )?;
+    record.notes = skipped
+        .iter()
+        .map(|(l, why)| format!("skipped `{l}`: {why}"))
+        .collect();
+    let scene_file = folder.path().join(crate::provenance::SCENE_FILE);
+    let name = study.name();
     let mut points = Vec::new();
-    for c in configurations(&s) {
+    for c in &configs {
         for k in 0..levels {
-            let p = run_one(exe, scene, s.dim, &c, k, t, folder.path())?;
+            let budget = study.overrides.work_budget;
+            let p = run_one(exe, &scene_file, name, c, k, (t, budget), folder.path())?;
             progress(&p);
             points.push(p);
         }
     }
-    write(folder.path(), scene, &points)?;
+    write(folder.path(), name, &points)?;
+    record.write(folder.path(), &clock)?;
     crate::interrupt::check()?;
     folder.commit(concat!("impact ", env!("CARGO_PKG_VERSION")))?;
-    let sentence = summarize(scene, &points);
+    let sentence = summarize(name, &points);
     Ok((points, sentence))
 }
 

@@ -400,3 +400,89 @@ fn an_end_time_of_one_step_takes_one_step() {
     let l1 = run["times"][0]["l1_rel"].as_f64().unwrap();
     assert!(l1 < 1e-12, "{l1}");
 }
+
+/// Checks before work (issue 23, item 9): an option the scene's model or dimension does not
+/// take is refused before the converged reference or any run starts, within a second, with
+/// exit 2 and the field, the value and what is allowed; the same for `check` and the
+/// studies.
+#[test]
+fn incompatible_options_are_refused_before_any_work() {
+    let out = std::env::temp_dir().join(format!("impact-compat-{}", std::process::id()));
+    let cases: [(&[&str], &[&str]); 6] = [
+        (
+            &["run", "svk-plate", "--flux", "ctu", "--cells", "160"],
+            &[
+                "dgmpm.flux (--flux)",
+                "ctu",
+                "\"dcu\" with Saint-Venant-Kirchhoff",
+            ],
+        ),
+        (
+            &["check", "svk-plate", "--flux", "ctu", "--cells", "160"],
+            &["dgmpm.flux (--flux)", "ctu", "\"dcu\""],
+        ),
+        (
+            &["run", "svk-plate", "--riemann", "exact"],
+            &[
+                "dgmpm.riemann (--riemann)",
+                "exact",
+                "\"approximate\" in 2D",
+            ],
+        ),
+        (
+            &["run", "svk-bar", "--frame", "updated-lagrangian"],
+            &[
+                "mpm.frame (--frame)",
+                "updated-lagrangian",
+                "\"total-lagrangian\"",
+            ],
+        ),
+        (
+            &[
+                "run",
+                "ep-bar",
+                "--riemann",
+                "elastoplastic",
+                "--points-per-cell",
+                "2",
+            ],
+            &["--points-per-cell", "2", "1 with --riemann elastoplastic"],
+        ),
+        (
+            &[
+                "bench",
+                "work-precision",
+                "--scene",
+                "svk-plate",
+                "--frame",
+                "updated-lagrangian",
+            ],
+            &[
+                "mpm.frame (--frame)",
+                "updated-lagrangian",
+                "\"total-lagrangian\"",
+            ],
+        ),
+    ];
+    for (args, fragments) in cases {
+        let mut all: Vec<&str> = args.to_vec();
+        all.extend(["--out", out.to_str().unwrap()]);
+        if args[0] == "check" {
+            all.truncate(all.len() - 2);
+        }
+        let start = std::time::Instant::now();
+        let o = impact(&all);
+        let seconds = start.elapsed().as_secs_f64();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(seconds < 1.0, "{args:?}: refused after {seconds:.2} s");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        for fragment in fragments {
+            assert!(
+                err.contains(fragment),
+                "{args:?}: {err:?} should contain {fragment:?}"
+            );
+        }
+        assert!(!out.exists(), "{args:?}: nothing written");
+    }
+}

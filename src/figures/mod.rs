@@ -169,6 +169,7 @@ impl Target<'_> {
 
 /// Make the figures of `options` into `options.out`; the index written.
 pub fn run(options: &FiguresOptions) -> Result<Index> {
+    let clock = crate::provenance::Clock::start();
     let folder = impact_io::folder::OutputFolder::open(&options.out)?;
     let dir = folder.path().to_path_buf();
     let wanted: Vec<FigureName> = if options.only.is_empty() {
@@ -229,6 +230,10 @@ pub fn run(options: &FiguresOptions) -> Result<Index> {
     impact_io::write_json(&dir.join("index.json"), &index)?;
     let html = index_html(&index);
     impact_io::write_atomic(&dir.join("index.html"), |w| w.write_all(html.as_bytes()))?;
+    let mut record = crate::provenance::Provenance::new("figures", &clock);
+    record.reference =
+        "per figure: the shipped scenes' (index.json names each figure's command)".into();
+    record.write(&dir, &clock)?;
     folder.commit(concat!("impact ", env!("CARGO_PKG_VERSION")))?;
     Ok(index)
 }

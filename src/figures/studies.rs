@@ -26,7 +26,9 @@ pub fn work_precision(target: &Target) -> Result<Entry> {
         let levels = if target.full { full } else { reduced };
         levels_used.push(format!("{scene} {levels}"));
         let out = scratch.join(format!("work-precision-{scene}"));
-        let (points, sentence) = crate::work_precision::run(&exe, scene, levels, &out, |_| {})?;
+        let study = crate::Study::load(scene, crate::Overrides::default())?;
+        let (points, sentence) =
+            crate::work_precision::run(&exe, (&study, scene), levels, &out, |_| {}, |_| {})?;
         let stem = format!("work_precision_{}", scene.replace('-', "_"));
         images.push(target.save(&stem, &crate::work_precision::figure(scene, &points))?);
         lines.push(sentence);

@@ -17,6 +17,7 @@
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
 
+pub mod config_check;
 pub mod controller;
 pub mod converged;
 pub mod error;

@@ -270,55 +270,8 @@ impl<const D: usize> Dgmpm<D> {
         let options = *config
             .dgmpm()
             .ok_or_else(|| unsupported("not a DGMPM configuration"))?;
-        problem.points_per_axis(config.points_per_cell)?;
-        impact_core::scene::check_courant("courant", config.courant)?;
-        if let Model::Svk(_) = problem.model {
-            if D > 1 && options.flux == TransverseFlux::Ctu {
-                return Err(unsupported(
-                    "the CTU transverse solver is implemented for linear elasticity; \
-                     use --flux dcu with Saint-Venant-Kirchhoff",
-                ));
-            }
-            if D > 1 && options.riemann == RiemannSolver::Exact {
-                return Err(unsupported(
-                    "the exact Saint-Venant-Kirchhoff Riemann solver is 1D; use --riemann approximate in 2D",
-                ));
-            }
-        }
-        let j2_solvers = [RiemannSolver::Elastic, RiemannSolver::Elastoplastic];
-        if let Model::J2(_) = problem.model {
-            if !j2_solvers.contains(&options.riemann) {
-                return Err(unsupported(
-                    "j2 takes --riemann elastic (the linear solver, then the return map) or \
-                     elastoplastic (the exact rod solver)",
-                ));
-            }
-            if options.riemann == RiemannSolver::Elastoplastic {
-                if D > 2 || config.points_per_cell != 1 {
-                    return Err(unsupported(
-                        "the elastoplastic Riemann solver reads each cell's plastic state from \
-                         its one point and is written for the rod and plane strain: use 1 point \
-                         per cell in 1D or 2D, or --riemann elastic",
-                    ));
-                }
-                if D == 2 && options.flux == TransverseFlux::Ctu {
-                    return Err(unsupported(
-                        "CTU's transverse corrections are elastic; with --riemann elastoplastic \
-                         use --flux dcu",
-                    ));
-                }
-            }
-        } else if j2_solvers.contains(&options.riemann) {
-            return Err(unsupported(
-                "--riemann elastic and elastoplastic are for j2; Saint-Venant-Kirchhoff takes \
-                 approximate or exact",
-            ));
-        }
-        if D > 2 && options.flux == TransverseFlux::Ctu {
-            return Err(unsupported(
-                "CTU is implemented in 2D (3D needs transverse-transverse corrections); use --flux dcu",
-            ));
-        }
+        // every option against the model and the dimension (impact_core::config_check)
+        problem.check_config(&config)?;
         let mut points = problem.material_points(&problem.grid, &config)?;
         // DGMPM reads the half-sizes only to sample (before the solver's buffers exist, so
         // the peak holds one copy)

@@ -130,16 +130,7 @@ pub struct Fem<const D: usize> {
 impl<const D: usize> Fem<D> {
     /// Build the FEM for `problem`.
     pub fn new(problem: &Problem<D>, config: MethodConfig) -> Result<Self, CoreError> {
-        impact_core::scene::check_courant("courant", config.courant)?;
-        if problem.initial.has_stress() {
-            return Err(CoreError::Unsupported {
-                method: "fem".into(),
-                message: "an initial stress by formula: FEM's state is its displacement, and a \
-                          stress field is not in general the stress of one (initial.stress; \
-                          run DGMPM and MPM with --method dgmpm,mpm)"
-                    .into(),
-            });
-        }
+        problem.check_config(&config)?;
         let grid = problem.grid.clone();
         let nodes = grid.vertex_count();
         let mass = lumped_mass(&grid, problem.material.density);

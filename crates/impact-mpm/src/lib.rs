@@ -62,7 +62,7 @@ pub mod shape;
 use edges::{edge_conditions, node_constraints, point_constraints, MirrorConstraint, SurfaceLoad};
 mod transfer;
 mod weights;
-use impact_core::method::{MethodConfig, Model, MpmFrame, MpmOptions, MpmShape, StressUpdate};
+use impact_core::method::{MethodConfig, Model, MpmOptions, MpmShape, StressUpdate};
 use impact_core::parallel::worth_parallel;
 use impact_core::points::MaterialPoints;
 use impact_core::{Constraint, CoreError, Grid, LinearElastic, Problem, Vector};
@@ -189,18 +189,8 @@ impl<const D: usize> Mpm<D> {
             message: "not an MPM configuration".into(),
         })?;
         let per_axis = problem.points_per_axis(config.points_per_cell)?;
-        impact_core::scene::check_courant("courant", config.courant)?;
+        problem.check_config(&config)?;
         let body = problem.grid.clone();
-        if let Model::Svk(_) = problem.model {
-            if options.frame != MpmFrame::TotalLagrangian {
-                return Err(CoreError::Unsupported {
-                    method: "mpm".into(),
-                    message: "Saint-Venant-Kirchhoff is solved in the total Lagrangian frame \
-                              (--frame total-lagrangian)"
-                        .into(),
-                });
-            }
-        }
         let mut points = problem.material_points(&body, &config)?;
         let mut cells = body.cells;
         for c in cells.iter_mut() {

@@ -1,0 +1,146 @@
+//! What the studies (`bench work-precision`, `bench convergence`, `stability`) share to run
+//! on any scene: the flags a ladder sets itself, the check of the options it keeps, the
+//! configurations the scene's model takes (and those it refuses, with the reason), the
+//! default levels, and the provenance record of a ladder's folder.
+use crate::work_precision::{configurations, Config};
+use crate::Study;
+use anyhow::Result;
+use impact_core::method::{Integrator, MethodKind, MpmShape, TransverseFlux};
+use std::path::Path;
+
+/// The flags a ladder sets itself (grid, Courant number and the options it varies): refused
+/// by `bench work-precision` and `bench convergence`.
+pub const LADDER_FLAGS: &[&str] = &[
+    "--cells",
+    "--courant",
+    "--points-per-cell",
+    "--integrator",
+    "--flux",
+    "--shape",
+];
+
+/// A configuration left out of a ladder: its label and why.
+pub type Skipped = (String, String);
+
+/// The ladder's configurations for `study` (built on its resolved scene, so the method
+/// flags given apply to each), split into those the problem runs and those it refuses
+/// (label and reason: e.g. CTU on a Saint-Venant-Kirchhoff plate). The options a study
+/// does not vary are checked first ([`check_fixed_options`]): one the problem refuses is an
+/// error.
+pub fn usable_configurations(study: &Study) -> Result<(Vec<Config>, Vec<Skipped>)> {
+    let kinds = MethodKind::ALL;
+    check_fixed_options(study)?;
+    let scene = crate::provenance::resolved_scene(study, &kinds);
+    let (mut usable, mut skipped) = (Vec::new(), Vec::new());
+    for c in configurations(&scene) {
+        match study.check_configs(&[c.config]) {
+            Ok(()) => usable.push(c),
+            Err(e) => skipped.push((c.label, e.to_string())),
+        }
+    }
+    Ok((usable, skipped))
+}
+
+/// Refuse the DGMPM and MPM options of `study` that a ladder or sweep keeps as given (the
+/// update, Riemann solver and edges; the stress update and frame) when the problem refuses
+/// them, before anything runs. The options the studies vary (Courant number, points per
+/// cell, integrator, flux, shape) are set to values every model takes for this check.
+pub fn check_fixed_options(study: &Study) -> Result<()> {
+    let mut dgmpm = study.config(MethodKind::Dgmpm);
+    (dgmpm.courant, dgmpm.points_per_cell) = (1.0, 1);
+    if let Some(o) = dgmpm.dgmpm_mut() {
+        (o.integrator, o.flux) = (Integrator::Euler, TransverseFlux::DonorCell);
+    }
+    let mut mpm = study.config(MethodKind::Mpm);
+    (mpm.courant, mpm.points_per_cell) = (0.5, 1);
+    if let Some(o) = mpm.mpm_mut() {
+        o.shape = MpmShape::Linear;
+    }
+    study.check_configs(&[dgmpm, mpm])?;
+    Ok(())
+}
+
+/// What a ladder was run on, for its output folder: `provenance.json` (with the
+/// configurations, the reference and what was skipped) and the resolved `scene.toml`.
+pub fn provenance(
+    command: &str,
+    study: &Study,
+    source: &str,
+    reference: &str,
+    configs: &[Config],
+    dir: &Path,
+) -> Result<crate::provenance::Provenance> {
+    let mut record =
+        crate::provenance::Provenance::new(command, &crate::provenance::Clock::start())
+            .with_study(study, source, &MethodKind::ALL, dir)?;
+    record.reference = reference.to_string();
+    record.configurations = configs
+        .iter()
+        .map(|c| crate::provenance::MethodOptionsRecord::of(&c.config, study.dim()))
+        .collect();
+    Ok(record)
+}
+
+/// Default refinement levels of the ladder on `study`: the shipped scenes' (plate-wave 7,
+/// plate 6), 9 in 1D and 5 in 2D otherwise.
+pub fn default_levels(study: &Study) -> usize {
+    match (study.name(), study.dim()) {
+        ("plate-wave", 2) => 7,
+        ("plate", 2) => 6,
+        (_, 1) => 9,
+        _ => 5,
+    }
+}
+
+/// The flags `impact stability` sets or varies itself.
+pub const SWEEP_FLAGS: &[&str] = &[
+    "--cells",
+    "--courant",
+    "--points-per-cell",
+    "--integrator",
+    "--flux",
+    "--update",
+    "--load",
+    "--load-magnitude",
+    "--t-end",
+    "--output-times",
+    "--work-budget",
+];
+
+/// The scenes `impact stability` sweeps, resolved with `overrides` (the flags of
+/// [`SWEEP_FLAGS`] refused): the scene `source` (a shipped name or a file) cut to a small
+/// grid of its own cells ([`crate::stability::cut_scene`]), or the default sweep scenes of
+/// `dims` (default 1 and 2).
+pub fn sweep_scenes(
+    source: Option<&str>,
+    dims: Option<&[usize]>,
+    overrides: &crate::Overrides,
+) -> Result<Vec<impact_core::Scene>> {
+    overrides.refuse(
+        "impact stability",
+        SWEEP_FLAGS,
+        "sweeps the Courant number, points per cell, integrator, flux and update on an \
+         unloaded cut of the scene",
+    )?;
+    let resolved = |study: &Study| -> Result<impact_core::Scene> {
+        check_fixed_options(study)?;
+        Ok(crate::provenance::resolved_scene(study, &MethodKind::ALL))
+    };
+    let Some(source) = source else {
+        let dims = dims.unwrap_or(&[1, 2]);
+        if let Some(d) = dims.iter().find(|&&d| !(d == 1 || d == 2)) {
+            anyhow::bail!("--dim {d} is not supported (allowed: 1 and/or 2)");
+        }
+        return dims
+            .iter()
+            .map(|&d| {
+                resolved(&Study::new(
+                    crate::stability::sweep_scene(d),
+                    overrides.clone(),
+                )?)
+            })
+            .collect();
+    };
+    let study = Study::load(source, overrides.clone())?;
+    Ok(vec![crate::stability::cut_scene(&resolved(&study)?)])
+}
