@@ -33,12 +33,26 @@ pub fn usable_configurations(study: &Study) -> Result<(Vec<Config>, Vec<Skipped>
     let scene = crate::provenance::resolved_scene(study, &kinds);
     let (mut usable, mut skipped) = (Vec::new(), Vec::new());
     for c in configurations(&scene) {
-        match study.check_configs(&[c.config]) {
+        match study
+            .check_configs(&[c.config])
+            .map_err(anyhow::Error::from)
+            .and_then(|()| within_von_neumann(study, c.config))
+        {
             Ok(()) => usable.push(c),
             Err(e) => skipped.push((c.label, e.to_string())),
         }
     }
     Ok((usable, skipped))
+}
+
+/// A ladder configuration above its von Neumann limit on this scene (another Poisson
+/// ratio or point layout moves it) is skipped with the guard's reason, not run.
+fn within_von_neumann(study: &Study, config: impact_core::method::MethodConfig) -> Result<()> {
+    match study.dim() {
+        1 => crate::guard::check_stable(&study.problem::<1>()?, config, false)?,
+        _ => crate::guard::check_stable(&study.problem::<2>()?, config, false)?,
+    };
+    Ok(())
 }
 
 /// Refuse the DGMPM and MPM options of `study` that a ladder or sweep keeps as given (the

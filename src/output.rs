@@ -120,13 +120,7 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             plane_strain: None,
             measure: StressMeasure::Cauchy,
             encoding: VtuEncoding::Binary,
-            line: impact_core::line::MeasureLine {
-                axis: 0,
-                start: grid.origin[0],
-                end: grid.upper()[0],
-                offset: if D == 1 { 0.0 } else { grid.origin[1] },
-                origin: impact_core::line::LineOrigin::NoLoad,
-            },
+            line: impact_core::line::MeasureLine::bottom_row(grid),
             #[cfg(feature = "hdf5")]
             h5: None,
         }
@@ -216,7 +210,7 @@ impl<const D: usize> FileWriter<'_, D> {
         let reference_column = format!("reference_{stress_column}");
         let (position, current, velocity, reference_velocity) = (
             ["x", "y"][a].to_string(),
-            along("x_current"),
+            ["x_current", "y_current"][a].to_string(),
             along("velocity_x"),
             along("reference_velocity_x"),
         );

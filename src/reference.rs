@@ -118,7 +118,8 @@ pub fn reference_for<const D: usize>(
     } else {
         let other = 1 - line.axis;
         let h = problem.grid.spacing[other];
-        let row = ((line.offset / h).floor() as usize).min(problem.grid.cells[other] - 1);
+        // the row `MeasureLine::holds` picks: `lo ≤ offset < hi`, to its tolerance
+        let row = ((line.offset / h + 1e-9).floor() as usize).min(problem.grid.cells[other] - 1);
         let top = problem.grid.upper()[other];
         let low = (row as f64 * h)
             .min(top - problem.grid.spacing[line.axis])
@@ -138,8 +139,37 @@ pub fn reference_for<const D: usize>(
         band,
         load_scale,
         step_load,
+        from_load: loaded_at(problem, &line, line.start),
+        opposite_load: loaded_at(problem, &line, line.end),
+        rest: matches!(problem.initial, impact_core::initial::InitialState::Rest),
         work,
     }))))
+}
+
+/// Whether the edge of the body at coordinate `at` of the line's axis carries a load of
+/// non-zero magnitude (on any segment).
+fn loaded_at<const D: usize>(
+    problem: &Problem<D>,
+    line: &impact_core::line::MeasureLine,
+    at: f64,
+) -> bool {
+    use impact_core::Boundary;
+    let (lo, hi) = (
+        problem.grid.origin[line.axis],
+        problem.grid.upper()[line.axis],
+    );
+    let tol = 1e-9 * (hi - lo).abs();
+    let side = if (at - lo).abs() <= tol {
+        0
+    } else if (at - hi).abs() <= tol {
+        1
+    } else {
+        return false; // a line starting inside the body
+    };
+    match problem.boundaries[line.axis][side] {
+        Boundary::Pressure(load) | Boundary::Velocity { load, .. } => load.value != 0.0,
+        Boundary::Free | Boundary::Symmetry => false,
+    }
 }
 
 /// The converged reference's configuration.

@@ -103,13 +103,10 @@ pub fn run_method<const D: usize>(
     let observer = std::sync::Mutex::new(observer);
     // a hook that panicked has ended the run already; the observer is still usable
     let lock = std::sync::PoisonError::into_inner;
-    let mut guard = crate::interrupt::guard();
-    guard.stress_scale = problem.load_scale().0.max(f64::MIN_POSITIVE);
-    guard.impedance = problem.material.density * problem.material.p_wave_speed::<D>();
     let result = controller::run::<D, dyn Method<D>, anyhow::Error>(
         method.as_mut(),
         &problem.output_times,
-        guard,
+        guard_for(problem),
         |m, index, t, steps| {
             let metrics = match reference {
                 Some(r) => r.evaluate(m, &mut samples, t, &line, dx),
@@ -304,6 +301,15 @@ pub fn check_all_stable<const D: usize>(
         }
     }
     Ok(notes)
+}
+
+/// The guard of a run of `problem`: the interrupt flag, and the max-norm test on the
+/// loads' stress scale ([`impact_core::controller`]).
+pub fn guard_for<const D: usize>(problem: &impact_core::Problem<D>) -> controller::Guard {
+    let mut guard = crate::interrupt::guard();
+    guard.stress_scale = problem.load_scale().0.max(f64::MIN_POSITIVE);
+    guard.impedance = problem.material.density * problem.material.p_wave_speed::<D>();
+    guard
 }
 
 /// A run stopped by the stability guard (exit code 3; its frames are kept).

@@ -181,6 +181,30 @@ fn a_front_past_the_end_of_its_line_has_left_the_body() {
     );
 }
 
+/// A stated line drawn from the unloaded side measures no front (none enters there), and
+/// two impacts on opposite edges merge: their fronts are measured while more than
+/// `FRONT_WINDOW_CELLS` cells apart, then reported merged.
+#[test]
+fn a_line_from_the_unloaded_side_or_two_meeting_fronts_are_not_measured() {
+    let backwards = "{ from = [4.0, 1.5], to = [0.0, 1.5] }";
+    let scene = plate("left", 1.0, 2.0, Some(backwards));
+    let (dgmpm, _) = run(&scene, MethodKind::Dgmpm);
+    assert!(dgmpm
+        .times
+        .iter()
+        .all(|t| t.front_reason == Some(NoFront::NotFromLoad)));
+    let mut both = plate("left", 1.0, 2.0, None);
+    both.boundary.right = both.boundary.left.clone();
+    let (dgmpm, _) = run(&both, MethodKind::Dgmpm);
+    // fronts 0.8, 1.6, 2.4 m from each edge of the 4 m plate; the window is 20 cells (2 m)
+    let reasons: Vec<_> = dgmpm.times.iter().map(|t| t.front_reason).collect();
+    assert_eq!(
+        reasons,
+        [None, Some(NoFront::Merged), Some(NoFront::Merged)]
+    );
+    assert!(dgmpm.times[0].front_width_cells.unwrap() < 1.5);
+}
+
 #[test]
 fn a_line_must_be_parallel_to_an_axis_and_inside_the_body() {
     for (line, field) in [

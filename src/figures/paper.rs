@@ -52,7 +52,6 @@ impl<const D: usize> Shipped<D> {
             writer.collect = true;
             writer.measure = problem.model.stress_measure();
             writer.line = impact_core::line::MeasureLine::of(&problem);
-            writer.line = impact_core::line::MeasureLine::of(&problem);
             if D == 2 && problem.model == Model::LinearElastic {
                 writer.plane_strain = Some(problem.material);
             }

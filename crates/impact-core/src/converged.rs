@@ -6,8 +6,12 @@
 //! the body along the line: at distance `c_p t` from the line's start (the loaded face),
 //! moving along the line; the jump is from the state at rest ahead (0) to the reference's
 //! average over the coarse cell just behind the front, in the band of the coarse row the
-//! line runs in. The front is not measured ([`NoFront`]) when:
+//! line runs in (from the reference one cell ahead instead of 0 when the body does not start
+//! at rest). The front is not measured ([`NoFront`]) when:
 //! - the load is zero or not a step (a ramp or a sine sends no jump);
+//! - the line does not start on a loaded edge (a stated line drawn from the other side);
+//! - the edge at the line's other end is loaded too and the two fronts are within
+//!   [`FRONT_WINDOW_CELLS`] cells of each other (merged);
 //! - it lies within 1.5 coarse cells of the face (not yet resolved), or has reached the
 //!   line's end (left the body);
 //! - the jump is under [`MIN_JUMP`] of the load's stress scale (`p`, or `Z v_d` for an
@@ -17,6 +21,7 @@
 //!   more than [`PLATEAU_TOLERANCE`] of the jump: no plateau to measure a width between.
 use crate::exact::{Front, NoFront};
 use crate::line::MeasureLine;
+use crate::metrics::FRONT_WINDOW_CELLS;
 
 /// Smallest measurable jump across a front, as a fraction of the load's stress scale.
 pub const MIN_JUMP: f64 = 0.05;
@@ -53,6 +58,12 @@ pub struct Converged {
     pub load_scale: f64,
     /// Whether the load is a step (a jump at `t = 0`).
     pub step_load: bool,
+    /// Whether the line starts on a loaded edge.
+    pub from_load: bool,
+    /// Whether the edge at the line's end is loaded too (a front comes from there).
+    pub opposite_load: bool,
+    /// Whether the body starts at rest (the state ahead of the front is 0).
+    pub rest: bool,
     /// Work done by the loads at each output time, per the reference run.
     pub work: Vec<f64>,
 }
@@ -109,6 +120,9 @@ impl Converged {
         if self.load_scale == 0.0 || !self.step_load {
             return Err(NoFront::NotAStep);
         }
+        if !self.from_load {
+            return Err(NoFront::NotFromLoad);
+        }
         let distance = self.speed * t;
         let dx = self.coarse_dx;
         if distance <= 1.5 * dx {
@@ -116,6 +130,9 @@ impl Converged {
         }
         if distance >= self.line.length() {
             return Err(NoFront::LeftTheBody);
+        }
+        if self.opposite_load && self.line.length() - 2.0 * distance < FRONT_WINDOW_CELLS * dx {
+            return Err(NoFront::Merged);
         }
         let direction = self.line.direction();
         let position = self.line.start + direction * distance;
@@ -131,7 +148,7 @@ impl Converged {
         if !behind.is_finite() {
             return Err(NoFront::NoReference);
         }
-        let ahead = 0.0;
+        let ahead = if self.rest { 0.0 } else { behind_by(-1.0) };
         let jump = behind - ahead;
         if jump.abs() < MIN_JUMP * self.load_scale {
             return Err(NoFront::JumpTooSmall);

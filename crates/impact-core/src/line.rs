@@ -100,11 +100,16 @@ impl MeasureLine {
                 };
             }
         }
+        Self::bottom_row(&problem.grid)
+    }
+
+    /// The bottom row along x of `grid` (the line of a body with no load).
+    pub fn bottom_row<const D: usize>(grid: &crate::Grid<D>) -> Self {
         Self {
             axis: 0,
-            start: lo[0],
-            end: hi[0],
-            offset: if D == 1 { 0.0 } else { lo[1] },
+            start: grid.origin[0],
+            end: grid.upper()[0],
+            offset: if D == 1 { 0.0 } else { grid.origin[1] },
             origin: LineOrigin::NoLoad,
         }
     }

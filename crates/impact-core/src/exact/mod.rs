@@ -63,6 +63,8 @@ pub enum NoFront {
     NoPlateau,
     /// The run has no reference solution.
     NoReference,
+    /// The measuring line does not start on a loaded edge: no front enters the body there.
+    NotFromLoad,
     /// The reference is past the time it holds for.
     PastValidity,
 }
@@ -82,6 +84,9 @@ impl NoFront {
                 "no front: the reference behind it is not a plateau (varies by more than the jump)"
             }
             NoFront::NoReference => "no front: the run has no reference solution",
+            NoFront::NotFromLoad => {
+                "no front: the measuring line does not start on a loaded edge ([metrics] line)"
+            }
             NoFront::PastValidity => "no front: past the time the reference holds for",
         }
     }
