@@ -202,7 +202,7 @@ pub fn run(
         crate::ladder::LADDER_FLAGS,
         "sets the grid, the Courant number and the options its ladder varies",
     )?;
-    let reference = study.reference_for_errors("bench convergence")?;
+    let reference = study.reference_for_errors()?;
     let (configs, skipped) = crate::ladder::usable_configurations(study)?;
     notes(&format!("reference: {reference}"));
     for (label, why) in &skipped {

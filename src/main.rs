@@ -534,7 +534,7 @@ fn check_command(args: &CheckArgs) -> Result<bool> {
             &[MethodKind::Dgmpm, MethodKind::Mpm],
         );
         record.reference = study
-            .reference_for_errors("check")
+            .reference_for_errors()
             .unwrap_or_else(|e| e.to_string());
         record.runs = reports
             .iter()

@@ -417,10 +417,8 @@ impl Study {
     }
 
     /// The reference a study of `command` measures its errors against, in words: the
-    /// scene's exact solution, or (2D) the converged reference of each grid; refused when
-    /// the scene has neither (a 1D scene without an exact solution), since `command` needs
-    /// errors.
-    pub fn reference_for_errors(&self, command: &str) -> Result<String, CoreError> {
+    /// scene's exact solution, or the converged reference of each grid (1D and 2D).
+    pub fn reference_for_errors(&self) -> Result<String, CoreError> {
         fn exact<const D: usize>(study: &Study) -> Result<Option<String>, CoreError> {
             let problem = study.problem::<D>()?;
             Ok(impact_core::reference::Reference::for_problem(&problem).map(|r| r.describe()))
@@ -429,24 +427,14 @@ impl Study {
             1 => exact::<1>(self)?,
             _ => exact::<2>(self)?,
         };
-        match (exact, self.dim()) {
-            (Some(description), _) => Ok(format!("exact: {description}")),
-            (None, 2) => Ok(format!(
+        Ok(match exact {
+            Some(description) => format!("exact: {description}"),
+            None => format!(
                 "converged: DGMPM on a grid {}x finer than each run's, computed per grid \
                  (and cached), since the scene has no exact solution",
                 crate::REFERENCE_REFINEMENT
-            )),
-            (None, _) => Err(SceneError::new(
-                "--scene",
-                self.name(),
-                format!(
-                    "a scene with a reference: `{command}` measures errors, and this 1D scene \
-                     has no exact solution for its ends, loads and initial state (1D scenes \
-                     get no converged reference)"
-                ),
-            )
-            .into()),
-        }
+            ),
+        })
     }
 
     /// Scene name.

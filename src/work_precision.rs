@@ -293,7 +293,7 @@ pub fn run(
         LADDER_FLAGS,
         "sets the grid, the Courant number and the options its ladder varies",
     )?;
-    let reference = study.reference_for_errors("bench work-precision")?;
+    let reference = study.reference_for_errors()?;
     let (configs, skipped) = usable_configurations(study)?;
     notes(&format!("reference: {reference}"));
     for (label, why) in &skipped {
