@@ -117,7 +117,7 @@ pub fn refused<const D: usize>(problem: &Problem<D>, base: &impact_core::Scene) 
 }
 
 /// Deterministic uniform numbers in [-1, 1) (64-bit LCG).
-fn noise(state: &mut u64) -> f64 {
+pub(crate) fn noise(state: &mut u64) -> f64 {
     *state = state
         .wrapping_mul(6364136223846793005)
         .wrapping_add(1442695040888963407);

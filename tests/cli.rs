@@ -198,15 +198,20 @@ fn check_prints_the_figures_of_a_smeared_dgmpm() {
     assert_eq!(o.status.code(), Some(1), "{out}");
 }
 
-/// MPM at Courant 1: stopped with method, step, time and place; the frames written before
-/// are kept, the summary records the error, and no NaN is written.
+/// MPM at Courant 1: refused before any work (its measured limit is 0.708); run anyway
+/// (`--allow-unstable`), stopped with method, step, time and place; the frames written
+/// before are kept, the summary records the error, and no NaN is written.
 #[test]
 fn mpm_blow_up_stops_cleanly_and_keeps_frames() {
     let out = tmp("blowup");
+    let refused = impact(&["run", "bar", "--quiet", "--method", "mpm", "--courant", "1"]);
+    assert_eq!(refused.status.code(), Some(2), "{}", text(&refused));
+    assert!(text(&refused).contains("measured stable up to Courant 0.70"));
     let o = impact(&[
         "run",
         "bar",
         "--quiet",
+        "--allow-unstable",
         "--method",
         "mpm",
         "--courant",

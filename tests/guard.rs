@@ -166,6 +166,67 @@ fn the_growing_mode_is_caught_on_any_ends() {
 /// Stable long runs are not stopped: just below the limit (Courant 0.68) for 0.05 s
 /// (6,000 transits of a cell), the free bar under a constant pressure (energy growing like
 /// t²), and fixed ends (stress doubling at each reflection).
+/// MPM and FEM have no von Neumann limit here: a growing mode measured on a perturbed
+/// unloaded cut of the body refuses them. The plate's free corner grows under MPM at
+/// Courant 0.75 (limit 0.708) and FEM at 1.0 after 50-90 steps of the loaded run, past the
+/// paper plate's 24-48 steps: without the check those runs exited 0. FEM at Courant 1 in
+/// 1D (exact on the bar) is marginal and runs.
+#[test]
+fn mpm_and_fem_are_refused_where_a_growing_mode_is_measured() {
+    for (scene, method, courant, code) in [
+        ("plate", "mpm", "0.75", 2),
+        ("plate", "fem", "1.0", 2),
+        ("bar", "mpm", "0.75", 2),
+        ("plate", "mpm", "0.5", 0),
+        ("plate", "fem", "0.9", 0),
+        ("bar", "fem", "1.0", 0),
+    ] {
+        let o = impact(&[
+            "run",
+            scene,
+            "--method",
+            method,
+            "--courant",
+            courant,
+            "--quiet",
+            "--no-files",
+            "--out",
+            tmp("measured").to_str().unwrap(),
+        ]);
+        assert_eq!(
+            o.status.code(),
+            Some(code),
+            "{scene} {method} {courant}: {}",
+            text(&o)
+        );
+        if code == 2 {
+            assert!(
+                stderr(&o).contains("measured stable up to Courant"),
+                "{}",
+                text(&o)
+            );
+        }
+    }
+    // run anyway, the loaded plate's corner mode is stopped: exit 3
+    let o = impact(&[
+        "run",
+        "plate",
+        "--method",
+        "fem",
+        "--courant",
+        "1.0",
+        "--t-end",
+        "0.01",
+        "--allow-unstable",
+        "--quiet",
+        "--no-files",
+        "--no-reference",
+        "--out",
+        tmp("measured-run").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(3), "{}", text(&o));
+}
+
 #[test]
 fn stable_long_runs_are_not_stopped() {
     let fixed = bar_file(
