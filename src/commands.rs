@@ -1,0 +1,383 @@
+//! The commands: `run` (its plan from the flags or `--from`), `check`, `bench
+//! work-precision`, `bench convergence`, `figures`, `stability`.
+use super::*;
+
+/// What `impact run` runs: the study, the methods and the run's options.
+pub(crate) struct RunPlan {
+    study: Study,
+    methods: Vec<MethodKind>,
+    options: RunOptions,
+}
+
+impl RunArgs {
+    /// The plan of the flags given, or of the folder of `--from`.
+    fn plan(&self) -> Result<RunPlan> {
+        if let Some(folder) = &self.from {
+            let given = self.overrides.given();
+            if let Some(flag) = given.first() {
+                bail!(
+                    "invalid value for `{flag}`: given with --from (allowed with --from: --out \
+                     and --quiet; the folder's scene.toml holds every option)"
+                );
+            }
+            let (mut study, record, flags) = impact::provenance::replay_study(folder)?;
+            // the replayed run was allowed above its von Neumann limit as the original was
+            study.overrides.allow_unstable = record.allow_unstable;
+            let vtu = <impact_io::vtu::VtuEncoding as clap::ValueEnum>::from_str(&flags.vtu, true)
+                .map_err(|e| {
+                    anyhow::anyhow!("--from {}: vtu {:?}: {e}", folder.display(), flags.vtu)
+                })?;
+            let out = self
+                .out
+                .clone()
+                .unwrap_or_else(|| PathBuf::from("out").join(format!("{}-rerun", study.name())));
+            return Ok(RunPlan {
+                options: RunOptions {
+                    out,
+                    quiet: self.quiet,
+                    no_files: flags.no_files,
+                    no_reference: flags.no_reference,
+                    vtu,
+                    source: format!("--from {}", folder.display()),
+                    allow_unstable: record.allow_unstable,
+                },
+                methods: flags.methods,
+                study,
+            });
+        }
+        let scene = self.scene.clone().context("a scene or --from is needed")?;
+        let study = SceneArgs {
+            scene: scene.clone(),
+            overrides: self.overrides.clone(),
+        }
+        .study()?;
+        Ok(RunPlan {
+            options: RunOptions {
+                out: self
+                    .out
+                    .clone()
+                    .unwrap_or_else(|| PathBuf::from("out").join(study.name())),
+                quiet: self.quiet,
+                no_files: self.no_files,
+                no_reference: self.no_reference,
+                vtu: self.vtu,
+                source: scene,
+                allow_unstable: study.overrides.allow_unstable,
+            },
+            methods: self.method.clone(),
+            study,
+        })
+    }
+}
+
+pub(crate) fn run_command(args: &RunArgs) -> Result<()> {
+    let plan = args.plan()?;
+    match plan.study.dim() {
+        1 => run_scene::<1>(&plan),
+        2 => run_scene::<2>(&plan),
+        d => bail!("dim = {d} is not supported (allowed: 1 or 2)"),
+    }
+}
+
+pub(crate) fn run_scene<const D: usize>(plan: &RunPlan) -> Result<()> {
+    let (study, options) = (&plan.study, &plan.options);
+    match options.no_reference {
+        true => study.check_methods_work(&plan.methods)?,
+        false => study.check_work(&plan.methods)?,
+    }
+    let problem = study.problem::<D>()?;
+    say!(
+        "scene {} ({}D, {} cells), output times: {}",
+        study.name(),
+        D,
+        problem.grid.cell_count(),
+        describe_times(&problem.output_times, study.scene.transit().1)
+    );
+    say!(
+        "metrics line: {}",
+        impact_core::line::MeasureLine::of(&problem).describe::<D>()
+    );
+    let report = run_study::<D>(study, &plan.methods, options)?;
+    print_header();
+    for r in &report.records {
+        print_rows(r);
+    }
+    let dir = &options.out;
+    if options.no_files {
+        say!("wrote {}", dir.join("summary.json").display());
+        if !report.failures.is_empty() {
+            return Err(impact::run::BlewUp(report.failures.join("; ")).into());
+        }
+        return Ok(());
+    }
+    say!("wrote {}", dir.display());
+    if !report.failures.is_empty() {
+        return Err(impact::run::BlewUp(format!(
+            "{} (frames written before the blow-up are kept in {})",
+            report.failures.join("; "),
+            dir.display()
+        ))
+        .into());
+    }
+    Ok(())
+}
+
+pub(crate) fn check_command(args: &CheckArgs) -> Result<bool> {
+    let clock = impact::provenance::Clock::start();
+    let options = CheckOptions {
+        against: args.against.as_deref().map(Against::parse).transpose()?,
+        dgmpm_courant: args.dgmpm_courant,
+        mpm_courant: args.mpm_courant,
+        dgmpm_points_per_cell: args.dgmpm_points_per_cell,
+        mpm_points_per_cell: args.mpm_points_per_cell,
+        thresholds: Thresholds {
+            min_width_ratio: args.min_width_ratio,
+            max_overshoot: args.max_overshoot,
+        },
+        progress: !args.quiet,
+    };
+    let study = args.scene.study()?;
+    let reports = match study.dim() {
+        1 => check_study::<1>(&study, &options)?,
+        2 => check_study::<2>(&study, &options)?,
+        d => bail!("dim = {d} is not supported (allowed: 1 or 2)"),
+    };
+    for report in &reports {
+        print_check(study.name(), report);
+    }
+    if let Some(path) = &args.json {
+        let mut record = impact::provenance::Provenance::new("check", &clock).with_study_inline(
+            &study,
+            &args.scene.scene,
+            &[MethodKind::Dgmpm, MethodKind::Mpm],
+        );
+        record.reference = study
+            .reference_for_errors()
+            .unwrap_or_else(|e| e.to_string());
+        record.runs = reports
+            .iter()
+            .flat_map(|r| [&r.dgmpm_record, &r.mpm_record])
+            .map(|r| impact::provenance::RunEntry {
+                options: r.options.clone(),
+                steps: r.steps,
+                wall_s: r.wall_s,
+                error: r.error.clone(),
+            })
+            .collect();
+        record.finish(&clock);
+        impact::check_report::write_json(
+            path,
+            (study.name(), &record),
+            options.thresholds,
+            &reports,
+        )
+        .with_context(|| format!("writing {}", path.display()))?;
+    }
+    if let Some(path) = &args.junit {
+        impact::check_report::write_junit(path, study.name(), &reports)
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    // a run the guard stopped: exit 3 (the reports above say which, at what time)
+    if let Some(stopped) = reports
+        .iter()
+        .flat_map(|r| [&r.dgmpm_record.error, &r.mpm_record.error])
+        .flatten()
+        .next()
+    {
+        return Err(impact::run::BlewUp(stopped.clone()).into());
+    }
+    Ok(reports.iter().all(|r| r.pass))
+}
+
+pub(crate) fn work_precision_command(
+    scene: &str,
+    overrides: &Overrides,
+    levels: Option<usize>,
+    out: Option<PathBuf>,
+) -> Result<()> {
+    let study = Study::load(scene, overrides.clone())?;
+    let levels = levels.unwrap_or_else(|| impact::ladder::default_levels(&study));
+    let out = out.unwrap_or_else(|| impact::work_precision::default_out(study.name()));
+    let exe = std::env::current_exe().context("locating the impact executable")?;
+    let total = impact::ladder::usable_configurations(&study)
+        .map_or(0, |(configs, _)| configs.len())
+        * levels;
+    let bar = indicatif::ProgressBar::new(total as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("work-precision [{bar:40}] {pos}/{len} {msg}")
+            .expect("internal: valid template")
+            .progress_chars("=> "),
+    );
+    let (points, sentence) = impact::work_precision::run(
+        &exe,
+        (&study, scene),
+        levels,
+        &out,
+        |note| bar.suspend(|| say!("{note}")),
+        |p| {
+            bar.set_message(format!("{} {} cells", p.config, p.cells));
+            bar.inc(1);
+        },
+    )?;
+    bar.finish_and_clear();
+    say!(
+        "{:<26} {:>8} {:>7} {:>10} {:>12} {:>9} {:>10}",
+        "config",
+        "cells",
+        "steps",
+        "wall_s",
+        "updates/s",
+        "peak_MiB",
+        "L1_rel"
+    );
+    for p in &points {
+        say!(
+            "{:<26} {:>8} {:>7} {:>10.3e} {:>12.3e} {:>9.1} {:>10.3e}{}",
+            p.config,
+            p.cells,
+            p.steps,
+            p.wall_s,
+            p.updates_per_s,
+            p.peak_rss_mib,
+            p.l1_rel,
+            p.error
+                .as_ref()
+                .map_or(String::new(), |e| format!("  stopped: {e}"))
+        );
+    }
+    say!("{sentence}");
+    say!("{}", impact::work_precision::ranking(&points).trim_end());
+    say!("wrote {}", out.display());
+    Ok(())
+}
+
+pub(crate) fn convergence_command(
+    scene: &str,
+    overrides: &Overrides,
+    levels: usize,
+    out: Option<PathBuf>,
+) -> Result<()> {
+    let study = Study::load(scene, overrides.clone())?;
+    let out = out.unwrap_or_else(|| impact::convergence::default_out(study.name()));
+    let table = impact::convergence::run((&study, scene), levels, &out, |note| say!("{note}"))?;
+    say!("{table}wrote {}", out.display());
+    Ok(())
+}
+
+pub(crate) fn figures_command(args: &FiguresArgs) -> Result<()> {
+    let index = impact::figures::run(&impact::figures::FiguresOptions {
+        out: args.out.clone(),
+        full: args.full,
+        only: args.figures.clone(),
+        progress: !args.quiet,
+    })?;
+    for e in &index.entries {
+        let stems: Vec<&str> = e.images.iter().map(|i| i.stem.as_str()).collect();
+        say!("{:<15} {:>7.2} s  {}", e.name, e.seconds, stems.join(", "));
+    }
+    say!("wrote {}", args.out.join("index.html").display());
+    Ok(())
+}
+
+pub(crate) fn stability_command(args: &StabilityArgs) -> Result<()> {
+    use impact::stability::{sweep, StabilityRow};
+    let clock = impact::provenance::Clock::start();
+    for (flag, steps, most) in [
+        ("--steps-1d", args.steps_1d, 1_000_000),
+        ("--steps-2d", args.steps_2d, 100_000),
+    ] {
+        if steps == 0 || steps > most {
+            bail!("invalid value for `{flag}`: {steps} (allowed: 1 to {most} steps per perturbed run)");
+        }
+    }
+    let mut scenes =
+        impact::ladder::sweep_scenes(args.scene.as_deref(), args.dim.as_deref(), &args.overrides)?;
+    for scene in scenes.iter_mut() {
+        if args.positions.is_some() && scene.dim != 1 && args.scene.is_none() {
+            continue;
+        }
+        args.layout_onto(scene)?;
+    }
+    let folder = impact_io::folder::OutputFolder::open(&args.out)?;
+    say!(
+        "{:>3} {:<6} {:>4} {:>8} {:>5} {:>9} {:>10} {:>12} {:>9}",
+        "dim",
+        "method",
+        "ppc",
+        "integr.",
+        "flux",
+        "update",
+        "empirical",
+        "von_neumann",
+        "monotone"
+    );
+    let print = |r: &StabilityRow| {
+        say!(
+            "{:>3} {:<6} {:>4} {:>8} {:>5} {:>9} {:>10.4} {:>12} {:>9}",
+            r.dim,
+            r.method,
+            r.points_per_cell,
+            r.integrator,
+            r.flux,
+            r.update,
+            r.empirical,
+            r.von_neumann.map_or("-".to_string(), |v| format!("{v:.4}")),
+            r.monotone.map_or("-".to_string(), |v| format!("{v:.4}"))
+        )
+    };
+    let mut rows = Vec::new();
+    let mut record = impact::provenance::Provenance::new("stability", &clock);
+    record.reference = "none: the sweep measures stability limits, not errors".into();
+    for scene in &scenes {
+        let study = Study::new(scene.clone(), Overrides::default())?;
+        let skipped = match scene.dim {
+            1 => impact::stability::refused::<1>(&study.problem::<1>()?, scene),
+            _ => impact::stability::refused::<2>(&study.problem::<2>()?, scene),
+        };
+        for note in &skipped {
+            say!("skipped: {note}");
+        }
+        record.notes.extend(skipped);
+        match scene.dim {
+            1 => rows.extend(sweep(&study.problem::<1>()?, scene, args.steps_1d, print)),
+            _ => rows.extend(sweep(&study.problem::<2>()?, scene, args.steps_2d, print)),
+        }
+    }
+    impact::interrupt::check()?;
+    impact::stability::write(folder.path(), &rows)?;
+    // the swept scenes: scene.toml (one scene) or scene-<d>d.toml (the default sweep)
+    for scene in &scenes {
+        let file = match scenes.len() {
+            1 => impact::provenance::SCENE_FILE.to_string(),
+            _ => format!("scene-{}d.toml", scene.dim),
+        };
+        impact::provenance::write_scene(&folder.path().join(&file), scene)?;
+        record.scene = Some(scene.name.clone());
+        record.scene_file = Some(file);
+    }
+    if scenes.len() > 1 {
+        record.scene = None;
+        record.scene_file = None;
+        record
+            .notes
+            .push("swept scenes: scene-1d.toml and scene-2d.toml".into());
+    }
+    record.scene_source = args.scene.clone();
+    record.overrides = args.overrides.given();
+    record.configurations = scenes
+        .iter()
+        .flat_map(|scene| {
+            match scene.dim {
+                1 => impact::stability::configurations::<1>(scene),
+                _ => impact::stability::configurations::<2>(scene),
+            }
+            .into_iter()
+            .map(|c| impact::provenance::MethodOptionsRecord::of(&c, scene.dim))
+        })
+        .collect();
+    record.write(folder.path(), &clock)?;
+    impact::interrupt::check()?;
+    folder.commit(concat!("impact ", env!("CARGO_PKG_VERSION")))?;
+    say!("wrote {}", args.out.display());
+    Ok(())
+}
