@@ -215,18 +215,15 @@ pub fn run(
     };
     let table = table(&runs);
     let folder = impact_io::folder::OutputFolder::open(out)?;
-    let mut record = crate::ladder::provenance(
+    let record = crate::ladder::provenance(
         "bench convergence",
         study,
         source,
         &reference,
         &configs,
+        &skipped,
         folder.path(),
     )?;
-    record.notes = skipped
-        .iter()
-        .map(|(l, why)| format!("skipped `{l}`: {why}"))
-        .collect();
     write(folder.path(), study.name(), &runs)?;
     std::fs::write(folder.path().join("convergence.txt"), &table)?;
     record.write(folder.path(), &clock)?;

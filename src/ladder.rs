@@ -75,13 +75,14 @@ pub fn check_fixed_options(study: &Study) -> Result<()> {
 }
 
 /// What a ladder was run on, for its output folder: `provenance.json` (with the
-/// configurations, the reference and what was skipped) and the resolved `scene.toml`.
+/// configurations, the reference and what was skipped, one note each) and the resolved `scene.toml`.
 pub fn provenance(
     command: &str,
     study: &Study,
     source: &str,
     reference: &str,
     configs: &[Config],
+    skipped: &[Skipped],
     dir: &Path,
 ) -> Result<crate::provenance::Provenance> {
     let mut record =
@@ -91,6 +92,10 @@ pub fn provenance(
     record.configurations = configs
         .iter()
         .map(|c| crate::provenance::MethodOptionsRecord::of(&c.config, study.dim()))
+        .collect();
+    record.notes = skipped
+        .iter()
+        .map(|(label, why)| format!("skipped `{label}`: {why}"))
         .collect();
     Ok(record)
 }

@@ -311,18 +311,15 @@ pub fn run(
         _ => study.problem::<2>()?.output_times[0],
     };
     let folder = impact_io::folder::OutputFolder::open(out)?;
-    let mut record = provenance(
+    let record = provenance(
         "bench work-precision",
         study,
         source,
         &reference,
         &configs,
+        &skipped,
         folder.path(),
     )?;
-    record.notes = skipped
-        .iter()
-        .map(|(l, why)| format!("skipped `{l}`: {why}"))
-        .collect();
     let scene_file = folder.path().join(crate::provenance::SCENE_FILE);
     let name = study.name();
     let mut points = Vec::new();
