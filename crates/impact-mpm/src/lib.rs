@@ -28,7 +28,7 @@
 //! velocities first (phase 4; damps, and is stable past Courant 1 here); `Usf` updates
 //! the stress before the internal force, from the velocity mapped at the start of the step.
 //!
-//! Frame ([`MpmFrame`]): the default is the total Lagrangian form the paper uses for its
+//! Frame ([`MpmFrame`](impact_core::method::MpmFrame)): the default is the total Lagrangian form the paper uses for its
 //! comparisons (§5.3: "MPM, DGMPM (both in total Lagrangian formulation)"): shape
 //! functions at the points' reference positions and reference volumes, so the grid is the
 //! reference configuration, as for DGMPM and FEM. Positions are still integrated
@@ -38,8 +38,9 @@
 //! 1200) and, with plain USL, a vanishing nodal mass when a node's last point leaves it.
 //!
 //! With these defaults (TL, USL, 1 point per cell) the bar is stable at the paper's
-//! Courant 0.5 and blows up at 0.8 and above, as the paper reports ("the MPM is unstable
-//! with α = 1").
+//! Courant 0.5 and unstable above 0.708 (the limit `impact`'s guard measures; the loaded
+//! bar blows up at 0.72 and above), as the paper reports ("the MPM is unstable with
+//! α = 1").
 //!
 //! Other choices where the paper is silent: the background grid is the body's grid
 //! extended by [`PADDING`] cells on every side so points may move in the updated frame;

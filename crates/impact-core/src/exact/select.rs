@@ -12,7 +12,7 @@ impl Reference {
     /// - linear elasticity, 1D, or 2D with symmetry top and bottom (a plane wave in
     ///   uniaxial strain) and loads over whole edges: [`BarExact`] with any condition at
     ///   each end and any load history; in 1D from any initial state (d'Alembert);
-    /// - the standing P mode with symmetry edges all round: [`StandingWave`];
+    /// - the standing P mode with symmetry edges all round: [`StandingWave`](super::StandingWave);
     /// - J2: a step pressure at the left end of a free rod (1D) or a step velocity on the
     ///   whole left edge of a free plane wave (2D): [`ElastoplasticWave`];
     /// - Saint-Venant–Kirchhoff: a step pressure at the left end of a free bar (1D):
