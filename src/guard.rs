@@ -178,6 +178,8 @@ pub fn grows<const D: usize>(problem: &Problem<D>, config: MethodConfig) -> bool
         growth: f64::INFINITY,
         stress_scale: impedance,
         impedance,
+        // every check: these runs are 500 to 2000 steps
+        norm_every: 1,
         ..crate::interrupt::guard()
     };
     matches!(
