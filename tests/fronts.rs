@@ -229,3 +229,43 @@ fn a_line_must_be_parallel_to_an_axis_and_inside_the_body() {
         assert!(err.contains(field), "{line}: {err}");
     }
 }
+
+/// A pulse sends a front too (its leading edge is a jump): on a bar loaded on its right end
+/// by a pulse of 40 cells' length, fixed on the left, the front runs leftwards from the
+/// loaded end, DGMPM (Courant 1) keeps it a perfect step (0.8 cells, no overshoot) and MPM
+/// smears it. After the trailing edge passes the far end's reflection, the pulse's two
+/// legs overlap: no front (merged).
+#[test]
+fn a_pulse_on_the_right_end_is_measured_leftwards() {
+    let text = "name = \"pulse-bar\"\ndim = 1\n[domain]\nlength = [2.0]\ncells = [100]\n\
+        [material]\nmodel = \"linear-elastic\"\nyoung = 7.0e10\ndensity = 2700.0\n\
+        [boundary]\nleft = { kind = \"velocity\", value = 0.0 }\n\
+        right = { kind = \"pressure\", value = 1.0e8, history = \"pulse\", duration = 1.2e-4 }\n\
+        [time]\noutput_transits = [30, 60, 130]\n";
+    let scene = Scene::from_toml(text, "test").unwrap();
+    let problem = Problem::<1>::from_scene(&scene).unwrap();
+    let reference = impact::reference_for(&problem, false).unwrap().unwrap();
+    let run = |kind| {
+        run_method(
+            &problem,
+            scene.method_config(kind),
+            Some(&reference),
+            &mut Silent,
+        )
+        .unwrap()
+        .0
+    };
+    let (dgmpm, mpm) = (run(MethodKind::Dgmpm), run(MethodKind::Mpm));
+    let c = problem.material.p_wave_speed::<1>();
+    for k in 0..2 {
+        let (d, m) = (&dgmpm.times[k], &mpm.times[k]);
+        assert_eq!(d.front, FrontStatus::Measured, "{d:?}");
+        assert!((d.front_exact.unwrap() - (2.0 - c * d.t)).abs() < 1e-9);
+        assert!((d.front_width_cells.unwrap() - 0.8).abs() < 1e-6, "{d:?}");
+        assert!(d.overshoot_pct.unwrap() < 1e-6, "{d:?}");
+        assert!(m.front_width_cells.unwrap() > 3.0, "{m:?}");
+    }
+    // 130 transits: the leading edge reflected off the fixed end (at 100 transits) while
+    // the trailing edge (30.5 cells behind) is still on the first leg
+    assert_eq!(dgmpm.times[2].front_reason, Some(NoFront::Merged));
+}

@@ -392,11 +392,16 @@ impl BarExact {
         let loaded: Vec<usize> = (0..2)
             .filter(|&e| self.ends[e].amplitude(self.impedance) != 0.0)
             .collect();
+        // a step, or the leading edge of a pulse (a jump too), sends a front
+        let jumps = |e: usize| {
+            matches!(
+                self.ends[e].history(),
+                LoadHistory::Step | LoadHistory::Pulse { .. }
+            )
+        };
         let source = match loaded[..] {
             [] => return Err(NoFront::NotAStep),
-            _ if loaded.iter().any(|&e| !self.ends[e].history().is_step()) => {
-                return Err(NoFront::NotAStep)
-            }
+            _ if loaded.iter().any(|&e| !jumps(e)) => return Err(NoFront::NotAStep),
             [source] => source,
             _ => {
                 if ct > 0.0 {
@@ -419,6 +424,23 @@ impl BarExact {
         }
         let right = (transits as usize + source).is_multiple_of(2);
         let (position, direction) = if right { (r, 1.0) } else { (l - r, -1.0) };
+        // a pulse of length T: its trailing edge follows c T behind; the front is measured
+        // while both edges are on the same leg, in a window that ends at the trailing edge
+        let mut window = (0.0, l);
+        if let LoadHistory::Pulse { duration } = self.ends[source].history() {
+            let tail = self.speed * duration;
+            if ct > tail {
+                if r <= tail {
+                    return Err(NoFront::Merged); // the trailing edge is on the previous leg
+                }
+                let trailing = position - direction * tail;
+                window = if right {
+                    (trailing, l)
+                } else {
+                    (0.0, trailing)
+                };
+            }
+        }
         let eps = 1e-9 * l;
         let ahead = self.stress(position + direction * eps, t);
         let behind = self.stress(position - direction * eps, t);
@@ -427,7 +449,7 @@ impl BarExact {
             direction,
             ahead,
             behind,
-            window: (0.0, l),
+            window,
         })
     }
 }
