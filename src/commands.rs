@@ -75,7 +75,8 @@ pub(crate) fn run_command(args: &RunArgs) -> Result<()> {
     match plan.study.dim() {
         1 => run_scene::<1>(&plan),
         2 => run_scene::<2>(&plan),
-        d => bail!("dim = {d} is not supported (allowed: 1 or 2)"),
+        3 => run_scene::<3>(&plan),
+        d => bail!("dim = {d} is not supported (allowed: 1, 2 or 3)"),
     }
 }
 
@@ -140,7 +141,7 @@ pub(crate) fn check_command(args: &CheckArgs) -> Result<bool> {
     let reports = match study.dim() {
         1 => check_study::<1>(&study, &options)?,
         2 => check_study::<2>(&study, &options)?,
-        d => bail!("dim = {d} is not supported (allowed: 1 or 2)"),
+        d => bail!("dim = {d} is not supported (allowed: 1, 2 or 3)"),
     };
     for report in &reports {
         print_check(study.name(), report);

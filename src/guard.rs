@@ -155,7 +155,7 @@ pub fn grows<const D: usize>(problem: &Problem<D>, config: MethodConfig) -> bool
     }
     for edge in body.boundaries.iter_mut().flatten() {
         *edge = match *edge {
-            Boundary::Velocity { load, bonded } if load.segment.is_none() => Boundary::Velocity {
+            Boundary::Velocity { load, bonded } if load.patch.is_none() => Boundary::Velocity {
                 load: Load::step(0.0),
                 bonded,
             },

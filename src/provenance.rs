@@ -401,19 +401,17 @@ pub fn resolved_scene(study: &Study, kinds: &[MethodKind]) -> Scene {
         from: None,
         to: None,
         cover: None,
+        centre: None,
+        radius: None,
         history: None,
         duration: None,
     };
-    let dim = scene.dim;
-    let b = &mut scene.boundary;
-    for (edge, present) in [
-        (&mut b.left, true),
-        (&mut b.right, true),
-        (&mut b.bottom, dim > 1),
-        (&mut b.top, dim > 1),
-    ] {
-        if present && edge.is_none() {
-            *edge = Some(free.clone());
+    for axis in 0..scene.dim {
+        for side in 0..2 {
+            let slot = scene.boundary.side_mut(axis, side);
+            if slot.is_none() {
+                *slot = Some(free.clone());
+            }
         }
     }
     if let Some(o) = dgmpm.dgmpm() {

@@ -119,7 +119,7 @@ pub fn reference_for<const D: usize>(
         let other = 1 - line.axis;
         let h = problem.grid.spacing[other];
         // the row `MeasureLine::holds` picks: `lo ≤ offset < hi`, to its tolerance
-        let row = ((line.offset / h + 1e-9).floor() as usize).min(problem.grid.cells[other] - 1);
+        let row = ((line.offset[0] / h + 1e-9).floor() as usize).min(problem.grid.cells[other] - 1);
         let top = problem.grid.upper()[other];
         let low = (row as f64 * h)
             .min(top - problem.grid.spacing[line.axis])

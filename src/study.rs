@@ -387,7 +387,8 @@ impl Study {
         match self.dim() {
             1 => each::<1>(self, configs),
             2 => each::<2>(self, configs),
-            d => Err(SceneError::new("dim", d, "1 or 2").into()),
+            3 => each::<3>(self, configs),
+            d => Err(SceneError::new("dim", d, "1, 2 or 3").into()),
         }
     }
 

@@ -57,20 +57,20 @@ fn the_line_is_inferred_normal_to_the_loaded_edge_through_the_segment() {
         let line = MeasureLine::of(&problem);
         assert_eq!(
             (line.axis, line.start, line.end, line.offset),
-            (axis, start, end, offset),
+            (axis, start, end, [offset, 0.0]),
             "{edge}"
         );
         assert!(matches!(line.origin, LineOrigin::LoadedEdge(a, _) if a == axis));
     }
     // a corner impact: the middle of the loaded segment
     let corner = Problem::<2>::from_scene(&plate("left", 0.0, 1.0, None)).unwrap();
-    assert_eq!(MeasureLine::of(&corner).offset, 0.5);
+    assert_eq!(MeasureLine::of(&corner).offset, [0.5, 0.0]);
     // the shipped plate states the paper's bottom row
     let paper = Problem::<2>::from_scene(&Scene::builtin("plate").unwrap()).unwrap();
     let line = MeasureLine::of(&paper);
     assert_eq!(
         (line.axis, line.offset, line.origin),
-        (0, 0.0, LineOrigin::Stated)
+        (0, [0.0, 0.0], LineOrigin::Stated)
     );
 }
 

@@ -121,7 +121,7 @@ fn segment_cover_sets_the_resultant() {
         let left = scene.boundary.left.as_mut().unwrap();
         left.kind = impact_core::method::EdgeKind::Pressure;
         left.value = Some(pressure);
-        left.to = Some(length);
+        left.to = Some(impact_core::scene::Coordinates::One(length));
         left.cover = Some(cover);
         let problem = Problem::<2>::from_scene(&scene).unwrap();
         for kind in MethodKind::ALL {

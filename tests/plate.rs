@@ -186,8 +186,8 @@ fn dgmpm_plane_wave_equals_the_exact_uniaxial_strain_solution() {
 #[test]
 fn centred_impact_stays_mirror_symmetric() {
     let mut sc = scene("plate-wave");
-    sc.boundary.left.as_mut().unwrap().from = Some(1.0);
-    sc.boundary.left.as_mut().unwrap().to = Some(2.0);
+    sc.boundary.left.as_mut().unwrap().from = Some(impact_core::scene::Coordinates::One(1.0));
+    sc.boundary.left.as_mut().unwrap().to = Some(impact_core::scene::Coordinates::One(2.0));
     sc.boundary.bottom.as_mut().unwrap().kind = impact_core::method::EdgeKind::Free;
     sc.boundary.top.as_mut().unwrap().kind = impact_core::method::EdgeKind::Free;
     let problem = Problem::<2>::from_scene(&sc).unwrap();
@@ -383,7 +383,10 @@ fn partial_impact_mirrored_top_to_bottom_gives_mirrored_fields() {
         let run = |from: f64, to: f64| {
             let mut s = scene("plate");
             let left = s.boundary.left.as_mut().unwrap();
-            (left.from, left.to) = (Some(from), Some(to));
+            (left.from, left.to) = (
+                Some(impact_core::scene::Coordinates::One(from)),
+                Some(impact_core::scene::Coordinates::One(to)),
+            );
             let problem = Problem::<2>::from_scene(&s).unwrap();
             let cfg = config(&s, MethodKind::Dgmpm, |c| {
                 c.dgmpm_mut().unwrap().edges = edges

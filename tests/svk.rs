@@ -138,6 +138,8 @@ fn a_run_that_loses_hyperbolicity_is_stopped() {
         from: None,
         to: None,
         cover: None,
+        centre: None,
+        radius: None,
         history: None,
         duration: None,
     });

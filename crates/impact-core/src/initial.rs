@@ -1,7 +1,7 @@
 //! Initial states: at rest (the paper's scenes), a standing P mode with an exact solution
 //! ([`crate::exact::StandingWave`]), or fields given by formulas of the reference position.
 //!
-//! A formula is a string in `x` (and `y` in 2D), in m, with `+ - * / ^`, parentheses,
+//! A formula is a string in `x` (and `y` in 2D, `y`, `z` in 3D), in m, with `+ - * / ^`, parentheses,
 //! `sin cos tan exp ln log10 sqrt abs` and the constants `PI` (or `π`) and `E`, parsed by
 //! the `exmex` crate: e.g. `velocity = ["0.5*sin(PI*x/6)"]`. The methods evaluate it at
 //! their velocity and stress carriers (material points; FEM nodes for the velocity) once,
@@ -37,7 +37,7 @@ impl Formula {
     pub fn parse(text: &str, dim: usize) -> Result<Self, String> {
         let plain = expand_exponents(text)?;
         let expr = exmex::parse::<f64>(&plain).map_err(|e| format!("not a formula: {e}"))?;
-        let names = ["x", "y"];
+        let names = ["x", "y", "z"];
         let mut axes = Vec::new();
         for var in expr.var_names() {
             match names[..dim].iter().position(|n| n == var) {
@@ -128,8 +128,9 @@ pub enum InitialState {
     Rest,
     /// The standing P mode (exact solution with `symmetry` edges).
     StandingWave(StandingWave),
-    /// Velocity components and stress components (`xx` in 1D; `xx, yy, xy` in 2D) by
-    /// formula; a missing list is zero.
+    /// Velocity components and stress components (`xx` in 1D; `xx, yy, xy` in 2D;
+    /// `xx, yy, zz, yz, xz, xy` in 3D: [`stress_components`]) by formula; a missing list
+    /// is zero.
     Formula {
         /// One formula per velocity component (m/s), or none.
         velocity: Vec<Formula>,
@@ -155,7 +156,7 @@ impl InitialState {
         match self {
             InitialState::Rest => Vector::<D>::zeros(),
             InitialState::StandingWave(w) => {
-                let v = w.velocity(x[0], if D > 1 { x[1] } else { 0.0 }, 0.0);
+                let v = w.velocity(std::array::from_fn(|l| if l < D { x[l] } else { 0.0 }), 0.0);
                 Vector::<D>::from_fn(|k, _| v[k])
             }
             InitialState::Formula { velocity, .. } => {
@@ -169,14 +170,31 @@ impl InitialState {
         let mut sigma = Tensor::<D>::zeros();
         if let InitialState::Formula { stress, .. } = self {
             let value = |k: usize| stress.get(k).map_or(0.0, |f| f.eval(x.as_slice()));
-            sigma[(0, 0)] = value(0);
-            if D > 1 {
-                sigma[(1, 1)] = value(1);
-                sigma[(0, 1)] = value(2);
-                sigma[(1, 0)] = value(2);
+            for (k, &(i, j)) in stress_components(D).iter().enumerate() {
+                sigma[(i, j)] = value(k);
+                sigma[(j, i)] = value(k);
             }
         }
         sigma
+    }
+}
+
+/// The stress components `(i, j)` a scene's `initial.stress` lists in dimension `dim`:
+/// `[xx]`, `[xx, yy, xy]`, `[xx, yy, zz, yz, xz, xy]` (Voigt order).
+pub fn stress_components(dim: usize) -> &'static [(usize, usize)] {
+    match dim {
+        1 => &[(0, 0)],
+        2 => &[(0, 0), (1, 1), (0, 1)],
+        _ => &[(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)],
+    }
+}
+
+/// Names of [`stress_components`].
+pub fn stress_component_names(dim: usize) -> &'static str {
+    match dim {
+        1 => "[xx]",
+        2 => "[xx, yy, xy]",
+        _ => "[xx, yy, zz, yz, xz, xy]",
     }
 }
 

@@ -31,6 +31,7 @@ pub mod method;
 pub mod metrics;
 pub mod options;
 pub mod parallel;
+pub mod patch;
 pub mod plasticity;
 pub mod points;
 pub mod problem;
@@ -42,7 +43,8 @@ pub use grid::Grid;
 pub use load::LoadHistory;
 pub use material::{Lame, LinearElastic, YoungPoisson};
 pub use method::{Blowup, Method, MethodKind, Samples};
-pub use problem::{Boundary, Constraint, Load, Problem, Segment, StressMeasure};
+pub use patch::{Patch, PatchShape};
+pub use problem::{Boundary, Constraint, Load, Problem, StressMeasure};
 pub use scene::Scene;
 
 /// Vector of dimension `D`.

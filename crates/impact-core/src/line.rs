@@ -5,8 +5,9 @@
 //! axis) or impact infers it from the loads ([`MeasureLine::infer`]):
 //! - the first loaded edge (a pressure or a velocity of non-zero magnitude; order left,
 //!   right, bottom, top) sets the axis, its normal, and the start, on that edge;
-//! - in 2D the line runs through the middle of the loaded segment (the whole edge when no
-//!   segment is given), where a normal impact sends the strongest plane-like front;
+//! - in 2D and 3D the line runs through the middle of the loaded patch (the middle of the
+//!   face when no patch is given; the centre of a disc), where a normal impact sends the
+//!   strongest plane-like front;
 //! - with no load the line is the bottom row along x (as the paper's plate), and fronts
 //!   are not measured (nothing sends one).
 //!
@@ -16,8 +17,8 @@
 //! few % of the load, and an overshoot relative to it is meaningless.
 //!
 //! The samples on the line are those whose region contains the line (in 2D, the row of
-//! samples with `lo ≤ offset < hi` across the line; `hi` included on the top or right
-//! face), ordered along it; the measured component is the normal stress along the line,
+//! samples with `lo ≤ offset < hi` across the line along each other axis; `hi` included
+//! on the body's high face), ordered along it; the measured component is the normal stress along the line,
 //! `σ_aa` (`σ_xx` along x, `σ_yy` along y), and the velocity `v_a`.
 use crate::problem::{Boundary, Problem};
 use crate::Vector;
@@ -42,19 +43,23 @@ pub struct MeasureLine {
     pub start: f64,
     /// Coordinate along the axis where it ends.
     pub end: f64,
-    /// The other coordinate (2D): the line is `X_other = offset` (0 in 1D).
-    pub offset: f64,
+    /// The other coordinates, in increasing axis order (`Grid::tangent_axes(axis)`): the
+    /// line is `X_k = offset[slot]` for its other axes `k` (unused entries 0).
+    pub offset: [f64; 2],
     /// How it was chosen.
     pub origin: LineOrigin,
 }
 
-/// Names of the edges by `(axis, side)`.
+/// Names of the edges by `(axis, side)`: `left`, `right`, `bottom`, `top` for x and y,
+/// `z.low`, `z.high` for z (the scene file's names).
 pub fn edge_name(axis: usize, side: usize) -> &'static str {
     match (axis, side) {
         (0, 0) => "left",
         (0, _) => "right",
-        (_, 0) => "bottom",
-        _ => "top",
+        (1, 0) => "bottom",
+        (1, _) => "top",
+        (_, 0) => "z.low",
+        _ => "z.high",
     }
 }
 
@@ -82,15 +87,19 @@ impl MeasureLine {
                 } else {
                     (hi[axis], lo[axis])
                 };
-                let offset = if D == 1 {
-                    0.0
-                } else {
-                    let other = 1 - axis;
-                    match load.segment {
-                        Some(s) => 0.5 * (s.from + s.to),
-                        None => 0.5 * (lo[other] + hi[other]),
+                let mut offset = [0.0; 2];
+                for (slot, k) in crate::Grid::<D>::tangent_axes(axis).enumerate() {
+                    offset[slot] = 0.5 * (lo[k] + hi[k]);
+                }
+                match load.patch.map(|p| p.shape) {
+                    Some(crate::PatchShape::Box { lo: from, hi: to }) => {
+                        for (slot, k) in crate::Grid::<D>::tangent_axes(axis).enumerate() {
+                            offset[slot] = 0.5 * (from[slot].max(lo[k]) + to[slot].min(hi[k]));
+                        }
                     }
-                };
+                    Some(crate::PatchShape::Disc { centre, .. }) => offset = centre,
+                    None => {}
+                }
                 return Self {
                     axis,
                     start,
@@ -103,13 +112,17 @@ impl MeasureLine {
         Self::bottom_row(&problem.grid)
     }
 
-    /// The bottom row along x of `grid` (the line of a body with no load).
+    /// The bottom row along x of `grid` (the line of a body with no load; in 3D the edge
+    /// `y = z = 0`).
     pub fn bottom_row<const D: usize>(grid: &crate::Grid<D>) -> Self {
         Self {
             axis: 0,
             start: grid.origin[0],
             end: grid.upper()[0],
-            offset: if D == 1 { 0.0 } else { grid.origin[1] },
+            offset: [
+                if D > 1 { grid.origin[1] } else { 0.0 },
+                if D > 2 { grid.origin[2] } else { 0.0 },
+            ],
             origin: LineOrigin::NoLoad,
         }
     }
@@ -134,35 +147,43 @@ impl MeasureLine {
     }
 
     /// Whether the region `[lo, hi]` of a sample lies on the line (module doc): in 1D
-    /// every sample; in 2D those with `lo ≤ offset < hi` across it (`hi` included when the
-    /// offset is on the body's high face `top`), and within the line's span along it.
-    pub fn holds<const D: usize>(&self, lo: &Vector<D>, hi: &Vector<D>, top: f64) -> bool {
+    /// every sample; else those with `lo ≤ offset < hi` across it along every other axis
+    /// (`hi` included when the offset is on the body's high face, `upper`), and within the
+    /// line's span along it.
+    pub fn holds<const D: usize>(&self, lo: &Vector<D>, hi: &Vector<D>, upper: &Vector<D>) -> bool {
         let (a, b) = self.span();
         let tol = 1e-9 * (hi[self.axis] - lo[self.axis]).abs().max(1e-300);
         let centre = 0.5 * (lo[self.axis] + hi[self.axis]);
         if centre < a - tol || centre > b + tol {
             return false;
         }
-        if D == 1 {
-            return true;
+        crate::Grid::<D>::tangent_axes(self.axis)
+            .enumerate()
+            .all(|(slot, other)| {
+                let tol = 1e-9 * (hi[other] - lo[other]).abs().max(1e-300);
+                let c = self.offset[slot];
+                lo[other] <= c + tol
+                    && (c < hi[other] - tol
+                        || (hi[other] >= upper[other] - tol && c <= hi[other] + tol))
+            })
+    }
+
+    /// The point of the line at coordinate `s` along it.
+    pub fn point<const D: usize>(&self, s: f64) -> Vector<D> {
+        let mut x = Vector::<D>::zeros();
+        x[self.axis] = s;
+        for (slot, k) in crate::Grid::<D>::tangent_axes(self.axis).enumerate() {
+            x[k] = self.offset[slot];
         }
-        let other = 1 - self.axis;
-        let tol = 1e-9 * (hi[other] - lo[other]).abs().max(1e-300);
-        let c = self.offset;
-        lo[other] <= c + tol
-            && (c < hi[other] - tol || (hi[other] >= top - tol && c <= hi[other] + tol))
+        x
     }
 
     /// One sentence: where the line runs and why.
     pub fn describe<const D: usize>(&self) -> String {
         let point = |s: f64| {
-            if D == 1 {
-                format!("({s})")
-            } else if self.axis == 0 {
-                format!("({s}, {})", self.offset)
-            } else {
-                format!("({}, {s})", self.offset)
-            }
+            let x = self.point::<D>(s);
+            let parts: Vec<String> = x.iter().map(|v| v.to_string()).collect();
+            format!("({})", parts.join(", "))
         };
         let why = match self.origin {
             LineOrigin::Stated => "stated by the scene ([metrics] line)".to_string(),
@@ -172,14 +193,14 @@ impl MeasureLine {
                 if D == 1 {
                     ""
                 } else {
-                    ", through the middle of its loaded segment"
+                    ", through the middle of its loaded patch"
                 }
             ),
             LineOrigin::NoLoad => "inferred: no load, the bottom row along x".to_string(),
         };
         format!(
             "along {} from {} to {} m, {why}",
-            ["x", "y"][self.axis],
+            ["x", "y", "z"][self.axis],
             point(self.start),
             point(self.end)
         )

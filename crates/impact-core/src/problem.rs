@@ -4,6 +4,7 @@ use crate::error::{CoreError, SceneError};
 use crate::initial::InitialState;
 use crate::load::LoadHistory;
 use crate::options::{EdgeKind, MaterialModel, SegmentCover};
+use crate::patch::{Patch, PatchShape};
 use crate::scene::{points_per_axis, EdgeSpec, Scene};
 use crate::{Grid, LinearElastic, Tensor, Vector};
 
@@ -27,26 +28,16 @@ pub enum Boundary {
     Symmetry,
 }
 
-/// A load on an edge: magnitude, where along the edge, and its time history.
+/// A load on an edge or face: magnitude, where on it, and its time history.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Load {
     /// Magnitude: pressure (Pa) or velocity (m/s).
     pub value: f64,
-    /// Loaded segment along the edge (2D); outside it the edge is free.
-    pub segment: Option<Segment>,
+    /// Loaded patch of the face (a segment in 2D, a box or disc in 3D; [`crate::patch`]);
+    /// outside it the face is free. `None`: the whole face.
+    pub patch: Option<Patch>,
     /// Time history `g(t)` ([`crate::load`]).
     pub history: LoadHistory,
-}
-
-/// A loaded segment `[from, to]` along an edge and how its ends cover a cut face.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Segment {
-    /// Start along the edge (m).
-    pub from: f64,
-    /// End along the edge (m).
-    pub to: f64,
-    /// All or nothing by centre, or by covered fraction.
-    pub cover: SegmentCover,
 }
 
 impl Load {
@@ -54,7 +45,7 @@ impl Load {
     pub fn step(value: f64) -> Self {
         Self {
             value,
-            segment: None,
+            patch: None,
             history: LoadHistory::Step,
         }
     }
@@ -72,29 +63,27 @@ impl Load {
         self.value * self.history.mean(t0, t1)
     }
 
-    /// Share of `[centre - half_width, centre + half_width]` along the edge that the load
-    /// acts on: 1 without a segment; by [`SegmentCover::Centre`] 1 if the centre lies in
-    /// the segment (with a 1e-12 tolerance) and 0 otherwise; by
-    /// [`SegmentCover::Fraction`] the overlap length over `2 half_width` (the centre rule
-    /// when `half_width` is 0).
+    /// Share of the face (cell side, tributary area) normal to axis `l` centred at
+    /// `centre` with half widths `half` (the entries along `l` are unused) that the load
+    /// acts on: 1 without a patch, else [`Patch::coverage`] (by centre, or by covered
+    /// fraction).
     #[inline]
-    pub fn coverage(&self, centre: f64, half_width: f64) -> f64 {
-        let Some(seg) = self.segment else {
+    pub fn coverage<const D: usize>(&self, l: usize, centre: &Vector<D>, half: &Vector<D>) -> f64 {
+        let Some(patch) = self.patch else {
             return 1.0;
         };
-        let inside = centre >= seg.from - 1e-12 && centre <= seg.to + 1e-12;
-        if seg.cover == SegmentCover::Centre || half_width <= 0.0 {
-            return if inside { 1.0 } else { 0.0 };
-        }
-        let lo = (centre - half_width).max(seg.from);
-        let hi = (centre + half_width).min(seg.to);
-        ((hi - lo) / (2.0 * half_width)).clamp(0.0, 1.0)
+        patch.coverage(
+            Patch::tangential(l, centre),
+            Patch::tangential(l, half),
+            D - 1,
+        )
     }
 
-    /// Whether the load acts at all on the interval around `centre` (coverage above 0).
+    /// Whether the point `x` of a face normal to `l` lies in the loaded patch.
     #[inline]
-    pub fn acts_on(&self, centre: f64, half_width: f64) -> bool {
-        self.coverage(centre, half_width) > 0.0
+    pub fn acts_on<const D: usize>(&self, l: usize, x: &Vector<D>) -> bool {
+        self.patch
+            .is_none_or(|patch| patch.contains(Patch::tangential(l, x)))
     }
 }
 
@@ -266,13 +255,12 @@ impl<const D: usize> Problem<D> {
                 hardening: m.hardening.unwrap_or(0.0),
             }),
         };
-        let b = &scene.boundary;
-        let sides = [[&b.left, &b.right], [&b.bottom, &b.top]];
         let mut boundaries = [[Boundary::Free; 2]; D];
         for (l, pair) in boundaries.iter_mut().enumerate() {
             for (side, bc) in pair.iter_mut().enumerate() {
-                let spec = sides.get(l).and_then(|pair| pair[side].as_ref());
-                *bc = spec.map_or(Boundary::Free, to_boundary);
+                if let Some((_, spec)) = scene.boundary.side(l, side) {
+                    *bc = to_boundary(spec, l, &scene.domain.length);
+                }
             }
         }
         let (output_times, t_end) = scene.schedule_seconds();
@@ -434,18 +422,35 @@ impl<const D: usize> Problem<D> {
     }
 }
 
-fn to_boundary(e: &EdgeSpec) -> Boundary {
-    let segment = match (e.from, e.to) {
-        (None, None) => None,
-        (from, to) => Some(Segment {
-            from: from.unwrap_or(f64::NEG_INFINITY),
-            to: to.unwrap_or(f64::INFINITY),
-            cover: e.cover.unwrap_or(SegmentCover::Centre),
+fn to_boundary(e: &EdgeSpec, axis: usize, length: &[f64]) -> Boundary {
+    let cover = e.cover.unwrap_or(SegmentCover::Centre);
+    let tangents: Vec<usize> = (0..length.len()).filter(|&k| k != axis).collect();
+    let patch = match (&e.from, &e.to, &e.centre, e.radius) {
+        (None, None, None, None) => None,
+        (_, _, Some(centre), Some(radius)) => Some(Patch {
+            shape: PatchShape::Disc {
+                centre: [centre[0], centre.get(1).copied().unwrap_or(0.0)],
+                radius,
+            },
+            cover,
         }),
+        (from, to, _, _) => {
+            let (mut lo, mut hi) = ([f64::NEG_INFINITY; 2], [f64::INFINITY; 2]);
+            let from = from.as_ref().map(|c| c.to_vec());
+            let to = to.as_ref().map(|c| c.to_vec());
+            for slot in 0..tangents.len() {
+                lo[slot] = from.as_ref().map_or(f64::NEG_INFINITY, |v| v[slot]);
+                hi[slot] = to.as_ref().map_or(f64::INFINITY, |v| v[slot]);
+            }
+            Some(Patch {
+                shape: PatchShape::Box { lo, hi },
+                cover,
+            })
+        }
     };
     let load = Load {
         value: e.value.unwrap_or_default(),
-        segment,
+        patch,
         history: LoadHistory::new(
             e.history.unwrap_or(crate::options::LoadShape::Step),
             e.duration.unwrap_or(0.0),

@@ -182,8 +182,10 @@ impl Reference {
             Reference::SvkBar(b) => b.averages(lo[0], hi[0], t),
             Reference::Elastoplastic(w) => w.averages(lo[0], hi[0], t),
             Reference::Standing(w) => {
-                let y = |v: &Vector<D>, default: f64| if D > 1 { v[1] } else { default };
-                w.averages([lo[0], y(lo, 0.0)], [hi[0], y(hi, 1.0)], t)
+                let pad = |v: &Vector<D>, default: f64| {
+                    std::array::from_fn(|l| if l < D { v[l] } else { default })
+                };
+                w.averages(pad(lo, 0.0), pad(hi, 1.0), t)
             }
             Reference::Converged(c) => {
                 let lo2 = [lo[0], if D > 1 { lo[1] } else { 0.0 }];
@@ -286,15 +288,17 @@ impl Reference {
 
     /// Scale the exact profile lengths: in 2D the exact plane-wave work is per unit height.
     fn work_scale<const D: usize>(samples: &Samples<D>) -> f64 {
-        if D == 1 {
-            return 1.0;
-        }
-        let (mut lo, mut hi) = (f64::MAX, f64::MIN);
-        for i in 0..samples.len() {
-            lo = lo.min(samples.reference[i][1] - samples.half_size[i][1]);
-            hi = hi.max(samples.reference[i][1] + samples.half_size[i][1]);
-        }
-        hi - lo
+        // the cross-section: the body's extent along every axis but x
+        (1..D)
+            .map(|k| {
+                let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+                for i in 0..samples.len() {
+                    lo = lo.min(samples.reference[i][k] - samples.half_size[i][k]);
+                    hi = hi.max(samples.reference[i][k] + samples.half_size[i][k]);
+                }
+                hi - lo
+            })
+            .product()
     }
 
     /// All metrics of `method` at time `t` along `line` (`samples` is a reusable buffer;
@@ -391,16 +395,15 @@ fn total_volume<const D: usize>(samples: &Samples<D>) -> f64 {
 
 /// The samples on `line` ([`MeasureLine::holds`]), in storage order.
 pub fn line_samples<const D: usize>(samples: &Samples<D>, line: &MeasureLine) -> Vec<usize> {
-    let top = (0..samples.len())
-        .map(|i| {
-            let other = if D == 1 { 0 } else { 1 - line.axis };
-            samples.reference[i][other] + samples.half_size[i][other]
-        })
-        .fold(f64::MIN, f64::max);
+    let mut upper = Vector::<D>::repeat(f64::MIN);
+    for i in 0..samples.len() {
+        let hi = samples.reference[i] + samples.half_size[i];
+        upper = upper.sup(&hi);
+    }
     (0..samples.len())
         .filter(|&i| {
             let (x, h) = (samples.reference[i], samples.half_size[i]);
-            line.holds(&(x - h), &(x + h), top)
+            line.holds(&(x - h), &(x + h), &upper)
         })
         .collect()
 }

@@ -18,7 +18,7 @@ impl<const D: usize> DgmpmSolver<D> {
         l: usize,
         left: Option<FullState<D>>,
         right: Option<FullState<D>>,
-        s: f64,
+        s: [f64; 2],
     ) -> (Conserved<D>, Conserved<D>) {
         let e = unit::<D>(l);
         let (a, b) = self.face_pair(l, left, right, s);

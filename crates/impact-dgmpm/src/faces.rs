@@ -6,7 +6,7 @@ use crate::{unit, DgmpmSolver, CHUNK};
 use impact_core::parallel::{chunks, sum_chunks};
 use impact_core::points::MaterialPoints;
 use impact_core::problem::Boundary;
-use impact_core::{Grid, Tensor, Vector};
+use impact_core::{Grid, Patch, Tensor, Vector};
 
 /// Where face states are read from (see [`DgmpmSolver::interface_fluxes`]).
 #[derive(Clone, Copy)]
@@ -178,32 +178,37 @@ impl<const D: usize> DgmpmSolver<D> {
     /// `idx` (its centre along [`Grid::segment_axis`]; 0 in 1D): where a loaded segment is
     /// tested.
     #[inline]
-    pub(crate) fn edge_coordinate(&self, l: usize, idx: &[usize; D]) -> f64 {
-        match Grid::<D>::segment_axis(l) {
-            Some(k) => self.grid.origin[k] + (idx[k] as f64 + 0.5) * self.grid.spacing[k],
-            None => 0.0,
+    pub(crate) fn edge_coordinate(&self, l: usize, idx: &[usize; D]) -> [f64; 2] {
+        let mut s = [0.0; 2];
+        for (slot, k) in Grid::<D>::tangent_axes(l).enumerate() {
+            s[slot] = self.grid.origin[k] + (idx[k] as f64 + 0.5) * self.grid.spacing[k];
         }
+        s
     }
 
     /// Ghost condition of the boundary at side `side` of axis `l`, for the face centred at
-    /// the tangential coordinate `s` along the edge, with the loads at their magnitudes at
+    /// the tangential coordinates `s` (`Grid::tangent_axes` order), with the loads at their magnitudes at
     /// their step averages ([`Self::set_load_window`]). A segment end that cuts the face
     /// decides by the face centre or, under `cover = "fraction"`, scales a pressure by the
     /// covered share and blends an impactor with the free face
     /// ([`GhostCondition::PartialVelocity`]).
     #[inline]
-    pub(crate) fn ghost_condition(&self, l: usize, side: usize, s: f64) -> GhostCondition<D> {
+    pub(crate) fn ghost_condition(&self, l: usize, side: usize, s: [f64; 2]) -> GhostCondition<D> {
         let outward = unit::<D>(l) * if side == 0 { -1.0 } else { 1.0 };
-        let half_width = Grid::<D>::segment_axis(l).map_or(0.0, |k| 0.5 * self.grid.spacing[k]);
+        let half = Patch::tangential(l, &(self.grid.spacing * 0.5));
+        let coverage = |load: &impact_core::Load| {
+            load.patch
+                .map_or(1.0, |patch| patch.coverage(s, half, D - 1))
+        };
         let value = self.load_now[l][side];
         match self.boundaries[l][side] {
             Boundary::Free => GhostCondition::free(),
             Boundary::Pressure(load) => {
-                let share = load.coverage(s, half_width);
+                let share = coverage(&load);
                 GhostCondition::Traction(outward * (-value * share))
             }
             Boundary::Velocity { load, bonded } => {
-                let share = load.coverage(s, half_width);
+                let share = coverage(&load);
                 let velocity = outward * (-value);
                 if share <= 0.0 {
                     GhostCondition::free()
@@ -242,7 +247,7 @@ impl<const D: usize> DgmpmSolver<D> {
         l: usize,
         left: Option<FullState<D>>,
         right: Option<FullState<D>>,
-        s: f64,
+        s: [f64; 2],
     ) -> (FullState<D>, FullState<D>) {
         match (left, right) {
             (Some(a), Some(b)) => (a, b),
@@ -265,7 +270,7 @@ impl<const D: usize> DgmpmSolver<D> {
         &self,
         l: usize,
         idx: [usize; D],
-    ) -> (Option<usize>, Option<usize>, f64) {
+    ) -> (Option<usize>, Option<usize>, [f64; 2]) {
         let grid = &self.grid;
         // index arithmetic (cell strides), no multi-index entry written at a run-time axis
         let mut cell = 0;

@@ -95,7 +95,7 @@ impl<const D: usize> DgmpmSolver<D> {
         &self,
         l: usize,
         cells: (Option<usize>, Option<usize>),
-        s: f64,
+        s: [f64; 2],
         star: &riemann::FaceState<D>,
     ) -> f64 {
         let area = self.grid.cell_volume() / self.grid.spacing[l];
@@ -127,7 +127,7 @@ impl<const D: usize> DgmpmSolver<D> {
         cells: (Option<usize>, Option<usize>),
         left: Option<FullState<D>>,
         right: Option<FullState<D>>,
-        s: f64,
+        s: [f64; 2],
     ) -> riemann::FaceState<D> {
         use riemann::elastoplastic::{
             elastoplastic_boundary_1d, elastoplastic_star_1d, uniaxial_strain_bounds, PlasticSide,
@@ -205,7 +205,7 @@ impl<const D: usize> DgmpmSolver<D> {
         l: usize,
         left: Option<FullState<D>>,
         right: Option<FullState<D>>,
-        s: f64,
+        s: [f64; 2],
     ) -> riemann::FaceState<D> {
         let e = unit::<D>(l);
         let nan = riemann::FaceState {

@@ -118,7 +118,10 @@ fn fused_plate_matches_the_cell_path() {
     // a segment end that cuts a face, its load shared by the covered fraction
     let mut cut = plate([30, 75]);
     let left = cut.boundary.left.as_mut().unwrap();
-    (left.to, left.cover) = (Some(1.03), Some(SegmentCover::Fraction));
+    (left.to, left.cover) = (
+        Some(impact_core::scene::Coordinates::One(1.03)),
+        Some(SegmentCover::Fraction),
+    );
     check::<2>("plate, fractional cover", &cut, |c| c.courant = 0.9);
     // more than 4,096 cells: the bands run on rayon's pool
     check::<2>("plate 80x90, parallel", &plate([80, 90]), |_| {});
@@ -164,9 +167,11 @@ fn fused_plane_wave_pressure_and_plasticity_match_the_cell_path() {
     let load = |from: Option<f64>| EdgeSpec {
         kind: EdgeKind::Pressure,
         value: Some(1e8),
-        from,
+        from: from.map(impact_core::scene::Coordinates::One),
         to: None,
         cover: None,
+        centre: None,
+        radius: None,
         history: Some(LoadShape::Ramp),
         duration: Some(2e-5),
     };
@@ -246,7 +251,10 @@ fn fused_nodal_plate_matches_the_nodal_paths() {
     });
     let mut cut = plate([30, 75]);
     let left = cut.boundary.left.as_mut().unwrap();
-    (left.to, left.cover) = (Some(1.03), Some(SegmentCover::Fraction));
+    (left.to, left.cover) = (
+        Some(impact_core::scene::Coordinates::One(1.03)),
+        Some(SegmentCover::Fraction),
+    );
     check_nodal::<2>("plate, fractional cover, RK2", &cut, |c| rk2(c, 0.7));
     check_nodal::<2>("plate, RK2, increment", &scene, |c| {
         rk2(c, 0.7);
@@ -269,6 +277,8 @@ fn fused_nodal_plane_wave_pressure_and_plasticity_match_the_nodal_paths() {
         from: None,
         to: None,
         cover: None,
+        centre: None,
+        radius: None,
         history: Some(LoadShape::Ramp),
         duration: Some(2e-5),
     });

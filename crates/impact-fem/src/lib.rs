@@ -268,9 +268,11 @@ fn boundary_loads<const D: usize>(
                     continue;
                 }
                 let sign = if side == 0 { -1.0 } else { 1.0 };
-                let s = Grid::<D>::segment_axis(l).map_or(0.0, |k| x[k]);
-                // the node's tributary interval along the edge: [lo, hi] around s
-                let (lo, hi) = Grid::<D>::segment_axis(l).map_or((0.0, 0.0), |k| {
+                // the node's tributary area of the face (length in 2D, 1 in 1D): the box
+                // `centre ± half` along each tangential axis
+                let (mut centre, mut half) = (x, Vector::<D>::zeros());
+                let mut tributary = 1.0;
+                for k in Grid::<D>::tangent_axes(l) {
                     let h = grid.spacing[k];
                     let lo = if idx[k] == 0 { 0.0 } else { 0.5 * h };
                     let hi = if idx[k] == grid.cells[k] {
@@ -278,22 +280,23 @@ fn boundary_loads<const D: usize>(
                     } else {
                         0.5 * h
                     };
-                    (lo, hi)
-                });
-                let tributary = if D == 1 { 1.0 } else { lo + hi };
+                    centre[k] = x[k] + 0.5 * (hi - lo);
+                    half[k] = 0.5 * (lo + hi);
+                    tributary *= lo + hi;
+                }
                 match problem.boundaries[l][side] {
                     Boundary::Free => {}
                     Boundary::Pressure(load) => {
-                        let centre = s + 0.5 * (hi - lo);
-                        let share = if load.segment.map(|g| g.cover) == Some(SegmentCover::Centre) {
+                        let by_centre = load.patch.map(|g| g.cover) == Some(SegmentCover::Centre);
+                        let share = if by_centre {
                             // all or nothing by the node's own position
-                            if load.acts_on(s, 0.0) {
+                            if load.acts_on(l, &x) {
                                 1.0
                             } else {
                                 0.0
                             }
                         } else {
-                            load.coverage(centre, 0.5 * tributary)
+                            load.coverage(l, &centre, &half)
                         };
                         if share > 0.0 {
                             let mut force = Vector::<D>::zeros();
@@ -302,7 +305,7 @@ fn boundary_loads<const D: usize>(
                         }
                     }
                     Boundary::Velocity { load, bonded } => {
-                        if load.acts_on(s, 0.0) {
+                        if load.acts_on(l, &x) {
                             let prescribe = |axis, value| Constraint {
                                 carrier: v,
                                 axis,

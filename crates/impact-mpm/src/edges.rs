@@ -101,9 +101,7 @@ pub(crate) fn edge_conditions<const D: usize>(
                         if ((x[l] + sign * h[l]) - edge).abs() > 1e-9 * body.spacing[l] {
                             continue;
                         }
-                        let (s, half) =
-                            Grid::<D>::segment_axis(l).map_or((0.0, 0.0), |k| (x[k], h[k]));
-                        let share = load.coverage(s, half);
+                        let share = load.coverage(l, &x, &h);
                         if share <= 0.0 {
                             continue;
                         }
@@ -156,13 +154,13 @@ pub(crate) fn node_constraints<const D: usize>(
         let stride: usize = counts[..e.axis].iter().product();
         for v in 0..grid.vertex_count() {
             let along = (0..e.axis).fold(v, |rest, k| rest / counts[k]) % counts[e.axis];
-            let s = Grid::<D>::segment_axis(e.axis).map_or(0.0, |k| grid.vertex_position(v)[k]);
+            let position = grid.vertex_position(v);
             let beyond = if e.node_layer == PADDING {
                 along < e.node_layer
             } else {
                 along > e.node_layer
             };
-            if !(along == e.node_layer || beyond) || !e.load.acts_on(s, 0.0) {
+            if !(along == e.node_layer || beyond) || !e.load.acts_on(e.axis, &position) {
                 continue;
             }
             let constraint = |axis: usize, value: f64| Constraint {
@@ -225,8 +223,7 @@ pub(crate) fn point_constraints<const D: usize>(
             let (x, h) = (points.reference[p], points.half_size[p]);
             let touches =
                 ((x[e.axis] + sign * h[e.axis]) - edge).abs() <= 1e-9 * body.spacing[e.axis];
-            let s = Grid::<D>::segment_axis(e.axis).map_or(0.0, |k| x[k]);
-            if touches && e.load.acts_on(s, 0.0) {
+            if touches && e.load.acts_on(e.axis, &x) {
                 out.extend(e.components::<D>().map(|(axis, value)| Constraint {
                     carrier: p,
                     axis,

@@ -277,17 +277,17 @@ fn initial_velocity_by_dalembert() {
     assert_eq!(fixed.leading_front(t), Err(NoFront::NotAStep));
 
     let material = crate::LinearElastic::new(E, 0.3, RHO);
-    let wave = StandingWave::new(&material, 1, [6.0, 1.0], [3, 0], 1.5);
+    let wave = StandingWave::new(&material, 1, [6.0, 1.0, 1.0], [3, 0, 0], 1.5);
     let state = InitialState::StandingWave(wave);
     let b = ends(BarEnd::FIXED, BarEnd::FIXED).with_initial(&state);
     for t in [0.1e-3, 0.77e-3, 2.3e-3] {
         for x in [0.4, 2.5, 5.3] {
             assert_relative_eq!(
                 b.velocity(x, t),
-                wave.velocity(x, 0.0, t)[0],
+                wave.velocity([x, 0.0, 0.0], t)[0],
                 epsilon = 1e-12
             );
-            let s = wave.stress(x, 0.0, t)[0];
+            let s = wave.stress([x, 0.0, 0.0], t)[0];
             assert!(
                 (b.stress(x, t) - s).abs() < 1e-9 * z,
                 "{} against {s}",

@@ -48,7 +48,7 @@ impl Reference {
             }
         }
         if let Model::J2(j2) = problem.model {
-            let step = |load: &Load| load.segment.is_none() && load.history.is_step();
+            let step = |load: &Load| load.patch.is_none() && load.history.is_step();
             return match problem.boundaries[0] {
                 [Boundary::Pressure(load), Boundary::Free] if D == 1 && step(&load) => Ok(
                     Reference::Elastoplastic(ElastoplasticWave::rod(&j2, length, load.value)),
@@ -77,7 +77,7 @@ impl Reference {
                     1,
                     [Boundary::Pressure(Load {
                         value,
-                        segment: None,
+                        patch: None,
                         history: LoadHistory::Step,
                     }), Boundary::Free],
                 ) => SvkBarExact::new(svk, length, value)
@@ -99,12 +99,8 @@ impl Reference {
                     .into(),
             );
         }
-        let height = if D > 1 {
-            problem.grid.upper()[1] - problem.grid.origin[1]
-        } else {
-            0.0
-        };
-        let ends = [0, 1].map(|side| bar_end(&problem.boundaries[0][side], side, height));
+        let face = &problem.grid;
+        let ends = [0, 1].map(|side| bar_end::<D>(&problem.boundaries[0][side], side, face));
         let ends = [ends[0].clone()?, ends[1].clone()?];
         let bar = BarExact::with_ends(length, m.density, m.p_modulus::<D>(), ends)
             .with_initial(&problem.initial);
@@ -113,18 +109,31 @@ impl Reference {
 }
 
 /// The condition of the bar's end `side` (0 left, 1 right) from the boundary of a 1D bar
-/// or of a plane wave of `height` (a load must cover the whole edge).
-fn bar_end(boundary: &Boundary, side: usize, height: f64) -> Result<BarEnd, String> {
-    let whole = |load: &Load| match load.segment {
-        None => Ok(()),
-        Some(seg) if height > 0.0 && seg.from <= 0.0 && seg.to >= height => Ok(()),
-        Some(seg) => Err(format!(
-            "the load on the {} edge covers [{}, {}] m of it, and the exact plane-wave \
-             solution needs a load over the whole edge (a converged reference stands in)",
+/// or of a plane wave across the faces of `grid` (a load must cover the whole face).
+fn bar_end<const D: usize>(
+    boundary: &Boundary,
+    side: usize,
+    grid: &crate::Grid<D>,
+) -> Result<BarEnd, String> {
+    let whole = |load: &Load| {
+        let Some(patch) = load.patch else {
+            return Ok(());
+        };
+        let (lo, hi) = (grid.origin, grid.upper());
+        let covered = match patch.shape {
+            crate::PatchShape::Box { lo: from, hi: to } => crate::Grid::<D>::tangent_axes(0)
+                .enumerate()
+                .all(|(slot, k)| from[slot] <= lo[k] && to[slot] >= hi[k]),
+            crate::PatchShape::Disc { .. } => false,
+        };
+        if covered {
+            return Ok(());
+        }
+        Err(format!(
+            "the load on the {} side covers part of it, and the exact plane-wave solution \
+             needs a load over the whole face (a converged reference stands in)",
             ["left", "right"][side],
-            seg.from,
-            seg.to
-        )),
+        ))
     };
     Ok(match boundary {
         Boundary::Free => BarEnd::FREE,

@@ -34,7 +34,8 @@ impl Scene {
                 return Err(SceneError::new(
                     "initial.standing_wave.modes",
                     format!("{:?}", wave.modes),
-                    "m ≥ 1 half wavelengths along x, 0 ≤ n along y, each at most 10000",
+                    "m ≥ 1 half wavelengths along x, n ≥ 0 along y (and q ≥ 0 along z), each at \
+                     most 10000",
                 ));
             }
             let speed = self.p_modulus().1 / self.material.density;
@@ -57,7 +58,7 @@ impl Scene {
                 "no initial stress under `svk` (its state is the deformation gradient)",
             ));
         }
-        let stress_count = if self.dim == 1 { 1 } else { 3 };
+        let stress_count = crate::initial::stress_components(self.dim).len();
         for (key, list, count) in [
             ("velocity", &spec.velocity, self.dim),
             ("stress", &spec.stress, stress_count),
@@ -67,7 +68,15 @@ impl Scene {
                 return Err(SceneError::new(
                     format!("initial.{key}"),
                     format!("{} formulas", list.len()),
-                    format!("{count} formulas"),
+                    if key == "stress" {
+                        format!(
+                            "{count} formulas: {} in {}D",
+                            crate::initial::stress_component_names(self.dim),
+                            self.dim
+                        )
+                    } else {
+                        format!("{count} formulas (one per axis)")
+                    },
                 ));
             }
             for (k, text) in list.iter().enumerate() {
@@ -96,7 +105,7 @@ impl Scene {
         let count: usize = cells.iter().product();
         for c in 0..count {
             let mut rest = c;
-            let mut x = [0.0; 2];
+            let mut x = [0.0; 3];
             for (l, n) in cells.iter().enumerate() {
                 let h = self.domain.length[l] / *n as f64;
                 x[l] = (rest % n) as f64 * h + 0.5 * h;
@@ -130,11 +139,9 @@ impl Scene {
         };
         if let Some(wave) = standing_wave {
             let (material, _) = self.p_modulus();
-            let lengths = [
-                self.domain.length[0],
-                self.domain.length.get(1).copied().unwrap_or(1.0),
-            ];
-            let modes = [wave.modes[0], wave.modes.get(1).copied().unwrap_or(0)];
+            let lengths: [f64; 3] =
+                std::array::from_fn(|l| self.domain.length.get(l).copied().unwrap_or(1.0));
+            let modes: [u32; 3] = std::array::from_fn(|l| wave.modes.get(l).copied().unwrap_or(0));
             return InitialState::StandingWave(StandingWave::new(
                 &material,
                 self.dim,

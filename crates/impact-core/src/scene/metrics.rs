@@ -29,8 +29,9 @@ pub struct LineSpec {
     pub to: Vec<f64>,
 }
 
-const ALLOWED: &str = "a segment parallel to x or y inside the body, one coordinate per axis, \
-     e.g. `line = { from = [0.0, 1.5], to = [4.0, 1.5] }`";
+const ALLOWED: &str = "a segment parallel to one axis inside the body, one coordinate per axis, \
+     e.g. `line = { from = [0.0, 1.5], to = [4.0, 1.5] }` (2D) or \
+     `{ from = [0.5, 0.5, 0.0], to = [0.5, 0.5, 1.0] }` (3D)";
 
 impl Scene {
     /// Check `[metrics]`: the line has one coordinate per axis, lies in the body
@@ -73,10 +74,12 @@ impl Scene {
             axis,
             start: line.from[axis],
             end: line.to[axis],
-            offset: if self.dim == 1 {
-                0.0
-            } else {
-                line.from[1 - axis]
+            offset: {
+                let mut offset = [0.0; 2];
+                for (slot, k) in (0..self.dim).filter(|&k| k != axis).enumerate() {
+                    offset[slot] = line.from[k];
+                }
+                offset
             },
             origin: LineOrigin::Stated,
         })

@@ -201,8 +201,8 @@ impl Scene {
     }
 
     fn check_domain(&self) -> Result<(), SceneError> {
-        if !(self.dim == 1 || self.dim == 2) {
-            return Err(SceneError::new("dim", self.dim, "1 or 2"));
+        if !(1..=3).contains(&self.dim) {
+            return Err(SceneError::new("dim", self.dim, "1, 2 or 3"));
         }
         let d = &self.domain;
         if d.length.len() != self.dim {
@@ -356,7 +356,7 @@ impl Scene {
             return Err(SceneError::new(
                 "dgmpm.flux",
                 format!("{:?}", f.name()),
-                "no transverse flux in 1D (DGMPM in 2D only)",
+                "no transverse flux in 1D (DGMPM in 2D and 3D only)",
             ));
         }
         if let Some(r) = self.dgmpm.riemann {
@@ -382,7 +382,7 @@ impl Scene {
             return Err(SceneError::new(
                 "dgmpm.edges",
                 format!("{:?}", e.name()),
-                "no CTU edge treatment in 1D (2D only)",
+                "no CTU edge treatment in 1D (2D and 3D only)",
             ));
         }
         Ok(())
