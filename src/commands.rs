@@ -141,6 +141,7 @@ pub(crate) fn check_command(args: &CheckArgs) -> Result<bool> {
     let reports = match study.dim() {
         1 => check_study::<1>(&study, &options)?,
         2 => check_study::<2>(&study, &options)?,
+        3 => check_study::<3>(&study, &options)?,
         d => bail!("dim = {d} is not supported (allowed: 1, 2 or 3)"),
     };
     for report in &reports {
@@ -333,7 +334,8 @@ pub(crate) fn stability_command(args: &StabilityArgs) -> Result<()> {
         let study = Study::new(scene.clone(), Overrides::default())?;
         let skipped = match scene.dim {
             1 => impact::stability::refused::<1>(&study.problem::<1>()?, scene),
-            _ => impact::stability::refused::<2>(&study.problem::<2>()?, scene),
+            2 => impact::stability::refused::<2>(&study.problem::<2>()?, scene),
+            _ => impact::stability::refused::<3>(&study.problem::<3>()?, scene),
         };
         for note in &skipped {
             say!("skipped: {note}");
@@ -341,7 +343,8 @@ pub(crate) fn stability_command(args: &StabilityArgs) -> Result<()> {
         record.notes.extend(skipped);
         match scene.dim {
             1 => rows.extend(sweep(&study.problem::<1>()?, scene, args.steps_1d, print)),
-            _ => rows.extend(sweep(&study.problem::<2>()?, scene, args.steps_2d, print)),
+            2 => rows.extend(sweep(&study.problem::<2>()?, scene, args.steps_2d, print)),
+            _ => rows.extend(sweep(&study.problem::<3>()?, scene, args.steps_2d, print)),
         }
     }
     impact::interrupt::check()?;
@@ -370,7 +373,8 @@ pub(crate) fn stability_command(args: &StabilityArgs) -> Result<()> {
         .flat_map(|scene| {
             match scene.dim {
                 1 => impact::stability::configurations::<1>(scene),
-                _ => impact::stability::configurations::<2>(scene),
+                2 => impact::stability::configurations::<2>(scene),
+                _ => impact::stability::configurations::<3>(scene),
             }
             .into_iter()
             .map(|c| impact::provenance::MethodOptionsRecord::of(&c, scene.dim))

@@ -211,7 +211,8 @@ pub fn run(
     let scene = crate::provenance::resolved_scene(study, &MethodKind::ALL);
     let runs = match scene.dim {
         1 => ladder::<1>(&scene, &configs, levels)?,
-        _ => ladder::<2>(&scene, &configs, levels)?,
+        2 => ladder::<2>(&scene, &configs, levels)?,
+        _ => ladder::<3>(&scene, &configs, levels)?,
     };
     let table = table(&runs);
     let folder = impact_io::folder::OutputFolder::open(out)?;

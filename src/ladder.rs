@@ -50,7 +50,8 @@ pub fn usable_configurations(study: &Study) -> Result<(Vec<Config>, Vec<Skipped>
 fn within_von_neumann(study: &Study, config: impact_core::method::MethodConfig) -> Result<()> {
     match study.dim() {
         1 => crate::guard::check_stable(&study.problem::<1>()?, config, false)?,
-        _ => crate::guard::check_stable(&study.problem::<2>()?, config, false)?,
+        2 => crate::guard::check_stable(&study.problem::<2>()?, config, false)?,
+        _ => crate::guard::check_stable(&study.problem::<3>()?, config, false)?,
     };
     Ok(())
 }

@@ -15,6 +15,7 @@ pub mod interrupt;
 pub mod ladder;
 pub mod output;
 pub mod output_bench;
+pub mod plane;
 pub mod plots;
 pub mod provenance;
 pub mod reference;

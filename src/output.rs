@@ -65,7 +65,8 @@ pub struct FileWriter<'a, const D: usize> {
     samples: Samples<D>,
     /// Profiles kept for `stress.png`.
     pub profiles: Profiles,
-    /// Cell averages of σ_xx at each output, for `stress_map.png` (2D only).
+    /// Cell averages of σ_xx at each output over the map's plane
+    /// ([`crate::plane::MapPlane`]), for `stress_map.png` (2D and 3D).
     pub maps: CellMaps,
     /// Current x positions of the bottom-row samples at each output, for `svk.png`.
     pub positions: Vec<(f64, Vec<f64>)>,
@@ -176,11 +177,14 @@ fn with_zz<const D: usize>(
     full
 }
 
-/// Vertex order of a grid cell as VTK wants it (line: 0 1; quad: counter-clockwise).
+/// Vertex order of a grid cell as VTK wants it, from the grid's local vertex numbering
+/// (bit `l` of `a` set: the high side along axis `l`): line 0 1; quad counter-clockwise;
+/// hexahedron (VTK type 12) the bottom face counter-clockwise, then the top face above it.
 fn vtk_order(d: usize) -> (&'static [usize], CellType) {
     match d {
         1 => (&[0, 1], CellType::Line),
-        _ => (&[0, 1, 3, 2], CellType::Quad),
+        2 => (&[0, 1, 3, 2], CellType::Quad),
+        _ => (&[0, 1, 3, 2, 4, 5, 7, 6], CellType::Hexahedron),
     }
 }
 
@@ -345,16 +349,19 @@ impl<const D: usize> FileWriter<'_, D> {
                 count[c] += 1;
             }
         }
-        let mut map = vec![f64::NAN; cells];
+        let plane = crate::plane::MapPlane::of(g, &self.line);
+        let mut map = vec![f64::NAN; plane.map_or(0, |p| p.grid(g).cell_count())];
         for c in 0..cells {
             if count[c] > 0 {
                 stress[c] /= count[c] as f64;
                 velocity[c] /= count[c] as f64;
-                map[c] = stress[c][(0, 0)];
+                if let Some(k) = plane.and_then(|p| p.cell_in_plane(g, c)) {
+                    map[k] = stress[c][(0, 0)];
+                }
             }
         }
-        // maps are drawn in 2D only
-        if self.collect && D == 2 && frame != INITIAL {
+        // maps are drawn in 2D and 3D (the plane through the measuring line)
+        if self.collect && D > 1 && frame != INITIAL {
             self.maps.push((t, map));
         }
         if !self.files {
@@ -449,7 +456,7 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         if self.files {
             self.write_samples(&frame, t)?;
         }
-        if self.files || (self.collect && D == 2) {
+        if self.files || (self.collect && D > 1) {
             self.grid(method, &frame, t)?;
         }
         Ok(())

@@ -6,6 +6,7 @@
 //! `stress_map.png`; the paper's Fig. 5). Stresses are plotted in MPa, positions in m,
 //! displacements in mm, times in ms.
 use crate::output::{CellMaps, Profiles};
+use impact_core::line::MeasureLine;
 use impact_core::reference::Reference;
 use impact_core::{Grid, StressMeasure, Vector};
 use impact_io::plot::{robust_range, Axis, LineFigure, MapFigure, MapPanel, Panel, Series};
@@ -42,16 +43,35 @@ pub fn method_colours(runs: &[Collected]) -> Vec<usize> {
         .collect()
 }
 
-/// The reference's σ_xx (MPa) along x at `t`, averaged over 1000 cells of `length/1000`
-/// and, in 2D, over the bottom band `[0, band]`; labelled `exact` or `reference`.
-pub fn reference_series(r: &Reference, t: f64, length: f64, band: f64) -> Series {
+/// The reference's normal stress along the measuring line (MPa) at `t`, averaged over
+/// 1000 pieces of the line and, in 2D and 3D, across the row of cells the line runs in
+/// ([`MeasureLine::holds`]: for the plate's bottom row `[0, Δy]`); labelled `exact` or
+/// `reference`.
+pub fn reference_series<const D: usize>(
+    r: &Reference,
+    t: f64,
+    line: &MeasureLine,
+    grid: &Grid<D>,
+) -> Series {
     let n = 1000;
-    let dx = length / n as f64;
+    let (start, end) = line.span();
+    let dx = (end - start) / n as f64;
+    // the row of cells across the line
+    let (mut low, mut high) = (Vector::<D>::zeros(), Vector::<D>::zeros());
+    let at = line.point::<D>(start);
+    for k in Grid::<D>::tangent_axes(line.axis) {
+        let h = grid.spacing[k];
+        let row = (((at[k] - grid.origin[k]) / h + 1e-9).floor().max(0.0) as usize)
+            .min(grid.cells[k] - 1);
+        low[k] = grid.origin[k] + row as f64 * h;
+        high[k] = low[k] + h;
+    }
     let points = (0..n)
         .map(|i| {
-            let x = (i as f64 + 0.5) * dx;
-            let lo = Vector::<2>::new(x - 0.5 * dx, 0.0);
-            let hi = Vector::<2>::new(x + 0.5 * dx, band);
+            let x = start + (i as f64 + 0.5) * dx;
+            let (mut lo, mut hi) = (low, high);
+            lo[line.axis] = x - 0.5 * dx;
+            hi[line.axis] = x + 0.5 * dx;
             (x, r.averages(&lo, &hi, t).0 * MPA)
         })
         .filter(|p| p.1.is_finite())
@@ -104,37 +124,44 @@ pub fn picked_times(runs: &[Collected]) -> Vec<f64> {
     }
 }
 
-/// Profiles of σₓₓ along x at each of `times` (one panel each, stacked), every run and the
-/// reference (in 2D the bottom row of cells, the reference averaged over `band`).
-pub fn profile_figure(
+/// Profiles of the normal stress along the measuring line at each of `times` (one panel
+/// each, stacked), every run and the reference (averaged across the line's row of cells).
+pub fn profile_figure<const D: usize>(
     scene: &str,
     measure: StressMeasure,
     runs: &[Collected],
     reference: Option<&Reference>,
-    (length, band): (f64, f64),
+    (line, grid): (&MeasureLine, &Grid<D>),
     times: &[f64],
 ) -> LineFigure {
-    let where_ = if band > 0.0 {
-        " along the bottom row"
+    let axis = ["x", "y", "z"][line.axis];
+    let symbol = measure.xx_symbol().replace("ₓₓ", &format!("_{axis}{axis}"));
+    let symbol = if line.axis == 0 {
+        measure.xx_symbol().to_string()
     } else {
-        ""
+        symbol
+    };
+    let where_ = if D > 1 {
+        let point = line.point::<D>(line.start);
+        let across: Vec<String> = Grid::<D>::tangent_axes(line.axis)
+            .map(|k| format!("{} = {}", ["x", "y", "z"][k], point[k]))
+            .collect();
+        format!(" along {axis} at {}", across.join(", "))
+    } else {
+        String::new()
     };
     let panels = times
         .iter()
         .map(|&t| {
             let mut series: Vec<Series> = reference
-                .map(|r| reference_series(r, t, length, band))
+                .map(|r| reference_series(r, t, line, grid))
                 .into_iter()
                 .collect();
             series.extend(method_series(runs, t));
             Panel {
-                title: format!(
-                    "{scene}: {}{where_}, t = {:.4} ms",
-                    measure.xx_symbol(),
-                    t * 1e3
-                ),
-                x: Axis::linear("x (m)"),
-                y: Axis::linear(format!("{} (MPa)", measure.xx_symbol())),
+                title: format!("{scene}: {symbol}{where_}, t = {:.4} ms", t * 1e3),
+                x: Axis::linear(format!("{axis} (m)")),
+                y: Axis::linear(format!("{symbol} (MPa)")),
                 series,
             }
         })
@@ -149,11 +176,11 @@ pub fn profile_figure(
 /// The large-strain bar (the paper's Fig. 6): the displacement `u = x − X` of DGMPM's
 /// points along the bar at each output time (top: the motion the positions alone would
 /// hide, 4 cm on 6 m) and Πₓₓ of every run against the exact solution at the last time.
-pub fn svk_figure(
+pub fn svk_figure<const D: usize>(
     scene: &str,
     runs: &[Collected],
     reference: Option<&Reference>,
-    length: f64,
+    (line, grid): (&MeasureLine, &Grid<D>),
 ) -> LineFigure {
     let mut top = Vec::new();
     if let Some(dgmpm) = runs.iter().find(|r| r.name == "dgmpm") {
@@ -176,7 +203,7 @@ pub fn svk_figure(
         .flat_map(|r| r.profiles.last().map(|p| p.0))
         .fold(0.0, f64::max);
     let mut bottom: Vec<Series> = reference
-        .map(|r| reference_series(r, last, length, 0.0))
+        .map(|r| reference_series(r, last, line, grid))
         .into_iter()
         .collect();
     bottom.extend(method_series(runs, last));
@@ -200,39 +227,49 @@ pub fn svk_figure(
     }
 }
 
+/// The reference's average of σₓₓ over a map cell `[lo, hi]` at `t`, with its label.
+pub type ReferenceMap<'a> = (&'static str, &'a dyn Fn(&Vector<2>, &Vector<2>, f64) -> f64);
+
 /// σₓₓ maps (MPa): one row per time of `times`, one column per run and, last, the
-/// reference averaged over each cell; one colour bar with a robust range.
+/// reference averaged over each cell; one colour bar with a robust range. `grid` is the
+/// map's plane ([`crate::plane::MapPlane`]), `where_` its words for the titles.
 pub fn map_figure(
     grid: &Grid<2>,
+    where_: &str,
     runs: &[Collected],
-    reference: Option<&Reference>,
+    reference: Option<ReferenceMap>,
     times: &[f64],
 ) -> Option<MapFigure> {
     let upper = grid.upper();
     let extent = [grid.origin[0], upper[0], grid.origin[1], upper[1]];
+    let place = if where_.is_empty() {
+        String::new()
+    } else {
+        format!(", {where_}")
+    };
     let mut panels = Vec::new();
     for &t in times {
         for run in runs {
             if let Some((_, values)) = run.maps.iter().find(|m| (m.0 - t).abs() <= 1e-12 * t) {
                 panels.push(MapPanel {
-                    title: format!("{}, t = {:.3} ms", run.name, t * 1e3),
+                    title: format!("{}, t = {:.3} ms{place}", run.name, t * 1e3),
                     cells: grid.cells,
                     extent,
                     values: values.iter().map(|v| v * MPA).collect(),
                 });
             }
         }
-        if let Some(r) = reference {
+        if let Some((label, average)) = reference {
             let values = (0..grid.cell_count())
                 .map(|c| {
                     let (i, j) = (c % grid.cells[0], c / grid.cells[0]);
                     let lo = grid.origin
                         + Vector::<2>::new(i as f64 * grid.spacing[0], j as f64 * grid.spacing[1]);
-                    r.averages(&lo, &(lo + grid.spacing), t).0 * MPA
+                    average(&lo, &(lo + grid.spacing), t) * MPA
                 })
                 .collect();
             panels.push(MapPanel {
-                title: format!("{}, t = {:.3} ms", reference_label(r), t * 1e3),
+                title: format!("{label}, t = {:.3} ms{place}", t * 1e3),
                 cells: grid.cells,
                 extent,
                 values,

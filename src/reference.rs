@@ -5,8 +5,8 @@ use impact_core::{Method, Problem};
 /// Refinement factor of the converged reference of scenes without an exact solution.
 pub const REFERENCE_REFINEMENT: usize = 4;
 
-/// The reference of `problem`: its exact solution when it has one; otherwise (in 1D and
-/// 2D) a converged solution: DGMPM (1 point per cell, CTU in 2D, forward Euler, Courant 1)
+/// The reference of `problem`: its exact solution when it has one; otherwise a converged
+/// solution: DGMPM (1 point per cell, CTU in 2D and 3D, forward Euler, Courant 1)
 /// on a grid [`REFERENCE_REFINEMENT`] times finer, at the same output times, computed once
 /// and then read from the cache ([`crate::reference_cache`]), its description stating
 /// why there is no exact one. `say` prints what is computed or read (on stderr) and shows
@@ -30,12 +30,6 @@ pub fn reference_for<const D: usize>(
         }
         Err(why) => why,
     };
-    if !(D == 1 || D == 2) {
-        if say {
-            eprintln!("reference: none because {why}");
-        }
-        return Ok(None);
-    }
     let r = REFERENCE_REFINEMENT;
     let fine_cells = problem.grid.cell_count() as f64 * (r as f64).powi(D as i32);
     if fine_cells > impact_core::scene::MAX_POINTS {
@@ -59,7 +53,10 @@ pub fn reference_for<const D: usize>(
     let options = *config.dgmpm().expect("internal: a DGMPM configuration");
     let grid = match D {
         1 => format!("{} cells", fine.grid.cells[0]),
-        _ => format!("a {}x{} grid", fine.grid.cells[0], fine.grid.cells[D - 1]),
+        _ => {
+            let counts: Vec<String> = fine.grid.cells.iter().map(|n| n.to_string()).collect();
+            format!("a {} grid", counts.join("x"))
+        }
     };
     let flux = match D {
         1 => String::new(),
@@ -103,33 +100,34 @@ pub fn reference_for<const D: usize>(
         velocity_x,
         work,
     } = stored;
-    let cells = fine.grid.cells;
     let (load_scale, step_load) = problem.load_scale();
-    // 1D: one band of unit height
-    let (ny, hy) = match D {
-        1 => (1, 1.0),
-        _ => (cells[D - 1], fine.grid.spacing[D - 1]),
-    };
-    // the band across the line where the jump is read: from the low side of the coarse
-    // row the line runs in, one coarse cell length along the line wide (so a square on a
-    // square grid; the band the plate's front was always measured in), within the body
-    let band = if D == 1 {
-        [0.0, hy]
-    } else {
-        let other = 1 - line.axis;
+    // beyond the scene's dimension: one cell of unit size
+    let cells: [usize; 3] = std::array::from_fn(|l| if l < D { fine.grid.cells[l] } else { 1 });
+    let spacing: [f64; 3] = std::array::from_fn(|l| if l < D { fine.grid.spacing[l] } else { 1.0 });
+    // the band across the line where the jump is read, along each other axis: from the
+    // low side of the coarse row the line runs in, one coarse cell length along the line
+    // wide (so a square on a square grid; the band the plate's front was always measured
+    // in), within the body
+    let mut band = [[0.0, 1.0]; 2];
+    for (slot, other) in (0..3).filter(|&k| k != line.axis).enumerate() {
+        if other >= D {
+            band[slot] = [0.0, spacing[other]];
+            continue;
+        }
         let h = problem.grid.spacing[other];
         // the row `MeasureLine::holds` picks: `lo ≤ offset < hi`, to its tolerance
-        let row = ((line.offset[0] / h + 1e-9).floor() as usize).min(problem.grid.cells[other] - 1);
+        let row =
+            ((line.offset[slot] / h + 1e-9).floor() as usize).min(problem.grid.cells[other] - 1);
         let top = problem.grid.upper()[other];
         let low = (row as f64 * h)
             .min(top - problem.grid.spacing[line.axis])
             .max(0.0);
-        [low, (low + problem.grid.spacing[line.axis]).min(top)]
-    };
+        band[slot] = [low, (low + problem.grid.spacing[line.axis]).min(top)];
+    }
     Ok(Some(Reference::Converged(Box::new(Converged {
         description,
-        cells: [cells[0], ny],
-        spacing: [fine.grid.spacing[0], hy],
+        cells,
+        spacing,
         times: problem.output_times.clone(),
         stress: stress_xx,
         velocity: velocity_x,

@@ -351,7 +351,8 @@ fn write_provenance(
 }
 
 /// The run's figures: `stress.png` (profiles at up to three output times), `svk.png` (1D
-/// SVK) and `stress_map.png` (2D: every method and the reference at those times).
+/// SVK) and `stress_map.png` (2D, and the plane through the measuring line in 3D: every
+/// method and the reference at those times).
 fn write_figures<const D: usize>(
     name: &str,
     problem: &impact_core::Problem<D>,
@@ -362,33 +363,34 @@ fn write_figures<const D: usize>(
     use crate::plots::{map_figure, picked_times, profile_figure, svk_figure};
     use impact_core::method::Model;
     use impact_io::plot::save;
-    let length = problem.grid.upper()[0] - problem.grid.origin[0];
-    let band = if D > 1 { problem.grid.spacing[1] } else { 0.0 };
+    let line = impact_core::line::MeasureLine::of(problem);
     let times = picked_times(runs);
     let measure = problem.model.stress_measure();
-    let profiles = profile_figure(name, measure, runs, reference, (length, band), &times);
+    let on = (&line, &problem.grid);
+    let profiles = profile_figure(name, measure, runs, reference, on, &times);
     save(&dir.join("stress.png"), &profiles)?;
     if D == 1 && matches!(problem.model, Model::Svk(_)) {
-        save(
-            &dir.join("svk.png"),
-            &svk_figure(name, runs, reference, length),
-        )?;
+        save(&dir.join("svk.png"), &svk_figure(name, runs, reference, on))?;
     }
-    if D == 2 {
-        if let Some(maps) = map_figure(&plane_grid(&problem.grid), runs, reference, &times) {
+    if let Some(plane) = crate::plane::MapPlane::of(&problem.grid, &line) {
+        let grid = &problem.grid;
+        let average = |lo: &impact_core::Vector<2>, hi: &impact_core::Vector<2>, t: f64| {
+            let (lo, hi) = plane.lift(grid, lo, hi);
+            reference.map_or(f64::NAN, |r| r.averages(&lo, &hi, t).0)
+        };
+        let labelled = reference.map(|r| {
+            (
+                crate::plots::reference_label(r),
+                &average as &dyn Fn(&impact_core::Vector<2>, &impact_core::Vector<2>, f64) -> f64,
+            )
+        });
+        let plane_grid = plane.grid(grid);
+        let where_ = plane.describe(grid);
+        if let Some(maps) = map_figure(&plane_grid, &where_, runs, labelled, &times) {
             save(&dir.join("stress_map.png"), &maps)?;
         }
     }
     Ok(())
-}
-
-/// The x–y grid of a 2D problem's grid (`Grid<2>` whatever `D` the caller is generic in).
-pub fn plane_grid<const D: usize>(g: &impact_core::Grid<D>) -> impact_core::Grid<2> {
-    impact_core::Grid::<2> {
-        origin: impact_core::Vector::<2>::new(g.origin[0], g.origin[D - 1]),
-        spacing: impact_core::Vector::<2>::new(g.spacing[0], g.spacing[D - 1]),
-        cells: [g.cells[0], g.cells[D - 1]],
-    }
 }
 
 /// A progress bar on stderr over `[0, t_end]` (hidden when stderr is not a terminal).

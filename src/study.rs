@@ -392,17 +392,22 @@ impl Study {
         }
     }
 
-    /// The work of the converged reference a 2D scene without an exact solution needs
+    /// The work of the converged reference a 2D or 3D scene without an exact solution needs
     /// (DGMPM on a grid [`crate::REFERENCE_REFINEMENT`] times finer: `r^2` the cells, `r`
     /// the steps, at Courant 0.9, the lower of the two [`crate::reference_for`] uses);
     /// `None` otherwise.
     fn reference_work(&self) -> Result<Option<WorkEstimate>, SceneError> {
-        if self.dim() != 2 {
-            return Ok(None);
+        fn has_exact<const D: usize>(study: &Study) -> Result<bool, SceneError> {
+            let problem = impact_core::Problem::<D>::from_valid_scene(&study.scene)
+                .map_err(|e| SceneError::new("scene", e, "a scene that builds its problem"))?;
+            Ok(impact_core::reference::Reference::for_problem(&problem).is_some())
         }
-        let problem = impact_core::Problem::<2>::from_valid_scene(&self.scene)
-            .map_err(|e| SceneError::new("scene", e, "a scene that builds its problem"))?;
-        if impact_core::reference::Reference::for_problem(&problem).is_some() {
+        let exact = match self.dim() {
+            1 => true, // a 1D scene without an exact solution: its fine grid is cheap
+            2 => has_exact::<2>(self)?,
+            _ => has_exact::<3>(self)?,
+        };
+        if exact {
             return Ok(None);
         }
         let refinement = crate::REFERENCE_REFINEMENT as f64;
@@ -412,7 +417,7 @@ impl Study {
         let coarse = self.scene.work_estimate(&config);
         Ok(Some(WorkEstimate {
             what: "the converged reference",
-            points: coarse.points * refinement * refinement,
+            points: coarse.points * refinement.powi(self.dim() as i32),
             steps: coarse.steps * refinement,
         }))
     }
@@ -426,7 +431,8 @@ impl Study {
         }
         let exact = match self.dim() {
             1 => exact::<1>(self)?,
-            _ => exact::<2>(self)?,
+            2 => exact::<2>(self)?,
+            _ => exact::<3>(self)?,
         };
         Ok(match exact {
             Some(description) => format!("exact: {description}"),

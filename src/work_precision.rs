@@ -308,7 +308,8 @@ pub fn run(
     // the fixed time: the study's first output time
     let t = match study.dim() {
         1 => study.problem::<1>()?.output_times[0],
-        _ => study.problem::<2>()?.output_times[0],
+        2 => study.problem::<2>()?.output_times[0],
+        _ => study.problem::<3>()?.output_times[0],
     };
     let folder = impact_io::folder::OutputFolder::open(out)?;
     let record = provenance(

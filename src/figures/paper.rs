@@ -74,18 +74,16 @@ impl<const D: usize> Shipped<D> {
         })
     }
 
-    /// Profiles of σₓₓ (Πₓₓ) along x at every output time, every run and the reference
-    /// (in 2D the bottom row of cells).
+    /// Profiles of σₓₓ (Πₓₓ) along the measuring line at every output time, every run and
+    /// the reference (in 2D the plate's stated bottom row of cells).
     pub fn profile_figure(&self) -> LineFigure {
-        let grid = &self.problem.grid;
-        let length = grid.upper()[0] - grid.origin[0];
-        let band = if D > 1 { grid.spacing[D - 1] } else { 0.0 };
+        let line = impact_core::line::MeasureLine::of(&self.problem);
         profile_figure(
             self.name,
             self.problem.model.stress_measure(),
             &self.collected,
             self.reference.as_ref(),
-            (length, band),
+            (&line, &self.problem.grid),
             &self.problem.output_times,
         )
     }
@@ -162,8 +160,20 @@ pub fn fig5(target: &Target) -> Result<Entry> {
             .collect()
     })?;
     let times = &plate.problem.output_times;
-    let grid = crate::run::plane_grid(&plate.problem.grid);
-    let maps = map_figure(&grid, &plate.collected, plate.reference.as_ref(), times)
+    let grid = &plate.problem.grid;
+    let average = |lo: &impact_core::Vector<2>, hi: &impact_core::Vector<2>, t: f64| {
+        plate
+            .reference
+            .as_ref()
+            .map_or(f64::NAN, |r| r.averages(lo, hi, t).0)
+    };
+    let reference = plate.reference.as_ref().map(|r| {
+        (
+            crate::plots::reference_label(r),
+            &average as &dyn Fn(&impact_core::Vector<2>, &impact_core::Vector<2>, f64) -> f64,
+        )
+    });
+    let maps = map_figure(grid, "", &plate.collected, reference, times)
         .ok_or_else(|| anyhow::anyhow!("the plate runs kept no maps"))?;
     let mut profiles = plate.profile_figure();
     profiles.columns = times.len().max(1);
@@ -186,9 +196,9 @@ pub fn fig5(target: &Target) -> Result<Entry> {
 /// Fig. 6: the Saint-Venant–Kirchhoff bar.
 pub fn fig6(target: &Target) -> Result<Entry> {
     let bar = Shipped::<1>::run("svk-bar", target.progress, three_methods)?;
-    let grid = &bar.problem.grid;
-    let length = grid.upper()[0] - grid.origin[0];
-    let figure = svk_figure("svk-bar", &bar.collected, bar.reference.as_ref(), length);
+    let line = impact_core::line::MeasureLine::of(&bar.problem);
+    let on = (&line, &bar.problem.grid);
+    let figure = svk_figure("svk-bar", &bar.collected, bar.reference.as_ref(), on);
     let image = target.save("fig6_svk_bar", &figure)?;
     Ok(Entry {
         name: "fig6".into(),

@@ -207,7 +207,10 @@ mod tests {
                     1 => Problem::<1>::from_scene(&scene)
                         .unwrap()
                         .check_config(&config),
-                    _ => Problem::<2>::from_scene(&scene)
+                    2 => Problem::<2>::from_scene(&scene)
+                        .unwrap()
+                        .check_config(&config),
+                    _ => Problem::<3>::from_scene(&scene)
                         .unwrap()
                         .check_config(&config),
                 };

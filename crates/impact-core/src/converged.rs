@@ -35,10 +35,10 @@ pub const PLATEAU_TOLERANCE: f64 = 0.5;
 pub struct Converged {
     /// What it is (printed in the output).
     pub description: String,
-    /// Cells per axis of the fine grid (`[nx, ny]`; `ny = 1` in 1D).
-    pub cells: [usize; 2],
-    /// Fine cell size per axis.
-    pub spacing: [f64; 2],
+    /// Cells per axis of the fine grid (`[nx, ny, nz]`; 1 beyond the scene's dimension).
+    pub cells: [usize; 3],
+    /// Fine cell size per axis (1 beyond the scene's dimension).
+    pub spacing: [f64; 3],
     /// Output times.
     pub times: Vec<f64>,
     /// `σ_aa` per fine cell (x fastest) per output time, `a` the line's axis.
@@ -51,9 +51,10 @@ pub struct Converged {
     pub line: MeasureLine,
     /// Coarse cell size along the line.
     pub coarse_dx: f64,
-    /// The band `[lo, hi]` across the line of the coarse row it runs in (2D; `[0,
-    /// spacing[1]]` in 1D).
-    pub band: [f64; 2],
+    /// The band `[lo, hi]` across the line of the coarse row it runs in, along each of
+    /// the line's other axes (`MeasureLine::offset` order; `[0, spacing]` of an axis
+    /// beyond the scene's dimension).
+    pub band: [[f64; 2]; 2],
     /// Stress scale of the load (`p`, or `Z v_d`; 0 with no load).
     pub load_scale: f64,
     /// Whether the load is a step (a jump at `t = 0`).
@@ -76,9 +77,9 @@ impl Converged {
             .position(|&s| (s - t).abs() <= 1e-9 * t.abs().max(1e-300))
     }
 
-    /// Average of `field` over the box `[lo, hi]` (x, y) at output time `t`
+    /// Average of `field` over the box `[lo, hi]` (x, y, z) at output time `t`
     /// (overlap-weighted; NaN off the output times or outside the grid).
-    pub fn average(&self, field: &[Vec<f64>], lo: [f64; 2], hi: [f64; 2], t: f64) -> f64 {
+    pub fn average(&self, field: &[Vec<f64>], lo: [f64; 3], hi: [f64; 3], t: f64) -> f64 {
         let Some(k) = self.time_index(t) else {
             return f64::NAN;
         };
@@ -89,12 +90,15 @@ impl Converged {
             a..b
         };
         let (mut sum, mut weight) = (0.0, 0.0);
-        for j in range(1) {
-            let wy = overlap(j, self.spacing[1], lo[1], hi[1]);
-            for i in range(0) {
-                let w = wy * overlap(i, self.spacing[0], lo[0], hi[0]);
-                sum += w * values[j * self.cells[0] + i];
-                weight += w;
+        for m in range(2) {
+            let wz = overlap(m, self.spacing[2], lo[2], hi[2]);
+            for j in range(1) {
+                let wy = wz * overlap(j, self.spacing[1], lo[1], hi[1]);
+                for i in range(0) {
+                    let w = wy * overlap(i, self.spacing[0], lo[0], hi[0]);
+                    sum += w * values[(m * self.cells[1] + j) * self.cells[0] + i];
+                    weight += w;
+                }
             }
         }
         if weight > 0.0 {
@@ -107,11 +111,14 @@ impl Converged {
     /// Average of `σ_aa` over `[a, b]` along the line, across the line's band.
     fn along(&self, a: f64, b: f64, t: f64) -> f64 {
         let (a, b) = (a.min(b), a.max(b));
-        let (lo, hi) = if self.line.axis == 0 {
-            ([a, self.band[0]], [b, self.band[1]])
-        } else {
-            ([self.band[0], a], [self.band[1], b])
-        };
+        let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+        lo[self.line.axis] = a;
+        hi[self.line.axis] = b;
+        let others = (0..3).filter(|&k| k != self.line.axis);
+        for (slot, k) in others.enumerate() {
+            lo[k] = self.band[slot][0];
+            hi[k] = self.band[slot][1];
+        }
         self.average(&self.stress, lo, hi, t)
     }
 

@@ -188,8 +188,8 @@ impl Reference {
                 w.averages(pad(lo, 0.0), pad(hi, 1.0), t)
             }
             Reference::Converged(c) => {
-                let lo2 = [lo[0], if D > 1 { lo[1] } else { 0.0 }];
-                let hi2 = [hi[0], if D > 1 { hi[1] } else { c.spacing[1] }];
+                let lo2 = std::array::from_fn(|l| if l < D { lo[l] } else { 0.0 });
+                let hi2 = std::array::from_fn(|l| if l < D { hi[l] } else { c.spacing[l] });
                 (
                     c.average(&c.stress, lo2, hi2, t),
                     c.average(&c.velocity, lo2, hi2, t),

@@ -29,6 +29,8 @@ pub enum CellType {
     Line = 3,
     /// 4-node quadrilateral, counter-clockwise (2D elements and cells).
     Quad = 9,
+    /// 8-node hexahedron: the bottom face counter-clockwise, then the top face (3D).
+    Hexahedron = 12,
 }
 
 /// How the arrays of a `.vtu` are encoded (`--vtu`).

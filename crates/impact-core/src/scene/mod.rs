@@ -556,6 +556,10 @@ pub const BUILTIN: &[&str] = &[
     "ep-bar",
     "ep-plate-wave",
     "ep-plate",
+    "block-wave",
+    "smooth-block",
+    "block",
+    "ep-block",
 ];
 
 /// TOML text of a shipped scene.
@@ -571,6 +575,10 @@ pub fn builtin(name: &str) -> Option<&'static str> {
         "plate-wave" => Some(include_str!("../../../../scenes/plate-wave.toml")),
         "svk-bar" => Some(include_str!("../../../../scenes/svk-bar.toml")),
         "svk-plate" => Some(include_str!("../../../../scenes/svk-plate.toml")),
+        "block-wave" => Some(include_str!("../../../../scenes/block-wave.toml")),
+        "smooth-block" => Some(include_str!("../../../../scenes/smooth-block.toml")),
+        "block" => Some(include_str!("../../../../scenes/block.toml")),
+        "ep-block" => Some(include_str!("../../../../scenes/ep-block.toml")),
         _ => None,
     }
 }
