@@ -230,7 +230,8 @@ impl Scene {
                     format!("{field}.radius"),
                     edge.radius.map_or("missing".to_string(), |r| r.to_string()),
                     format!(
-                        "a finite radius of at least half a cell ({:e} m): a smaller disc loads                          at most one face",
+                        "a finite radius of at least half a cell ({:e} m): a smaller disc \
+                         loads at most one face",
                         0.5 * smallest
                     ),
                 ));
