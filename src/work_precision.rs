@@ -79,8 +79,8 @@ fn not_measured() -> f64 {
 }
 
 /// The configurations of the ladder for `scene`: DGMPM Euler and RK2 × points per cell
-/// (× donor-cell/CTU in 2D), MPM at 1 and 4 points per cell, FEM; every other option is
-/// the scene's.
+/// (× donor-cell/CTU in 2D and 3D), MPM at 1 and several points per cell (4; 8 in 3D),
+/// FEM; every other option is the scene's.
 pub fn configurations(scene: &Scene) -> Vec<Config> {
     let dgmpm = |ppc: usize, integrator: Integrator, flux: TransverseFlux, courant: f64| {
         let mut config = scene.method_config(MethodKind::Dgmpm);
@@ -104,7 +104,13 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
         }
     };
     let mut out = Vec::new();
-    let layouts: &[usize] = if scene.dim == 1 { &[1, 2, 4] } else { &[1, 4] };
+    // several points per cell: 2 per axis in 2D and 3D (4, 8), 4 in 1D
+    let several = if scene.dim == 3 { 8 } else { 4 };
+    let layouts: &[usize] = if scene.dim == 1 {
+        &[1, 2, 4]
+    } else {
+        &[1, several]
+    };
     for &ppc in layouts {
         // Courant numbers inside the measured stability limits (module doc)
         let euler = if ppc == 1 { 1.0 } else { 0.6 };
@@ -130,7 +136,7 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
             out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::Ctu, 0.7));
         }
     }
-    for ppc in [1, 4] {
+    for ppc in [1, several] {
         let mut config = scene.method_config(MethodKind::Mpm);
         (config.points_per_cell, config.courant) = (ppc, 0.5);
         out.push(Config {
@@ -140,12 +146,13 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
         });
     }
     // the smooth shape functions (issue 11): at one point per cell in the total Lagrangian
-    // frame GIMP and the quadratic B-spline equal the hat, so they run at 4 points per cell
+    // frame GIMP and the quadratic B-spline equal the hat, so they run at several points per
+    // cell
     for (shape, ppc) in [
-        (MpmShape::Gimp, 4),
-        (MpmShape::Bspline2, 4),
+        (MpmShape::Gimp, several),
+        (MpmShape::Bspline2, several),
         (MpmShape::Bspline3, 1),
-        (MpmShape::Cpdi, 4),
+        (MpmShape::Cpdi, several),
     ] {
         let mut config = scene.method_config(MethodKind::Mpm);
         (config.points_per_cell, config.courant) = (ppc, 0.5);
@@ -168,12 +175,13 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
     out
 }
 
-/// Cells along x of level `k` (1D: 75·2^k; 2D: 16·2^k, with 12·2^k along y).
+/// Cells along x of level `k` (1D: 75·2^k; 2D: 16·2^k, with 12·2^k along y; 3D: 4·2^k,
+/// the other axes in the scene's proportions).
 pub fn cells_x(dim: usize, k: usize) -> usize {
-    if dim == 1 {
-        75 << k
-    } else {
-        16 << k
+    match dim {
+        1 => 75 << k,
+        2 => 16 << k,
+        _ => 4 << k,
     }
 }
 
