@@ -143,21 +143,34 @@ fn kronrod(f: &mut impl FnMut(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
     (k * half, ((k - g) * half).abs())
 }
 
-/// `∫_a^b f` by adaptive bisection until `|K15 − G7| ≤ tol` on each piece (tolerance
-/// halved at each bisection, at most 40 levels).
+/// `∫_a^b f` by global adaptive bisection (QUADPACK `qag`): the piece with the largest
+/// `|K15 − G7|` is halved until the sum of the estimates is at most `tol`, or at most 400
+/// pieces (the estimate then at round-off).
 pub(crate) fn adaptive(f: &mut impl FnMut(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
-    fn refine(f: &mut impl FnMut(f64) -> f64, a: f64, b: f64, tol: f64, depth: u32) -> f64 {
-        let (value, error) = kronrod(f, a, b);
-        if error <= tol || depth == 0 {
-            return value;
-        }
-        let mid = 0.5 * (a + b);
-        refine(f, a, mid, 0.5 * tol, depth - 1) + refine(f, mid, b, 0.5 * tol, depth - 1)
-    }
     if b <= a {
         return 0.0;
     }
-    refine(f, a, b, tol, 40)
+    let (value, error) = kronrod(f, a, b);
+    let mut pieces = vec![(a, b, value, error)];
+    while pieces.len() < 400 {
+        let total: f64 = pieces.iter().map(|p| p.3).sum();
+        if total <= tol {
+            break;
+        }
+        let worst = (0..pieces.len())
+            .max_by(|&i, &j| pieces[i].3.total_cmp(&pieces[j].3))
+            .unwrap_or(0);
+        let (lo, hi, _, _) = pieces[worst];
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break; // the piece cannot be halved in floating point
+        }
+        let (left, left_error) = kronrod(f, lo, mid);
+        let (right, right_error) = kronrod(f, mid, hi);
+        pieces[worst] = (lo, mid, left, left_error);
+        pieces.push((mid, hi, right, right_error));
+    }
+    pieces.iter().map(|p| p.2).sum()
 }
 
 /// `∫_a^b f` on `σ = a + (b−a)(3u² − 2u³)` (module doc): integrable end-point
