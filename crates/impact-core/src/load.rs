@@ -3,6 +3,10 @@
 //!
 //! - `step`: `g(t) = 1` (the paper's loads, §5);
 //! - `ramp`: `g(t) = min(t/T, 1)`, a linear rise over `T`, then constant;
+//! - `smooth-ramp`: the quintic smoothstep `g = 10s³ − 15s⁴ + 6s⁵`, `s = t/T`, for
+//!   `0 ≤ t ≤ T`, then 1: a C² rise (`g`, `g'`, `g''` vanish at `t = 0` and `g'`, `g''` at
+//!   `t = T`), the load of the 3D exact solutions (Lamb's problem, `exact::lamb`) whose step
+//!   responses are singular at the Rayleigh arrival;
 //! - `sine`: `g(t) = sin(2π t/T)`, period `T`;
 //! - `pulse`: `g(t) = 1` for `t < T`, then 0 (a finite square pulse of length `T`).
 //!
@@ -36,6 +40,11 @@ pub enum LoadHistory {
         /// Rise time `T` (s).
         rise: f64,
     },
+    /// `g = 10s³ − 15s⁴ + 6s⁵`, `s = min(t/rise, 1)` (module doc).
+    SmoothRamp {
+        /// Rise time `T` (s).
+        rise: f64,
+    },
     /// `g = sin(2π t/period)`.
     Sine {
         /// Period `T` (s).
@@ -55,6 +64,7 @@ impl LoadHistory {
         match shape {
             LoadShape::Step => LoadHistory::Step,
             LoadShape::Ramp => LoadHistory::Ramp { rise: duration },
+            LoadShape::SmoothRamp => LoadHistory::SmoothRamp { rise: duration },
             LoadShape::Sine => LoadHistory::Sine { period: duration },
             LoadShape::Pulse => LoadHistory::Pulse { duration },
         }
@@ -69,6 +79,10 @@ impl LoadHistory {
         match *self {
             LoadHistory::Step => 1.0,
             LoadHistory::Ramp { rise } => (t / rise).min(1.0),
+            LoadHistory::SmoothRamp { rise } => {
+                let s = (t / rise).min(1.0);
+                s * s * s * (10.0 + s * (-15.0 + 6.0 * s))
+            }
             LoadHistory::Sine { period } => (2.0 * PI * t / period).sin(),
             LoadHistory::Pulse { duration } => {
                 if t < duration {
@@ -94,10 +108,46 @@ impl LoadHistory {
                     t - 0.5 * rise
                 }
             }
+            // ∫_0^s (10σ³ − 15σ⁴ + 6σ⁵) dσ = s⁴(5/2 − 3s + s²), times T; T/2 at s = 1
+            LoadHistory::SmoothRamp { rise } => {
+                if t < rise {
+                    let s = t / rise;
+                    rise * s * s * s * s * (2.5 + s * (-3.0 + s))
+                } else {
+                    t - 0.5 * rise
+                }
+            }
             LoadHistory::Sine { period } => {
                 period / (2.0 * PI) * (1.0 - (2.0 * PI * t / period).cos())
             }
             LoadHistory::Pulse { duration } => t.min(duration),
+        }
+    }
+
+    /// `g'(t)` away from the jumps of `g` (a step's and a pulse's jumps are not in it: 0
+    /// there); one-sided at a ramp's kink (the value for `t < T`); 0 for `t < 0`.
+    pub fn rate(&self, t: f64) -> f64 {
+        if t < 0.0 {
+            return 0.0;
+        }
+        match *self {
+            LoadHistory::Step | LoadHistory::Pulse { .. } => 0.0,
+            LoadHistory::Ramp { rise } => {
+                if t < rise {
+                    1.0 / rise
+                } else {
+                    0.0
+                }
+            }
+            LoadHistory::SmoothRamp { rise } => {
+                if t < rise {
+                    let s = t / rise;
+                    30.0 * s * s * (1.0 - s) * (1.0 - s) / rise
+                } else {
+                    0.0
+                }
+            }
+            LoadHistory::Sine { period } => 2.0 * PI / period * (2.0 * PI * t / period).cos(),
         }
     }
 
@@ -120,7 +170,7 @@ impl LoadHistory {
     /// The time after `t = 0` where `g` jumps or has a kink (ramp end, pulse end).
     pub fn breakpoint(&self) -> Option<f64> {
         match *self {
-            LoadHistory::Ramp { rise } => Some(rise),
+            LoadHistory::Ramp { rise } | LoadHistory::SmoothRamp { rise } => Some(rise),
             LoadHistory::Pulse { duration } => Some(duration),
             LoadHistory::Step | LoadHistory::Sine { .. } => None,
         }
@@ -137,6 +187,7 @@ impl LoadHistory {
         match *self {
             LoadHistory::Step => (LoadShape::Step, 0.0),
             LoadHistory::Ramp { rise } => (LoadShape::Ramp, rise),
+            LoadHistory::SmoothRamp { rise } => (LoadShape::SmoothRamp, rise),
             LoadHistory::Sine { period } => (LoadShape::Sine, period),
             LoadHistory::Pulse { duration } => (LoadShape::Pulse, duration),
         }
@@ -162,6 +213,16 @@ mod tests {
                     (sum - history.integral(t)).abs() < 1e-5,
                     "{shape}: t = {t}: {sum} against {}",
                     history.integral(t)
+                );
+            }
+            // g' against a central difference away from the kinks and jumps
+            for &t in &[0.05, 0.2, 0.45] {
+                let h = 1e-6;
+                let diff = (history.factor(t + h) - history.factor(t - h)) / (2.0 * h);
+                assert!(
+                    (diff - history.rate(t)).abs() < 1e-6 * (1.0 + diff.abs()),
+                    "{shape}: g'({t}) = {} against {diff}",
+                    history.rate(t)
                 );
             }
             assert_eq!(history.factor(-1e-9), 0.0);

@@ -236,6 +236,8 @@ option_enum! {
         Step = "step",
         /// Linear rise over `duration`, then constant.
         Ramp = "ramp",
+        /// Quintic smoothstep rise over `duration` (C²), then constant.
+        SmoothRamp = "smooth-ramp",
         /// `sin(2π t/duration)`.
         Sine = "sine",
         /// 1 for `t < duration`, then 0.

@@ -77,9 +77,9 @@ impl BarExact {
         for e in &self.ends {
             match e.history() {
                 LoadHistory::Sine { period } => step = step.min(period / 8.0),
-                LoadHistory::Ramp { rise: b } | LoadHistory::Pulse { duration: b } => {
-                    delays.push(b)
-                }
+                LoadHistory::Ramp { rise: b }
+                | LoadHistory::SmoothRamp { rise: b }
+                | LoadHistory::Pulse { duration: b } => delays.push(b),
                 LoadHistory::Step => {}
             }
         }

@@ -10,6 +10,10 @@
 //! [`ElastoplasticWave`] (file `plastic.rs`): the elastic precursor and plastic wave of a
 //! J2 rod or plane wave under a step load (issue 12).
 //!
+//! [`Lamb`] (file `lamb.rs`, numerics in `lamb_quadrature.rs`): Lamb's problem, a vertical
+//! point force on an elastic half-space with `ν = 1/4` (Pekeris 1955), surface displacements
+//! for a step and, by Duhamel, for any load history (issue 24).
+//!
 //! [`StandingWave`] (file `standing.rs`): a smooth standing P mode with roller edges, the
 //! exact solution of the convergence suite.
 mod bar;
@@ -17,11 +21,16 @@ mod bar_initial;
 #[cfg(test)]
 mod bar_tests;
 mod bar_work;
+mod lamb;
+mod lamb_quadrature;
+#[cfg(test)]
+mod lamb_tests;
 mod plastic;
 mod select;
 mod standing;
 mod svk;
 pub use bar::{BarEnd, BarExact, EndLoad};
+pub use lamb::{Arrivals, Lamb, LambError};
 pub use plastic::ElastoplasticWave;
 pub use standing::StandingWave;
 pub use svk::SvkBarExact;

@@ -329,7 +329,7 @@ fn check_history(field: &str, edge: &EdgeSpec) -> Result<(), SceneError> {
         (LoadShape::Step, Some(d)) => Err(SceneError::new(
             duration_field,
             d,
-            "no duration for a step load (give `history = \"ramp\"`, \"sine\" or \"pulse\")",
+            "no duration for a step load (give `history = \"ramp\"`, \"smooth-ramp\", \"sine\" or \"pulse\")",
         )),
         (shape, None) => Err(SceneError::new(
             duration_field,

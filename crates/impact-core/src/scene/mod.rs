@@ -152,7 +152,7 @@ pub struct EdgeSpec {
     /// Where a segment end cuts a face: `centre` (default) or `fraction`.
     #[serde(default)]
     pub cover: Option<SegmentCover>,
-    /// Time history of the load: `step` (default), `ramp`, `sine` or `pulse`.
+    /// Time history of the load: `step` (default), `ramp`, `smooth-ramp`, `sine` or `pulse`.
     #[serde(default)]
     pub history: Option<LoadShape>,
     /// Time scale of the history (s): rise time, period or pulse length.
