@@ -266,6 +266,24 @@ pub(crate) fn convergence_command(
     Ok(())
 }
 
+pub(crate) fn lamb_command(
+    scene: &str,
+    levels: usize,
+    methods: &[MethodKind],
+    out: Option<PathBuf>,
+) -> Result<()> {
+    let study = Study::load(scene, Overrides::default())?;
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("lamb-{}", study.name())));
+    let methods = if methods.is_empty() {
+        MethodKind::ALL.to_vec()
+    } else {
+        methods.to_vec()
+    };
+    let table = impact::lamb_study::run((&study, scene), levels, &methods, &out)?;
+    say!("{table}wrote {}", out.display());
+    Ok(())
+}
+
 pub(crate) fn figures_command(args: &FiguresArgs) -> Result<()> {
     let index = impact::figures::run(&impact::figures::FiguresOptions {
         out: args.out.clone(),

@@ -13,6 +13,8 @@ pub mod figures;
 pub mod guard;
 pub mod interrupt;
 pub mod ladder;
+pub mod lamb;
+pub mod lamb_study;
 pub mod output;
 pub mod output_bench;
 pub mod plane;

@@ -212,6 +212,24 @@ enum BenchCommand {
         #[command(flatten)]
         overrides: Overrides,
     },
+    /// Lamb's problem: every method's surface displacement traces at the scene's receivers
+    /// against Pekeris' exact solution, on grids of half, 1 and 2 times the scene's cells;
+    /// writes lamb.{csv,txt} and lamb_traces.png.
+    Lamb {
+        /// Scene: `lamb` (shipped) or a scene file with a pressure on a square patch of one
+        /// face, Poisson's ratio 0.25 and `[metrics] receivers` on that face.
+        #[arg(long, default_value = "lamb")]
+        scene: String,
+        /// Grids: 1 to 4 (half, 1, 2, 4 times the scene's cells).
+        #[arg(long, default_value_t = 3)]
+        levels: usize,
+        /// Methods (default: all three).
+        #[arg(long, value_delimiter = ',')]
+        method: Vec<MethodKind>,
+        /// Output folder (default: out/lamb-<scene>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Size and write time of one output frame (samples and grid `.vtu`) of the partial
     /// plate, binary against ASCII, interleaved rounds.
     Output {
@@ -333,6 +351,15 @@ fn main() {
                     overrides,
                 },
         } => convergence_command(scene, overrides, *levels, out.clone()).map(|_| true),
+        Command::Bench {
+            what:
+                BenchCommand::Lamb {
+                    scene,
+                    levels,
+                    method,
+                    out,
+                },
+        } => lamb_command(scene, *levels, method, out.clone()).map(|_| true),
         Command::Bench {
             what: BenchCommand::Output { cells, rounds },
         } => impact::output_bench::run(*cells, *rounds).map(|(count, t, costs)| {

@@ -4,6 +4,7 @@
 //! ```toml
 //! [metrics]
 //! line = { from = [0.0, 0.0], to = [4.0, 0.0] }   # the paper's bottom row of the plate
+//! receivers = [[0.4, 0.0, 1.2], [0.8, 0.0, 1.2]]  # where traces are recorded (Lamb)
 //! ```
 use super::Scene;
 use crate::error::SceneError;
@@ -17,6 +18,10 @@ pub struct MetricsSpec {
     /// The measuring line (default: inferred from the loads, [`MeasureLine::infer`]).
     #[serde(default)]
     pub line: Option<LineSpec>,
+    /// Points where time traces of the displacement are recorded (`impact bench lamb`),
+    /// one coordinate per axis, inside the body or on its boundary.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub receivers: Option<Vec<Vec<f64>>>,
 }
 
 /// A straight line parallel to an axis, from the face a front enters by.
@@ -37,6 +42,7 @@ impl Scene {
     /// Check `[metrics]`: the line has one coordinate per axis, lies in the body
     /// `[0, length]` and runs parallel to one axis with a non-zero length.
     pub(super) fn check_metrics(&self) -> Result<(), SceneError> {
+        self.check_receivers()?;
         let Some(line) = self.metrics.as_ref().and_then(|m| m.line.as_ref()) else {
             return Ok(());
         };
@@ -64,6 +70,49 @@ impl Scene {
             return Err(SceneError::new("metrics.line", shown, ALLOWED));
         }
         Ok(())
+    }
+
+    /// Receivers have one coordinate per axis and lie in the body `[0, length]`.
+    fn check_receivers(&self) -> Result<(), SceneError> {
+        let Some(receivers) = self.metrics.as_ref().and_then(|m| m.receivers.as_ref()) else {
+            return Ok(());
+        };
+        if receivers.is_empty() || receivers.len() > 64 {
+            return Err(SceneError::new(
+                "metrics.receivers",
+                format!("{} receivers", receivers.len()),
+                "1 to 64 points",
+            ));
+        }
+        for (k, point) in receivers.iter().enumerate() {
+            if point.len() != self.dim {
+                return Err(SceneError::new(
+                    format!("metrics.receivers[{k}]"),
+                    format!("{point:?}"),
+                    format!("{} coordinates (one per axis)", self.dim),
+                ));
+            }
+            for (l, &x) in point.iter().enumerate() {
+                let length = self.domain.length[l];
+                let tol = 1e-9 * length.abs();
+                if !(x.is_finite() && x >= -tol && x <= length + tol) {
+                    return Err(SceneError::new(
+                        format!("metrics.receivers[{k}][{l}]"),
+                        x,
+                        format!("a coordinate inside the body, in [0, {length}] m"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The receivers of `[metrics]` (none if not given).
+    pub fn receivers(&self) -> Vec<Vec<f64>> {
+        self.metrics
+            .as_ref()
+            .and_then(|m| m.receivers.clone())
+            .unwrap_or_default()
     }
 
     /// The stated line, if any (a scene that passed [`Scene::validate`]).

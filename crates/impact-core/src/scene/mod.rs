@@ -560,6 +560,7 @@ pub const BUILTIN: &[&str] = &[
     "smooth-block",
     "block",
     "ep-block",
+    "lamb",
 ];
 
 /// TOML text of a shipped scene.
@@ -579,6 +580,7 @@ pub fn builtin(name: &str) -> Option<&'static str> {
         "smooth-block" => Some(include_str!("../../../../scenes/smooth-block.toml")),
         "block" => Some(include_str!("../../../../scenes/block.toml")),
         "ep-block" => Some(include_str!("../../../../scenes/ep-block.toml")),
+        "lamb" => Some(include_str!("../../../../scenes/lamb.toml")),
         _ => None,
     }
 }
