@@ -12,9 +12,10 @@
 //! **Step responses** (`g = H(t)`), with `τ = c_s t/r`, `c_p = √3 c_s`, Rayleigh speed
 //! `c_R = c_s √(2 − 2/√3)`, `γ = c_s/c_R = √(3+√3)/2`, arrivals `τ_P = 1/√3`, `τ_S = 1`,
 //! `τ_R = γ`; both vanish for `τ < τ_P`. Vertical, Pekeris (1955, "The seismic surface
-//! pulse", PNAS 41, 469–480, eq. for `ν = 1/4`, restated by Mooney 1974, BSSA 64, 473–491,
-//! eq. 10, and by Kausel 2013, "Lamb's problem at its simplest", Proc. R. Soc. A 469,
-//! 20120462, as the general-`ν` partial fractions):
+//! pulse", PNAS 41, 469–480, the closed form for `ν = 1/4`, restated by Mooney 1974, BSSA
+//! 64, 473–491, the kernel of SW4's `lamb_exact.m`, and by Kausel 2013, "Lamb's problem at
+//! its simplest", Proc. R. Soc. A 469, 20120462, as partial fractions over the roots of the
+//! Rayleigh cubic, which `lamb_tests.rs` checks equal to 1e-13):
 //!
 //! ```text
 //! w = F/(πμr) · 1/32 [6 − √3/√(τ²−1/4) + √(3√3−5)/√(τ²−(3−√3)/4) − √(3√3+5)/√(γ²−τ²)]  τ_P<τ<1
@@ -22,8 +23,8 @@
 //! w = F/(πμr) · 3/8                                                                     τ>γ
 //! ```
 //!
-//! Radial (Kausel 2013, eqs. for `u_rz` with elliptic integrals; Chao 1960, J. Appl. Mech.
-//! 27, 559–567, for `ν = 1/4`), with the roots `x₁ = 1/4`, `x₂ = (3−√3)/4`, `x₃ = γ²` of
+//! Radial (Kausel 2013, `u_rz` in complete elliptic integrals of the first and third kind,
+//! as in his MATLAB companion `Lamb_3D`, v3.3, with the correction below), with the roots `x₁ = 1/4`, `x₂ = (3−√3)/4`, `x₃ = γ²` of
 //! the Rayleigh cubic `4x³ − 7x² + 3x − 3/8 = 0`, `a² = 1/3`, `b² = 2/3`,
 //! `c_i = (1−2x_i)(1−x_i)/∏_{j≠i}(x_i−x_j)`, `n_i = b²/(a²−x_i)` and
 //! `Π̃(N|m) = ∫_0^{π/2} dθ/((1+N sin²θ)√(1−m sin²θ))` (`lamb_quadrature.rs`):
