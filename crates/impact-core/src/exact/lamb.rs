@@ -12,9 +12,10 @@
 //! **Step responses** (`g = H(t)`), with `τ = c_s t/r`, `c_p = √3 c_s`, Rayleigh speed
 //! `c_R = c_s √(2 − 2/√3)`, `γ = c_s/c_R = √(3+√3)/2`, arrivals `τ_P = 1/√3`, `τ_S = 1`,
 //! `τ_R = γ`; both vanish for `τ < τ_P`. Vertical, Pekeris (1955, "The seismic surface
-//! pulse", PNAS 41, 469–480, eq. for `ν = 1/4`, restated by Mooney 1974, BSSA 64, 473–491,
-//! eq. 10, and by Kausel 2013, "Lamb's problem at its simplest", Proc. R. Soc. A 469,
-//! 20120462, as the general-`ν` partial fractions):
+//! pulse", PNAS 41, 469–480, the closed form for `ν = 1/4`, restated by Mooney 1974, BSSA
+//! 64, 473–491, the kernel of SW4's `lamb_exact.m`, and by Kausel 2013, "Lamb's problem at
+//! its simplest", Proc. R. Soc. A 469, 20120462, as partial fractions over the roots of the
+//! Rayleigh cubic, which `lamb_tests.rs` checks equal to 1e-13):
 //!
 //! ```text
 //! w = F/(πμr) · 1/32 [6 − √3/√(τ²−1/4) + √(3√3−5)/√(τ²−(3−√3)/4) − √(3√3+5)/√(γ²−τ²)]  τ_P<τ<1
@@ -22,17 +23,25 @@
 //! w = F/(πμr) · 3/8                                                                     τ>γ
 //! ```
 //!
-//! Radial (Kausel 2013, eqs. for `u_rz` with elliptic integrals; Chao 1960, J. Appl. Mech.
-//! 27, 559–567, for `ν = 1/4`), with the roots `x₁ = 1/4`, `x₂ = (3−√3)/4`, `x₃ = γ²` of
+//! Radial (Kausel 2013, `u_rz` in complete elliptic integrals of the first and third kind,
+//! as in his MATLAB companion `Lamb_3D`, v3.3, with the correction below), with the roots `x₁ = 1/4`, `x₂ = (3−√3)/4`, `x₃ = γ²` of
 //! the Rayleigh cubic `4x³ − 7x² + 3x − 3/8 = 0`, `a² = 1/3`, `b² = 2/3`,
 //! `c_i = (1−2x_i)(1−x_i)/∏_{j≠i}(x_i−x_j)`, `n_i = b²/(a²−x_i)` and
 //! `Π̃(N|m) = ∫_0^{π/2} dθ/((1+N sin²θ)√(1−m sin²θ))` (`lamb_quadrature.rs`):
 //!
 //! ```text
 //! u_r = −F τ/(8π²μr b³)      [2K(m) − Σ c_i Π̃(n_i m | m)],  m = (τ²−a²)/b²   τ_P<τ<1
-//! u_r = −F τ√m'/(8π²μr b³)   [2K(m') − Σ c_i Π̃(n_i | m')],  m' = b²/(τ²−a²)   1<τ<γ
-//! u_r = −F τ/(8πμr √(τ²−γ²))                                                  τ>γ
+//! u_r = −F τ√m'/(8π²μr b³)   [2K(m') − Σ c_i Π̃(n_i | m')],  m' = b²/(τ²−a²)   τ>1
+//!     − F τ/(8πμr √(τ²−γ²))  (the Rayleigh pole)                                  τ>γ
 //! ```
+//!
+//! The elliptic term (`τ > 1`) holds after the Rayleigh arrival too (it decays as `τ⁻²`):
+//! Kausel's MATLAB `Lamb_3D` (v3.3) keeps only the pole's term after `γ`, which breaks the
+//! low-frequency identity below by 1.8e-3 (in units of `F/(μ c_s)`); with the elliptic
+//! term continued it holds to 1e-15 (checked with mpmath, and in `lamb_tests.rs`). The
+//! identity: at order `ω` the surface response is a rigid translation (vertical for a
+//! vertical load), so `∫_0^∞ (U∞ − U_r) dτ = 0`; the same identity holds to 1e-11 for
+//! Kausel's closed forms of a horizontal load (`∫(U∞ − U_rx) = ∫(U∞ − U_tx)`).
 //!
 //! The vertical step response has a one-sided singularity `∝ −(γ−τ)^{−1/2}` just before the
 //! Rayleigh arrival and jumps to the static value; the radial one is finite before and
@@ -390,15 +399,22 @@ fn radial_terms() -> [(f64, f64); 3] {
 }
 
 /// Radial step response in units of `F/(μr)`, positive away from the load (module doc,
-/// Kausel 2013).
+/// Kausel 2013): the elliptic part plus, after `γ`, the Rayleigh pole's term.
 pub(crate) fn radial_kernel(tau: f64) -> f64 {
     let g = gamma();
+    let elliptic = radial_elliptic(tau);
+    if tau > g {
+        elliptic - tau / (8.0 * PI * ((tau - g) * (tau + g)).sqrt())
+    } else {
+        elliptic
+    }
+}
+
+/// The elliptic part of the radial step response (module doc), for all `τ`.
+pub(crate) fn radial_elliptic(tau: f64) -> f64 {
     let (a2, b2): (f64, f64) = (1.0 / 3.0, 2.0 / 3.0);
     if tau <= a2.sqrt() {
         return 0.0;
-    }
-    if tau > g {
-        return -tau / (8.0 * PI * ((tau - g) * (tau + g)).sqrt());
     }
     let front = -tau / (8.0 * PI * PI * b2 * b2.sqrt());
     let terms = radial_terms();
@@ -414,7 +430,7 @@ pub(crate) fn radial_kernel(tau: f64) -> f64 {
         if m >= 1.0 {
             // τ = 1: the limit of both branches, by continuity (K and Π̃ diverge, their
             // combination does not)
-            return radial_kernel(1.0 - 1e-9);
+            return radial_elliptic(1.0 - 1e-9);
         }
         let sum: f64 = terms.iter().map(|&(c, n)| c * elliptic_pi_plus(n, m)).sum();
         front * m.sqrt() * (2.0 * elliptic_k(m) - sum)

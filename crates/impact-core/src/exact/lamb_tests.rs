@@ -1,5 +1,5 @@
 //! Tests of Lamb's problem (`lamb.rs`).
-use super::lamb::{gamma, radial_kernel, vertical_kernel, Lamb, LambError};
+use super::lamb::{gamma, radial_elliptic, radial_kernel, vertical_kernel, Lamb, LambError};
 use super::lamb_quadrature::adaptive_smoothed;
 use crate::load::LoadHistory;
 use crate::material::LinearElastic;
@@ -345,4 +345,34 @@ fn duhamel_matches_integration_by_parts_with_the_closed_form_antiderivative() {
             "t = {t}: {duhamel} {parts}"
         );
     }
+}
+
+/// At low frequency the surface response is the static one plus, at order `ω`, a rigid
+/// translation (the `O(ω)` field solves the static equations with free surface and no
+/// source, and is bounded: a constant, vertical by symmetry). With
+/// `H(ω) = ∫ U'(σ) e^{−iωσ} dσ = U∞ − iω ∫_0^∞ (U∞ − U) dσ + O(ω²)`, the radial step response
+/// has `∫_0^∞ (U∞ − U_r) dτ = 0`; the pole's part gives `∫_γ^∞ (U∞ − pole) = −U∞ γ`, so
+/// the elliptic part integrates to zero over `τ > τ_P`: a check of Kausel's elliptic
+/// branches as a whole (dropping the elliptic part after `γ` misses by 1.8e-3).
+#[test]
+fn radial_step_response_has_no_low_frequency_radial_motion() {
+    let tau_p = 1.0 / 3f64.sqrt();
+    let gamma_r = gamma();
+    let mut kernel = radial_elliptic;
+    let positive = adaptive_smoothed(&mut |t: f64| kernel(t).abs(), tau_p, 1.0, 1e-15);
+    let mut integral = adaptive_smoothed(&mut kernel, tau_p, 1.0, 1e-16)
+        + adaptive_smoothed(&mut kernel, 1.0, gamma_r, 1e-16);
+    let mut lower = gamma_r;
+    for _ in 0..16 {
+        integral += adaptive_smoothed(&mut kernel, lower, 2.0 * lower, 1e-16);
+        lower *= 2.0;
+    }
+    // the tail ∝ τ⁻²
+    integral += kernel(lower) * lower;
+    println!("∫ elliptic part of U_r = {integral:e} (∫|U_r| over P..S = {positive:e})");
+    assert!(integral.abs() < 1e-9 * positive, "{integral}");
+    // the pole's part alone does not satisfy it
+    let before = adaptive_smoothed(&mut kernel, tau_p, 1.0, 1e-16)
+        + adaptive_smoothed(&mut kernel, 1.0, gamma_r, 1e-16);
+    assert!(before.abs() > 0.3 * positive, "{before}");
 }
