@@ -122,6 +122,9 @@ fn run<const D: usize>(scene: &Scene, path: Path, dt: Option<f64>) -> Fem<D> {
     fem
 }
 
+/// The plane-strain `σ_zz` of sample `e` of a 2D run.
+type OutOfPlane<'a, const L: usize> = dyn Fn(usize, &Samples<L>) -> f64 + 'a;
+
 fn key<const D: usize>(x: &Vector<D>, d: usize) -> [i64; 2] {
     std::array::from_fn(|k| {
         if k < d {
@@ -141,11 +144,7 @@ fn embed<const L: usize>(v: &Vector<L>) -> Vector<3> {
 /// element where given; the out-of-plane shear must vanish) relative to the peak stress;
 /// nodal velocities relative to the peak velocity and displacements relative to the
 /// peak displacement (components beyond `L` must vanish).
-fn worst<const L: usize>(
-    low: &Fem<L>,
-    high: &Fem<3>,
-    zz: Option<&dyn Fn(usize, &Samples<L>) -> f64>,
-) -> f64 {
+fn worst<const L: usize>(low: &Fem<L>, high: &Fem<3>, zz: Option<&OutOfPlane<L>>) -> f64 {
     let (mut a, mut b) = (Samples::<L>::default(), Samples::<3>::default());
     low.sample_into(&mut a);
     high.sample_into(&mut b);

@@ -28,7 +28,7 @@ fn compare<const D: usize>(name: &str, cells: Vec<usize>) {
 
 fn compare_scene<const D: usize>(scene: &Scene) {
     let (name, cells) = (&scene.name, &scene.domain.cells);
-    let problem = Problem::<D>::from_scene(&scene).unwrap();
+    let problem = Problem::<D>::from_scene(scene).unwrap();
     let config = scene.method_config(MethodKind::Fem);
     assert_eq!(problem.grid.cells.to_vec(), *cells);
     let mut stencil = Fem::<D>::new(&problem, config).unwrap();
