@@ -23,7 +23,8 @@ const H: f64 = 0.25;
 fn material(model: &str, poisson: f64) -> (String, f64) {
     let common = format!("young = 2.0e11\npoisson = {poisson}\ndensity = 7800.0");
     match model {
-        "elastic" => (format!("model = \"linear-elastic\"\n{common}"), 5.0),
+        // "pressure": linear elastic under a pressure of 2e8 Pa instead of an impactor
+        "elastic" | "pressure" => (format!("model = \"linear-elastic\"\n{common}"), 5.0),
         "j2" => (
             format!("model = \"j2\"\n{common}\nyield_stress = 4.0e8\nhardening = 2.0e10"),
             20.0,
@@ -71,6 +72,14 @@ fn plate_scene(model: &str, nz: Option<usize>) -> Scene {
          x.high = {{ kind = \"free\" }}\ny.low = {{ kind = \"symmetry\" }}\n\
          y.high = {{ kind = \"free\" }}\n{z}"
     );
+    let boundary = if model == "pressure" {
+        boundary.replace(
+            "\"normal-velocity\", value = 5",
+            "\"pressure\", value = 2.0e8",
+        )
+    } else {
+        boundary
+    };
     text(dim, lengths, cells, material, boundary)
 }
 
@@ -206,6 +215,20 @@ fn a_z_invariant_block_is_the_plane_strain_plate_on_every_path() {
             let zz = |e: usize, s: &Samples<2>| material.out_of_plane_stress(&s.stress[e]);
             let label = format!("2D {path:?}, nz = {nz} ({k})");
             assert_small(&label, worst(&low, &high, Some(&zz)));
+        }
+    }
+}
+
+/// A pressure on a patch of the face: the nodes' tributary areas (lengths in 2D) and the
+/// covered shares, on every path.
+#[test]
+fn a_z_invariant_block_under_a_pressure_patch_is_the_plane_strain_plate() {
+    for path in [Path::Fused, Path::Stencil, Path::Gauss] {
+        for nz in 1..=3 {
+            let low = run::<2>(&plate_scene("pressure", None), path, None);
+            let high = run::<3>(&plate_scene("pressure", Some(nz)), path, None);
+            let label = format!("2D pressure {path:?}, nz = {nz}");
+            assert_small(&label, worst(&low, &high, None));
         }
     }
 }

@@ -24,7 +24,8 @@ const H: f64 = 0.25;
 fn material(model: &str, poisson: f64) -> (String, f64) {
     let common = format!("young = 2.0e11\npoisson = {poisson}\ndensity = 7800.0");
     match model {
-        "elastic" => (format!("model = \"linear-elastic\"\n{common}"), 5.0),
+        // "pressure": linear elastic under a pressure of 2e8 Pa instead of an impactor
+        "elastic" | "pressure" => (format!("model = \"linear-elastic\"\n{common}"), 5.0),
         "j2" => (
             format!("model = \"j2\"\n{common}\nyield_stress = 4.0e8\nhardening = 2.0e10"),
             20.0,
@@ -66,6 +67,14 @@ fn plate_scene(model: &str, nz: Option<usize>) -> Scene {
          y.high = {{ kind = \"free\" }}\n{z}\
          [time]\noutput_transits = [8]\n[mpm]\ncourant = 0.5\n"
     );
+    let text = if model == "pressure" {
+        text.replace(
+            "\"normal-velocity\", value = 5",
+            "\"pressure\", value = 2.0e8",
+        )
+    } else {
+        text
+    };
     Scene::from_toml(&text, "reduction test").unwrap()
 }
 
@@ -215,6 +224,31 @@ fn a_z_invariant_block_is_the_plane_strain_plate_for_every_option() {
             &format!("2D {label}, nz = {nz}"),
             worst(&low, &high, Some(&zz)),
         );
+    }
+}
+
+/// A pressure on a patch of the face (the points' face areas and covered shares): every
+/// shape, both frames, USL and MUSL.
+#[test]
+fn a_z_invariant_block_under_a_pressure_patch_is_the_plane_strain_plate() {
+    let plate = plate_scene("pressure", None);
+    for shape in MpmShape::ALL {
+        for (update, frame) in [
+            (StressUpdate::Usl, MpmFrame::TotalLagrangian),
+            (StressUpdate::Musl, MpmFrame::UpdatedLagrangian),
+        ] {
+            for nz in [1, 2] {
+                let edit = set(shape, update, frame);
+                let low = run::<2>(&plate, &edit, None);
+                let high = run::<3>(
+                    &plate_scene("pressure", Some(nz)),
+                    &edit,
+                    Some(low.stable_dt()),
+                );
+                let label = format!("2D pressure {shape:?} {update:?} {frame:?}, nz = {nz}");
+                assert_small(&label, worst(&low, &high, None));
+            }
+        }
     }
 }
 
