@@ -52,6 +52,12 @@
 //! `weights.rs` (their values at the points: one row per point or one shared row),
 //! `transfer.rs` (phases 1, 3, 4, 5: the scatters, coloured by node layer, and the gathers), `grid_update.rs`
 //! (phase 2), `method.rs` (the `Method` impl); this file holds the solver and its buffers.
+//!
+//! Every piece is dimension-generic (`const D`): in 3D the stencils have 8, 27 or 64 nodes
+//! (tensor products of the 1D weights) and CPDI domains are parallelepipeds with 8 corners
+//! (`cpdi.rs`). A 3D block invariant along z gives its 2D plane-strain section, and one
+//! invariant along y and z with `ν = 0` the 1D bar, to round-off for every option
+//! (`tests/reductions.rs`).
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
