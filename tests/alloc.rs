@@ -206,3 +206,83 @@ fn no_allocation_in_the_parallel_step_loop() {
     }
     assert_eq!(cases, 4 + 4 + 2);
 }
+
+/// A 3D block (an impact on a patch of one face, symmetry and free faces) from a TOML
+/// string: `model` is the `[material]` table's body.
+fn block(cells: [usize; 3], model: &str) -> Problem<3> {
+    let text = format!(
+        "name = \"block\"\ndim = 3\n[domain]\nlength = [2.0, 1.5, 1.0]\ncells = {cells:?}\n\
+         [material]\n{model}\nyoung = 2.0e11\npoisson = 0.3\ndensity = 7800.0\n[boundary]\n\
+         x.low = {{ kind = \"normal-velocity\", value = 20.0, from = [0.0, 0.0], to = [1.0, 0.5] }}\n\
+         y.low = {{ kind = \"symmetry\" }}\nz.low = {{ kind = \"symmetry\" }}\n\
+         [time]\noutput_transits = [4]\n"
+    );
+    Problem::<3>::from_scene(&Scene::from_toml(&text, "3D alloc test").unwrap()).unwrap()
+}
+
+/// MPM (every shape, USL/MUSL/USF, the updated Lagrangian frame, J2, SVK) and FEM (the
+/// 27-point stencil, the Gauss path with J2 and SVK) in 3D, serial and, on 4,608 cells,
+/// on rayon.
+#[test]
+fn no_allocation_in_the_3d_step_loop() {
+    use impact_core::method::{MpmFrame, MpmShape};
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let elastic = "model = \"linear-elastic\"";
+    let j2 = "model = \"j2\"\nyield_stress = 4.0e8\nhardening = 2.0e10";
+    let svk = "model = \"svk\"";
+    let mut cases = 0;
+    for cells in [[8, 6, 4], [24, 16, 12]] {
+        for model in [elastic, j2, svk] {
+            let problem = block(cells, model);
+            let scene_config = |kind| {
+                let mut c = impact_core::method::MethodConfig::new(kind, 0.5, 1);
+                if let Some(o) = c.mpm_mut() {
+                    *o = Default::default();
+                }
+                c
+            };
+            let mut configs = vec![scene_config(MethodKind::Fem)];
+            for (shape, update, frame) in [
+                (
+                    MpmShape::Linear,
+                    StressUpdate::Usl,
+                    MpmFrame::TotalLagrangian,
+                ),
+                (
+                    MpmShape::Gimp,
+                    StressUpdate::Musl,
+                    MpmFrame::UpdatedLagrangian,
+                ),
+                (
+                    MpmShape::Bspline2,
+                    StressUpdate::Usf,
+                    MpmFrame::TotalLagrangian,
+                ),
+                (
+                    MpmShape::Bspline3,
+                    StressUpdate::Usl,
+                    MpmFrame::UpdatedLagrangian,
+                ),
+                (
+                    MpmShape::Cpdi,
+                    StressUpdate::Musl,
+                    MpmFrame::UpdatedLagrangian,
+                ),
+            ] {
+                if model == svk && frame == MpmFrame::UpdatedLagrangian {
+                    continue; // SVK is total Lagrangian
+                }
+                let mut c = scene_config(MethodKind::Mpm);
+                let o = c.mpm_mut().unwrap();
+                (o.shape, o.stress_update, o.frame) = (shape, update, frame);
+                configs.push(c);
+            }
+            for c in configs {
+                let n = steps_allocate(&problem, c);
+                assert_eq!(n, 0, "{n} allocations: 3D {cells:?} {model} {c:?}");
+                cases += 1;
+            }
+        }
+    }
+    assert_eq!(cases, 2 * (6 + 6 + 3));
+}

@@ -1,6 +1,7 @@
 //! Explicit finite elements: multilinear elements on the body's regular mesh (2-node bars
-//! in 1D, 4-node quadrilaterals with 2×2 Gauss points in 2D), row-sum lumped mass and
-//! central differences.
+//! in 1D, 4-node quadrilaterals with 2×2 Gauss points in 2D, 8-node hexahedra with 2×2×2
+//! in 3D: `N_a(ξ) = Π_k (1 − ξ_k)^{1−a_k} ξ_k^{a_k}`, Gauss points `ξ_k = ½ ± 1/(2√3)`,
+//! weights `V_e / 2^D`; Hughes 1987, §3.5), row-sum lumped mass and central differences.
 //!
 //! Central differences with the standard half-step start (Belytschko et al., *Nonlinear
 //! Finite Elements*, Box 6.1):
@@ -32,22 +33,22 @@
 //! velocity takes its mean over `[t^n, t^{n+1}]`, the step `u^{n+1} - u^n = Δt v^{n+1/2}`
 //! it sets.
 //!
-//! Layout: this file holds the solver and its assembly (lumped mass, boundary loads, the
-//! coloured internal force); `central.rs` the central-difference phases and the step;
-//! `method.rs` the `Method` impl; `stencil.rs` the internal force of linear elasticity as a node stencil (the
-//! default there; the Gauss-point path stays the reference it is tested against).
+//! Layout: this file holds the solver and its assembly (lumped mass, the coloured internal
+//! force); `loads.rs` the boundary loads and prescribed velocities; `central.rs` the
+//! central-difference phases and the step; `method.rs` the `Method` impl; `stencil.rs` the
+//! internal force of linear elasticity as a node stencil (the default there; the
+//! Gauss-point path stays the reference it is tested against).
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
-use impact_core::method::SegmentCover;
 use impact_core::method::{MethodConfig, Model};
 use impact_core::parallel::{chunks, for_each_chunk, threads, worth_parallel};
-use impact_core::problem::Boundary;
 use impact_core::{
     Constraint, CoreError, Grid, LinearElastic, LoadHistory, Problem, Tensor, Vector,
 };
 
 mod central;
+mod loads;
 mod method;
 mod plastic;
 mod stencil;
@@ -137,7 +138,7 @@ impl<const D: usize> Fem<D> {
         let (gauss_gradient, centre_gradient) = shape_gradients(&grid);
         let gauss_count = Grid::<D>::NODES_PER_CELL;
         let grid_cells = grid.cell_count();
-        let (loaded, constraints) = boundary_loads(problem);
+        let (loaded, constraints) = loads::boundary_loads(problem);
         let mut free_mask = vec![Vector::<D>::from_element(1.0); nodes];
         for c in &constraints {
             free_mask[c.carrier][c.axis] = 0.0;
@@ -239,98 +240,6 @@ fn shape_gradients<const D: usize>(grid: &Grid<D>) -> (Vec<Vector<D>>, [Vector<D
         &mut centre_gradient[..npc],
     );
     (gauss_gradient, centre_gradient)
-}
-
-/// Nodal external forces (a pressure's consistent force: `p` times the node's tributary
-/// length along the edge, or under `cover = "fraction"` the part of it inside the segment)
-/// at full magnitude with their histories, and the prescribed velocity components of the
-/// edges (by the node's position).
-#[allow(clippy::type_complexity)]
-fn boundary_loads<const D: usize>(
-    problem: &Problem<D>,
-) -> (Vec<(usize, Vector<D>, LoadHistory)>, Vec<Constraint>) {
-    let grid = &problem.grid;
-    let nodes = grid.vertex_count();
-    let mut loaded = Vec::new();
-    let mut constraints = Vec::new();
-    let counts = grid.vertex_counts();
-    for v in 0..nodes {
-        let x = grid.vertex_position(v);
-        let mut rest = v;
-        let mut idx = [0usize; D];
-        for k in 0..D {
-            idx[k] = rest % counts[k];
-            rest /= counts[k];
-        }
-        for l in 0..D {
-            for side in 0..2 {
-                if idx[l] != side * grid.cells[l] {
-                    continue;
-                }
-                let sign = if side == 0 { -1.0 } else { 1.0 };
-                // the node's tributary area of the face (length in 2D, 1 in 1D): the box
-                // `centre ± half` along each tangential axis
-                let (mut centre, mut half) = (x, Vector::<D>::zeros());
-                let mut tributary = 1.0;
-                for k in Grid::<D>::tangent_axes(l) {
-                    let h = grid.spacing[k];
-                    let lo = if idx[k] == 0 { 0.0 } else { 0.5 * h };
-                    let hi = if idx[k] == grid.cells[k] {
-                        0.0
-                    } else {
-                        0.5 * h
-                    };
-                    centre[k] = x[k] + 0.5 * (hi - lo);
-                    half[k] = 0.5 * (lo + hi);
-                    tributary *= lo + hi;
-                }
-                match problem.boundaries[l][side] {
-                    Boundary::Free => {}
-                    Boundary::Pressure(load) => {
-                        let by_centre = load.patch.map(|g| g.cover) == Some(SegmentCover::Centre);
-                        let share = if by_centre {
-                            // all or nothing by the node's own position
-                            if load.acts_on(l, &x) {
-                                1.0
-                            } else {
-                                0.0
-                            }
-                        } else {
-                            load.coverage(l, &centre, &half)
-                        };
-                        if share > 0.0 {
-                            let mut force = Vector::<D>::zeros();
-                            force[l] = -sign * load.value * tributary * share;
-                            loaded.push((v, force, load.history));
-                        }
-                    }
-                    Boundary::Velocity { load, bonded } => {
-                        if load.acts_on(l, &x) {
-                            let prescribe = |axis, value| Constraint {
-                                carrier: v,
-                                axis,
-                                value,
-                                history: load.history,
-                            };
-                            constraints.push(prescribe(l, -sign * load.value));
-                            if bonded {
-                                // no slip: the tangential velocity is zero too
-                                constraints
-                                    .extend(Grid::<D>::tangent_axes(l).map(|k| prescribe(k, 0.0)));
-                            }
-                        }
-                    }
-                    Boundary::Symmetry => constraints.push(Constraint {
-                        carrier: v,
-                        axis: l,
-                        value: 0.0,
-                        history: LoadHistory::Step,
-                    }),
-                }
-            }
-        }
-    }
-    (loaded, constraints)
 }
 
 impl<const D: usize> FemSolver<D> {

@@ -19,8 +19,9 @@
 //! Two sums are arranged for speed, with the same operator: in 2D the interior nodes
 //! take the two blocks of each pair of opposite neighbours `±o` as one (they are equal:
 //! [`Stencil::new`]), `S[0] u_n + Σ_{4 pairs} S[o] (u_{n+o} + u_{n-o})`, five block
-//! products per node instead of nine; in 1D, where a layer is one node, the passes walk
-//! slabs of [`SLAB_1D`] nodes whose interior is one loop over three fixed coefficients.
+//! products per node instead of nine (in 3D, 14 instead of 27: 13 pairs); in 1D, where a
+//! layer is one node, the passes walk slabs of [`SLAB_1D`] nodes whose interior is one loop
+//! over three fixed coefficients.
 //!
 //! The stencil runs layer by layer (node layers along the last axis): a layer's
 //! acceleration reads the displacement of the layer below, its own and the one above
@@ -48,6 +49,10 @@ pub struct Stencil<const D: usize> {
     /// 2D: the interior type's blocks as plain `2×2` arrays: the centre's, then those of
     /// the four pairs of opposite neighbours `±o`, `(S[o] + S[-o])/2` ([`Stencil::new`]).
     interior_2d: [[f64; 4]; 5],
+    /// 3D: the interior type's centre block, then the 13 pairs `±o` (the offset `o` of
+    /// index `k < 13` in `{-1, 0, 1}³`, first axis fastest, paired with `26 − k`), as plain
+    /// `3×3` arrays (row-major), `(S[o] + S[-o])/2` ([`Stencil::new`]).
+    interior_3d: Box<[[f64; 9]; 14]>,
 }
 
 /// Nodes per slab of the 1D passes ([`Stencil::slab_layers`]).
@@ -137,10 +142,24 @@ impl<const D: usize> Stencil<D> {
                 interior_2d[pair + 1] = std::array::from_fn(|e| 0.5 * (low[e] + high[e]));
             }
         }
+        // 3D interior: the same pairing, 27 products per node become 14
+        let mut interior_3d = Box::new([[0.0; 9]; 14]);
+        if D == 3 {
+            let list = &blocks[types(D) / 2];
+            debug_assert_eq!(list.len(), 27);
+            let plain =
+                |k: usize| -> [f64; 9] { std::array::from_fn(|e| list[k].2[(e / 3, e % 3)]) };
+            interior_3d[0] = plain(13);
+            for k in 0..13 {
+                let (low, high) = (plain(k), plain(26 - k));
+                interior_3d[k + 1] = std::array::from_fn(|e| 0.5 * (low[e] + high[e]));
+            }
+        }
         Self {
             counts,
             blocks,
             interior_2d,
+            interior_3d,
         }
     }
 
@@ -156,9 +175,9 @@ impl<const D: usize> Stencil<D> {
 
     /// `out = -(K u) · (1/m)` on the nodes of layer `layer` (module doc), from `around`:
     /// the displacement of the layer below, of the layer, of the layer above (the first or
-    /// the last empty at the mesh's edges). In 2D the interior nodes of an interior layer
-    /// take [`interior_row_2d`] (the pairs of blocks, no per-node type, no bounds checks);
-    /// edge nodes, and 3D, the general sum over the node type's blocks.
+    /// the last empty at the mesh's edges). In 2D and 3D the interior nodes of an interior
+    /// layer take [`interior_row_2d`] or [`interior_row_3d`] (the pairs of blocks, no
+    /// per-node type); edge nodes the general sum over the node type's blocks.
     fn layer_into(
         &self,
         layer: usize,
@@ -192,6 +211,26 @@ impl<const D: usize> Stencil<D> {
             );
             within[0] = n - 1;
             general(n - 1, within, out);
+            return;
+        }
+        if D == 3 && layer_kind == types(D - 1) && counts[0] > 2 && counts[1] > 2 {
+            let (nx, ny) = (counts[0], counts[1]);
+            for r in 0..ny {
+                let mut within = [0; D];
+                within[1] = r;
+                let row = r * nx..(r + 1) * nx;
+                if r == 0 || r + 1 == ny {
+                    for i in 0..nx {
+                        within[0] = i;
+                        general(row.start + i, within, out);
+                    }
+                    continue;
+                }
+                general(row.start, within, out);
+                interior_row_3d(&self.interior_3d, around, nx, (r, inv_mass), out);
+                within[0] = nx - 1;
+                general(row.end - 1, within, out);
+            }
             return;
         }
         let mut within = [0; D];
@@ -420,5 +459,46 @@ fn interior_row_2d<const D: usize>(
         }
         f[0] = -x * inv_mass[i];
         f[1] = -y * inv_mass[i];
+    }
+}
+
+/// The interior stencil of a 3D mesh on the interior nodes `1..nx-1` of row `r` (along y)
+/// of a layer (along z), from the layers of displacement below, of and above it
+/// (`around`, `nx` nodes per row): `f_n = S[0] u_n + Σ_{13 pairs ±o} S[o] (u_{n+o} + u_{n-o})`
+/// with the blocks `pairs` ([`Stencil::new`]); `out_n = -f_n · inv_mass_n` (module doc).
+fn interior_row_3d<const D: usize>(
+    pairs: &[[f64; 9]; 14],
+    around: [&[Vector<D>]; 3],
+    nx: usize,
+    (r, inv_mass): (usize, &[f64]),
+    out: &mut [Vector<D>],
+) {
+    // per pair k: the layer and the in-layer offset of n + o and of n - o
+    let step = |k: usize| -> (usize, isize) {
+        let (sx, sy, sz) = (k % 3, (k / 3) % 3, k / 9);
+        (sz, (sx as isize - 1) + (sy as isize - 1) * nx as isize)
+    };
+    let plus: [(usize, isize); 13] = std::array::from_fn(step);
+    for i in 1..nx - 1 {
+        let j = r * nx + i;
+        let u = &around[1][j];
+        let b = &pairs[0];
+        let mut f = [
+            b[0] * u[0] + b[1] * u[1] + b[2] * u[2],
+            b[3] * u[0] + b[4] * u[1] + b[5] * u[2],
+            b[6] * u[0] + b[7] * u[1] + b[8] * u[2],
+        ];
+        for (k, &(layer, offset)) in plus.iter().enumerate() {
+            let a = &around[layer][(j as isize + offset) as usize];
+            let c = &around[2 - layer][(j as isize - offset) as usize];
+            let s = [a[0] + c[0], a[1] + c[1], a[2] + c[2]];
+            let b = &pairs[k + 1];
+            f[0] += b[0] * s[0] + b[1] * s[1] + b[2] * s[2];
+            f[1] += b[3] * s[0] + b[4] * s[1] + b[5] * s[2];
+            f[2] += b[6] * s[0] + b[7] * s[1] + b[8] * s[2];
+        }
+        for (m, fm) in f.iter().enumerate() {
+            out[j][m] = -fm * inv_mass[j];
+        }
     }
 }

@@ -1,7 +1,7 @@
 //! The node stencil of linear elasticity (`stencil.rs`) against the Gauss-point path it
 //! replaces: the same internal force at every node (on the stencil path `-m a`, from the
 //! acceleration it writes), edges and corners included, to 1e-13 of the largest force, in
-//! 1D (one slab and several), in 2D and on a strip one element wide.
+//! 1D (one slab and several), in 2D, on a strip one element wide, and in 3D (27 points).
 use impact_core::method::MethodKind;
 use impact_core::{Problem, Scene, Vector};
 use impact_fem::Fem;
@@ -23,8 +23,14 @@ fn displacement<const D: usize>(nodes: usize) -> Vec<Vector<D>> {
 fn compare<const D: usize>(name: &str, cells: Vec<usize>) {
     let mut scene = Scene::builtin(name).unwrap();
     scene.domain.cells = cells.clone();
-    let problem = Problem::<D>::from_scene(&scene).unwrap();
+    compare_scene::<D>(&scene);
+}
+
+fn compare_scene<const D: usize>(scene: &Scene) {
+    let (name, cells) = (&scene.name, &scene.domain.cells);
+    let problem = Problem::<D>::from_scene(scene).unwrap();
     let config = scene.method_config(MethodKind::Fem);
+    assert_eq!(problem.grid.cells.to_vec(), *cells);
     let mut stencil = Fem::<D>::new(&problem, config).unwrap();
     assert!(stencil.solver.uses_stencil());
     let mut gauss = stencil.clone();
@@ -76,6 +82,31 @@ fn the_stencil_gives_the_gauss_point_force_at_every_node() {
     compare::<2>("plate-wave", vec![1, 4]);
     // 101 × 61 nodes: the chunks of 4096 nodes end inside a row (node 4096 is column 56)
     compare::<2>("plate-wave", vec![100, 60]);
+}
+
+/// A 3D block (hex8, 2×2×2 Gauss points; the 27-point stencil): a partial impact on one
+/// face, symmetry and free faces, unequal spacings; blocks one element thick along each
+/// axis in turn; and 21 × 13 × 11 nodes, whose chunks of 4096 nodes end inside a layer.
+#[test]
+fn the_3d_stencil_gives_the_gauss_point_force_at_every_node() {
+    for cells in [
+        [5, 4, 3],
+        [1, 3, 2],
+        [3, 1, 2],
+        [3, 2, 1],
+        [1, 1, 1],
+        [20, 12, 10],
+    ] {
+        let text = format!(
+            "name = \"block\"\ndim = 3\n[domain]\nlength = [2.0, 1.5, 1.0]\ncells = {cells:?}\n\
+             [material]\nmodel = \"linear-elastic\"\nyoung = 2.0e11\npoisson = 0.3\n\
+             density = 7800.0\n[boundary]\n\
+             x.low = {{ kind = \"normal-velocity\", value = 5.0, from = [0.0, 0.0], to = [1.0, 0.6] }}\n\
+             y.low = {{ kind = \"symmetry\" }}\nz.high = {{ kind = \"symmetry\" }}\n\
+             [time]\noutput_transits = [4]\n"
+        );
+        compare_scene::<3>(&Scene::from_toml(&text, "3D stencil test").unwrap());
+    }
 }
 
 /// Saint-Venant–Kirchhoff and J2 keep the Gauss-point path.

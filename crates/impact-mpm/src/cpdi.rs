@@ -10,9 +10,11 @@
 //!
 //! (`∫ ∇Q_c dV = det R · R^{-T} s_c` for the corner function `Q_c` and `V = 2^D det R`;
 //! in 2D this is the paper's eq. 22; in 1D `∇S = (N(x_+) − N(x_−)) / (2r)`). Both keep the
-//! partition of unity and linear completeness (tested in `shape.rs`), and GIMP is the
-//! special case of a domain that never deforms. The stencil is 4 nodes per axis from the
-//! node below the lowest corner, so a domain may grow to two cells along each axis.
+//! partition of unity and linear completeness (tested here and in `shape.rs`, 1D to 3D).
+//! An undeformed box gives the product of the 1D corner means, the trapezoidal rule of the
+//! hat over the domain along each axis (close to uGIMP's exact average, not equal to it).
+//! The stencil is 4 nodes per axis from the node below the lowest corner, so a domain may
+//! grow to two cells along each axis.
 use crate::shape::Stencil;
 use impact_core::{Grid, Tensor, Vector};
 
@@ -170,6 +172,88 @@ mod tests {
             );
         }
         assert!(tested > 250, "{tested} inside");
+    }
+
+    /// 3D (hexahedral domains, 8 corners, 64-node stencils): partition of unity, linear
+    /// completeness, zero-sum gradients and `Σ x_i ⊗ ∇S_i = I` for rotated, sheared and
+    /// stretched parallelepipeds; and an undeformed domain gives uGIMP's weights (the hat
+    /// averaged over a box is the tensor product of the 1D averages).
+    #[test]
+    fn three_dimensional_cpdi_is_a_partition_of_unity_and_linearly_complete() {
+        let grid = Grid::<3> {
+            origin: Vector::<3>::new(-0.4, -0.3, -0.2),
+            spacing: Vector::<3>::new(0.1, 0.075, 0.05),
+            cells: [20, 16, 14],
+        };
+        let stencil = Stencil::new(&grid, MpmShape::Cpdi, 2);
+        let (mut values, mut gradients) = (vec![0.0; 64], vec![Vector::<3>::zeros(); 64]);
+        let mut tested = 0;
+        for i in 0..200 {
+            let x = Vector::<3>::new(
+                -0.2 + 1.6 * ((i as f64 * 0.618_033_988_7) % 1.0),
+                -0.15 + 0.9 * ((i as f64 * 0.414_213_562_3) % 1.0),
+                -0.1 + 0.5 * ((i as f64 * 0.732_050_807_6) % 1.0),
+            );
+            let (a, b) = (i as f64 * 0.37, i as f64 * 0.23);
+            let rz = Tensor::<3>::new(a.cos(), -a.sin(), 0.0, a.sin(), a.cos(), 0.0, 0.0, 0.0, 1.0);
+            let rx = Tensor::<3>::new(1.0, 0.0, 0.0, 0.0, b.cos(), -b.sin(), 0.0, b.sin(), b.cos());
+            let shear = 0.3 * ((i % 5) as f64 - 2.0) / 2.0;
+            let stretch = Tensor::<3>::new(
+                0.025 * (1.0 + 0.1 * (i % 3) as f64),
+                0.025 * shear,
+                0.0,
+                0.0,
+                0.019,
+                0.01 * shear,
+                0.0,
+                0.0,
+                0.0125,
+            );
+            let domain = rz * rx * stretch;
+            let Some((base, _)) =
+                stencil.evaluate_domain(&grid, &x, &domain, &mut values, &mut gradients)
+            else {
+                continue;
+            };
+            tested += 1;
+            let mut sum = 0.0;
+            let mut first = Vector::<3>::zeros();
+            let mut gradient_sum = Vector::<3>::zeros();
+            let mut jacobian = Tensor::<3>::zeros();
+            for a in 0..64 {
+                let node = grid.vertex_position(base + stencil.offsets[a]);
+                sum += values[a];
+                first += node * values[a];
+                gradient_sum += gradients[a];
+                jacobian += node * gradients[a].transpose();
+            }
+            assert!((sum - 1.0).abs() < 1e-14, "Σ S = {sum}");
+            assert!((first - x).norm() < 1e-14, "Σ S x = {first} at {x}");
+            assert!(gradient_sum.norm() < 1e-9, "Σ ∇S = {gradient_sum}");
+            assert!(
+                (jacobian - Tensor::<3>::identity()).norm() < 1e-12,
+                "{jacobian}"
+            );
+        }
+        assert!(tested > 150, "{tested} inside");
+        // an undeformed box: the product of the 1D corner means (trapezoidal rule of the
+        // hat along each axis)
+        let x = Vector::<3>::new(0.513, 0.271, 0.137);
+        let r = stencil.rest_domain(&grid);
+        let (base, _) = stencil
+            .evaluate_domain(&grid, &x, &r, &mut values, &mut gradients)
+            .unwrap();
+        for a in 0..64 {
+            let node = grid.vertex_position(base + stencil.offsets[a]);
+            let hat = |k: usize, at: f64| (1.0 - ((at - node[k]) / grid.spacing[k]).abs()).max(0.0);
+            let mean = |k: usize| 0.5 * (hat(k, x[k] - r[(k, k)]) + hat(k, x[k] + r[(k, k)]));
+            let expected = mean(0) * mean(1) * mean(2);
+            assert!(
+                (values[a] - expected).abs() < 1e-15,
+                "{} vs {expected}",
+                values[a]
+            );
+        }
     }
 
     /// In 1D `∇S = (N(x + r) − N(x − r)) / (2r)` and `S` is the corners' mean.

@@ -141,25 +141,24 @@ pub(crate) fn edge_conditions<const D: usize>(
 
 /// The prescribed nodal velocity components of the velocity and symmetry edges: every
 /// node of the edge's layer inside its segment, and the mirror constraints of the padding
-/// layers beyond it (module doc). A nodal value is imposed or not: the segment is tested
-/// at the node's position under either `cover` rule.
+/// layers beyond it (module doc); and per node the number of mirror planes (wall layers of
+/// those edges) it lies on (`crate::EmptyNodes`). A nodal value is imposed or not: the patch
+/// is tested at the node's position under either `cover` rule, reflected into the body
+/// across the symmetry planes the node lies beyond ([`unfolded`]).
 pub(crate) fn node_constraints<const D: usize>(
     grid: &Grid<D>,
     edges: &[VelocityEdge],
-) -> (Vec<Constraint>, Vec<MirrorConstraint>) {
+) -> (Vec<Constraint>, Vec<MirrorConstraint>, Vec<u8>) {
     let counts = grid.vertex_counts();
     let mut walls = Vec::new();
     let mut mirrors = Vec::new();
+    let mut on_walls = vec![0u8; grid.vertex_count()];
     for e in edges {
         let stride: usize = counts[..e.axis].iter().product();
         for v in 0..grid.vertex_count() {
             let along = (0..e.axis).fold(v, |rest, k| rest / counts[k]) % counts[e.axis];
-            let position = grid.vertex_position(v);
-            let beyond = if e.node_layer == PADDING {
-                along < e.node_layer
-            } else {
-                along > e.node_layer
-            };
+            let position = unfolded(grid, edges, v);
+            let beyond = e.beyond(along);
             if !(along == e.node_layer || beyond) || !e.load.acts_on(e.axis, &position) {
                 continue;
             }
@@ -170,6 +169,7 @@ pub(crate) fn node_constraints<const D: usize>(
                 history: e.load.history,
             };
             if !beyond {
+                on_walls[v] += 1;
                 walls.extend(
                     e.components::<D>()
                         .map(|(axis, value)| constraint(axis, value)),
@@ -191,10 +191,39 @@ pub(crate) fn node_constraints<const D: usize>(
             }
         }
     }
-    (walls, mirrors)
+    (walls, mirrors, on_walls)
+}
+
+/// The position of node `v` reflected across every symmetry plane it lies beyond
+/// (`x_k ← 2 w_k − x_k`, `w_k` the plane): a padding node beyond a symmetry face is the
+/// image of an interior node, so it belongs to a patch of another face where its image
+/// does (the patch's image across the plane; module doc). Otherwise a patch reaching a
+/// symmetry face would lose its mirrored padding nodes there, and a block invariant along
+/// z would not reduce to its 2D section.
+fn unfolded<const D: usize>(grid: &Grid<D>, edges: &[VelocityEdge], v: usize) -> Vector<D> {
+    let counts = grid.vertex_counts();
+    let mut x = grid.vertex_position(v);
+    for s in edges.iter().filter(|s| s.symmetry) {
+        let along = (0..s.axis).fold(v, |rest, k| rest / counts[k]) % counts[s.axis];
+        if s.beyond(along) {
+            let wall = grid.origin[s.axis] + s.node_layer as f64 * grid.spacing[s.axis];
+            x[s.axis] = 2.0 * wall - x[s.axis];
+        }
+    }
+    x
 }
 
 impl VelocityEdge {
+    /// Whether a node with index `along` on the edge's axis lies beyond the edge's wall
+    /// layer (outside the body).
+    fn beyond(&self, along: usize) -> bool {
+        if self.node_layer == PADDING {
+            along < self.node_layer
+        } else {
+            along > self.node_layer
+        }
+    }
+
     /// The prescribed components `(axis, value)`: the normal one, and under a bonded
     /// impactor the tangential ones (zero: no slip).
     fn components<const D: usize>(&self) -> impl Iterator<Item = (usize, f64)> {

@@ -13,9 +13,9 @@ impl<const D: usize> MpmSolver<D> {
     /// Returns the work done in the step by the velocity constraints, `Δt Σ r · v_d`, and
     /// the impulse of the reaction forces, `Δt Σ r`.
     pub fn grid_update(&mut self, dt: f64, window: (f64, f64)) -> (f64, Vector<D>) {
-        self.fold_padding(window);
+        self.fold_padding(window, true);
         let nodes = &mut self.nodes;
-        let floor = self.empty_mass;
+        let empty = &self.empty;
         let (mass, force) = (&nodes.mass, &nodes.force);
         let parts = (
             chunks(&mut nodes.momentum, CHUNK),
@@ -24,7 +24,7 @@ impl<const D: usize> MpmSolver<D> {
         for_each_chunk(self.parallel, 1, parts, |r, (momentum, inv_mass)| {
             for (j, (p, inv)) in momentum.iter_mut().zip(inv_mass).enumerate() {
                 let i = r * CHUNK + j;
-                if mass[i] > floor {
+                if empty.holds(i, mass[i]) {
                     *p += force[i] * dt;
                     *inv = 1.0 / mass[i];
                 } else {
@@ -36,7 +36,7 @@ impl<const D: usize> MpmSolver<D> {
         let mut impulse = Vector::<D>::zeros();
         let mut hold = |nodes: &mut crate::NodeSums<D>, v: usize, axis: usize, value: f64| {
             let m = nodes.mass[v];
-            if m > floor {
+            if empty.holds(v, m) {
                 let old = nodes.momentum[v][axis];
                 nodes.momentum[v][axis] = value * m;
                 // reaction force of the constraint, kept in the force for the FLIP update
@@ -51,7 +51,7 @@ impl<const D: usize> MpmSolver<D> {
         }
         // the padding from the interior it mirrors (never itself constrained)
         for c in &self.mirror_constraints {
-            let value = c.offset(window) + c.sign * velocity_of(nodes, c.mirror, c.axis, floor);
+            let value = c.offset(window) + c.sign * velocity_of(nodes, c.mirror, c.axis, empty);
             hold(nodes, c.node, c.axis, value);
         }
         (work, impulse)
@@ -63,8 +63,11 @@ impl<const D: usize> MpmSolver<D> {
     /// and the momentum and force reflected like the velocity (odd normal component about
     /// the wall's velocity `V`: `p_n += 2 V m - p_n`; even or odd tangential ones). Near
     /// the wall the interior nodes then hold the full sums of a body mirrored across it.
-    pub(crate) fn fold_padding(&mut self, window: (f64, f64)) {
-        let (nodes, floor) = (&mut self.nodes, self.empty_mass);
+    /// The mass and the momentum, and with `force` the force (phase 2; the MUSL remap
+    /// maps and folds the mass and the momentum again: a padding node that mirrors another
+    /// one, at a corner of two walls, holds folded mass after phase 2).
+    pub(crate) fn fold_padding(&mut self, window: (f64, f64), force: bool) {
+        let (nodes, empty) = (&mut self.nodes, &self.empty);
         for c in &self.mirror_constraints {
             let (from, to, axis) = (c.node, c.mirror, c.axis);
             let mass = nodes.mass[from];
@@ -73,7 +76,9 @@ impl<const D: usize> MpmSolver<D> {
             }
             nodes.momentum[to][axis] +=
                 c.offset(window) * mass + c.sign * nodes.momentum[from][axis];
-            nodes.force[to][axis] += c.sign * nodes.force[from][axis];
+            if force {
+                nodes.force[to][axis] += c.sign * nodes.force[from][axis];
+            }
         }
         // the padding then starts from the mirror of the folded interior, so its update is
         // the mirror of the interior's (no kick to the points near the wall when the
@@ -81,10 +86,12 @@ impl<const D: usize> MpmSolver<D> {
         for c in &self.mirror_constraints {
             let (from, to, axis) = (c.node, c.mirror, c.axis);
             let (m, m_to) = (nodes.mass[from], nodes.mass[to]);
-            if m > floor && m_to > floor {
+            if empty.holds(from, m) && empty.holds(to, m_to) {
                 let velocity = c.offset(window) + c.sign * nodes.momentum[to][axis] / m_to;
                 nodes.momentum[from][axis] = velocity * m;
-                nodes.force[from][axis] = c.sign * nodes.force[to][axis] * (m / m_to);
+                if force {
+                    nodes.force[from][axis] = c.sign * nodes.force[to][axis] * (m / m_to);
+                }
             }
         }
     }
@@ -92,16 +99,16 @@ impl<const D: usize> MpmSolver<D> {
     /// The prescribed nodal velocities (step averages over `window`) on the momentum
     /// (after the MUSL remap).
     pub(crate) fn constrain_momentum(&mut self, window: (f64, f64)) {
-        let (nodes, floor) = (&mut self.nodes, self.empty_mass);
+        let (nodes, empty) = (&mut self.nodes, &self.empty);
         for c in &self.mirror_constraints {
-            let value = c.offset(window) + c.sign * velocity_of(nodes, c.mirror, c.axis, floor);
-            if nodes.mass[c.node] > floor {
+            let value = c.offset(window) + c.sign * velocity_of(nodes, c.mirror, c.axis, empty);
+            if empty.holds(c.node, nodes.mass[c.node]) {
                 nodes.momentum[c.node][c.axis] = value * nodes.mass[c.node];
             }
         }
         for c in &self.node_constraints {
             let (v, axis, value) = (c.carrier, c.axis, c.mean(window));
-            if nodes.mass[v] > floor {
+            if empty.holds(v, nodes.mass[v]) {
                 nodes.momentum[v][axis] = value * nodes.mass[v];
             }
         }
@@ -114,9 +121,9 @@ fn velocity_of<const D: usize>(
     nodes: &crate::NodeSums<D>,
     i: usize,
     axis: usize,
-    floor: f64,
+    empty: &crate::EmptyNodes,
 ) -> f64 {
-    if nodes.mass[i] > floor {
+    if empty.holds(i, nodes.mass[i]) {
         nodes.momentum[i][axis] / nodes.mass[i]
     } else {
         0.0

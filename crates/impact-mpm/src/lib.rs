@@ -52,6 +52,12 @@
 //! `weights.rs` (their values at the points: one row per point or one shared row),
 //! `transfer.rs` (phases 1, 3, 4, 5: the scatters, coloured by node layer, and the gathers), `grid_update.rs`
 //! (phase 2), `method.rs` (the `Method` impl); this file holds the solver and its buffers.
+//!
+//! Every piece is dimension-generic (`const D`): in 3D the stencils have 8, 27 or 64 nodes
+//! (tensor products of the 1D weights) and CPDI domains are parallelepipeds with 8 corners
+//! (`cpdi.rs`). A 3D block invariant along z gives its 2D plane-strain section, and one
+//! invariant along y and z with `ν = 0` the 1D bar, to round-off for every option
+//! (`tests/reductions.rs`).
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
@@ -123,6 +129,41 @@ impl<const D: usize> NodeSums<D> {
     }
 }
 
+/// The nodes that count as empty: a node is empty when its mass is at most
+/// `m_floor 2^{-w_i}`, `m_floor = 10⁻¹⁰ n min_p m_p` (`n` points per cell: a cell's mass,
+/// whatever the seeding, as the nodal masses are), with `w_i` the number of mirror planes
+/// (wall layers of velocity and symmetry edges, `edges.rs`) node `i` lies on. A smooth
+/// stencil (GIMP, B-splines) gives round-off weights (~1e-15) to nodes at its edge; with USL
+/// their velocity `p_i/m_i` would be divided by that round-off. The factor `2^{-w_i}`
+/// tests the mass the node would have in the body mirrored across its walls (`2^{w_i} m_i`:
+/// a wall node holds half of its mirrored sums per wall), so the test does not depend on
+/// how many cells a symmetric direction has: a 3D block invariant along z (symmetry on both
+/// z faces, every node on one or two of them) keeps the empty nodes of the 2D run.
+#[derive(Debug, Clone)]
+pub(crate) struct EmptyNodes {
+    /// `w_i` per node.
+    walls: Vec<u8>,
+    /// `m_floor 2^{-w}` for `w = 0..=3`.
+    floors: [f64; 4],
+}
+
+impl EmptyNodes {
+    fn new<const D: usize>(points: &MaterialPoints<D>, per_cell: usize, walls: Vec<u8>) -> Self {
+        let lightest = points.mass.iter().copied().fold(f64::INFINITY, f64::min);
+        let floor = 1e-10 * per_cell as f64 * lightest;
+        Self {
+            walls,
+            floors: std::array::from_fn(|w| floor * 0.5f64.powi(w as i32)),
+        }
+    }
+
+    /// Whether node `i`, of mass `mass`, carries mass (is not empty).
+    #[inline]
+    pub fn holds(&self, i: usize, mass: f64) -> bool {
+        mass > self.floors[usize::from(self.walls[i])]
+    }
+}
+
 /// Configuration and buffers of USL MPM.
 #[derive(Debug, Clone)]
 pub struct MpmSolver<const D: usize> {
@@ -152,10 +193,8 @@ pub struct MpmSolver<const D: usize> {
     /// the total Lagrangian frame).
     in_layer_order: bool,
     parallel: bool,
-    /// Nodes holding at most this mass are empty: `1e-10` of the lightest point. A smooth
-    /// stencil (GIMP, B-splines) gives round-off weights (~1e-15) to nodes at its edge; with
-    /// USL their velocity `p_i/m_i` would be divided by that round-off.
-    empty_mass: f64,
+    /// Which nodes are empty ([`EmptyNodes`]).
+    empty: EmptyNodes,
     /// The shape functions' stencil ([`shape`]).
     stencil: shape::Stencil<D>,
     /// Per point: the linear index of its stencil's base node, shape values and gradients
@@ -210,7 +249,8 @@ impl<const D: usize> Mpm<D> {
         let (loads, velocity_edges) = edge_conditions(problem, &points);
         let nodes = grid.vertex_count();
         let np = points.len();
-        let (node_constraints, mirror_constraints) = node_constraints(&grid, &velocity_edges);
+        let (node_constraints, mirror_constraints, on_walls) =
+            node_constraints(&grid, &velocity_edges);
         let point_constraints = point_constraints(&body, &points, &velocity_edges);
         let parallel = worth_parallel(np);
         let mut mpm = Self {
@@ -232,7 +272,7 @@ impl<const D: usize> Mpm<D> {
                 parallel,
                 point_base: vec![0; np],
                 stencil,
-                empty_mass: 1e-10 * points.mass.iter().copied().fold(f64::INFINITY, f64::min),
+                empty: EmptyNodes::new(&points, config.points_per_cell, on_walls),
                 shape: Vec::new(),
                 shape_gradient: Vec::new(),
                 weight_stride: npc,

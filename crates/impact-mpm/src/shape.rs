@@ -302,6 +302,86 @@ mod tests {
         }
     }
 
+    /// 3D: every shape's 8-, 27- or 64-node stencil is a partition of unity, linearly
+    /// complete, with zero-sum gradients and `Σ x_i ⊗ ∇φ_i = I`; and its weights are the
+    /// products of the 1D ones (the 3D stencil of a point is the tensor product of its 1D
+    /// stencils along each axis).
+    #[test]
+    fn every_shape_is_a_partition_of_unity_and_linearly_complete_in_3d() {
+        let grid = Grid::<3> {
+            origin: Vector::<3>::new(-0.4, -0.3, -0.2),
+            spacing: Vector::<3>::new(0.1, 0.075, 0.05),
+            cells: [20, 16, 14],
+        };
+        for shape in MpmShape::ALL {
+            for per_axis in [1, 2] {
+                let stencil = Stencil::new(&grid, shape, per_axis);
+                let line = |k: usize| Grid::<1> {
+                    origin: Vector::<1>::new(grid.origin[k]),
+                    spacing: Vector::<1>::new(grid.spacing[k]),
+                    cells: [grid.cells[k]],
+                };
+                let lines: Vec<_> = (0..3)
+                    .map(|k| Stencil::new(&line(k), shape, per_axis))
+                    .collect();
+                let mut values = vec![0.0; stencil.nodes];
+                let mut gradients = vec![Vector::<3>::zeros(); stencil.nodes];
+                let (mut v1, mut g1) = (
+                    vec![vec![0.0; 4]; 3],
+                    vec![vec![Vector::<1>::zeros(); 4]; 3],
+                );
+                let mut tested = 0;
+                for i in 0..150 {
+                    let x = Vector::<3>::new(
+                        -0.4 + 2.0 * ((i as f64 * 0.618_033_988_7) % 1.0),
+                        -0.3 + 1.2 * ((i as f64 * 0.414_213_562_3) % 1.0),
+                        -0.2 + 0.7 * ((i as f64 * 0.732_050_807_6) % 1.0),
+                    );
+                    let Some((base, _)) = stencil.evaluate(&grid, &x, &mut values, &mut gradients)
+                    else {
+                        continue;
+                    };
+                    tested += 1;
+                    let mut sum = 0.0;
+                    let mut first = Vector::<3>::zeros();
+                    let mut gradient_sum = Vector::<3>::zeros();
+                    let mut jacobian = nalgebra::Matrix3::<f64>::zeros();
+                    for a in 0..stencil.nodes {
+                        let node = grid.vertex_position(base + stencil.offsets[a]);
+                        sum += values[a];
+                        first += node * values[a];
+                        gradient_sum += gradients[a];
+                        jacobian += node * gradients[a].transpose();
+                    }
+                    assert!((sum - 1.0).abs() < 1e-14, "{shape:?}: Σφ = {sum}");
+                    assert!((first - x).norm() < 1e-14, "{shape:?}: Σφx = {first}");
+                    assert!(
+                        gradient_sum.norm() < 1e-9,
+                        "{shape:?}: Σ∇φ = {gradient_sum}"
+                    );
+                    assert!((jacobian - nalgebra::Matrix3::identity()).norm() < 1e-12);
+                    if shape == MpmShape::Cpdi {
+                        continue;
+                    }
+                    for k in 0..3 {
+                        let xk = Vector::<1>::new(x[k]);
+                        lines[k]
+                            .evaluate(&line(k), &xk, &mut v1[k], &mut g1[k])
+                            .unwrap();
+                    }
+                    for a in 0..stencil.nodes {
+                        let l = stencil.local_index(a);
+                        let product = v1[0][l[0]] * v1[1][l[1]] * v1[2][l[2]];
+                        assert!((values[a] - product).abs() < 1e-15, "{shape:?}");
+                        let dx = g1[0][l[0]][0] * v1[1][l[1]] * v1[2][l[2]];
+                        assert!((gradients[a][0] - dx).abs() <= 1e-12 * dx.abs().max(1.0));
+                    }
+                }
+                assert!(tested > 60, "{shape:?}: {tested} points inside");
+            }
+        }
+    }
+
     /// The derivative of each 1D weight agrees with a central difference.
     #[test]
     fn weight_derivatives_match_finite_differences() {

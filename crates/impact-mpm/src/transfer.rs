@@ -220,7 +220,10 @@ impl<const D: usize> MpmSolver<D> {
                 continue;
             };
             self.grid.shape(&xi, &mut s[..npc], &mut g[..npc]);
-            let with_mass = |a: usize| self.nodes.mass[self.grid.vertex_of(c, a)] > self.empty_mass;
+            let with_mass = |a: usize| {
+                let i = self.grid.vertex_of(c, a);
+                self.empty.holds(i, self.nodes.mass[i])
+            };
             let total: f64 = (0..npc).filter(|&a| with_mass(a)).map(|a| s[a]).sum();
             if total <= 0.0 {
                 continue;
@@ -228,7 +231,7 @@ impl<const D: usize> MpmSolver<D> {
             let force = load.force * load.history.mean(window.0, window.1);
             for a in 0..npc {
                 let i = self.grid.vertex_of(c, a);
-                if self.nodes.mass[i] > self.empty_mass {
+                if self.empty.holds(i, self.nodes.mass[i]) {
                     self.nodes.force[i] += force * (s[a] / total);
                 }
             }
@@ -314,18 +317,24 @@ impl<const D: usize> MpmSolver<D> {
     }
 
     /// Phase 4 (MUSL): nodal momentum mapped again from the updated point velocities (with
-    /// the shape functions of the start of the step), then the prescribed nodal velocities.
+    /// the shape functions of the start of the step) with the mass, the padding's sums
+    /// folded onto the interior as in phase 2 (`grid_update.rs`), then the prescribed nodal
+    /// velocities.
     pub fn remap_momentum(&mut self, points: &MaterialPoints<D>, window: (f64, f64)) {
+        // the mass again too (the same sums as phase 1): the fold reads the padding's own
         let fill = Fill {
-            mass: false,
+            mass: true,
             momentum: true,
             force: false,
         };
         self.scatter(fill, |weights, p, sums| {
             for (a, i) in weights.nodes_of(p, sums.offset) {
-                sums.momentum[i] += points.velocity[p] * (weights.shape[a] * points.mass[p]);
+                let w = weights.shape[a] * points.mass[p];
+                sums.mass[i] += w;
+                sums.momentum[i] += points.velocity[p] * w;
             }
         });
+        self.fold_padding(window, false);
         self.constrain_momentum(window);
     }
 
@@ -337,7 +346,7 @@ impl<const D: usize> MpmSolver<D> {
         for a in 0..npc {
             let i = self.point_base[p] + self.stencil.offsets[a];
             let m = self.nodes.mass[i];
-            if m > self.empty_mass {
+            if self.empty.holds(i, m) {
                 let g = self.shape_gradient[p * self.weight_stride + a];
                 l += (self.nodes.momentum[i] / m) * g.transpose();
             }
