@@ -1,0 +1,60 @@
+//! Lamb's problem (issue 24): every method's surface traces on the shipped `lamb` scene at
+//! half and at its own resolution (18×18×12 and 36×36×24 cells) against Pekeris' exact
+//! solution ([`impact_core::exact::Lamb`]): the traces' L2 errors shrink under
+//! refinement, and the Rayleigh pulse arrives within two cells (MPM: 2.5, module doc of
+//! `src/lamb.rs` and README) of the exact one, the P onset within two (MPM: five).
+use impact::lamb::{lamb_load, onset, receivers, relative_l2, steepest, traces};
+use impact_core::method::MethodKind;
+use impact_core::{Problem, Scene};
+
+#[test]
+fn surface_traces_converge_and_arrive_on_time() {
+    let scene = Scene::builtin("lamb").unwrap();
+    for kind in MethodKind::ALL {
+        let mut errors = Vec::new();
+        for factor in [0.5, 1.0] {
+            let mut s = scene.clone();
+            for n in &mut s.domain.cells {
+                *n = (*n as f64 * factor) as usize;
+            }
+            let problem = Problem::<3>::from_scene(&s).unwrap();
+            let load = lamb_load(&problem).unwrap();
+            let points = receivers(&s, &load, &problem).unwrap();
+            let h = problem.grid.min_spacing();
+            let recorded = traces(&problem, s.method_config(kind), &load, &points).unwrap();
+            let level: Vec<f64> = recorded
+                .iter()
+                .map(|t| relative_l2(&t.vertical, &t.vertical_exact))
+                .collect();
+            errors.push(level);
+            if factor < 1.0 {
+                continue;
+            }
+            let (p_limit, r_limit) = if kind == MethodKind::Mpm {
+                (5.0, 2.5)
+            } else {
+                (2.0, 2.0)
+            };
+            for t in &recorded {
+                let peak = t.vertical_exact.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                let e = &load.exact;
+                let p = (onset(&t.t, &t.vertical, peak, 0.02).unwrap()
+                    - onset(&t.t, &t.vertical_exact, peak, 0.02).unwrap())
+                    * e.pressure_speed()
+                    / h;
+                let r = (steepest(&t.t, &t.vertical).unwrap()
+                    - steepest(&t.t, &t.vertical_exact).unwrap())
+                    * e.rayleigh_speed()
+                    / h;
+                assert!(p.abs() <= p_limit, "{kind:?} at r = {}: P off by {p} cells", t.r);
+                assert!(r.abs() <= r_limit, "{kind:?} at r = {}: R off by {r} cells", t.r);
+            }
+        }
+        for (k, (coarse, fine)) in errors[0].iter().zip(&errors[1]).enumerate() {
+            assert!(
+                fine < coarse && *fine < 0.3,
+                "{kind:?}, receiver {k}: L2 of w {coarse} → {fine}"
+            );
+        }
+    }
+}
