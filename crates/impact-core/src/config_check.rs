@@ -91,14 +91,6 @@ impl<const D: usize> Problem<D> {
         let refuse = |field: &str, value: &dyn std::fmt::Display, allowed: &str| {
             Err(CoreError::from(SceneError::new(field, value, allowed)))
         };
-        if D > 2 && flux == TransverseFlux::Ctu {
-            return refuse(
-                &flux_field,
-                &flux,
-                "\"dcu\" in 3D (CTU is implemented in 2D: 3D needs transverse-transverse \
-                 corrections)",
-            );
-        }
         match self.model {
             Model::Svk(_) => {
                 if D > 1 && flux == TransverseFlux::Ctu {
