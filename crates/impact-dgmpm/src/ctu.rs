@@ -48,7 +48,11 @@ impl<const D: usize> DgmpmSolver<D> {
     /// uncorrected), and last the scratch is added to the last axis's fluxes: one face
     /// array of scratch instead of a correction array per axis (48 B per cell less), and
     /// `face_flux` ends holding the final fluxes, bit for bit `F + correction`.
+    /// In 3D: [`Self::transverse_corrections_3d`] (transverse and transverse-transverse).
     pub fn transverse_corrections(&mut self, points: &MaterialPoints<D>, dt: f64) {
+        if D == 3 {
+            return self.transverse_corrections_3d(points, dt);
+        }
         let last = D - 1;
         let order = std::iter::once((last, false)).chain((0..last).map(|k| (k, true)));
         for (k, in_place) in order {
@@ -192,7 +196,7 @@ impl<const D: usize> DgmpmSolver<D> {
     /// difference of the normal fluxes (`e_l`) of cell `C`'s states on its low and high
     /// `l`-faces (nodal path only; kept out of line so the cell path's kernel stays small).
     #[inline(never)]
-    fn side_flux_difference(
+    pub(crate) fn side_flux_difference(
         &self,
         fields: Fields<'_, D>,
         cell: [usize; D],
@@ -211,7 +215,7 @@ impl<const D: usize> DgmpmSolver<D> {
 
     /// `(A⁺Δq` through its low `l`-face, `A⁻Δq` through its high `l`-face) of the ghost
     /// cell mirroring `cell` through the edge of axis `k` at `side`.
-    fn ghost_cell_fluctuations(
+    pub(crate) fn ghost_cell_fluctuations(
         &self,
         k: usize,
         side: usize,

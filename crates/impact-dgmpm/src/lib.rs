@@ -93,6 +93,7 @@
 #![allow(clippy::needless_range_loop)]
 pub mod cell_path;
 pub mod ctu;
+mod ctu3;
 pub mod faces;
 pub mod fluxes;
 pub mod fused;
@@ -224,6 +225,9 @@ pub struct DgmpmSolver<const D: usize> {
     /// CTU only (empty otherwise): the transverse corrections of the last axis's faces,
     /// before they are added to its fluxes ([`DgmpmSolver::transverse_corrections`]).
     pub(crate) correction_scratch: Vec<Conserved<D>>,
+    /// 3D CTU only (empty otherwise): per axis `k`, the per-cell transverse sources `V_k`
+    /// with a ghost layer at each end of `k` (`ctu3`).
+    pub(crate) transverse_sources: [Vec<Conserved<D>>; D],
     /// The fused path's rolling face rows and next state (empty on the other paths).
     pub(crate) fused: fused::FusedBuffers<D>,
     /// Linear elasticity without the elastoplastic solver, 1D or 2D: the fused path applies.
@@ -392,6 +396,7 @@ impl<const D: usize> DgmpmSolver<D> {
             nodes: NodalFields::default(),
             face_flux: std::array::from_fn(|_| Vec::new()),
             correction_scratch: Vec::new(),
+            transverse_sources: std::array::from_fn(|_| Vec::new()),
             fused: fused::FusedBuffers::default(),
             fusable,
             elastic,
@@ -472,8 +477,18 @@ impl<const D: usize> DgmpmSolver<D> {
             }
         } else if self.face_flux[0].is_empty() {
             self.face_flux = std::array::from_fn(|l| vec![Conserved::zeros(); grid.face_count(l)]);
-            let scratch = if ctu { grid.face_count(D - 1) } else { 0 };
+            // 2D: one face array of scratch; 3D: the per-axis sources (`ctu3`)
+            let scratch = if ctu && D == 2 {
+                grid.face_count(D - 1)
+            } else {
+                0
+            };
             self.correction_scratch = vec![Conserved::zeros(); scratch];
+            if ctu && D == 3 {
+                self.transverse_sources = std::array::from_fn(|k| {
+                    vec![Conserved::zeros(); self.source_dims(k).iter().product()]
+                });
+            }
         }
     }
 

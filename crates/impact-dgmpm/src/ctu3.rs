@@ -1,0 +1,217 @@
+//! Phase 2b in 3D (CTU only): corner transport upwind with the transverse and the
+//! transverse-transverse corrections (Langseth & LeVeque 2000, "A wave propagation method
+//! for three-dimensional hyperbolic conservation laws", J. Comput. Phys. 165; LeVeque 2002
+//! §21.6; Clawpack's `flux3` with `rpt3`/`rptt3`, `method(3) = 11`).
+//!
+//! With `W_l(X) = A⁺Δq_low + A⁻Δq_high` the fluctuations entering cell `X` through its two
+//! faces normal to `e_l` (as in 2D, [`crate::ctu`]), `B_k^±` the transverse solver along
+//! `e_k` (`riemann::transverse_split`) and, for the face normal to `e_k` between the cells
+//! `D` (below) and `U` (above) and the two other axes `l`, `m`, Clawpack's scatter
+//! - transverse: `F_k(X, high) -= Δt/(2Δx_l) B_k⁺ W_l(X)`, `F_k(X, low) -= Δt/(2Δx_l) B_k⁻ W_l(X)`;
+//! - transverse-transverse (the part of `W_l` that crossed an `m`-face of `X` on its way):
+//!   `F_k(X, high) += s (B_k⁺C_m⁺ - B_k⁺C_m⁻) W_l(X)`, `F_k(X + e_m, high) -= s B_k⁺C_m⁺ W_l(X)`,
+//!   `F_k(X - e_m, high) += s B_k⁺C_m⁻ W_l(X)` (and `low`, `B_k⁻`, likewise), with
+//!   `s = Δt²/(6 Δx_l Δx_m)` and `C_m^±` the transverse solver along `e_m`;
+//!
+//! gathered on the face and using that every solver is linear, is one transverse solve
+//! `F_k += B_k⁺ V_k(D) + B_k⁻ V_k(U)` ([`transverse_into_face`]) of the per-cell source
+//! `V_k(X) = -Σ_{l≠k} Δt/(2Δx_l) W_l(X)
+//!     + s [C_m⁺(W_l(X) - W_l(X - e_m)) + C_m⁻(W_l(X + e_m) - W_l(X))]
+//!     + s [C_l⁺(W_m(X) - W_m(X - e_l)) + C_l⁻(W_m(X + e_l) - W_m(X))]`.
+//! Every `V_k` (ghost layers included) is formed from the uncorrected fluxes first, then
+//! the corrections are added in place: three cell arrays, one per axis.
+//!
+//! Edges: cells outside one edge are ghost cells, their fluctuations formed from the
+//! mirror states through the edge's condition as in 2D (`ghost_cell_fluctuations`);
+//! behind an edge of two axes (needed by the transverse-transverse terms only) the
+//! ghost's fluctuations are the mirror of the single ghost's through a symmetry edge,
+//! and otherwise the single ghost's (zero gradient along the second axis). Under
+//! `edges = "restricted"` the correction on an edge face is restricted to what the edge's
+//! condition leaves free ([`constrain_correction`]), as in 2D.
+use crate::faces::Fields;
+use crate::riemann::{constrain_correction, transverse_into_face, Conserved};
+use crate::{unit, DgmpmSolver, CHUNK};
+use impact_core::method::EdgeTreatment;
+use impact_core::parallel::{chunks, for_each_chunk};
+use impact_core::points::MaterialPoints;
+use impact_core::problem::Boundary;
+
+/// The mirror of `w` through a plane normal to `e_b`: `(M W M, M m)`, `M = 1 - 2 e_b ⊗ e_b`
+/// (the fluctuations of the mirror cell behind a symmetry edge).
+#[inline]
+fn mirror<const D: usize>(w: &Conserved<D>, b: usize) -> Conserved<D> {
+    let mut out = *w;
+    for i in 0..D {
+        if i != b {
+            out.tensor[(i, b)] = -out.tensor[(i, b)];
+            out.tensor[(b, i)] = -out.tensor[(b, i)];
+        }
+    }
+    out.momentum[b] = -out.momentum[b];
+    out
+}
+
+impl<const D: usize> DgmpmSolver<D> {
+    /// Dimensions of the source array `V_k`: the cells plus a ghost layer at each end of
+    /// axis `k`.
+    pub(crate) fn source_dims(&self, k: usize) -> [usize; D] {
+        std::array::from_fn(|j| self.grid.cells[j] + 2 * usize::from(j == k))
+    }
+
+    /// Phase 2b in 3D (module doc): the sources `V_k` of every axis from the uncorrected
+    /// fluxes, then `F_k += B_k⁺ V_k(D) + B_k⁻ V_k(U)` on every face normal to `e_k`
+    /// (restricted on an edge face under `edges = "restricted"`).
+    pub(crate) fn transverse_corrections_3d(&mut self, points: &MaterialPoints<D>, dt: f64) {
+        let mut sources = std::mem::replace(
+            &mut self.transverse_sources,
+            std::array::from_fn(|_| Vec::new()),
+        );
+        for (k, source) in sources.iter_mut().enumerate() {
+            let dims = self.source_dims(k);
+            let this = &*self;
+            let fields = this.fields(points);
+            for_each_chunk(this.parallel, 1, chunks(source, CHUNK), |r, out| {
+                let mut idx = Self::multi_index(dims, r * CHUNK);
+                for v in out.iter_mut() {
+                    let mut pos = idx.map(|i| i as isize);
+                    pos[k] -= 1;
+                    *v = this.transverse_source(k, pos, fields, dt);
+                    Self::advance(&mut idx, &dims);
+                }
+            });
+        }
+        for k in 0..D {
+            let mut fluxes = std::mem::take(&mut self.face_flux[k]);
+            let this = &*self;
+            let dims = this.source_dims(k);
+            let source = &sources[k];
+            let e_k = unit::<D>(k);
+            // the source of the cell above a face is one k-stride further
+            let stride_k: usize = dims[..k].iter().product();
+            let restricted = this.options.edges == EdgeTreatment::Restricted;
+            this.sum_over_faces(k, &mut fluxes, |idx, flux| {
+                let mut below = 0;
+                for j in (0..D).rev() {
+                    below = below * dims[j] + idx[j];
+                }
+                let mut c = transverse_into_face(
+                    &source[below],
+                    &source[below + stride_k],
+                    &e_k,
+                    &this.elastic,
+                );
+                let on_edge = idx[k] == 0 || idx[k] == this.grid.cells[k];
+                if on_edge && restricted {
+                    let side = usize::from(idx[k] != 0);
+                    let cond = this.ghost_condition(k, side, this.edge_coordinate(k, &idx));
+                    c = constrain_correction(&c, &e_k, cond);
+                }
+                *flux = flux.add_scaled(&c, 1.0);
+                0.0
+            });
+            self.face_flux[k] = fluxes;
+        }
+        self.transverse_sources = sources;
+    }
+
+    /// The source `V_k(X)` of the cell at `pos` (one layer outside the grid along `k` at
+    /// most): module doc.
+    fn transverse_source(
+        &self,
+        k: usize,
+        pos: [isize; D],
+        fields: Fields<'_, D>,
+        dt: f64,
+    ) -> Conserved<D> {
+        let mut others = (0..D).filter(|&j| j != k);
+        let (l, m) = (others.next().unwrap_or(0), others.next().unwrap_or(0));
+        let h = self.grid.spacing;
+        let s = dt * dt / (6.0 * h[l] * h[m]);
+        let shift = |a: usize, d: isize| {
+            let mut p = pos;
+            p[a] += d;
+            p
+        };
+        let w = |a: usize, p: [isize; D]| self.fluctuation_at(a, p, fields);
+        // W_l and its neighbours along e_m, W_m and its neighbours along e_l
+        let (wl, wl_low, wl_high) = (w(l, pos), w(l, shift(m, -1)), w(l, shift(m, 1)));
+        let (wm, wm_low, wm_high) = (w(m, pos), w(m, shift(l, -1)), w(m, shift(l, 1)));
+        let tt_l = transverse_into_face(
+            &wl.add_scaled(&wl_low, -1.0),
+            &wl_high.add_scaled(&wl, -1.0),
+            &unit::<D>(m),
+            &self.elastic,
+        );
+        let tt_m = transverse_into_face(
+            &wm.add_scaled(&wm_low, -1.0),
+            &wm_high.add_scaled(&wm, -1.0),
+            &unit::<D>(l),
+            &self.elastic,
+        );
+        Conserved::<D>::zeros()
+            .add_scaled(&wl, -dt / (2.0 * h[l]))
+            .add_scaled(&wm, -dt / (2.0 * h[m]))
+            .add_scaled(&tt_l, s)
+            .add_scaled(&tt_m, s)
+    }
+
+    /// `W_l` of the cell at `pos` (never outside along `l`): from the stored fluxes inside
+    /// (the cell's side fluxes added on the nodal paths), from the ghost states behind one
+    /// edge, and behind two edges the module doc's rule.
+    fn fluctuation_at(&self, l: usize, pos: [isize; D], fields: Fields<'_, D>) -> Conserved<D> {
+        let n = self.grid.cells;
+        let cell: [usize; D] = std::array::from_fn(|j| pos[j].clamp(0, n[j] as isize - 1) as usize);
+        let side = |a: usize| usize::from(pos[a] >= 0);
+        let mut outside = (0..D).filter(|&a| pos[a] < 0 || pos[a] >= n[a] as isize);
+        let ghost = |a: usize| {
+            let (minus, plus) = self.ghost_cell_fluctuations(a, side(a), l, cell, fields);
+            minus.add_scaled(&plus, 1.0)
+        };
+        match (outside.next(), outside.next()) {
+            (None, _) => {
+                let lo = Self::face_index(&self.grid, l, cell);
+                let stride: usize = n[..l].iter().product();
+                let f = &self.face_flux[l];
+                let w = f[lo + stride].add_scaled(&f[lo], -1.0);
+                match self.path.nodal() {
+                    true => w.add_scaled(&self.side_flux_difference(fields, cell, l), 1.0),
+                    false => w,
+                }
+            }
+            (Some(a), None) => ghost(a),
+            (Some(a), Some(b)) => {
+                let symmetric = |x: usize| self.boundaries[x][side(x)] == Boundary::Symmetry;
+                if symmetric(b) {
+                    mirror(&ghost(a), b)
+                } else if symmetric(a) {
+                    mirror(&ghost(b), a)
+                } else {
+                    ghost(a)
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use impact_core::{Tensor, Vector};
+
+    /// Mirroring twice is the identity, and through `e_b` flips exactly the `b`-shear
+    /// components and the `b` momentum.
+    #[test]
+    fn mirror_flips_the_components_normal_to_the_plane() {
+        let w = Conserved {
+            tensor: Tensor::<3>::from_fn(|i, j| (1 + i + 3 * j) as f64),
+            momentum: Vector::<3>::new(1.0, 2.0, 3.0),
+        };
+        let m = mirror(&w, 2);
+        assert_eq!(mirror(&m, 2), w);
+        assert_eq!(m.momentum, Vector::<3>::new(1.0, 2.0, -3.0));
+        assert_eq!(m.tensor[(0, 2)], -w.tensor[(0, 2)]);
+        assert_eq!(m.tensor[(2, 1)], -w.tensor[(2, 1)]);
+        assert_eq!(m.tensor[(2, 2)], w.tensor[(2, 2)]);
+        assert_eq!(m.tensor[(0, 1)], w.tensor[(0, 1)]);
+    }
+}
