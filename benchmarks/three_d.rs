@@ -96,7 +96,10 @@ fn main() {
         c
     };
     let configs = [
-        ("dgmpm CTU Euler", ctu(scene.method_config(MethodKind::Dgmpm))),
+        (
+            "dgmpm CTU Euler",
+            ctu(scene.method_config(MethodKind::Dgmpm)),
+        ),
         ("dgmpm DCU Euler", scene.method_config(MethodKind::Dgmpm)),
         ("mpm USL linear", scene.method_config(MethodKind::Mpm)),
         ("fem hex8", scene.method_config(MethodKind::Fem)),
@@ -133,6 +136,7 @@ fn main() {
     let mut plate = Scene::builtin("plate-wave").expect("shipped scene");
     plate.domain.cells = vec![side, side];
     plate.domain.length = vec![1.0, 1.0];
+    plate.metrics = None;
     let plate_problem = Problem::<2>::from_scene(&plate).expect("valid scene");
     let two_d = time(
         &plate_problem,

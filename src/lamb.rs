@@ -20,8 +20,10 @@
 //! whose sum `Σ v_{n−1/2} Δt` is its displacement exactly.
 //!
 //! **Metrics** per receiver: the L2 error of each trace over `[0, t_end]` relative to the
-//! exact trace's L2 norm; the P arrival (first time `|w|` reaches 2 % of the exact trace's
-//! peak) and the Rayleigh arrival (the time of the peak of `|dw/dt|`, the Rayleigh pulse),
+//! exact trace's L2 norm; the P arrival (first time the radial `u_r` reaches 20 % of the
+//! exact trace's largest outward displacement: the P wave pushes the surface away from
+//! the load before the Rayleigh wave pulls it back; [`p_level`])
+//! and the Rayleigh arrival (the time of the peak of `|dw/dt|`, the Rayleigh pulse),
 //! picked the same way on the exact and the numerical traces, their differences in cells
 //! of the level's grid (`c Δt_pick / h` with the wave's speed). The S arrival is a kink of
 //! the vertical trace that the smooth history hides; its exact time is listed.
@@ -221,17 +223,27 @@ pub fn relative_l2(a: &[f64], b: &[f64]) -> f64 {
     (error / norm.max(f64::MIN_POSITIVE)).sqrt()
 }
 
-/// The P pick: first time `|w|` reaches `fraction` of `scale`.
-pub fn onset(t: &[f64], w: &[f64], scale: f64, fraction: f64) -> Option<f64> {
-    let level = fraction * scale;
-    let k = w.iter().position(|v| v.abs() >= level)?;
+/// The P pick: the first time `w` reaches `level` (a signed level: the P wave moves the
+/// surface away from the load, `u_r > 0`), linearly interpolated between samples.
+pub fn onset(t: &[f64], w: &[f64], level: f64) -> Option<f64> {
+    let reached = |v: f64| if level >= 0.0 { v >= level } else { v <= level };
+    let k = w.iter().position(|&v| reached(v))?;
     if k == 0 {
         return Some(t[0]);
     }
-    // linear interpolation between the samples around the crossing
-    let (a, b) = (w[k - 1].abs(), w[k].abs());
-    let s = if b > a { (level - a) / (b - a) } else { 1.0 };
+    let (a, b) = (w[k - 1], w[k]);
+    let s = if b != a {
+        ((level - a) / (b - a)).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
     Some(t[k - 1] + s * (t[k] - t[k - 1]))
+}
+
+/// The P level of an exact radial trace: 20 % of its largest outward displacement (the P
+/// phase, before the Rayleigh trough pulls the surface towards the load).
+pub fn p_level(radial_exact: &[f64]) -> f64 {
+    0.2 * radial_exact.iter().fold(0.0f64, |m, &v| m.max(v))
 }
 
 /// The Rayleigh pick: the time of the largest `|dw/dt|` (centred differences, refined by a

@@ -34,13 +34,15 @@ pub struct Row {
 
 /// Measure one receiver's traces.
 fn row(method: &str, cells_x: usize, h: f64, trace: &Trace, load: &crate::lamb::LambLoad) -> Row {
-    let peak = trace
-        .vertical_exact
-        .iter()
-        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let level = crate::lamb::p_level(&trace.radial_exact);
     let e = &load.exact;
-    let pick = |f: &dyn Fn(&[f64]) -> Option<f64>, speed: f64| {
-        Some((f(&trace.vertical)? - f(&trace.vertical_exact)?) * speed / h)
+    let pick = |f: &dyn Fn(&[f64]) -> Option<f64>, speed: f64, vertical: bool| {
+        let (numerical, exact) = if vertical {
+            (&trace.vertical, &trace.vertical_exact)
+        } else {
+            (&trace.radial, &trace.radial_exact)
+        };
+        Some((f(numerical)? - f(exact)?) * speed / h)
     };
     let arrivals = e
         .arrivals(trace.r)
@@ -53,8 +55,8 @@ fn row(method: &str, cells_x: usize, h: f64, trace: &Trace, load: &crate::lamb::
         r: trace.r,
         l2_vertical: relative_l2(&trace.vertical, &trace.vertical_exact),
         l2_radial: relative_l2(&trace.radial, &trace.radial_exact),
-        p_cells: pick(&|w| onset(&trace.t, w, peak, 0.02), e.pressure_speed()),
-        rayleigh_cells: pick(&|w| steepest(&trace.t, w), e.rayleigh_speed()),
+        p_cells: pick(&|u| onset(&trace.t, u, level), e.pressure_speed(), false),
+        rayleigh_cells: pick(&|w| steepest(&trace.t, w), e.rayleigh_speed(), true),
         arrivals,
     }
 }
@@ -180,53 +182,60 @@ pub fn table(rows: &[Row]) -> String {
     text
 }
 
-/// One panel per receiver: the vertical traces of every method and the exact one (µm).
+/// Two panels per receiver, vertical and radial: the traces of every method and the exact
+/// one (µm).
 fn figure(finest: &[(String, Vec<Trace>)]) -> LineFigure {
     let receivers = finest.first().map_or(0, |(_, t)| t.len());
     let micro = 1e6;
-    let panels = (0..receivers)
-        .map(|k| {
+    let mut panels = Vec::new();
+    for k in 0..receivers {
+        for vertical in [true, false] {
+            let pick = |tr: &Trace, exact: bool| -> Vec<(f64, f64)> {
+                let values = match (vertical, exact) {
+                    (true, true) => &tr.vertical_exact,
+                    (true, false) => &tr.vertical,
+                    (false, true) => &tr.radial_exact,
+                    (false, false) => &tr.radial,
+                };
+                tr.t.iter()
+                    .zip(values)
+                    .map(|(t, w)| (t * 1e3, w * micro))
+                    .collect()
+            };
             let mut series = Vec::new();
             if let Some((_, traces)) = finest.first() {
-                let tr = &traces[k];
                 series.push(Series {
                     label: "exact".into(),
-                    points: tr
-                        .t
-                        .iter()
-                        .zip(&tr.vertical_exact)
-                        .map(|(t, w)| (t * 1e3, w * micro))
-                        .collect(),
+                    points: pick(&traces[k], true),
                     colour: 0,
                     reference: true,
                 });
             }
             for (m, (name, traces)) in finest.iter().enumerate() {
-                let tr = &traces[k];
                 series.push(Series {
                     label: name.clone(),
-                    points: tr
-                        .t
-                        .iter()
-                        .zip(&tr.vertical)
-                        .map(|(t, w)| (t * 1e3, w * micro))
-                        .collect(),
+                    points: pick(&traces[k], false),
                     colour: m + 1,
                     reference: false,
                 });
             }
             let r = finest.first().map_or(0.0, |(_, t)| t[k].r);
-            Panel {
-                title: format!("Lamb: vertical surface displacement at r = {r:.3} m"),
+            let (what, axis) = if vertical {
+                ("vertical", "w (µm, into the body)")
+            } else {
+                ("radial", "u_r (µm, away from the load)")
+            };
+            panels.push(Panel {
+                title: format!("Lamb: {what} surface displacement at r = {r:.3} m"),
                 x: Axis::linear("t (ms)"),
-                y: Axis::linear("w (µm, into the body)"),
+                y: Axis::linear(axis),
                 series,
-            }
-        })
-        .collect();
+            });
+        }
+    }
     LineFigure {
         panels,
-        columns: 1,
-        panel_size: (900, 300),
+        columns: 2,
+        panel_size: (640, 300),
     }
 }

@@ -9,7 +9,7 @@ impl Reference {
     /// The exact reference of `problem`, or why it has none (a sentence for "reference:
     /// none because ...").
     ///
-    /// - linear elasticity, 1D, or 2D with symmetry top and bottom (a plane wave in
+    /// - linear elasticity, 1D, or 2D and 3D with symmetry sides across x (a plane wave in
     ///   uniaxial strain) and loads over whole edges: [`BarExact`] with any condition at
     ///   each end and any load history; in 1D from any initial state (d'Alembert);
     /// - the standing P mode with symmetry edges all round: [`StandingWave`](super::StandingWave);
@@ -34,7 +34,7 @@ impl Reference {
             (_, Model::LinearElastic) => {
                 return Err(
                     "the scene starts from an initial state that is not the standing \
-                            mode with symmetry edges all round, and in 2D only those have an \
+                            mode with symmetry edges all round, and in 2D and 3D only those have an \
                             exact solution"
                         .into(),
                 )
@@ -93,9 +93,9 @@ impl Reference {
         }
         if !plane {
             return Err(
-                "in 2D the exact solution is the plane wave: it needs symmetry top and \
-                        bottom edges (this scene has other conditions there; a converged \
-                        reference stands in)"
+                "in 2D and 3D the exact solution is the plane wave along x: it needs symmetry \
+                        sides across x (top and bottom in 2D; y and z in 3D; this scene has \
+                        other conditions there; a converged reference stands in)"
                     .into(),
             );
         }
