@@ -33,7 +33,7 @@ pub struct Row {
 }
 
 /// Measure one receiver's traces.
-fn row(method: &str, cells_x: usize, h: f64, trace: &Trace, load: &crate::lamb::LambLoad) -> Row {
+pub fn row(method: &str, cells_x: usize, h: f64, trace: &Trace, load: &crate::lamb::LambLoad) -> Row {
     let level = crate::lamb::p_level(&trace.radial_exact);
     let e = &load.exact;
     let pick = |f: &dyn Fn(&[f64]) -> Option<f64>, speed: f64, vertical: bool| {
@@ -184,7 +184,7 @@ pub fn table(rows: &[Row]) -> String {
 
 /// Two panels per receiver, vertical and radial: the traces of every method and the exact
 /// one (µm).
-fn figure(finest: &[(String, Vec<Trace>)]) -> LineFigure {
+pub fn figure(finest: &[(String, Vec<Trace>)]) -> LineFigure {
     let receivers = finest.first().map_or(0, |(_, t)| t.len());
     let micro = 1e6;
     let mut panels = Vec::new();

@@ -42,7 +42,9 @@ fn figures_makes_every_figure_and_its_index() {
             "work-precision",
             "stability",
             "mpm-variants",
-            "elastoplastic"
+            "elastoplastic",
+            "block",
+            "lamb"
         ]
     );
     let html = std::fs::read_to_string(out.join("index.html")).unwrap();

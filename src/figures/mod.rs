@@ -23,6 +23,7 @@
 //! Each entry of `index.json` records the PNG's pixel size.
 mod paper;
 mod studies;
+mod three_d;
 
 use anyhow::{Context, Result};
 use serde::{Deserialize, Serialize};
@@ -45,11 +46,13 @@ pub enum FigureName {
     MpmVariants,
     /// The elastoplastic fronts of ep-bar and ep-plate-wave.
     Elastoplastic,
+    Block,
+    Lamb,
 }
 
 impl FigureName {
     /// Every figure, in index order.
-    pub const ALL: [FigureName; 7] = [
+    pub const ALL: [FigureName; 9] = [
         FigureName::Fig3,
         FigureName::Fig5,
         FigureName::Fig6,
@@ -57,6 +60,8 @@ impl FigureName {
         FigureName::Stability,
         FigureName::MpmVariants,
         FigureName::Elastoplastic,
+        FigureName::Block,
+        FigureName::Lamb,
     ];
 
     /// The command-line name.
@@ -69,6 +74,8 @@ impl FigureName {
             FigureName::Stability => "stability",
             FigureName::MpmVariants => "mpm-variants",
             FigureName::Elastoplastic => "elastoplastic",
+            FigureName::Block => "block",
+            FigureName::Lamb => "lamb",
         }
     }
 }
@@ -211,6 +218,8 @@ pub fn run(options: &FiguresOptions) -> Result<Index> {
             FigureName::Stability => studies::stability(&target)?,
             FigureName::MpmVariants => studies::mpm_variants(&target)?,
             FigureName::Elastoplastic => studies::elastoplastic(&target)?,
+            FigureName::Block => three_d::block(&target)?,
+            FigureName::Lamb => three_d::lamb(&target)?,
         };
         entry.seconds = start.elapsed().as_secs_f64();
         entries.push(entry);

@@ -33,9 +33,23 @@ impl<const D: usize> Shipped<D> {
         progress: bool,
         configs: impl FnOnce(&Scene) -> Vec<(String, MethodConfig)>,
     ) -> Result<Self> {
+        Self::run_with(name, progress, true, configs)
+    }
+
+    /// [`Self::run`], with its reference only when `with_reference` (a 3D converged
+    /// reference takes minutes).
+    pub fn run_with(
+        name: &'static str,
+        progress: bool,
+        with_reference: bool,
+        configs: impl FnOnce(&Scene) -> Vec<(String, MethodConfig)>,
+    ) -> Result<Self> {
         let scene = Scene::builtin(name).expect("internal: a shipped scene");
         let problem = Problem::<D>::from_scene(&scene)?;
-        let reference = crate::reference_for(&problem, progress)?;
+        let reference = match with_reference {
+            true => crate::reference_for(&problem, progress)?,
+            false => None,
+        };
         let (mut collected, mut records) = (Vec::new(), Vec::new());
         for (label, config) in configs(&scene) {
             let bar = progress.then(|| crate::run::progress_bar(config.kind().name()));
