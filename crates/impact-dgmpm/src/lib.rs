@@ -228,11 +228,13 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) nodes: NodalFields<D>,
     /// Per axis `l`: the Godunov flux `F_{e_l}(q*)` on each face.
     pub(crate) face_flux: [Vec<Conserved<D>>; D],
-    /// CTU only (empty otherwise): the transverse corrections of the last axis's faces,
-    /// before they are added to its fluxes ([`DgmpmSolver::transverse_corrections`]).
+    /// CTU only (empty otherwise): 2D, the transverse corrections of the last axis's faces,
+    /// before they are added to its fluxes ([`DgmpmSolver::transverse_corrections`]); 3D,
+    /// the sources `V_k` of one axis (`ctu3`).
     pub(crate) correction_scratch: Vec<Conserved<D>>,
-    /// 3D CTU only (empty otherwise): per axis `k`, the per-cell transverse sources `V_k`
-    /// with a ghost layer at each end of `k` (`ctu3`).
+    /// 3D CTU only (empty otherwise): per axis `l`, the fluctuations `W_l` entering each
+    /// cell, with a ghost layer at each end of the other axes (`ctu3`; the sources `V_k`
+    /// then go to `correction_scratch`).
     pub(crate) transverse_sources: [Vec<Conserved<D>>; D],
     /// The fused path's rolling face rows and next state (empty on the other paths).
     pub(crate) fused: fused::FusedBuffers<D>,
@@ -491,9 +493,18 @@ impl<const D: usize> DgmpmSolver<D> {
             };
             self.correction_scratch = vec![Conserved::zeros(); scratch];
             if ctu && D == 3 {
-                self.transverse_sources = std::array::from_fn(|k| {
-                    vec![Conserved::zeros(); self.source_dims(k).iter().product()]
-                });
+                // the fluctuations W_l (a ghost layer on the other axes) and one source array
+                // V_k (a ghost layer along k), the largest of the three
+                let cells = grid.cells;
+                let padded = |l: usize, across: bool| -> usize {
+                    (0..D)
+                        .map(|j| cells[j] + 2 * usize::from((j != l) == across))
+                        .product()
+                };
+                self.transverse_sources =
+                    std::array::from_fn(|l| vec![Conserved::zeros(); padded(l, true)]);
+                let largest = (0..D).map(|k| padded(k, false)).max().unwrap_or(0);
+                self.correction_scratch = vec![Conserved::zeros(); largest];
             }
         }
     }
