@@ -14,7 +14,8 @@
 //!   `s = Δt²/(6 Δx_l Δx_m)` and `C_m^±` the transverse solver along `e_m`;
 //!
 //! gathered on the face and using that every solver is linear, is one transverse solve
-//! `F_k += B_k⁺ V_k(D) + B_k⁻ V_k(U)` ([`transverse_into_face`]) of the per-cell source
+//! `F_k += B_k⁺ V_k(D) + B_k⁻ V_k(U)` (`riemann::transverse_into_face`, written out for
+//! `n = e_k` in [`axis_transverse`]) of the per-cell source
 //! `V_k(X) = -Σ_{l≠k} Δt/(2Δx_l) W_l(X)
 //!     + s [C_m⁺(W_l(X) - W_l(X - e_m)) + C_m⁻(W_l(X + e_m) - W_l(X))]
 //!     + s [C_l⁺(W_m(X) - W_m(X - e_l)) + C_l⁻(W_m(X + e_l) - W_m(X))]`.
@@ -31,7 +32,8 @@
 //! `edges = "restricted"` the correction on an edge face is restricted to what the edge's
 //! condition leaves free ([`constrain_correction`]), as in 2D.
 use crate::faces::Fields;
-use crate::riemann::{constrain_correction, transverse_into_face, Conserved};
+use crate::riemann::axis::{axis_transverse, AxisConstants};
+use crate::riemann::{constrain_correction, Conserved};
 use crate::{unit, DgmpmSolver, CHUNK};
 use impact_core::method::EdgeTreatment;
 use impact_core::parallel::{chunks, for_each_chunk};
@@ -89,6 +91,7 @@ impl<const D: usize> DgmpmSolver<D> {
             });
         }
         let mut source = std::mem::take(&mut self.correction_scratch);
+        let constants = AxisConstants::new(&self.elastic);
         for k in 0..D {
             let dims = self.source_dims(k);
             let len: usize = dims.iter().product();
@@ -102,7 +105,7 @@ impl<const D: usize> DgmpmSolver<D> {
                     for v in out.iter_mut() {
                         let mut pos = idx.map(|i| i as isize);
                         pos[k] -= 1;
-                        *v = this.transverse_source(k, pos, &fluct, dt);
+                        *v = this.transverse_source(k, pos, &fluct, dt, &constants);
                         Self::advance(&mut idx, &dims);
                     }
                 },
@@ -119,12 +122,8 @@ impl<const D: usize> DgmpmSolver<D> {
                 for j in (0..D).rev() {
                     below = below * dims[j] + idx[j];
                 }
-                let mut c = transverse_into_face(
-                    &source[below],
-                    &source[below + stride_k],
-                    &e_k,
-                    &this.elastic,
-                );
+                let mut c =
+                    axis_transverse(k, &source[below], &source[below + stride_k], &constants);
                 let on_edge = idx[k] == 0 || idx[k] == this.grid.cells[k];
                 if on_edge && restricted {
                     let side = usize::from(idx[k] != 0);
@@ -148,6 +147,7 @@ impl<const D: usize> DgmpmSolver<D> {
         pos: [isize; D],
         fluct: &[Vec<Conserved<D>>; D],
         dt: f64,
+        constants: &AxisConstants,
     ) -> Conserved<D> {
         let mut others = (0..D).filter(|&j| j != k);
         let (l, m) = (others.next().unwrap_or(0), others.next().unwrap_or(0));
@@ -167,17 +167,17 @@ impl<const D: usize> DgmpmSolver<D> {
         // W_l and its neighbours along e_m, W_m and its neighbours along e_l
         let (wl, wl_low, wl_high) = (w(l, m, 0), w(l, m, -1), w(l, m, 1));
         let (wm, wm_low, wm_high) = (w(m, l, 0), w(m, l, -1), w(m, l, 1));
-        let tt_l = transverse_into_face(
+        let tt_l = axis_transverse(
+            m,
             &wl.add_scaled(&wl_low, -1.0),
             &wl_high.add_scaled(&wl, -1.0),
-            &unit::<D>(m),
-            &self.elastic,
+            constants,
         );
-        let tt_m = transverse_into_face(
+        let tt_m = axis_transverse(
+            l,
             &wm.add_scaled(&wm_low, -1.0),
             &wm_high.add_scaled(&wm, -1.0),
-            &unit::<D>(l),
-            &self.elastic,
+            constants,
         );
         Conserved::<D>::zeros()
             .add_scaled(&wl, -dt / (2.0 * h[l]))
