@@ -4,7 +4,7 @@
 //! - **Before the run** ([`check_stable`]): the project computes DGMPM's von Neumann
 //!   amplification for any layout ([`crate::stability::max_amplification`]: the one-step
 //!   matrices of the scheme on the scene's material, points per cell, integrator, flux and
-//!   update, Fourier-transformed; 256 wave numbers in 1D, 24² in 2D). A configuration whose
+//!   update, Fourier-transformed; 256 wave numbers in 1D, 24² in 2D, 16³ in 3D). A configuration whose
 //!   largest spectral radius exceeds `1 + 1e-9` at its Courant number grows some mode every
 //!   step on any boundary conditions; it is refused, with its limit (bisection to 1e-5) and
 //!   what would make it stable, unless `--allow-unstable` is given (then it runs, and the
@@ -37,16 +37,18 @@ pub struct Unstable(pub String);
 
 /// Wave numbers per axis of the von Neumann check.
 fn samples(d: usize) -> usize {
-    if d == 1 {
-        256
-    } else {
-        24
+    match d {
+        1 => 256,
+        2 => 24,
+        // 16³ = 4096 wave numbers (θ = π on every axis among them): the 9 × 9 matrices of
+        // one point per cell then cost 3e6, within `MAX_COST`
+        _ => 16,
     }
 }
 
 /// Largest cost of the check, in `wave numbers × n³` for `n × n` amplification matrices
-/// (`n` = points per cell × unknowns per point): 1D up to 17 points per cell, 2D up to 4
-/// (0.1 s to a few seconds with the bisection of a refusal). Beyond it the check would
+/// (`n` = points per cell × unknowns per point): 1D up to 17 points per cell, 2D up to 4,
+/// 3D one (0.1 s to a few seconds with the bisection of a refusal). Beyond it the check would
 /// take minutes (2D, 64 points per cell: 320 × 320 matrices at 576 wave numbers), so it
 /// is skipped with a note, and the in-run max-norm test guards the run.
 const MAX_COST: f64 = 1e7;

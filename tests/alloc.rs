@@ -156,7 +156,22 @@ fn no_allocation_in_the_step_loop() {
             }
         }
     }
-    assert_eq!(cases, 18 + 9);
+    // 3D DGMPM: donor-cell and CTU (its per-cell transverse sources), Euler (the cell
+    // path) and RK2 (the nodal phases)
+    let scene = Scene::from_toml(include_str!("../scenes/block-wave.toml"), "block-wave").unwrap();
+    let problem = Problem::<3>::from_scene(&scene).unwrap();
+    for flux in [TransverseFlux::DonorCell, TransverseFlux::Ctu] {
+        for integrator in [Integrator::Euler, Integrator::Rk2] {
+            let mut c = scene.method_config(MethodKind::Dgmpm);
+            if let Some(o) = c.dgmpm_mut() {
+                (o.flux, o.integrator) = (flux, integrator);
+            }
+            c.courant = 0.4;
+            assert_eq!(steps_allocate(&problem, c), 0, "3D {flux:?} {integrator:?}");
+            cases += 1;
+        }
+    }
+    assert_eq!(cases, 18 + 9 + 4);
 }
 
 /// DGMPM's rayon loops (grids from 4,096 cells on): the cell path (CTU, donor-cell, SVK) and

@@ -1,4 +1,5 @@
-//! Phase 2b (2D, CTU only): corner transport upwind corrections (LeVeque 2002, §21.2).
+//! Phase 2b (2D, CTU only): corner transport upwind corrections (LeVeque 2002, §21.2);
+//! 3D in `ctu3.rs`.
 use crate::faces::Fields;
 use crate::riemann::{
     constrain_correction, fluctuations, ghost_full, linear_elastic_star, normal_flux,
@@ -82,8 +83,8 @@ impl<const D: usize> DgmpmSolver<D> {
 
     /// [`Self::transverse_corrections`] of the faces normal to `e_k`; `PER_CELL`: the
     /// cell path (compiled apart so that its kernel carries no nodal branch). 2D: `e_l` is
-    /// the one transverse axis of `e_k`; a 3D CTU also needs transverse-transverse terms
-    /// (LeVeque 2002, §21.6; Clawpack's `rptt3`) and is refused at construction.
+    /// the one transverse axis of `e_k`; 3D takes `ctu3.rs` (transverse-transverse terms,
+    /// LeVeque 2002, §21.6; Clawpack's `rptt3`).
     /// `in_place`: add the corrections to the axis's fluxes; otherwise write them to the
     /// scratch array.
     fn transverse_corrections_axis<const PER_CELL: bool>(

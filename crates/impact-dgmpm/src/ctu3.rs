@@ -14,12 +14,15 @@
 //!   `s = Δt²/(6 Δx_l Δx_m)` and `C_m^±` the transverse solver along `e_m`;
 //!
 //! gathered on the face and using that every solver is linear, is one transverse solve
-//! `F_k += B_k⁺ V_k(D) + B_k⁻ V_k(U)` ([`transverse_into_face`]) of the per-cell source
+//! `F_k += B_k⁺ V_k(D) + B_k⁻ V_k(U)` (`riemann::transverse_into_face`, written out for
+//! `n = e_k` in [`axis_transverse`]) of the per-cell source
 //! `V_k(X) = -Σ_{l≠k} Δt/(2Δx_l) W_l(X)
 //!     + s [C_m⁺(W_l(X) - W_l(X - e_m)) + C_m⁻(W_l(X + e_m) - W_l(X))]
 //!     + s [C_l⁺(W_m(X) - W_m(X - e_l)) + C_l⁻(W_m(X + e_l) - W_m(X))]`.
-//! Every `V_k` (ghost layers included) is formed from the uncorrected fluxes first, then
-//! the corrections are added in place: three cell arrays, one per axis.
+//! Every `W_l` (ghost layers included) is formed from the uncorrected fluxes first (three
+//! arrays, each `W` formed once: reading them in the sources costs a sixth of forming
+//! them there); then per axis the sources `V_k` (one scratch array) and the corrections,
+//! added in place.
 //!
 //! Edges: cells outside one edge are ghost cells, their fluctuations formed from the
 //! mirror states through the edge's condition as in 2D (`ghost_cell_fluctuations`);
@@ -29,7 +32,8 @@
 //! `edges = "restricted"` the correction on an edge face is restricted to what the edge's
 //! condition leaves free ([`constrain_correction`]), as in 2D.
 use crate::faces::Fields;
-use crate::riemann::{constrain_correction, transverse_into_face, Conserved};
+use crate::riemann::axis::{axis_transverse, AxisConstants};
+use crate::riemann::{constrain_correction, Conserved};
 use crate::{unit, DgmpmSolver, CHUNK};
 use impact_core::method::EdgeTreatment;
 use impact_core::parallel::{chunks, for_each_chunk};
@@ -58,33 +62,57 @@ impl<const D: usize> DgmpmSolver<D> {
         std::array::from_fn(|j| self.grid.cells[j] + 2 * usize::from(j == k))
     }
 
-    /// Phase 2b in 3D (module doc): the sources `V_k` of every axis from the uncorrected
-    /// fluxes, then `F_k += B_k⁺ V_k(D) + B_k⁻ V_k(U)` on every face normal to `e_k`
-    /// (restricted on an edge face under `edges = "restricted"`).
+    /// Dimensions of the fluctuation array `W_l`: the cells plus a ghost layer at each end
+    /// of every other axis.
+    fn fluctuation_dims(&self, l: usize) -> [usize; D] {
+        std::array::from_fn(|j| self.grid.cells[j] + 2 * usize::from(j != l))
+    }
+
+    /// Phase 2b in 3D (module doc): the fluctuations `W_l` of every cell and ghost cell
+    /// from the uncorrected fluxes (one array per axis), then per axis `k` the sources
+    /// `V_k` (one scratch array) and `F_k += B_k⁺ V_k(D) + B_k⁻ V_k(U)` on every face
+    /// normal to `e_k` (restricted on an edge face under `edges = "restricted"`).
     pub(crate) fn transverse_corrections_3d(&mut self, points: &MaterialPoints<D>, dt: f64) {
-        let mut sources = std::mem::replace(
+        let mut fluct = std::mem::replace(
             &mut self.transverse_sources,
             std::array::from_fn(|_| Vec::new()),
         );
-        for (k, source) in sources.iter_mut().enumerate() {
-            let dims = self.source_dims(k);
+        for (l, w) in fluct.iter_mut().enumerate() {
+            let dims = self.fluctuation_dims(l);
             let this = &*self;
             let fields = this.fields(points);
-            for_each_chunk(this.parallel, 1, chunks(source, CHUNK), |r, out| {
+            for_each_chunk(this.parallel, 1, chunks(w, CHUNK), |r, out| {
                 let mut idx = Self::multi_index(dims, r * CHUNK);
                 for v in out.iter_mut() {
-                    let mut pos = idx.map(|i| i as isize);
-                    pos[k] -= 1;
-                    *v = this.transverse_source(k, pos, fields, dt);
+                    let pos = std::array::from_fn(|j| idx[j] as isize - isize::from(j != l));
+                    *v = this.fluctuation_at(l, pos, fields);
                     Self::advance(&mut idx, &dims);
                 }
             });
         }
+        let mut source = std::mem::take(&mut self.correction_scratch);
+        let constants = AxisConstants::new(&self.elastic);
         for k in 0..D {
+            let dims = self.source_dims(k);
+            let len: usize = dims.iter().product();
+            let this = &*self;
+            for_each_chunk(
+                this.parallel,
+                1,
+                chunks(&mut source[..len], CHUNK),
+                |r, out| {
+                    let mut idx = Self::multi_index(dims, r * CHUNK);
+                    for v in out.iter_mut() {
+                        let mut pos = idx.map(|i| i as isize);
+                        pos[k] -= 1;
+                        *v = this.transverse_source(k, pos, &fluct, dt, &constants);
+                        Self::advance(&mut idx, &dims);
+                    }
+                },
+            );
             let mut fluxes = std::mem::take(&mut self.face_flux[k]);
             let this = &*self;
-            let dims = this.source_dims(k);
-            let source = &sources[k];
+            let source = &source[..len];
             let e_k = unit::<D>(k);
             // the source of the cell above a face is one k-stride further
             let stride_k: usize = dims[..k].iter().product();
@@ -94,12 +122,8 @@ impl<const D: usize> DgmpmSolver<D> {
                 for j in (0..D).rev() {
                     below = below * dims[j] + idx[j];
                 }
-                let mut c = transverse_into_face(
-                    &source[below],
-                    &source[below + stride_k],
-                    &e_k,
-                    &this.elastic,
-                );
+                let mut c =
+                    axis_transverse(k, &source[below], &source[below + stride_k], &constants);
                 let on_edge = idx[k] == 0 || idx[k] == this.grid.cells[k];
                 if on_edge && restricted {
                     let side = usize::from(idx[k] != 0);
@@ -111,42 +135,49 @@ impl<const D: usize> DgmpmSolver<D> {
             });
             self.face_flux[k] = fluxes;
         }
-        self.transverse_sources = sources;
+        self.correction_scratch = source;
+        self.transverse_sources = fluct;
     }
 
     /// The source `V_k(X)` of the cell at `pos` (one layer outside the grid along `k` at
-    /// most): module doc.
+    /// most) from the fluctuation arrays `fluct`: module doc.
     fn transverse_source(
         &self,
         k: usize,
         pos: [isize; D],
-        fields: Fields<'_, D>,
+        fluct: &[Vec<Conserved<D>>; D],
         dt: f64,
+        constants: &AxisConstants,
     ) -> Conserved<D> {
         let mut others = (0..D).filter(|&j| j != k);
         let (l, m) = (others.next().unwrap_or(0), others.next().unwrap_or(0));
         let h = self.grid.spacing;
         let s = dt * dt / (6.0 * h[l] * h[m]);
-        let shift = |a: usize, d: isize| {
-            let mut p = pos;
-            p[a] += d;
-            p
+        let cells = self.grid.cells;
+        // entry of W_a at `p` shifted by `d` along axis `b`
+        let w = |a: usize, b: usize, d: isize| {
+            let mut index = 0;
+            for j in (0..D).rev() {
+                let ghost = j != a;
+                let coordinate = pos[j] + if j == b { d } else { 0 } + isize::from(ghost);
+                index = index * (cells[j] + 2 * usize::from(ghost)) + coordinate as usize;
+            }
+            fluct[a][index]
         };
-        let w = |a: usize, p: [isize; D]| self.fluctuation_at(a, p, fields);
         // W_l and its neighbours along e_m, W_m and its neighbours along e_l
-        let (wl, wl_low, wl_high) = (w(l, pos), w(l, shift(m, -1)), w(l, shift(m, 1)));
-        let (wm, wm_low, wm_high) = (w(m, pos), w(m, shift(l, -1)), w(m, shift(l, 1)));
-        let tt_l = transverse_into_face(
+        let (wl, wl_low, wl_high) = (w(l, m, 0), w(l, m, -1), w(l, m, 1));
+        let (wm, wm_low, wm_high) = (w(m, l, 0), w(m, l, -1), w(m, l, 1));
+        let tt_l = axis_transverse(
+            m,
             &wl.add_scaled(&wl_low, -1.0),
             &wl_high.add_scaled(&wl, -1.0),
-            &unit::<D>(m),
-            &self.elastic,
+            constants,
         );
-        let tt_m = transverse_into_face(
+        let tt_m = axis_transverse(
+            l,
             &wm.add_scaled(&wm_low, -1.0),
             &wm_high.add_scaled(&wm, -1.0),
-            &unit::<D>(l),
-            &self.elastic,
+            constants,
         );
         Conserved::<D>::zeros()
             .add_scaled(&wl, -dt / (2.0 * h[l]))

@@ -9,9 +9,10 @@
 //! 2. [`DgmpmSolver::interface_fluxes`]: on each face, the left/right states are the
 //!    averages of each side's face nodes (paper §4); the exact linear-elastic Riemann
 //!    solver ([`riemann`]) gives the Godunov state `(v*, t*)`; boundary faces use ghost
-//!    states (LeVeque 2002 §7.3) for free, pressure, velocity and symmetry edges. In 2D
-//!    with `--flux ctu`, [`DgmpmSolver::transverse_corrections`] then adds the corner
-//!    transport upwind corrections; donor-cell (`dcu`) never computes them.
+//!    states (LeVeque 2002 §7.3) for free, pressure, velocity and symmetry edges. In 2D and
+//!    3D with `--flux ctu`, [`DgmpmSolver::transverse_corrections`] then adds the corner
+//!    transport upwind corrections (3D: transverse and transverse-transverse, `ctu3.rs`);
+//!    donor-cell (`dcu`) never computes them.
 //! 3. [`DgmpmSolver::nodal_rates`]: the semi-discrete system (paper eq. 16) with the volume
 //!    term on the points, the nodal field interpolated there (paper eq. 14-15):
 //!    `M_i dv_i/dt = -Σ_α V_α σ_h(X_α) ∇S_iα + Σ_f ∫_f S_i t*_out dΓ`,
@@ -62,7 +63,10 @@
 //!   edge's condition), so their fluctuations correct the edge fluxes as inside; the
 //!   correction on an edge face is then restricted to what the edge's condition leaves
 //!   free ([`riemann::constrain_correction`]), so free edges stay exactly traction-free
-//!   and a plane wave along a symmetry edge stays plane. At a corner where both edges
+//!   and a plane wave along a symmetry edge stays plane. In 3D the same, and behind two
+//!   edges (the transverse-transverse terms) the ghost's fluctuations are mirrored through
+//!   a symmetry edge, copied otherwise (`ctu3.rs`). Stability at one point per cell (von
+//!   Neumann): CTU 1 in 1D, 2D and 3D with Euler; donor-cell 0.6517 (2D), 0.4833 (3D). At a corner where both edges
 //!   prescribe a traction, the ghost's face towards the diagonal (defined by neither
 //!   condition) carries no fluctuation: with it, CTU with all edges free was unstable from
 //!   Courant 0.99; without it the limit is 1. With RK2, CTU corrects both stages (limit
@@ -80,7 +84,9 @@
 //! - [`faces`]: face indexing, face states and ghost conditions.
 //! - [`mapping`]: phase 1 (particles→nodes) and phase 5 (nodes→particles).
 //! - [`fluxes`]: phase 2, interface fluxes (linear and SVK) and the boundary force.
-//! - [`ctu`]: phase 2b, corner transport upwind corrections.
+//! - [`ctu`]: phase 2b, corner transport upwind corrections (2D; the 3D dispatch).
+//! - `ctu3.rs`: phase 2b in 3D, the transverse and transverse-transverse corrections
+//!   through per-cell sources (Clawpack's `flux3`, `method(3) = 11`).
 //! - [`integrator`]: phases 3-4 and the step (`stage`, once for Euler, twice for RK2).
 //! - [`cell_path`]: the cell-centred update of the cell path.
 //! - [`fused`]: the cell path's phases in one sweep, and the nodal stages' (linear, 1D
@@ -222,11 +228,13 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) nodes: NodalFields<D>,
     /// Per axis `l`: the Godunov flux `F_{e_l}(q*)` on each face.
     pub(crate) face_flux: [Vec<Conserved<D>>; D],
-    /// CTU only (empty otherwise): the transverse corrections of the last axis's faces,
-    /// before they are added to its fluxes ([`DgmpmSolver::transverse_corrections`]).
+    /// CTU only (empty otherwise): 2D, the transverse corrections of the last axis's faces,
+    /// before they are added to its fluxes ([`DgmpmSolver::transverse_corrections`]); 3D,
+    /// the sources `V_k` of one axis (`ctu3`).
     pub(crate) correction_scratch: Vec<Conserved<D>>,
-    /// 3D CTU only (empty otherwise): per axis `k`, the per-cell transverse sources `V_k`
-    /// with a ghost layer at each end of `k` (`ctu3`).
+    /// 3D CTU only (empty otherwise): per axis `l`, the fluctuations `W_l` entering each
+    /// cell, with a ghost layer at each end of the other axes (`ctu3`; the sources `V_k`
+    /// then go to `correction_scratch`).
     pub(crate) transverse_sources: [Vec<Conserved<D>>; D],
     /// The fused path's rolling face rows and next state (empty on the other paths).
     pub(crate) fused: fused::FusedBuffers<D>,
@@ -485,9 +493,18 @@ impl<const D: usize> DgmpmSolver<D> {
             };
             self.correction_scratch = vec![Conserved::zeros(); scratch];
             if ctu && D == 3 {
-                self.transverse_sources = std::array::from_fn(|k| {
-                    vec![Conserved::zeros(); self.source_dims(k).iter().product()]
-                });
+                // the fluctuations W_l (a ghost layer on the other axes) and one source array
+                // V_k (a ghost layer along k), the largest of the three
+                let cells = grid.cells;
+                let padded = |l: usize, across: bool| -> usize {
+                    (0..D)
+                        .map(|j| cells[j] + 2 * usize::from((j != l) == across))
+                        .product()
+                };
+                self.transverse_sources =
+                    std::array::from_fn(|l| vec![Conserved::zeros(); padded(l, true)]);
+                let largest = (0..D).map(|k| padded(k, false)).max().unwrap_or(0);
+                self.correction_scratch = vec![Conserved::zeros(); largest];
             }
         }
     }

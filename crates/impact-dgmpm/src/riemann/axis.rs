@@ -146,6 +146,38 @@ pub fn axis_transverse_2d<const K: usize>(
     Conserved { tensor, momentum }
 }
 
+/// [`axis_transverse_2d`] in any dimension, the normal axis `k` known at run time: the
+/// same formulas with every tangent `o ≠ k` (two in 3D) taking the 2D `O`'s terms,
+/// `α_S±(o) = ½(m_o/ρ ∓ W_ok/Z_s)`; stress `-(λ+2μ)(α_P+ + α_P-)` (`kk`),
+/// `-λ(α_P+ + α_P-)` (`oo`), `-μ(α_S+(o) + α_S-(o))` (`ko`, `ok`), zero between two
+/// tangents; momentum `Z_p(α_P+ - α_P-)` along `k`, `Z_s(α_S+(o) - α_S-(o))` along `o`
+/// (LeVeque 2002 §21.2; `super::transverse_into_face` for `n = e_k`). The 3D CTU's solver.
+#[inline(always)]
+pub fn axis_transverse<const D: usize>(
+    k: usize,
+    below: &Conserved<D>,
+    above: &Conserved<D>,
+    c: &AxisConstants,
+) -> Conserved<D> {
+    let ap = 0.5 * (below.momentum[k] * c.inv_rho - below.tensor[(k, k)] * c.inv_zp);
+    let am = 0.5 * (above.momentum[k] * c.inv_rho + above.tensor[(k, k)] * c.inv_zp);
+    let p = ap + am;
+    let mut tensor = Tensor::<D>::zeros();
+    let mut momentum = Vector::<D>::zeros();
+    for o in (0..D).filter(|&o| o != k) {
+        let sp = (below.momentum[o] * c.inv_rho - below.tensor[(o, k)] * c.inv_zs) * 0.5;
+        let sm = (above.momentum[o] * c.inv_rho + above.tensor[(o, k)] * c.inv_zs) * 0.5;
+        let shear = -((sp + sm) * c.mu);
+        tensor[(o, o)] = -(c.lambda * p);
+        tensor[(k, o)] = shear;
+        tensor[(o, k)] = shear;
+        momentum[o] = (sp - sm) * c.zs;
+    }
+    tensor[(k, k)] = -((c.lambda + c.two_mu) * p);
+    momentum[k] = c.zp * (ap - am);
+    Conserved { tensor, momentum }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -251,6 +283,28 @@ mod tests {
                 _ => axis_transverse_2d::<1>(&below, &above, &c),
             };
             close(&fast, &general);
+        }
+    }
+
+    /// The run-time axis solver is `transverse_into_face` for every axis in 3D.
+    #[test]
+    fn axis_transverse_equals_the_general_solver_in_3d() {
+        let m = steel();
+        let c = AxisConstants::new(&m);
+        let below = Conserved {
+            tensor: Tensor::<3>::new(
+                -2.0e8, 7.0e7, 3.0e7, 7.0e7, 1.0e8, -5.0e7, 3.0e7, -5.0e7, 4.0e7,
+            ),
+            momentum: Vector::<3>::new(-4.0e3, 9.0e3, 2.0e3),
+        };
+        let above = Conserved {
+            tensor: below.tensor.transpose() * -0.6 + Tensor::<3>::identity() * 2e7,
+            momentum: Vector::<3>::new(1.0e3, -3.0e3, 5.0e3),
+        };
+        for axis in 0..3 {
+            let n = crate::unit::<3>(axis);
+            let general = transverse_into_face(&below, &above, &n, &m);
+            close(&axis_transverse(axis, &below, &above, &c), &general);
         }
     }
 }
