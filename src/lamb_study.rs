@@ -33,7 +33,13 @@ pub struct Row {
 }
 
 /// Measure one receiver's traces.
-pub fn row(method: &str, cells_x: usize, h: f64, trace: &Trace, load: &crate::lamb::LambLoad) -> Row {
+pub fn row(
+    method: &str,
+    cells_x: usize,
+    h: f64,
+    trace: &Trace,
+    load: &crate::lamb::LambLoad,
+) -> Row {
     let level = crate::lamb::p_level(&trace.radial_exact);
     let e = &load.exact;
     let pick = |f: &dyn Fn(&[f64]) -> Option<f64>, speed: f64, vertical: bool| {

@@ -78,8 +78,7 @@ pub fn lamb(target: &Target) -> Result<Entry> {
         scene.domain.cells
     )];
     for kind in MethodKind::ALL {
-        let recorded =
-            crate::lamb::traces(&problem, scene.method_config(kind), &load, &points)?;
+        let recorded = crate::lamb::traces(&problem, scene.method_config(kind), &load, &points)?;
         for trace in &recorded {
             let row = crate::lamb_study::row(kind.name(), scene.domain.cells[0], h, trace, &load);
             lines.push(format!(

@@ -28,7 +28,9 @@
 //! mirror states through the edge's condition as in 2D (`ghost_cell_fluctuations`);
 //! behind an edge of two axes (needed by the transverse-transverse terms only) the
 //! ghost's fluctuations are the mirror of the single ghost's through a symmetry edge,
-//! and otherwise the single ghost's (zero gradient along the second axis). Under
+//! and otherwise the mean of the two single ghosts' (zero gradient along each edge in
+//! turn, averaged so that neither axis is preferred: a centred square impact keeps its
+//! y ↔ z symmetry, `tests/three_d.rs`). Under
 //! `edges = "restricted"` the correction on an edge face is restricted to what the edge's
 //! condition leaves free ([`constrain_correction`]), as in 2D.
 use crate::faces::Fields;
@@ -217,7 +219,11 @@ impl<const D: usize> DgmpmSolver<D> {
                 } else if symmetric(a) {
                     mirror(&ghost(b), a)
                 } else {
-                    ghost(a)
+                    // neither edge a mirror: the mean of the two single ghosts, so that
+                    // no axis is preferred (a square impact keeps its y ↔ z symmetry)
+                    Conserved::<D>::zeros()
+                        .add_scaled(&ghost(a), 0.5)
+                        .add_scaled(&ghost(b), 0.5)
                 }
             }
         }
