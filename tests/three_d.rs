@@ -105,7 +105,8 @@ fn a_patch_keeps_its_resultant_under_refinement() {
 }
 
 /// The 3D plane wave (`block-wave`: roller y and z faces) gives the same profile and
-/// errors as the 2D `plate-wave` in every method, and DGMPM at Courant 1 is exact.
+/// errors and energy balance as the 2D `plate-wave` in every method, and DGMPM at
+/// Courant 1 is exact.
 #[test]
 fn the_plane_wave_in_3d_is_the_plane_wave_in_2d() {
     let three = Scene::builtin("block-wave").unwrap();
@@ -136,6 +137,13 @@ fn the_plane_wave_in_3d_is_the_plane_wave_in_2d() {
             if kind == MethodKind::Dgmpm {
                 assert!(e3 < 1e-12, "DGMPM at Courant 1: L1 {e3}");
             }
+            // the energy balance too (3D compliance, the cross-section's work)
+            let (w3, w2) = (x.energy_error, y.energy_error);
+            assert!(
+                (w3 - w2).abs() <= 1e-9 * w2.abs().max(1e-9),
+                "{kind:?} at t = {}: energy error {w3} (3D) vs {w2} (2D)",
+                x.t
+            );
         }
     }
 }

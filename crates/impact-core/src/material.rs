@@ -91,7 +91,8 @@ impl LinearElastic {
     }
 
     /// Strain from stress (the inverse of [`Self::stress`]):
-    /// `ε = σ/E` in 1D, `ε = (σ - λ tr(σ)/(2(λ+μ)) 1) / (2μ)` in plane strain.
+    /// `ε = σ/E` in 1D, `ε = (σ - λ tr(σ)/(2(λ+μ)) 1) / (2μ)` in plane strain (the
+    /// in-plane trace; `ε_zz = 0`), `ε = (σ - λ tr(σ)/(3λ+2μ) 1) / (2μ)` in 3D.
     #[inline]
     pub fn strain<const D: usize>(&self, stress: &Tensor<D>) -> Tensor<D> {
         if D == 1 {
@@ -99,12 +100,19 @@ impl LinearElastic {
         } else {
             let Lame { lambda, mu } = self.lame;
             let tr = stress.trace();
-            (stress - Tensor::<D>::identity() * (lambda * tr / (2.0 * (lambda + mu)))) / (2.0 * mu)
+            // the trace of 1 over the dimensions that strain: 2 (plane strain) or 3
+            let denominator = if D == 2 {
+                2.0 * (lambda + mu)
+            } else {
+                3.0 * lambda + 2.0 * mu
+            };
+            (stress - Tensor::<D>::identity() * (lambda * tr / denominator)) / (2.0 * mu)
         }
     }
 
     /// Out-of-plane stress of plane strain (`ε_zz = 0`):
-    /// `σ_zz = λ tr(ε) = λ/(2(λ+μ)) (σ_xx + σ_yy)`; 0 for the 1D bar (uniaxial stress).
+    /// `σ_zz = λ tr(ε) = λ/(2(λ+μ)) (σ_xx + σ_yy)`; 0 for the 1D bar (uniaxial stress);
+    /// 2D only (a 3D stress has its own `σ_zz`).
     pub fn out_of_plane_stress<const D: usize>(&self, stress: &Tensor<D>) -> f64 {
         if D == 1 {
             0.0
@@ -143,6 +151,23 @@ mod tests {
         .into();
         assert_relative_eq!(lame.mu, 2e11 / 2.6, max_relative = 1e-14);
         assert_relative_eq!(lame.lambda, 2e11 * 0.3 / (1.3 * 0.4), max_relative = 1e-14);
+    }
+
+    /// In 3D the compliance inverts the stiffness, and `ψ = ½ σ:ε` of a uniaxial strain
+    /// is `½ M ε²`.
+    #[test]
+    fn strain_inverts_stress_in_3d() {
+        let m = LinearElastic::new(2e11, 0.3, 7800.0);
+        let eps = Tensor::<3>::new(1e-3, 2e-4, -1e-4, 2e-4, -5e-4, 3e-4, -1e-4, 3e-4, 7e-4);
+        let back = m.strain(&m.stress(&eps));
+        assert_relative_eq!(back, eps, max_relative = 1e-12);
+        let mut uniaxial = Tensor::<3>::zeros();
+        uniaxial[(0, 0)] = 1e-3;
+        assert_relative_eq!(
+            m.energy_density(&m.stress(&uniaxial)),
+            0.5 * m.p_modulus::<3>() * 1e-6,
+            max_relative = 1e-12
+        );
     }
 
     #[test]
