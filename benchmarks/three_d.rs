@@ -95,12 +95,17 @@ fn main() {
         }
         c
     };
+    let mut dcu = scene.method_config(MethodKind::Dgmpm);
+    if let Some(o) = dcu.dgmpm_mut() {
+        o.flux = TransverseFlux::DonorCell;
+    }
+    dcu.courant = 0.48;
     let configs = [
         (
             "dgmpm CTU Euler",
             ctu(scene.method_config(MethodKind::Dgmpm)),
         ),
-        ("dgmpm DCU Euler", scene.method_config(MethodKind::Dgmpm)),
+        ("dgmpm DCU Euler", dcu),
         ("mpm USL linear", scene.method_config(MethodKind::Mpm)),
         ("fem hex8", scene.method_config(MethodKind::Fem)),
     ];

@@ -49,7 +49,7 @@ impl<const D: usize> DgmpmSolver<D> {
     /// uncorrected), and last the scratch is added to the last axis's fluxes: one face
     /// array of scratch instead of a correction array per axis (48 B per cell less), and
     /// `face_flux` ends holding the final fluxes, bit for bit `F + correction`.
-    /// In 3D: [`Self::transverse_corrections_3d`] (transverse and transverse-transverse).
+    /// In 3D: `transverse_corrections_3d` (file `ctu3.rs`) (transverse and transverse-transverse).
     pub fn transverse_corrections(&mut self, points: &MaterialPoints<D>, dt: f64) {
         if D == 3 {
             return self.transverse_corrections_3d(points, dt);
