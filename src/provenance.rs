@@ -516,7 +516,12 @@ mod tests {
             ..Overrides::default()
         };
         for name in impact_core::scene::BUILTIN {
-            for o in [Overrides::default(), overrides.clone()] {
+            // several points per cell: 2 per axis (4 in 1D and 2D, 8 in 3D)
+            let mut several = overrides.clone();
+            if Scene::builtin(name).unwrap().dim == 3 {
+                several.points_per_cell = Some(8);
+            }
+            for o in [Overrides::default(), several] {
                 let study = Study::load(name, o).unwrap();
                 let scene = resolved_scene(&study, &MethodKind::ALL);
                 let text = toml::to_string(&scene).unwrap();

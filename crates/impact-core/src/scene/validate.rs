@@ -95,11 +95,12 @@ pub fn check_courant(field: &str, courant: f64) -> Result<(), SceneError> {
 pub fn check_points_per_cell(dim: usize, ppc: usize) -> Result<(), SceneError> {
     let per_axis = points_per_axis(dim, ppc);
     if ppc == 0 || ppc > 64 || per_axis.is_none() {
-        let allowed = if dim == 1 {
-            "a whole number from 1 to 64".to_string()
-        } else {
-            "a square number (1, 4, 9, 16, ...) up to 64 in 2D".to_string()
-        };
+        let allowed = match dim {
+            1 => "a whole number from 1 to 64",
+            2 => "a square number (1, 4, 9, 16, ...) up to 64 in 2D",
+            _ => "a cube (1, 8, 27, 64) in 3D",
+        }
+        .to_string();
         return Err(SceneError::new("domain.points_per_cell", ppc, allowed));
     }
     Ok(())
