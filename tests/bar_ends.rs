@@ -186,7 +186,7 @@ fn scenes_without_an_exact_solution_say_why() {
     let text = impact_core::scene::builtin("plate").unwrap();
     let problem = Problem::<2>::from_scene(&Scene::from_toml(text, "plate").unwrap()).unwrap();
     let why = Reference::exact(&problem).unwrap_err();
-    assert!(why.contains("symmetry top and bottom"), "{why}");
+    assert!(why.contains("symmetry sides across x"), "{why}");
     let text = impact_core::scene::builtin("svk-bar").unwrap();
     let mut scene = Scene::from_toml(text, "svk-bar").unwrap();
     scene.boundary.right = scene.boundary.left.clone();

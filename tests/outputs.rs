@@ -67,12 +67,12 @@ fn figures_makes_every_figure_and_its_index() {
             assert!(html.contains(&format!("href=\"{stem}.svg\"")), "{stem}");
         }
     }
-    assert_eq!(images, 11);
+    assert_eq!(images, 13);
     // one figure alone: the others stay, with their files
     let o = impact(&["figures", "fig3", "--quiet", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o));
     let again = json(&out.join("index.json"));
-    assert_eq!(again["entries"].as_array().unwrap().len(), 7);
+    assert_eq!(again["entries"].as_array().unwrap().len(), 9);
     assert!(out.join("fig5_plate.png").exists() && out.join("stability.svg").exists());
     let _ = std::fs::remove_dir_all(&out);
 }
@@ -295,4 +295,54 @@ fn check_writes_json_and_junit() {
     let o = run(&["--min-width-ratio", "20"]);
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A 3D run writes its grid as VTK hexahedra (cell type 12), one per cell, with the 8
+/// vertices of each cell in VTK's order (bottom face counter-clockwise, then the top: the
+/// first cell's connectivity is 0 1 n+1 n, then the same a layer up).
+#[test]
+fn a_3d_grid_is_written_as_hexahedra() {
+    let out = tmp("vtu-3d");
+    let o = impact(&[
+        "run",
+        "block-wave",
+        "--method",
+        "dgmpm",
+        "--quiet",
+        "--no-reference",
+        "--vtu",
+        "ascii",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let grid = std::fs::read_to_string(out.join("dgmpm_grid_t0.vtu")).unwrap();
+    let block = |name: &str| -> Vec<usize> {
+        let start = grid.find(&format!("Name=\"{name}\"")).unwrap();
+        let body = &grid[start..];
+        let body = &body[body.find('>').unwrap() + 1..body.find("</DataArray>").unwrap()];
+        body.split_whitespace()
+            .map(|v| v.parse().unwrap())
+            .collect()
+    };
+    let types = block("types");
+    // block-wave: 32 × 4 × 4 cells, 33 × 5 × 5 vertices
+    assert_eq!(types.len(), 32 * 4 * 4);
+    assert!(types.iter().all(|&t| t == 12));
+    let connectivity = block("connectivity");
+    let (nx, layer) = (33, 33 * 5);
+    assert_eq!(
+        connectivity[..8],
+        [
+            0,
+            1,
+            nx + 1,
+            nx,
+            layer,
+            layer + 1,
+            layer + nx + 1,
+            layer + nx
+        ]
+    );
+    let _ = std::fs::remove_dir_all(&out);
 }

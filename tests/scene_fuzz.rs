@@ -91,7 +91,8 @@ fn exercise_study(scene: Scene, overrides: Overrides) {
     }
     match study.dim() {
         1 => step_all::<1>(&study),
-        _ => step_all::<2>(&study),
+        2 => step_all::<2>(&study),
+        _ => step_all::<3>(&study),
     }
 }
 
