@@ -8,36 +8,9 @@
 //! meanwhile, so the figures are exact and repeatable (no timing involved).
 use impact_core::method::{Integrator, MethodKind};
 use impact_core::{Problem, Scene};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
-struct Counting;
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-fn grew(bytes: usize) {
-    let now = LIVE.fetch_add(bytes, Ordering::SeqCst) + bytes;
-    PEAK.fetch_max(now, Ordering::SeqCst);
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        grew(layout.size());
-        // SAFETY: forwarded to the system allocator with the caller's layout
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        LIVE.fetch_sub(layout.size(), Ordering::SeqCst);
-        // SAFETY: the pointer came from System.alloc with this layout
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        LIVE.fetch_sub(layout.size(), Ordering::SeqCst);
-        grew(new_size);
-        // SAFETY: forwarded to the system allocator
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
+mod counting;
+use counting::Counting;
 
 #[global_allocator]
 static GLOBAL: Counting = Counting;
@@ -68,17 +41,16 @@ fn main() {
     configs.push(("mpm (USL, linear)", scene.method_config(MethodKind::Mpm)));
     configs.push(("fem (Q4)", scene.method_config(MethodKind::Fem)));
     for (label, config) in configs {
-        let before = LIVE.load(Ordering::SeqCst);
-        PEAK.store(before, Ordering::SeqCst);
+        let before = counting::reset_peak();
         let mut method = impact::build(&problem, config).expect("builds");
-        let held = LIVE.load(Ordering::SeqCst) - before;
-        let building = PEAK.load(Ordering::SeqCst) - before;
-        PEAK.store(LIVE.load(Ordering::SeqCst), Ordering::SeqCst);
+        let held = counting::live() - before;
+        let building = counting::peak() - before;
+        counting::reset_peak();
         let dt = method.stable_dt();
         for k in 0..5 {
             method.step(k as f64 * dt, dt);
         }
-        let peak = PEAK.load(Ordering::SeqCst) - before;
+        let peak = counting::peak() - before;
         println!(
             "{label:<34} {:>10.1} {:>16.1} {:>16.1}",
             held as f64 / cells,

@@ -10,37 +10,10 @@
 //! per cell-update the issue targets (at most 3×).
 use impact_core::method::{MethodConfig, MethodKind, TransverseFlux};
 use impact_core::{Problem, Scene};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-struct Counting;
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-fn grew(bytes: usize) {
-    let now = LIVE.fetch_add(bytes, Ordering::SeqCst) + bytes;
-    PEAK.fetch_max(now, Ordering::SeqCst);
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        grew(layout.size());
-        // SAFETY: forwarded to the system allocator with the caller's layout
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        LIVE.fetch_sub(layout.size(), Ordering::SeqCst);
-        // SAFETY: the pointer came from System.alloc with this layout
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        LIVE.fetch_sub(layout.size(), Ordering::SeqCst);
-        grew(new_size);
-        // SAFETY: forwarded to the system allocator
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
+mod counting;
+use counting::Counting;
 
 #[global_allocator]
 static GLOBAL: Counting = Counting;
@@ -116,13 +89,12 @@ fn main() {
     );
     let mut dgmpm_3d = 0.0;
     for (label, config) in configs {
-        let before = LIVE.load(Ordering::SeqCst);
-        PEAK.store(before, Ordering::SeqCst);
+        let before = counting::reset_peak();
         let mut method = impact::build(&problem, config).expect("builds");
-        let held = LIVE.load(Ordering::SeqCst) - before;
+        let held = counting::live() - before;
         let dt = method.stable_dt();
         method.step(0.0, dt);
-        let peak = PEAK.load(Ordering::SeqCst) - before;
+        let peak = counting::peak() - before;
         drop(method);
         let one = time(&problem, config, 1, steps);
         let two = time(&problem, config, 2, steps);

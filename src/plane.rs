@@ -26,10 +26,7 @@ impl MapPlane {
             _ => {
                 let normal = if line.axis == 2 { 1 } else { 2 };
                 let axes = if normal == 2 { [0, 1] } else { [0, 2] };
-                let at = line.point::<D>(line.start)[normal];
-                let h = grid.spacing[normal];
-                let layer = (((at - grid.origin[normal]) / h + 1e-9).floor().max(0.0) as usize)
-                    .min(grid.cells[normal] - 1);
+                let layer = grid.layer_of(normal, line.point::<D>(line.start)[normal]);
                 Some(Self {
                     axes,
                     layer: Some((normal, layer)),
@@ -50,12 +47,7 @@ impl MapPlane {
 
     /// The index in the plane's grid of cell `cell` of `g`, if it lies in the plane.
     pub fn cell_in_plane<const D: usize>(&self, g: &Grid<D>, cell: usize) -> Option<usize> {
-        let mut rest = cell;
-        let mut idx = [0usize; D];
-        for (l, slot) in idx.iter_mut().enumerate() {
-            *slot = rest % g.cells[l];
-            rest /= g.cells[l];
-        }
+        let idx = g.cell_multi_index(cell);
         if let Some((normal, layer)) = self.layer {
             if idx[normal] != layer {
                 return None;

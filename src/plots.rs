@@ -60,11 +60,8 @@ pub fn reference_series<const D: usize>(
     let (mut low, mut high) = (Vector::<D>::zeros(), Vector::<D>::zeros());
     let at = line.point::<D>(start);
     for k in Grid::<D>::tangent_axes(line.axis) {
-        let h = grid.spacing[k];
-        let row = (((at[k] - grid.origin[k]) / h + 1e-9).floor().max(0.0) as usize)
-            .min(grid.cells[k] - 1);
-        low[k] = grid.origin[k] + row as f64 * h;
-        high[k] = low[k] + h;
+        low[k] = grid.origin[k] + grid.layer_of(k, at[k]) as f64 * grid.spacing[k];
+        high[k] = low[k] + grid.spacing[k];
     }
     let points = (0..n)
         .map(|i| {

@@ -116,8 +116,7 @@ pub fn reference_for<const D: usize>(
         }
         let h = problem.grid.spacing[other];
         // the row `MeasureLine::holds` picks: `lo ≤ offset < hi`, to its tolerance
-        let row =
-            ((line.offset[slot] / h + 1e-9).floor() as usize).min(problem.grid.cells[other] - 1);
+        let row = problem.grid.layer_of(other, line.offset[slot]);
         let top = problem.grid.upper()[other];
         let low = (row as f64 * h)
             .min(top - problem.grid.spacing[line.axis])

@@ -43,6 +43,15 @@ impl<const D: usize> Grid<D> {
         lin
     }
 
+    /// Index along axis `l` of the layer of cells holding the coordinate `x`, a coordinate
+    /// within 1e-9 of a cell below a face counted in the cell above it (the rule of
+    /// `MeasureLine::holds`: `lo ≤ x < hi`), clamped to the grid.
+    #[inline]
+    pub fn layer_of(&self, l: usize, x: f64) -> usize {
+        let h = self.spacing[l];
+        (((x - self.origin[l]) / h + 1e-9).floor().max(0.0) as usize).min(self.cells[l] - 1)
+    }
+
     /// Multi-index of cell `c`.
     #[inline]
     pub fn cell_multi_index(&self, mut c: usize) -> [usize; D] {

@@ -174,9 +174,9 @@ impl<const D: usize> DgmpmSolver<D> {
         }
     }
 
-    /// Coordinate along an edge normal to axis `l` of the cell or face with multi-index
-    /// `idx` (its centre along [`Grid::segment_axis`]; 0 in 1D): where a loaded segment is
-    /// tested.
+    /// Tangential coordinates on a side normal to axis `l` of the cell or face with
+    /// multi-index `idx` (its centre along each of [`Grid::tangent_axes`], in that order;
+    /// unused entries 0): where a loaded patch is tested.
     #[inline]
     pub(crate) fn edge_coordinate(&self, l: usize, idx: &[usize; D]) -> [f64; 2] {
         let mut s = [0.0; 2];
