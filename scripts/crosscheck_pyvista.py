@@ -64,3 +64,45 @@ def test_hdf5_series_matches_the_vtu_samples(plate_out, plate_summary, method):
             np.testing.assert_allclose(step["cauchy_stress"][:], np.asarray(points["cauchy_stress"]), rtol=1e-11, atol=1e-3)
             np.testing.assert_allclose(step["velocity"][:], np.asarray(points["velocity"]), rtol=1e-11, atol=1e-12)
             assert f"{h5.name}:/step_{k}/cauchy_stress" in xdmf
+
+
+def _grid_series_matches_the_vtu_grids(out, method, cell_type, cells):
+    """`<method>_grid.xdmf` read by meshio's XDMF reader: every step's cells (of the XDMF
+    topology `cell_type`), points and cell fields equal the `<method>_grid_t<k>.vtu` ones."""
+    import meshio
+
+    reader = meshio.xdmf.TimeSeriesReader(out / f"{method}_grid.xdmf")
+    points, blocks = reader.read_points_cells()
+    assert [b.type for b in blocks] == [cell_type]
+    assert len(blocks[0].data) == cells
+    assert reader.num_steps >= 1
+    for k in range(reader.num_steps):
+        _, _, cell_data = reader.read_data(k)
+        vtu = pv.read(out / f"{method}_grid_t{k}.vtu")
+        np.testing.assert_array_equal(blocks[0].data.ravel(), vtu.cells.reshape(-1, blocks[0].data.shape[1] + 1)[:, 1:].ravel())
+        if k == 0:
+            np.testing.assert_allclose(points, np.asarray(vtu.points), rtol=1e-12, atol=1e-12)
+        stress = cell_data["cauchy_stress"][0]
+        scale = max(np.abs(stress).max(), 1.0)
+        assert scale > 1e6, "the grid carries the wave's stress"
+        np.testing.assert_allclose(stress, np.asarray(vtu.cell_data["cauchy_stress"]), rtol=0, atol=1e-12 * scale)
+        np.testing.assert_allclose(cell_data["velocity"][0], np.asarray(vtu.cell_data["velocity"]), rtol=0, atol=1e-12)
+
+
+@pytest.mark.skipif(os.environ.get("IMPACT_HAS_HDF5") != "1", reason="impact built without the hdf5 feature")
+@pytest.mark.parametrize("method", METHODS)
+def test_hdf5_grid_series_of_the_plate_is_quadrilaterals(plate_out, method):
+    _grid_series_matches_the_vtu_grids(plate_out, method, "quad", NX * NY)
+
+
+@pytest.mark.skipif(os.environ.get("IMPACT_HAS_HDF5") != "1", reason="impact built without the hdf5 feature")
+@pytest.mark.parametrize("method", METHODS)
+def test_hdf5_grid_series_of_a_block_is_hexahedra(tmp_path_factory, method):
+    import subprocess
+
+    from conftest import impact_bin
+
+    out = tmp_path_factory.mktemp(f"block_{method}")
+    subprocess.run([impact_bin(), "run", "block-wave", "--quiet", "--method", method, "--out", str(out)],
+                   check=True, stdout=subprocess.DEVNULL)
+    _grid_series_matches_the_vtu_grids(out, method, "hexahedron", 32 * 4 * 4)

@@ -5,8 +5,9 @@
 //! Per method and output time a CSV profile (stress xx and v_x along x;
 //! the bottom row in 2D; with the reference as columns) and two `.vtu` files (the samples
 //! as vertices; the grid cells, or the FEM mesh, with their fields); per method a `.pvd`
-//! collection of each; with the `hdf5` feature a `<method>.h5` + `.xdmf` time series of the
-//! samples; per run `summary.json`, `stress.png` (profiles at up to three times)
+//! collection of each; with the `hdf5` feature a `<method>.h5` time series of the samples
+//! and of the grid, described by `<method>.xdmf` (samples) and `<method>_grid.xdmf` (the
+//! grid's quadrilaterals or hexahedra: [`impact_io::h5`]); per run `summary.json`, `stress.png` (profiles at up to three times)
 //! and, in 2D, `stress_map.png` (σ_xx colour map per method at the last output time).
 use crate::run::{Observer, RunRecord};
 use anyhow::Context;
@@ -429,6 +430,17 @@ impl<const D: usize> FileWriter<'_, D> {
         )
         .with_context(|| format!("writing {file}"))?;
         self.pvd_grid.push((t, file));
+        #[cfg(feature = "hdf5")]
+        if let (Some(series), true) = (self.h5.as_mut(), frame != INITIAL) {
+            series.write_grid(&impact_io::h5::GridFrame {
+                points: &points,
+                connectivity: &connectivity,
+                nodes_per_cell: npc,
+                cell_stress: &cell_stress,
+                cell_velocity: &cell_velocity,
+                nodal_velocity: &nodal_velocity,
+            })?;
+        }
         Ok(())
     }
 }
