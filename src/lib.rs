@@ -15,6 +15,7 @@ pub mod interrupt;
 pub mod ladder;
 pub mod lamb;
 pub mod lamb_study;
+pub mod memory;
 pub mod output;
 pub mod output_bench;
 pub mod plane;

@@ -223,7 +223,7 @@ impl Overrides {
             return Err(SceneError::new(
                 "--cells/--points-per-cell",
                 format!("{:?} cells", scene.domain.cells),
-                format!("at most {MAX_POINTS:.0e} cells × points per cell in total"),
+                format!("at most {MAX_POINTS:.1e} cells × points per cell in total"),
             ));
         }
         if let Some(ppc) = self.points_per_cell {
@@ -371,6 +371,24 @@ impl Study {
         self.check_configs(&configs)?;
         for config in &configs {
             check_work(&self.scene.work_estimate(config), budget_of(self))?;
+        }
+        if let Some(machine) = crate::memory::machine_bytes() {
+            let cells = &self.scene.domain.cells;
+            let cell_count: f64 = cells.iter().map(|&n| n as f64).product();
+            for config in &configs {
+                let field = match self.overrides.cells.is_some() {
+                    true => "--cells",
+                    false => "domain.cells",
+                };
+                crate::memory::check_fits(
+                    field,
+                    format!("{cells:?} × {} points per cell", config.points_per_cell),
+                    config.kind(),
+                    self.dim(),
+                    cell_count * config.points_per_cell as f64,
+                    machine,
+                )?;
+            }
         }
         Ok(())
     }

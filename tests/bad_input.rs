@@ -94,12 +94,12 @@ fn bad_flags_are_named() {
     );
     // grids that cannot fit in memory are refused before any allocation
     cli_error(
-        &["run", "bar", "--cells", "99999999"],
-        &["--cells", "99999999", "at most 1e7"],
+        &["run", "bar", "--cells", "200000000"],
+        &["--cells", "200000000", "at most 1e8"],
     );
     cli_error(
-        &["run", "plate", "--cells", "5000"],
-        &["--cells", "at most 1e7"],
+        &["run", "plate", "--cells", "20000"],
+        &["--cells", "at most 1.5e8"],
     );
     cli_error(
         &["run", "bar", "--integrator", "rk4"],

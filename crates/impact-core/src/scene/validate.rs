@@ -25,8 +25,10 @@ use crate::error::SceneError;
 use crate::material::LinearElastic;
 use crate::options::{MaterialModel, MethodConfig, MethodKind, RiemannSolver};
 
-/// Largest number of cells × points per cell a scene may ask for.
-pub const MAX_POINTS: f64 = 1e7;
+/// Largest number of cells × points per cell a scene may ask for: a 512³ block at one
+/// point per cell (about 60 GB). Whether a grid fits the machine it runs on is checked when
+/// the run starts (the CLI's `memory` module).
+pub const MAX_POINTS: f64 = 1.5e8;
 
 /// Allowed range of the Courant number.
 pub const COURANT_RANGE: &str = "a number in (0, 2]";
@@ -239,8 +241,8 @@ impl Scene {
                 "domain.cells",
                 format!("{:?} × {} points per cell", d.cells, d.points_per_cell),
                 format!(
-                    "at most {MAX_POINTS:.0e} cells × points per cell in total (about 1.2 kB per cell \
-                     in 2D: larger grids do not fit in memory here)"
+                    "at most {MAX_POINTS:.1e} cells × points per cell in total (a 512³ block at one \
+                     point per cell; whether a grid fits this machine is checked when it runs)"
                 ),
             ));
         }
