@@ -29,9 +29,9 @@
 //! to phases 1-5 to round-off (1D/2D, CTU/donor-cell, linear and SVK), and
 //! [`DgmpmSolver::set_step_path`] picks another path for comparison ([`StepPath`]).
 //!
-//! **Fused path** (the cell path with linear elasticity in 1D or 2D, the default there):
-//! the same phases in one sweep over the cell rows, each face solved once, rolling rows of
-//! faces instead of face arrays ([`fused`]); tested bit for bit equal to the cell path.
+//! **Fused path** (the cell path with linear elasticity, the default there): the same
+//! phases in one sweep over the cell rows (3D: layers), each face solved once, rolling rows
+//! (planes) of faces instead of face arrays ([`fused`]); tested equal to the cell path.
 //!
 //! **Fused nodal sweep** (the nodal paths with linear elasticity in 1D or 2D: RK2, several
 //! points per cell, the increment update; the default there): phases 2-4 of each stage in
@@ -108,7 +108,7 @@ pub mod mapping;
 pub mod method;
 pub mod riemann;
 mod step_path;
-pub use step_path::StepPath;
+pub use step_path::{Fusable, StepPath};
 
 use impact_core::material::Svk;
 use impact_core::method::{
@@ -238,8 +238,8 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) transverse_sources: [Vec<Conserved<D>>; D],
     /// The fused path's rolling face rows and next state (empty on the other paths).
     pub(crate) fused: fused::FusedBuffers<D>,
-    /// Linear elasticity without the elastoplastic solver, 1D or 2D: the fused path applies.
-    pub(crate) fusable: bool,
+    /// Which fused sweeps apply (linear elasticity without the elastoplastic solver).
+    pub(crate) fusable: Fusable,
     pub(crate) elastic: Elastic,
     pub(crate) physics: Physics,
     /// J2 plasticity: the return map corrects the points after each step (phase 6).
@@ -380,9 +380,8 @@ impl<const D: usize> DgmpmSolver<D> {
             density: problem.material.density,
             z: Impedances { p, s },
         };
-        let fusable = D <= 2
-            && matches!(problem.model, Model::LinearElastic | Model::J2(_))
-            && options.riemann != RiemannSolver::Elastoplastic;
+        let linear = matches!(problem.model, Model::LinearElastic | Model::J2(_));
+        let fusable = Fusable::of(D, linear && options.riemann != RiemannSolver::Elastoplastic);
         let path = StepPath::fastest(config.points_per_cell, options.integrator, inside, fusable);
         // the cell path never reads the shape functions: not allocated (96 B per cell in 2D)
         let (shape, shape_gradient) = match path.nodal() {
@@ -476,7 +475,7 @@ impl<const D: usize> DgmpmSolver<D> {
             // the next state: one per point on the cell path; per node between RK2's two
             // nodal stages unless the first writes in place (the last writes the points)
             let layout = match (fused_nodal, rk2 && !single) {
-                (false, _) => fused::Layout::cell(),
+                (false, _) => fused::Layout::cell(ctu),
                 (true, true) => fused::Layout::nodal(Grid::<D>::NODES_PER_CELL, ctu),
                 (true, false) => fused::Layout::nodal(0, ctu),
             };
