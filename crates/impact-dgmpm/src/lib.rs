@@ -89,8 +89,8 @@
 //!   through per-cell sources (Clawpack's `flux3`, `method(3) = 11`).
 //! - [`integrator`]: phases 3-4 and the step (`stage`, once for Euler, twice for RK2).
 //! - [`cell_path`]: the cell-centred update of the cell path.
-//! - [`fused`]: the cell path's phases in one sweep, and the nodal stages' (linear, 1D
-//!   and 2D).
+//! - [`fused`]: the cell path's phases in one sweep (linear; 3D in `fused/block.rs`), and
+//!   the nodal stages' (linear, 1D and 2D).
 //! - `step_path.rs`: [`StepPath`], which of these computations a step runs.
 //! - [`riemann`]: the Riemann solvers (one file each); a new solver goes there.
 //! - [`method`]: the [`Method`](impact_core::Method) impl.
@@ -483,6 +483,7 @@ impl<const D: usize> DgmpmSolver<D> {
                 self.fused = fused::FusedBuffers::new(grid.cells, layout);
             }
         } else if self.face_flux[0].is_empty() {
+            self.fused = fused::FusedBuffers::default(); // (another path was the default)
             self.face_flux = std::array::from_fn(|l| vec![Conserved::zeros(); grid.face_count(l)]);
             // 2D: one face array of scratch; 3D: the per-axis sources (`ctu3`)
             let scratch = if ctu && D == 2 {

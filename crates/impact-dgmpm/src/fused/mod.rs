@@ -1,5 +1,5 @@
 //! The fused cell path ([`StepPath::Fused`]): one point per cell, forward Euler, linear
-//! elasticity, 1D or 2D. The phases of the cell path ([`crate::cell_path`]) in one sweep:
+//! elasticity, 1D, 2D or 3D. The phases of the cell path ([`crate::cell_path`]) in one sweep:
 //!
 //! 1. phase 2, the Godunov flux `F_{e_l}(q*)` of each face (paper §4, eqs. 18-21);
 //! 2. phase 2b (2D, CTU), the transverse corrections
@@ -28,9 +28,14 @@
 //! The nodal paths' stages run the same 2D sweep with face states from the DG nodes and
 //! the nodal rates in place of the cell update ([`StepPath::FusedNodal`], `nodal.rs`).
 //!
+//! In 3D (`block.rs`, CTU in `block/ctu.rs`) the sweep walks z-layers in slabs with
+//! rolling planes of faces, fluctuations `W` and sources `V` (the transverse-transverse
+//! terms of `ctu3.rs`); its values equal the cell path's (tested with `==`).
+//!
 //! Files: this one (buffers, dispatch, the cell update), `plane.rs` (the 2D sweep and its
-//! face rows, for both), `bar.rs` (the 1D sweep), `nodal.rs` (the nodal stage: its
-//! dispatch, buffers, cell update and 1D sweep).
+//! face rows, for both), `bar.rs` (the 1D sweep), `block.rs` (the 3D sweep, donor-cell)
+//! and `block/ctu.rs` (its CTU), `nodal.rs` (the nodal stage: its dispatch, buffers, cell
+//! update and 1D sweep; 1D and 2D only).
 use crate::faces::Fields;
 use crate::riemann::Conserved;
 use crate::{DgmpmSolver, StepPath, CHUNK};
