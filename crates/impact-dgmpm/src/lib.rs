@@ -29,9 +29,9 @@
 //! to phases 1-5 to round-off (1D/2D, CTU/donor-cell, linear and SVK), and
 //! [`DgmpmSolver::set_step_path`] picks another path for comparison ([`StepPath`]).
 //!
-//! **Fused path** (the cell path with linear elasticity, the default there): the same
-//! phases in one sweep over the cell rows (3D: layers), each face solved once, rolling rows
-//! (planes) of faces instead of face arrays ([`fused`]); tested equal to the cell path.
+//! **Fused path** (the cell path with linear elasticity, the default there): its phases in
+//! one sweep over the cell rows (3D: layers), each face solved once, rolling rows (planes)
+//! of faces, no face arrays ([`fused`]); tested equal to the cell path (3D: bit for bit).
 //!
 //! **Fused nodal sweep** (the nodal paths with linear elasticity in 1D or 2D: RK2, several
 //! points per cell, the increment update; the default there): phases 2-4 of each stage in

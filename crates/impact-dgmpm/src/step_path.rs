@@ -13,8 +13,8 @@ pub enum StepPath {
     /// weighs the lumped masses.
     SinglePoint,
     /// Phases 2-4 of each stage in one sweep over the cell rows ([`crate::fused`]): linear
-    /// elasticity (no elastoplastic Riemann solver), 1D or 2D ([`Fusable::All`]), any points per cell, Euler or
-    /// RK2; no face or rate arrays. Phases 1 and 5 as [`StepPath::SinglePoint`] with one
+    /// elasticity (no elastoplastic Riemann solver), 1D or 2D ([`Fusable::All`]), any
+    /// points per cell, Euler or RK2; no face or rate arrays. Phases 1 and 5 as [`StepPath::SinglePoint`] with one
     /// point per cell, as [`StepPath::Nodal`] otherwise.
     FusedNodal,
     /// One point per cell strictly inside its cell, forward Euler: the step reduces exactly

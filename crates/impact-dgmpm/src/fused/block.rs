@@ -1,9 +1,10 @@
 //! The fused cell path in 3D (linear elasticity, one point per cell, forward Euler): the
 //! phases of the cell path (`interface_fluxes`, `ctu3.rs`'s transverse corrections,
 //! `boundary_force`, `cell_update`) in one sweep over the z-layers of cells, with rolling
-//! planes of faces instead of the face and fluctuation arrays. Equal to the cell path: the
-//! same functions or the same operations in the same order on every value (tested
-//! with `==` on every component, `tests/fused_3d.rs`).
+//! planes of faces instead of the face and fluctuation arrays. Bit for bit the cell path:
+//! the same functions, or the same operations in the same order, on every value (the
+//! axis fluxes leave out only products by the zero and unit components of the normal,
+//! which change no value); `tests/fused_3d.rs` compares the bits of every component.
 //!
 //! Phases, for each layer `z` of a slab (CTU, LeVeque 2002 §21.6; Langseth & LeVeque
 //! 2000; Clawpack's `flux3`, `method(3) = 11`, with `rpt3`/`rptt3`):

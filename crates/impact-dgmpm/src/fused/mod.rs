@@ -30,7 +30,7 @@
 //!
 //! In 3D (`block.rs`, CTU in `block/ctu.rs`) the sweep walks z-layers in slabs with
 //! rolling planes of faces, fluctuations `W` and sources `V` (the transverse-transverse
-//! terms of `ctu3.rs`); its values equal the cell path's (tested with `==`).
+//! terms of `ctu3.rs`); tested bit for bit equal to the cell path.
 //!
 //! Files: this one (buffers, dispatch, the cell update), `plane.rs` (the 2D sweep and its
 //! face rows, for both), `bar.rs` (the 1D sweep), `block.rs` (the 3D sweep, donor-cell)
