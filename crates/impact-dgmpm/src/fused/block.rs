@@ -14,7 +14,8 @@
 //!    `z` (z), with a ring of ghost cells (`DgmpmSolver::ghost_fluctuation`: mirror states
 //!    behind one edge; behind two, the mirror through a symmetry edge or the mean of the two
 //!    single ghosts); a whole ghost layer below the block and above it;
-//! 3. the sources `V_z` of layer `z + 1`, `V_x`, `V_y` of layer `z` (`ctu3::source_of`:
+//! 3. the sources `V_z` of layer `z + 1`, `V_x`, `V_y` of layer `z` row by row
+//!    (`ctu3::source_of`:
 //!    `V_k = -Σ_{l≠k} Δt/(2Δx_l) W_l + Δt²/(6Δx_lΔx_m) [C_m^± ΔW_l + C_l^± ΔW_m]`);
 //! 4. the final fluxes `F_k += B_k⁺ V_k(below) + B_k⁻ V_k(above)`
 //!    (`riemann::axis::axis_transverse`, restricted on an edge face under
@@ -25,15 +26,17 @@
 //! Donor-cell keeps phase 1 and 5 only: a rolling x-face along the row, a row of y-faces,
 //! a plane of z-faces.
 //!
-//! Memory (`nx × ny` planes of 96 B faces): per slab, CTU keeps the Godunov x-, y- and
+//! Memory (`nx × ny` planes of 96 B entries): per slab, CTU keeps the Godunov x-, y- and
 //! z-faces of two layers, `W_x`, `W_y` of three layers and `W_z` of one (with a ghost
-//! ring), `V_x`, `V_y` of one layer and `V_z` of two, the final z-faces of two: about 19
-//! planes; donor-cell one plane. The slabs are `max(8, ⌈nz/4⌉)` layers thick (at most four:
-//! the unit of parallel work, each with its own planes; a slab recomputes the Godunov
-//! fluxes of the layer below it), so at 128³ the planes cost about 60 B per cell and at
-//! 512³ 15. The new states go to a second buffer (96 B per cell), swapped with the points'.
-//! Results do not depend on the slabs (each value is formed by the same operations), only
-//! the sums of the boundary power and force are added in another order.
+//! ring), `V_z` and the final z-faces of two: 17 planes, plus one row of `V_x` and two of
+//! `V_y` (phases 3-5 of a layer run row by row, the final x- and y-faces formed in place);
+//! donor-cell keeps one plane of z-faces and one row of y-faces. The slabs are
+//! `max(8, ⌈nz/4⌉)` layers thick (at most four: the unit of parallel work, each with its
+//! own planes; a slab recomputes the Godunov x- and y-faces of the layer below it), so at
+//! 128³ the planes cost about 51 B per cell and at 512³ 13. The new states go to a second
+//! buffer (96 B per cell), swapped with the points'. Results do not depend on the slabs
+//! (each value is formed by the same operations), only the sums of the boundary power and
+//! force are added in another order.
 use super::{FusedBuffers, Next};
 use crate::ctu3::SourceScales;
 use crate::faces::Fields;
@@ -58,7 +61,8 @@ fn slab_layers(nz: usize) -> usize {
 }
 
 /// The rolling planes of one slab and the boundary power and force of its faces. Slot 0
-/// holds layer (face) `z`, slot 1 `z + 1`; `wx`, `wy` hold layers `z - 1`, `z`, `z + 1`.
+/// holds layer (face) `z`, slot 1 `z + 1`; `wx`, `wy` hold layers `z - 1`, `z`, `z + 1`;
+/// `vx` one cell row's `V_x`, `vy` two rows' `V_y`.
 #[derive(Debug, Clone)]
 pub(crate) struct Slab {
     gx: [Vec<C3>; 2],
@@ -68,7 +72,7 @@ pub(crate) struct Slab {
     wy: [Vec<C3>; 3],
     wz: Vec<C3>,
     vx: Vec<C3>,
-    vy: Vec<C3>,
+    vy: [Vec<C3>; 2],
     vz: [Vec<C3>; 2],
     fz: [Vec<C3>; 2],
     pub(super) power: f64,
@@ -93,8 +97,8 @@ impl Slab {
             wx: std::array::from_fn(|_| plane(ring, ctu)),
             wy: std::array::from_fn(|_| plane(ring, ctu)),
             wz: plane(ring, ctu),
-            vx: plane((nx + 2) * ny, ctu),
-            vy: plane(nx * (ny + 2), ctu),
+            vx: plane(nx + 2, ctu),
+            vy: [plane(nx, ctu), plane(nx, ctu)],
             vz: [plane(nx * ny, ctu), plane(nx * ny, ctu)],
             fz: [plane(nx * ny, ctu), plane(nx * ny, ctu)],
             power: 0.0,

@@ -76,35 +76,44 @@ impl DgmpmSolver<3> {
             *power += p;
             self.w_z_layer(z, [&gz[0], &gz[1]], fields, wz);
             self.v_z_layer(&wx[2], &wy[2], k, &mut vz[1]);
-            self.final_z(next, &gz[1], [&vz[0], &vz[1]], k, &mut fz[1], force);
-            self.v_x_layer(wy, wz, k, vx);
-            self.v_y_layer(wx, wz, k, vy);
-            // the final x- and y-faces of the layer, in place
+            // per row j: V_y of row j + 1 and the final y-faces between rows j and j + 1,
+            // V_x of row j and its final x-faces, the final high z-faces of row j, and the
+            // updates of row j (the V rows roll; the faces are finalised in place)
+            let [vy_low, vy_high] = vy;
+            self.v_y_row(-1, wx, wz, k, vy_low);
+            self.v_y_row(0, wx, wz, k, vy_high);
+            self.final_y_row(
+                z,
+                0,
+                &mut gy[0][..nx],
+                [&vy_low[..], &vy_high[..]],
+                k,
+                force,
+            );
+            std::mem::swap(vy_low, vy_high);
             for j in 0..ny {
+                self.v_y_row(j as isize + 1, wx, wz, k, vy_high);
+                let row = &mut gy[0][(j + 1) * nx..(j + 2) * nx];
+                self.final_y_row(z, j + 1, row, [&vy_low[..], &vy_high[..]], k, force);
+                std::mem::swap(vy_low, vy_high);
+                self.v_x_row(j, wy, wz, k, vx);
                 let row = &mut gx[0][j * (nx + 1)..(j + 1) * (nx + 1)];
-                let v = &vx[j * (nx + 2)..(j + 1) * (nx + 2)];
                 for i in 0..=nx {
                     let edge = i == 0 || i == nx;
                     let idx = [i, j, z];
-                    row[i] = self.corrected(0, idx, &row[i], [&v[i], &v[i + 1]], k, edge);
+                    row[i] = self.corrected(0, idx, &row[i], [&vx[i], &vx[i + 1]], k, edge);
                     if edge {
                         *force += self.boundary_face_force(0, idx, &row[i]);
                     }
                 }
-            }
-            for j in 0..=ny {
-                let edge = j == 0 || j == ny;
-                for i in 0..nx {
-                    let idx = [i, j, z];
-                    let (below, above) = (&vy[j * nx + i], &vy[(j + 1) * nx + i]);
-                    let g = &mut gy[0][j * nx + i];
-                    *g = self.corrected(1, idx, g, [below, above], k, edge);
+                let (top, edge) = (j * nx..(j + 1) * nx, next == nz);
+                for (i, out) in fz[1][top.clone()].iter_mut().enumerate() {
+                    let (y, idx) = (j * nx + i, [i, j, next]);
+                    *out = self.corrected(2, idx, &gz[1][y], [&vz[0][y], &vz[1][y]], k, edge);
                     if edge {
-                        *force += self.boundary_face_force(1, idx, g);
+                        *force += self.boundary_face_force(2, idx, out);
                     }
                 }
-            }
-            for j in 0..ny {
                 for i in 0..nx {
                     let (x, y) = (j * (nx + 1) + i, j * nx + i);
                     let faces = [
@@ -317,33 +326,50 @@ impl DgmpmSolver<3> {
         }
     }
 
-    /// `V_x` of the layer (`(nx + 2) × ny`, a ghost column at each end) from `W_y` of the
-    /// layers below, at and above it and its `W_z`.
-    fn v_x_layer(&self, wy: &[Vec<C3>; 3], wz: &[C3], k: &Sweep3d, out: &mut [C3]) {
-        let [nx, ny, _] = self.grid.cells;
-        for j in 0..ny as isize {
-            for i in -1..=nx as isize {
-                let r = ring(nx, i, j);
-                let wl = [&wy[0][r], &wy[1][r], &wy[2][r]];
-                let wm = [&wz[ring(nx, i, j - 1)], &wz[r], &wz[ring(nx, i, j + 1)]];
-                out[(j * (nx as isize + 2) + i + 1) as usize] =
-                    source_of(0, wl, wm, &k.scales[0], &k.constants);
+    /// The final y-faces of face row `j` of layer `z` in place (`row`, `nx`), from the
+    /// `V_y` of the cell rows below and above it; a boundary face's force added.
+    fn final_y_row(
+        &self,
+        z: usize,
+        j: usize,
+        row: &mut [C3],
+        [below, above]: [&[C3]; 2],
+        k: &Sweep3d,
+        force: &mut impact_core::Vector<3>,
+    ) {
+        let edge = j == 0 || j == self.grid.cells[1];
+        for (i, g) in row.iter_mut().enumerate() {
+            let idx = [i, j, z];
+            *g = self.corrected(1, idx, g, [&below[i], &above[i]], k, edge);
+            if edge {
+                *force += self.boundary_face_force(1, idx, g);
             }
         }
     }
 
-    /// `V_y` of the layer (`nx × (ny + 2)`, a ghost row at each end) from `W_x` of the
-    /// layers below, at and above it and its `W_z`.
-    fn v_y_layer(&self, wx: &[Vec<C3>; 3], wz: &[C3], k: &Sweep3d, out: &mut [C3]) {
-        let [nx, ny, _] = self.grid.cells;
-        for j in -1..=ny as isize {
-            for i in 0..nx as isize {
-                let r = ring(nx, i, j);
-                let wl = [&wx[0][r], &wx[1][r], &wx[2][r]];
-                let wm = [&wz[ring(nx, i - 1, j)], &wz[r], &wz[ring(nx, i + 1, j)]];
-                out[((j + 1) * nx as isize + i) as usize] =
-                    source_of(1, wl, wm, &k.scales[1], &k.constants);
-            }
+    /// `V_x` of cell row `j` (`nx + 2`, a ghost cell at each end) from `W_y` of the layers
+    /// below, at and above it and `W_z` of the layer.
+    fn v_x_row(&self, j: usize, wy: &[Vec<C3>; 3], wz: &[C3], k: &Sweep3d, out: &mut [C3]) {
+        let nx = self.grid.cells[0];
+        let j = j as isize;
+        for (slot, i) in (-1..=nx as isize).enumerate() {
+            let r = ring(nx, i, j);
+            let wl = [&wy[0][r], &wy[1][r], &wy[2][r]];
+            let wm = [&wz[ring(nx, i, j - 1)], &wz[r], &wz[ring(nx, i, j + 1)]];
+            out[slot] = source_of(0, wl, wm, &k.scales[0], &k.constants);
+        }
+    }
+
+    /// `V_y` of cell row `j` (`-1 ≤ j ≤ ny`; `nx`) from `W_x` of the layers below, at and
+    /// above it and `W_z` of the layer.
+    fn v_y_row(&self, j: isize, wx: &[Vec<C3>; 3], wz: &[C3], k: &Sweep3d, out: &mut [C3]) {
+        let nx = self.grid.cells[0];
+        for (i, out) in out.iter_mut().enumerate() {
+            let i = i as isize;
+            let r = ring(nx, i, j);
+            let wl = [&wx[0][r], &wx[1][r], &wx[2][r]];
+            let wm = [&wz[ring(nx, i - 1, j)], &wz[r], &wz[ring(nx, i + 1, j)]];
+            *out = source_of(1, wl, wm, &k.scales[1], &k.constants);
         }
     }
 }
