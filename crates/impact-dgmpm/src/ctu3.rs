@@ -33,6 +33,10 @@
 //! y ↔ z symmetry, `tests/three_d.rs`). Under
 //! `edges = "restricted"` the correction on an edge face is restricted to what the edge's
 //! condition leaves free ([`constrain_correction`]), as in 2D.
+//!
+//! The fused 3D sweep (`fused/block/ctu.rs`, the default at one point per cell with
+//! Euler) forms the same values layer by layer through [`source_of`] and
+//! `DgmpmSolver::ghost_fluctuation`, bit for bit these arrays' results.
 use crate::faces::Fields;
 use crate::riemann::axis::{axis_transverse, AxisConstants};
 use crate::riemann::{constrain_correction, Conserved};
