@@ -235,9 +235,9 @@ fn block(cells: [usize; 3], model: &str) -> Problem<3> {
     Problem::<3>::from_scene(&Scene::from_toml(&text, "3D alloc test").unwrap()).unwrap()
 }
 
-/// MPM (every shape, USL/MUSL/USF, the updated Lagrangian frame, J2, SVK) and FEM (the
-/// 27-point stencil, the Gauss path with J2 and SVK) in 3D, serial and, on 4,608 cells,
-/// on rayon.
+/// MPM (every shape, USL/MUSL/USF, the updated Lagrangian frame, J2, SVK), FEM (the
+/// 27-point stencil, the Gauss path with J2 and SVK) and DGMPM's fused 3D sweep
+/// (donor-cell and CTU, linear and J2) in 3D, serial and, on 4,608 cells, on rayon.
 #[test]
 fn no_allocation_in_the_3d_step_loop() {
     use impact_core::method::{MpmFrame, MpmShape};
@@ -292,6 +292,19 @@ fn no_allocation_in_the_3d_step_loop() {
                 (o.shape, o.stress_update, o.frame) = (shape, update, frame);
                 configs.push(c);
             }
+            if model != svk {
+                // DGMPM's fused 3D sweep (linear elasticity, Euler): donor-cell and CTU
+                for flux in [TransverseFlux::DonorCell, TransverseFlux::Ctu] {
+                    let mut c = scene_config(MethodKind::Dgmpm);
+                    let o = c.dgmpm_mut().unwrap();
+                    o.flux = flux;
+                    if model == j2 {
+                        o.riemann = RiemannSolver::Elastic;
+                    }
+                    c.courant = 0.45;
+                    configs.push(c);
+                }
+            }
             for c in configs {
                 let n = steps_allocate(&problem, c);
                 assert_eq!(n, 0, "{n} allocations: 3D {cells:?} {model} {c:?}");
@@ -299,5 +312,5 @@ fn no_allocation_in_the_3d_step_loop() {
             }
         }
     }
-    assert_eq!(cases, 2 * (6 + 6 + 3));
+    assert_eq!(cases, 2 * (8 + 8 + 3));
 }

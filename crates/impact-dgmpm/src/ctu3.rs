@@ -33,6 +33,10 @@
 //! y ↔ z symmetry, `tests/three_d.rs`). Under
 //! `edges = "restricted"` the correction on an edge face is restricted to what the edge's
 //! condition leaves free ([`constrain_correction`]), as in 2D.
+//!
+//! The fused 3D sweep (`fused/block/ctu.rs`, the default at one point per cell with
+//! Euler) forms the same values layer by layer through [`source_of`] and
+//! `DgmpmSolver::ghost_fluctuation`, bit for bit these arrays' results.
 use crate::faces::Fields;
 use crate::riemann::axis::{axis_transverse, AxisConstants};
 use crate::riemann::{constrain_correction, Conserved};
@@ -98,6 +102,7 @@ impl<const D: usize> DgmpmSolver<D> {
             let dims = self.source_dims(k);
             let len: usize = dims.iter().product();
             let this = &*self;
+            let scales = SourceScales::new(&this.grid.spacing, k, dt);
             for_each_chunk(
                 this.parallel,
                 1,
@@ -107,7 +112,7 @@ impl<const D: usize> DgmpmSolver<D> {
                     for v in out.iter_mut() {
                         let mut pos = idx.map(|i| i as isize);
                         pos[k] -= 1;
-                        *v = this.transverse_source(k, pos, &fluct, dt, &constants);
+                        *v = this.transverse_source(k, pos, &fluct, &scales, &constants);
                         Self::advance(&mut idx, &dims);
                     }
                 },
@@ -148,13 +153,11 @@ impl<const D: usize> DgmpmSolver<D> {
         k: usize,
         pos: [isize; D],
         fluct: &[Vec<Conserved<D>>; D],
-        dt: f64,
+        scales: &SourceScales,
         constants: &AxisConstants,
     ) -> Conserved<D> {
         let mut others = (0..D).filter(|&j| j != k);
         let (l, m) = (others.next().unwrap_or(0), others.next().unwrap_or(0));
-        let h = self.grid.spacing;
-        let s = dt * dt / (6.0 * h[l] * h[m]);
         let cells = self.grid.cells;
         // entry of W_a at `p` shifted by `d` along axis `b`
         let w = |a: usize, b: usize, d: isize| {
@@ -167,31 +170,45 @@ impl<const D: usize> DgmpmSolver<D> {
             fluct[a][index]
         };
         // W_l and its neighbours along e_m, W_m and its neighbours along e_l
-        let (wl, wl_low, wl_high) = (w(l, m, 0), w(l, m, -1), w(l, m, 1));
-        let (wm, wm_low, wm_high) = (w(m, l, 0), w(m, l, -1), w(m, l, 1));
-        let tt_l = axis_transverse(
-            m,
-            &wl.add_scaled(&wl_low, -1.0),
-            &wl_high.add_scaled(&wl, -1.0),
+        let wl = [w(l, m, -1), w(l, m, 0), w(l, m, 1)];
+        let wm = [w(m, l, -1), w(m, l, 0), w(m, l, 1)];
+        source_of(
+            k,
+            [&wl[0], &wl[1], &wl[2]],
+            [&wm[0], &wm[1], &wm[2]],
+            scales,
             constants,
-        );
-        let tt_m = axis_transverse(
-            l,
-            &wm.add_scaled(&wm_low, -1.0),
-            &wm_high.add_scaled(&wm, -1.0),
-            constants,
-        );
-        Conserved::<D>::zeros()
-            .add_scaled(&wl, -dt / (2.0 * h[l]))
-            .add_scaled(&wm, -dt / (2.0 * h[m]))
-            .add_scaled(&tt_l, s)
-            .add_scaled(&tt_m, s)
+        )
     }
 
     /// `W_l` of the cell at `pos` (never outside along `l`): from the stored fluxes inside
     /// (the cell's side fluxes added on the nodal paths), from the ghost states behind one
     /// edge, and behind two edges the module doc's rule.
     fn fluctuation_at(&self, l: usize, pos: [isize; D], fields: Fields<'_, D>) -> Conserved<D> {
+        let n = self.grid.cells;
+        if (0..D).all(|a| pos[a] >= 0 && pos[a] < n[a] as isize) {
+            let cell: [usize; D] = std::array::from_fn(|j| pos[j] as usize);
+            let lo = Self::face_index(&self.grid, l, cell);
+            let stride: usize = n[..l].iter().product();
+            let f = &self.face_flux[l];
+            let w = f[lo + stride].add_scaled(&f[lo], -1.0);
+            return match self.path.nodal() {
+                true => w.add_scaled(&self.side_flux_difference(fields, cell, l), 1.0),
+                false => w,
+            };
+        }
+        self.ghost_fluctuation(l, pos, fields)
+    }
+
+    /// `W_l` of the ghost cell at `pos` (outside the grid along one or two axes other than
+    /// `l`): behind one edge from the mirror states (`ghost_cell_fluctuations`), behind two
+    /// the module doc's rule. Shared with the fused 3D sweep.
+    pub(crate) fn ghost_fluctuation(
+        &self,
+        l: usize,
+        pos: [isize; D],
+        fields: Fields<'_, D>,
+    ) -> Conserved<D> {
         let n = self.grid.cells;
         let cell: [usize; D] = std::array::from_fn(|j| pos[j].clamp(0, n[j] as isize - 1) as usize);
         let side = |a: usize| usize::from(pos[a] >= 0);
@@ -201,16 +218,7 @@ impl<const D: usize> DgmpmSolver<D> {
             minus.add_scaled(&plus, 1.0)
         };
         match (outside.next(), outside.next()) {
-            (None, _) => {
-                let lo = Self::face_index(&self.grid, l, cell);
-                let stride: usize = n[..l].iter().product();
-                let f = &self.face_flux[l];
-                let w = f[lo + stride].add_scaled(&f[lo], -1.0);
-                match self.path.nodal() {
-                    true => w.add_scaled(&self.side_flux_difference(fields, cell, l), 1.0),
-                    false => w,
-                }
-            }
+            (None, _) => unreachable!("internal: a ghost cell lies outside the grid"),
             (Some(a), None) => ghost(a),
             (Some(a), Some(b)) => {
                 let symmetric = |x: usize| self.boundaries[x][side(x)] == Boundary::Symmetry;
@@ -228,6 +236,60 @@ impl<const D: usize> DgmpmSolver<D> {
             }
         }
     }
+}
+
+/// The scales of the source `V_k`, `-Δt/(2Δx_l)`, `-Δt/(2Δx_m)` and
+/// `s = Δt²/(6 Δx_l Δx_m)` (`l < m` the two other axes), formed once per axis and step.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SourceScales {
+    l: f64,
+    m: f64,
+    s: f64,
+}
+
+impl SourceScales {
+    /// The scales of `V_k` on cells of sizes `h` with step `dt`.
+    pub(crate) fn new<const D: usize>(h: &impact_core::Vector<D>, k: usize, dt: f64) -> Self {
+        let mut others = (0..D).filter(|&j| j != k);
+        let (l, m) = (others.next().unwrap_or(0), others.next().unwrap_or(0));
+        Self {
+            l: -dt / (2.0 * h[l]),
+            m: -dt / (2.0 * h[m]),
+            s: dt * dt / (6.0 * h[l] * h[m]),
+        }
+    }
+}
+
+/// The source `V_k(X)` (module doc) from `W_l` at `X - e_m`, `X`, `X + e_m` and `W_m` at
+/// `X - e_l`, `X`, `X + e_l` (`l < m` the two axes other than `k`). The phase path and the
+/// fused 3D sweep both call it, so they agree bit for bit.
+#[inline(always)]
+pub(crate) fn source_of<const D: usize>(
+    k: usize,
+    [wl_low, wl, wl_high]: [&Conserved<D>; 3],
+    [wm_low, wm, wm_high]: [&Conserved<D>; 3],
+    scales: &SourceScales,
+    constants: &AxisConstants,
+) -> Conserved<D> {
+    let mut others = (0..D).filter(|&j| j != k);
+    let (l, m) = (others.next().unwrap_or(0), others.next().unwrap_or(0));
+    let tt_l = axis_transverse(
+        m,
+        &wl.add_scaled(wl_low, -1.0),
+        &wl_high.add_scaled(wl, -1.0),
+        constants,
+    );
+    let tt_m = axis_transverse(
+        l,
+        &wm.add_scaled(wm_low, -1.0),
+        &wm_high.add_scaled(wm, -1.0),
+        constants,
+    );
+    Conserved::<D>::zeros()
+        .add_scaled(wl, scales.l)
+        .add_scaled(wm, scales.m)
+        .add_scaled(&tt_l, scales.s)
+        .add_scaled(&tt_m, scales.s)
 }
 
 #[cfg(test)]

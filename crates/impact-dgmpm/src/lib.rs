@@ -29,9 +29,9 @@
 //! to phases 1-5 to round-off (1D/2D, CTU/donor-cell, linear and SVK), and
 //! [`DgmpmSolver::set_step_path`] picks another path for comparison ([`StepPath`]).
 //!
-//! **Fused path** (the cell path with linear elasticity in 1D or 2D, the default there):
-//! the same phases in one sweep over the cell rows, each face solved once, rolling rows of
-//! faces instead of face arrays ([`fused`]); tested bit for bit equal to the cell path.
+//! **Fused path** (the cell path with linear elasticity, the default there): its phases in
+//! one sweep over the cell rows (3D: layers), each face solved once, rolling rows (planes)
+//! of faces, no face arrays ([`fused`]); tested equal to the cell path (3D: bit for bit).
 //!
 //! **Fused nodal sweep** (the nodal paths with linear elasticity in 1D or 2D: RK2, several
 //! points per cell, the increment update; the default there): phases 2-4 of each stage in
@@ -89,8 +89,8 @@
 //!   through per-cell sources (Clawpack's `flux3`, `method(3) = 11`).
 //! - [`integrator`]: phases 3-4 and the step (`stage`, once for Euler, twice for RK2).
 //! - [`cell_path`]: the cell-centred update of the cell path.
-//! - [`fused`]: the cell path's phases in one sweep, and the nodal stages' (linear, 1D
-//!   and 2D).
+//! - [`fused`]: the cell path's phases in one sweep (linear; 3D in `fused/block.rs`), and
+//!   the nodal stages' (linear, 1D and 2D).
 //! - `step_path.rs`: [`StepPath`], which of these computations a step runs.
 //! - [`riemann`]: the Riemann solvers (one file each); a new solver goes there.
 //! - [`method`]: the [`Method`](impact_core::Method) impl.
@@ -108,7 +108,7 @@ pub mod mapping;
 pub mod method;
 pub mod riemann;
 mod step_path;
-pub use step_path::StepPath;
+pub use step_path::{Fusable, StepPath};
 
 use impact_core::material::Svk;
 use impact_core::method::{
@@ -238,8 +238,8 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) transverse_sources: [Vec<Conserved<D>>; D],
     /// The fused path's rolling face rows and next state (empty on the other paths).
     pub(crate) fused: fused::FusedBuffers<D>,
-    /// Linear elasticity without the elastoplastic solver, 1D or 2D: the fused path applies.
-    pub(crate) fusable: bool,
+    /// Which fused sweeps apply (linear elasticity without the elastoplastic solver).
+    pub(crate) fusable: Fusable,
     pub(crate) elastic: Elastic,
     pub(crate) physics: Physics,
     /// J2 plasticity: the return map corrects the points after each step (phase 6).
@@ -380,9 +380,8 @@ impl<const D: usize> DgmpmSolver<D> {
             density: problem.material.density,
             z: Impedances { p, s },
         };
-        let fusable = D <= 2
-            && matches!(problem.model, Model::LinearElastic | Model::J2(_))
-            && options.riemann != RiemannSolver::Elastoplastic;
+        let linear = matches!(problem.model, Model::LinearElastic | Model::J2(_));
+        let fusable = Fusable::of(D, linear && options.riemann != RiemannSolver::Elastoplastic);
         let path = StepPath::fastest(config.points_per_cell, options.integrator, inside, fusable);
         // the cell path never reads the shape functions: not allocated (96 B per cell in 2D)
         let (shape, shape_gradient) = match path.nodal() {
@@ -476,7 +475,7 @@ impl<const D: usize> DgmpmSolver<D> {
             // the next state: one per point on the cell path; per node between RK2's two
             // nodal stages unless the first writes in place (the last writes the points)
             let layout = match (fused_nodal, rk2 && !single) {
-                (false, _) => fused::Layout::cell(),
+                (false, _) => fused::Layout::cell(ctu),
                 (true, true) => fused::Layout::nodal(Grid::<D>::NODES_PER_CELL, ctu),
                 (true, false) => fused::Layout::nodal(0, ctu),
             };
@@ -484,6 +483,7 @@ impl<const D: usize> DgmpmSolver<D> {
                 self.fused = fused::FusedBuffers::new(grid.cells, layout);
             }
         } else if self.face_flux[0].is_empty() {
+            self.fused = fused::FusedBuffers::default(); // (another path was the default)
             self.face_flux = std::array::from_fn(|l| vec![Conserved::zeros(); grid.face_count(l)]);
             // 2D: one face array of scratch; 3D: the per-axis sources (`ctu3`)
             let scratch = if ctu && D == 2 {

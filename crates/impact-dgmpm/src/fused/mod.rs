@@ -1,5 +1,5 @@
 //! The fused cell path ([`StepPath::Fused`]): one point per cell, forward Euler, linear
-//! elasticity, 1D or 2D. The phases of the cell path ([`crate::cell_path`]) in one sweep:
+//! elasticity, 1D, 2D or 3D. The phases of the cell path ([`crate::cell_path`]) in one sweep:
 //!
 //! 1. phase 2, the Godunov flux `F_{e_l}(q*)` of each face (paper §4, eqs. 18-21);
 //! 2. phase 2b (2D, CTU), the transverse corrections
@@ -28,9 +28,14 @@
 //! The nodal paths' stages run the same 2D sweep with face states from the DG nodes and
 //! the nodal rates in place of the cell update ([`StepPath::FusedNodal`], `nodal.rs`).
 //!
+//! In 3D (`block.rs`, CTU in `block/ctu.rs`) the sweep walks z-layers in slabs with
+//! rolling planes of faces, fluctuations `W` and sources `V` (the transverse-transverse
+//! terms of `ctu3.rs`); tested bit for bit equal to the cell path.
+//!
 //! Files: this one (buffers, dispatch, the cell update), `plane.rs` (the 2D sweep and its
-//! face rows, for both), `bar.rs` (the 1D sweep), `nodal.rs` (the nodal stage: its
-//! dispatch, buffers, cell update and 1D sweep).
+//! face rows, for both), `bar.rs` (the 1D sweep), `block.rs` (the 3D sweep, donor-cell)
+//! and `block/ctu.rs` (its CTU), `nodal.rs` (the nodal stage: its dispatch, buffers, cell
+//! update and 1D sweep; 1D and 2D only).
 use crate::faces::Fields;
 use crate::riemann::Conserved;
 use crate::{DgmpmSolver, StepPath, CHUNK};
@@ -40,6 +45,7 @@ use impact_core::{Tensor, Vector};
 use std::any::Any;
 
 mod bar;
+mod block;
 mod nodal;
 mod plane;
 
@@ -87,14 +93,17 @@ impl<const D: usize> Default for Band<D> {
 pub(crate) struct Layout {
     next_per_cell: usize,
     sides: bool,
+    /// The cell path with CTU (3D: the slabs keep the transverse planes).
+    ctu: bool,
 }
 
 impl Layout {
-    /// The cell path's: one next state per cell (point).
-    pub(crate) fn cell() -> Self {
+    /// The cell path's: one next state per cell (point), with or without CTU.
+    pub(crate) fn cell(ctu: bool) -> Self {
         Self {
             next_per_cell: 1,
             sides: false,
+            ctu,
         }
     }
 
@@ -103,6 +112,7 @@ impl Layout {
         Self {
             next_per_cell,
             sides: ctu,
+            ctu: false,
         }
     }
 }
@@ -111,6 +121,8 @@ impl Layout {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct FusedBuffers<const D: usize> {
     bands: Vec<Band<D>>,
+    /// 3D: one slab of layers each, with its rolling planes (`block.rs`).
+    slabs: Vec<block::Slab>,
     next_tensor: Vec<Tensor<D>>,
     next_velocity: Vec<Vector<D>>,
     layout: Option<Layout>,
@@ -147,11 +159,17 @@ impl<const D: usize> FusedBuffers<D> {
                 };
                 vec![band; cells[1].div_ceil(BAND_ROWS)]
             }
-            _ => vec![Band::default(); count.div_ceil(CHUNK)],
+            1 => vec![Band::default(); count.div_ceil(CHUNK)],
+            _ => Vec::new(),
+        };
+        let slabs = match D {
+            3 => block::Slab::for_grid([cells[0], cells[1], cells[2]], layout.ctu),
+            _ => Vec::new(),
         };
         let next = count * layout.next_per_cell;
         Self {
             bands,
+            slabs,
             next_tensor: vec![Tensor::<D>::zeros(); next],
             next_velocity: vec![Vector::<D>::zeros(); next],
             layout: Some(layout),
@@ -177,34 +195,40 @@ impl<const D: usize> DgmpmSolver<D> {
         debug_assert_eq!(self.path, StepPath::Fused);
         self.by_dimension(
             points,
+            |solver, points| solver.sweep_3d(points, dt),
             |solver, points| solver.sweep_2d(points, dt),
             |solver, points| solver.sweep_1d(points, dt),
         )
     }
 
-    /// `two` or `one` on the solver and the points at their concrete dimension (the
-    /// sweeps are written for 2D and 1D; `Any` downcasts, no unsafe code), the force
+    /// `three`, `two` or `one` on the solver and the points at their concrete dimension
+    /// (the sweeps are written per dimension; `Any` downcasts, no unsafe code), the force
     /// returned at `D`.
     fn by_dimension(
         &mut self,
         points: &mut MaterialPoints<D>,
+        three: impl FnOnce(&mut DgmpmSolver<3>, &mut MaterialPoints<3>) -> (f64, Vector<3>),
         two: impl FnOnce(&mut DgmpmSolver<2>, &mut MaterialPoints<2>) -> (f64, Vector<2>),
         one: impl FnOnce(&mut DgmpmSolver<1>, &mut MaterialPoints<1>) -> (f64, Vector<1>),
     ) -> (f64, Vector<D>) {
         let solver: &mut dyn Any = self;
         let points: &mut dyn Any = points;
         let same = "internal: same D";
-        let mut force = [0.0; 2];
-        let power = if let Some(solver) = solver.downcast_mut::<DgmpmSolver<2>>() {
+        let mut force = [0.0; 3];
+        let power = if let Some(solver) = solver.downcast_mut::<DgmpmSolver<3>>() {
+            let (power, f) = three(solver, points.downcast_mut().expect(same));
+            force = [f[0], f[1], f[2]];
+            power
+        } else if let Some(solver) = solver.downcast_mut::<DgmpmSolver<2>>() {
             let (power, f) = two(solver, points.downcast_mut().expect(same));
-            force = [f[0], f[1]];
+            force[..2].copy_from_slice(&[f[0], f[1]]);
             power
         } else if let Some(solver) = solver.downcast_mut::<DgmpmSolver<1>>() {
             let (power, f) = one(solver, points.downcast_mut().expect(same));
             force[0] = f[0];
             power
         } else {
-            unreachable!("internal: the fused sweeps are refused beyond 2D")
+            unreachable!("internal: the fused sweeps are refused beyond 3D")
         };
         (power, Vector::<D>::from_fn(|k, _| force[k]))
     }
@@ -217,7 +241,20 @@ impl<const D: usize> DgmpmSolver<D> {
         cells_per_band: usize,
         sweep: impl Fn(&Self, usize, &mut Band<D>, Fields<'_, D>, &[f64], Next<'_, D>) + Sync,
     ) -> (f64, Vector<D>) {
+        self.sweep_parts(points, cells_per_band, |b| &mut b.bands, sweep)
+    }
+
+    /// [`Self::sweep_bands`] over the parts `parts` picks from the buffers (the bands, or
+    /// in 3D the slabs).
+    fn sweep_parts<P: Send>(
+        &mut self,
+        points: &mut MaterialPoints<D>,
+        cells_per_band: usize,
+        parts_of: fn(&mut FusedBuffers<D>) -> &mut Vec<P>,
+        sweep: impl Fn(&Self, usize, &mut P, Fields<'_, D>, &[f64], Next<'_, D>) + Sync,
+    ) -> (f64, Vector<D>) {
         let mut buffers = std::mem::take(&mut self.fused);
+        let mut bands = std::mem::take(parts_of(&mut buffers));
         {
             let this = &*self;
             let MaterialPoints {
@@ -230,7 +267,7 @@ impl<const D: usize> DgmpmSolver<D> {
             let fields = Fields::per_cell(stress, velocity);
             let mass: &[f64] = mass;
             let parts = (
-                chunks(&mut buffers.bands, 1),
+                chunks(&mut bands, 1),
                 chunks(&mut buffers.next_tensor, cells_per_band),
                 (
                     chunks(&mut buffers.next_velocity, cells_per_band),
@@ -246,6 +283,7 @@ impl<const D: usize> DgmpmSolver<D> {
                 sweep(this, b, &mut band[0], fields, mass, next);
             });
         }
+        *parts_of(&mut buffers) = bands;
         std::mem::swap(&mut points.stress, &mut buffers.next_tensor);
         std::mem::swap(&mut points.velocity, &mut buffers.next_velocity);
         let totals = buffers.totals();

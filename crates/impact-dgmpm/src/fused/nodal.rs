@@ -112,6 +112,7 @@ impl<const D: usize> DgmpmSolver<D> {
         };
         self.by_dimension(
             points,
+            |_, _| unreachable!("internal: the fused nodal sweep is 1D and 2D (Fusable::All)"),
             |solver, points| solver.nodal_sweep_2d(points, stage),
             |solver, points| solver.nodal_sweep_1d(points, stage),
         )
@@ -421,8 +422,12 @@ impl DgmpmSolver<1> {
 impl<const D: usize> FusedBuffers<D> {
     /// The bands' power and force, added up.
     pub(super) fn totals(&self) -> (f64, Vector<D>) {
-        let power = self.bands.iter().map(|b| b.power).sum();
-        let force = self.bands.iter().map(|b| b.force).sum();
+        let power = self.bands.iter().map(|b| b.power).sum::<f64>()
+            + self.slabs.iter().map(|s| s.power).sum::<f64>();
+        let mut force: Vector<D> = self.bands.iter().map(|b| b.force).sum();
+        for slab in &self.slabs {
+            force += Vector::<D>::from_fn(|k, _| slab.force[k]);
+        }
         (power, force)
     }
 }
