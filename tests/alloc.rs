@@ -138,6 +138,31 @@ fn no_allocation_in_the_step_loop() {
             }
         }
     }
+    // DGMPM order 2 (the wave corrections, 1D): the cell path, RK2 and several points per
+    // cell on the nodal phases
+    {
+        let scene = Scene::builtin("bar").unwrap();
+        let problem = Problem::<1>::from_scene(&scene).unwrap();
+        for (integrator, ppc) in [
+            (Integrator::Euler, 1),
+            (Integrator::Rk2, 1),
+            (Integrator::Euler, 2),
+        ] {
+            let mut c = scene.method_config(MethodKind::Dgmpm);
+            let options = impact::Overrides {
+                integrator: Some(integrator),
+                points_per_cell: Some(ppc),
+                order: Some(impact_core::method::SchemeOrder::Second),
+                limiter: Some(impact_core::method::WaveLimiter::Mc),
+                courant: Some(0.5),
+                ..Default::default()
+            };
+            options.apply_to_config(&mut c);
+            let n = steps_allocate(&problem, c);
+            assert_eq!(n, 0, "{n} allocations: bar order 2 {c:?}");
+            cases += 1;
+        }
+    }
     for name in ["plate", "svk-plate"] {
         let scene = Scene::builtin(name).unwrap();
         let problem = Problem::<2>::from_scene(&scene).unwrap();
@@ -171,7 +196,7 @@ fn no_allocation_in_the_step_loop() {
             cases += 1;
         }
     }
-    assert_eq!(cases, 18 + 9 + 4);
+    assert_eq!(cases, 18 + 3 + 9 + 4);
 }
 
 /// DGMPM's rayon loops (grids from 4,096 cells on): the cell path (CTU, donor-cell, SVK) and
