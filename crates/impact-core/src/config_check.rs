@@ -100,16 +100,13 @@ impl<const D: usize> Problem<D> {
                 "1 in 2D and 3D (the second-order wave corrections are implemented in 1D)",
             )
             .into()),
-            (SchemeOrder::Second, _)
-                if matches!(self.model, Model::Svk(_))
-                    || o.riemann == RiemannSolver::Elastoplastic =>
-            {
+            (SchemeOrder::Second, _) if matches!(self.model, Model::Svk(_)) => {
                 Err(SceneError::new(
                     field("dgmpm", "order", "order"),
                     o.order,
-                    "1 with Saint-Venant-Kirchhoff and with --riemann elastoplastic (the \
-                     second-order wave corrections are implemented for the linear-elastic \
-                     solver: linear elasticity, and j2 with --riemann elastic)",
+                    "1 with Saint-Venant-Kirchhoff (the second-order wave corrections are \
+                     implemented for the linear-elastic solver and the rod's elastoplastic \
+                     solver)",
                 )
                 .into())
             }

@@ -34,17 +34,29 @@
 //! step it replaces (with RK2 the time accuracy is then both the stage's and the
 //! Runge-Kutta's; the corrections are not re-derived for the method of lines).
 //!
+//! **The elastoplastic solver** (J2 rod, `--riemann elastoplastic`): each side's jump to
+//! the star state is an elastic wave (`±c_0`) up to the bound of the side's elastic range
+//! `[−Y, Y]` it crosses, then a plastic wave (`±c_t`, `c_t = sqrt(E_t/ρ)`), the wave curves
+//! of `riemann::elastoplastic`: four families, each limited against its own family. A
+//! mirrored ghost side takes the mirrored range (a traction mirror `σ ↦ k − σ` turns it
+//! over), so the ghost face's star state is the boundary half problem's.
+//!
 //! Implemented for the linear-elastic solver (linear elasticity, and J2 with the elastic
-//! solver and the return map after the step) in 1D; `Problem::check_config` refuses the
-//! others. The buffers are allocated once (`face_count + 2` faces); the step allocates
+//! solver and the return map after the step) and the rod's elastoplastic solver, in 1D;
+//! `Problem::check_config` refuses the others (Saint-Venant–Kirchhoff, 2D, 3D). The buffers are allocated once (`face_count + 2` faces); the step allocates
 //! nothing.
 use crate::limiter::{limiter_phi, wave_ratio};
-use crate::riemann::{ghost_full, linear_elastic_star, normal_flux, Conserved, FullState};
+use crate::riemann::elastoplastic::{elastoplastic_star_1d, PlasticSide};
+use crate::riemann::{
+    ghost_full, linear_elastic_star, normal_flux, Conserved, FullState, GhostCondition,
+};
 use crate::{unit, DgmpmSolver};
 use impact_core::points::MaterialPoints;
 
-/// Wave families of a 1D face: the left-going and the right-going P wave.
-pub(crate) const WAVES: usize = 2;
+/// Wave families of a 1D face, in order of speed: left-going elastic (P), left-going
+/// plastic, right-going plastic, right-going elastic; the linear solver has only the first
+/// and the last (the others are zero).
+pub(crate) const WAVES: usize = 4;
 
 /// The f-waves `Z^p` of one face and their speeds `s^p`, in family order (module doc).
 #[derive(Debug, Clone, Copy)]
@@ -111,7 +123,7 @@ impl<const D: usize> DgmpmSolver<D> {
         let mut idx = [0usize; D];
         idx[0] = f;
         let s = self.edge_coordinate(0, &idx);
-        if self.ghost_condition(0, side, s) == crate::riemann::GhostCondition::free() {
+        if self.ghost_condition(0, side, s) == GhostCondition::free() {
             return 0.0;
         }
         let sign = if side == 0 { -1.0 } else { 1.0 };
@@ -127,38 +139,61 @@ impl<const D: usize> DgmpmSolver<D> {
         let fields = self.fields(points);
         let n = self.grid.cells[0];
         let e = unit::<D>(0);
-        let side = |c: usize, high: bool| fields.side(c, 0, high);
-        // the ends' conditions and the mirror through them
+        // the ends' conditions
         let condition = |end: usize| {
             let mut idx = [0usize; D];
             idx[0] = end * n;
             self.ghost_condition(0, end, self.edge_coordinate(0, &idx))
         };
-        let (low, high) = (condition(0), condition(1));
-        let mirror_low = |q: FullState<D>| ghost_full(&q, &(-e), low);
-        let mirror_high = |q: FullState<D>| ghost_full(&q, &e, high);
+        let conditions = [condition(0), condition(1)];
+        // cell c's state on its high or low face, mirrored through end `mirror` if given,
+        // with its elastic range under the elastoplastic solver (`None` otherwise)
+        let side = |c: usize, high: bool, mirror: Option<usize>| -> Side<D> {
+            let state = fields.side(c, 0, high);
+            let range = self.rod_solver.map(|(j2, _)| {
+                let y = j2.current_yield(&impact_core::plasticity::PlasticState {
+                    equivalent_plastic_strain: points.equivalent_plastic_strain[c],
+                });
+                (-y, y)
+            });
+            let Some(end) = mirror else {
+                return (state, range);
+            };
+            let outward = if end == 0 { -e } else { e };
+            let ghost = ghost_full(&state, &outward, conditions[end]);
+            // a traction mirror maps σ to k − σ (the range turns over); the velocity
+            // mirrors keep σ (and the range)
+            let range = range.map(|(lower, upper)| match conditions[end] {
+                GhostCondition::Traction(_) => {
+                    let k = ghost.tensor[(0, 0)] + state.tensor[(0, 0)];
+                    (k - upper, k - lower)
+                }
+                _ => (lower, upper),
+            });
+            (ghost, range)
+        };
         let second = |c: usize| if n > 1 { c } else { 0 };
         for (j, slot) in waves.iter_mut().enumerate() {
             // padded face j is face f = j - 1, between cells f - 1 and f
             let (left, right) = match j {
-                0 => (
-                    mirror_low(side(second(1), false)),
-                    mirror_low(side(0, true)),
-                ),
+                0 => (side(second(1), false, Some(0)), side(0, true, Some(0))),
                 j if j == n + 2 => (
-                    mirror_high(side(n - 1, false)),
-                    mirror_high(side(n - 1 - second(1), true)),
+                    side(n - 1, false, Some(1)),
+                    side(n - 1 - second(1), true, Some(1)),
                 ),
-                1 => (mirror_low(side(0, false)), side(0, false)),
-                j if j == n + 1 => (side(n - 1, true), mirror_high(side(n - 1, true))),
-                j => (side(j - 2, true), side(j - 1, false)),
+                1 => (side(0, false, Some(0)), side(0, false, None)),
+                j if j == n + 1 => (side(n - 1, true, None), side(n - 1, true, Some(1))),
+                j => (side(j - 2, true, None), side(j - 1, false, None)),
             };
-            *slot = self.linear_waves(&left, &right);
+            *slot = match (left.1, right.1) {
+                (Some(lr), Some(rr)) => self.elastoplastic_waves((&left.0, lr), (&right.0, rr)),
+                _ => self.linear_waves(&left.0, &right.0),
+            };
         }
     }
 
     /// The f-waves of the linear-elastic Riemann problem `(left, right)` normal to `e_0`:
-    /// `Z¹ = F(q*) − F(q_L)` at `−c_p`, `Z² = F(q_R) − F(q*)` at `+c_p`.
+    /// `Z¹ = F(q*) − F(q_L)` at `−c_p`, `Z² = F(q_R) − F(q*)` at `+c_p` (families 0 and 3).
     #[inline]
     fn linear_waves(&self, left: &FullState<D>, right: &FullState<D>) -> FaceWaves<D> {
         let e = unit::<D>(0);
@@ -170,9 +205,83 @@ impl<const D: usize> DgmpmSolver<D> {
             normal_flux(&b, &e, &self.elastic),
         );
         let c = self.elastic.z.p / self.elastic.density;
+        let zero = Conserved::zeros();
         FaceWaves {
-            wave: [fs.add_scaled(&fl, -1.0), fr.add_scaled(&fs, -1.0)],
-            speed: [-c, c],
+            wave: [
+                fs.add_scaled(&fl, -1.0),
+                zero,
+                zero,
+                fr.add_scaled(&fs, -1.0),
+            ],
+            speed: [-c, 0.0, 0.0, c],
+        }
+    }
+
+    /// The f-waves of the rod's elastoplastic Riemann problem ([`elastoplastic_star_1d`]),
+    /// each side with its elastic range `[lower, upper]`: on the left, the elastic wave from
+    /// `q_L` to the bound `b` it reaches (at `−c_0`) and the plastic wave from there to `q*`
+    /// (at `−c_t`), the state at the bound being `(b, v_L + (b − σ_L)/Z_0)`; the mirror on the
+    /// right (`+c_t`, `+c_0`). A side whose `σ*` lies in its range has no plastic wave.
+    fn elastoplastic_waves(
+        &self,
+        (left, (ll, lu)): (&FullState<D>, (f64, f64)),
+        (right, (rl, ru)): (&FullState<D>, (f64, f64)),
+    ) -> FaceWaves<D> {
+        let (_, z) = self.rod_solver.expect("internal: the elastoplastic solver");
+        let (sl, vl) = (left.tensor[(0, 0)], left.velocity[0]);
+        let (sr, vr) = (right.tensor[(0, 0)], right.velocity[0]);
+        let sides = (
+            PlasticSide {
+                stress: sl,
+                velocity: vl,
+                lower: ll,
+                upper: lu,
+            },
+            PlasticSide {
+                stress: sr,
+                velocity: vr,
+                lower: rl,
+                upper: ru,
+            },
+        );
+        let (ss, vs) = elastoplastic_star_1d(&sides.0, &sides.1, z);
+        let e = unit::<D>(0);
+        let flux = |sigma: f64, v: f64| {
+            let face = crate::riemann::FaceState {
+                traction: e * sigma,
+                velocity: e * v,
+            };
+            normal_flux(&face, &e, &self.elastic)
+        };
+        // the state where a side's elastic wave ends (`direction` +1 left, −1 right)
+        let bound = |(sigma, v, lower, upper): (f64, f64, f64, f64), direction: f64| {
+            let b = if ss > upper {
+                upper
+            } else if ss < lower {
+                lower
+            } else {
+                return None;
+            };
+            Some((b, v + direction * (b - sigma) / z.elastic))
+        };
+        let (fl, fs, fr) = (flux(sl, vl), flux(ss, vs), flux(sr, vr));
+        let left_mid = bound((sl, vl, ll, lu), 1.0).map_or(fs, |(b, v)| flux(b, v));
+        let right_mid = bound((sr, vr, rl, ru), -1.0).map_or(fs, |(b, v)| flux(b, v));
+        let (c0, ct) = (
+            z.elastic / self.elastic.density,
+            z.plastic / self.elastic.density,
+        );
+        FaceWaves {
+            wave: [
+                left_mid.add_scaled(&fl, -1.0),
+                fs.add_scaled(&left_mid, -1.0),
+                right_mid.add_scaled(&fs, -1.0),
+                fr.add_scaled(&right_mid, -1.0),
+            ],
+            speed: [-c0, -ct, ct, c0],
         }
     }
 }
+
+/// A face side: its state and, under the elastoplastic solver, its elastic range.
+type Side<const D: usize> = (FullState<D>, Option<(f64, f64)>);
