@@ -26,7 +26,7 @@ use impact_core::method::WaveLimiter;
 pub fn limiter_phi(limiter: WaveLimiter, theta: f64) -> f64 {
     match limiter {
         WaveLimiter::None => 1.0,
-        WaveLimiter::Minmod => theta.min(1.0).max(0.0),
+        WaveLimiter::Minmod => theta.clamp(0.0, 1.0),
         WaveLimiter::Superbee => 0.0f64.max((2.0 * theta).min(1.0)).max(theta.min(2.0)),
         WaveLimiter::VanLeer => (theta + theta.abs()) / (1.0 + theta.abs()),
         WaveLimiter::Mc => {
