@@ -491,7 +491,7 @@ fn order_two_runs_is_recorded_and_is_refused_in_2d() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
-        text(&o).contains("dgmpm.order (--order)") && text(&o).contains("1 in 2D"),
+        text(&o).contains("dgmpm.order (--order)") && text(&o).contains("1 with --flux ctu"),
         "{}",
         text(&o)
     );

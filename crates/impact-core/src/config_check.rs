@@ -84,7 +84,8 @@ impl<const D: usize> Problem<D> {
 
     /// DGMPM's order and limiter: a limiter only with `order = 2` (the first-order scheme
     /// has no corrections to limit: a limiter given there is refused, not ignored), and
-    /// `order = 2` in 1D (the corrections are implemented there; 2D and 3D refuse it).
+    /// `order = 2` in 1D, and in 2D with donor-cell fluxes (not CTU, not the elastoplastic
+    /// solver); refused in 3D and with Saint-Venant–Kirchhoff.
     fn check_order(&self, o: &DgmpmOptions) -> Result<(), CoreError> {
         match (o.order, o.limiter) {
             (SchemeOrder::First, Some(limiter)) => Err(SceneError::new(
@@ -94,12 +95,31 @@ impl<const D: usize> Problem<D> {
                  limit): set order = 2 (--order 2) or leave the limiter out",
             )
             .into()),
-            (SchemeOrder::Second, _) if D > 1 => Err(SceneError::new(
+            (SchemeOrder::Second, _) if D > 2 => Err(SceneError::new(
                 field("dgmpm", "order", "order"),
                 o.order,
-                "1 in 2D and 3D (the second-order wave corrections are implemented in 1D)",
+                "1 in 3D (the second-order wave corrections are implemented in 1D and 2D)",
             )
             .into()),
+            (SchemeOrder::Second, _) if D == 2 && o.flux == TransverseFlux::Ctu => {
+                Err(SceneError::new(
+                    field("dgmpm", "order", "order"),
+                    o.order,
+                    "1 with --flux ctu (the transverse propagation of the corrections, \
+                     Clawpack's transverse_waves = 2, is not written): order 2 in 2D runs \
+                     with --flux dcu",
+                )
+                .into())
+            }
+            (SchemeOrder::Second, _) if D == 2 && o.riemann == RiemannSolver::Elastoplastic => {
+                Err(SceneError::new(
+                    field("dgmpm", "order", "order"),
+                    o.order,
+                    "1 with --riemann elastoplastic in 2D (its plane-strain waves are not \
+                     decomposed; order 2 takes the rod's in 1D)",
+                )
+                .into())
+            }
             (SchemeOrder::Second, _) if matches!(self.model, Model::Svk(_)) => {
                 Err(SceneError::new(
                     field("dgmpm", "order", "order"),

@@ -444,7 +444,9 @@ impl<const D: usize> DgmpmSolver<D> {
         } else if self.face_flux[0].is_empty() {
             self.face_flux = std::array::from_fn(|l| vec![Conserved::zeros(); grid.face_count(l)]);
             if self.options.wave_limiter().is_some() {
-                self.face_waves = vec![Default::default(); grid.face_count(0) + 2];
+                // one row of waves: the longest axis's faces and a ghost face at each end
+                let longest = grid.cells.iter().copied().max().unwrap_or(0);
+                self.face_waves = vec![Default::default(); longest + 3];
             }
             // 2D: one face array of scratch; 3D: the per-axis sources (`ctu3`)
             let scratch = if ctu && D == 2 {

@@ -48,10 +48,11 @@
 use crate::limiter::{limiter_phi, wave_ratio};
 use crate::riemann::elastoplastic::{elastoplastic_star_1d, PlasticSide};
 use crate::riemann::{
-    ghost_full, linear_elastic_star, normal_flux, Conserved, FullState, GhostCondition,
+    ghost_full, linear_elastic_star, normal_flux, Conserved, FaceState, FullState, GhostCondition,
 };
 use crate::{unit, DgmpmSolver};
 use impact_core::points::MaterialPoints;
+use impact_core::{Grid, Vector};
 
 /// Wave families of a 1D face, in order of speed: left-going elastic (P), left-going
 /// plastic, right-going plastic, right-going elastic; the linear solver has only the first
@@ -76,81 +77,112 @@ impl<const D: usize> Default for FaceWaves<D> {
 
 impl<const D: usize> DgmpmSolver<D> {
     /// Phase 2c: add the limited second-order corrections `F̃` (module doc) to the face
-    /// fluxes of phase 2, for a stage of length `dt`; returns the change of the power the
-    /// boundary conditions deliver (the loaded ends' flux changes). Nothing at order 1.
+    /// fluxes of phase 2, row by row along each axis, for a stage of length `dt`; returns
+    /// the change of the power the boundary conditions deliver (the loaded ends' flux
+    /// changes). Nothing at order 1.
     pub fn wave_corrections(&mut self, points: &MaterialPoints<D>, dt: f64) -> f64 {
         let Some(limiter) = self.options.wave_limiter() else {
             return 0.0;
         };
         let mut waves = std::mem::take(&mut self.face_waves);
-        self.face_waves_into(points, &mut waves);
-        let mut fluxes = std::mem::take(&mut self.face_flux[0]);
-        let dtdx = dt / self.grid.spacing[0];
         let mut power = 0.0;
-        let last = fluxes.len() - 1;
-        for (f, flux) in fluxes.iter_mut().enumerate() {
-            // the face's waves at f + 1 in the padded array (a ghost face at each end)
-            let here = &waves[f + 1];
-            let mut correction = Conserved::<D>::zeros();
-            for p in 0..WAVES {
-                let s = here.speed[p];
-                let upwind = if s > 0.0 { &waves[f] } else { &waves[f + 2] };
-                let Some(theta) = wave_ratio(&upwind.wave[p], &here.wave[p]) else {
-                    continue;
-                };
-                let weight =
-                    0.5 * s.signum() * (1.0 - dtdx * s.abs()) * limiter_phi(limiter, theta);
-                correction = correction.add_scaled(&here.wave[p], weight);
+        let grid = self.grid.clone();
+        for l in 0..D {
+            let n = grid.cells[l];
+            let rows: usize = Grid::<D>::tangent_axes(l).map(|k| grid.cells[k]).product();
+            let dtdx = dt / grid.spacing[l];
+            let mut fluxes = std::mem::take(&mut self.face_flux[l]);
+            for row in 0..rows {
+                // the row's multi-index on the other axes
+                let mut idx = [0usize; D];
+                let mut rest = row;
+                for k in Grid::<D>::tangent_axes(l) {
+                    idx[k] = rest % grid.cells[k];
+                    rest /= grid.cells[k];
+                }
+                let waves = &mut waves[..n + 3];
+                self.row_waves_into(l, idx, points, waves);
+                for f in 0..=n {
+                    // the face's waves at f + 1 in the padded row (a ghost face at each end)
+                    let here = &waves[f + 1];
+                    let mut correction = Conserved::<D>::zeros();
+                    for p in 0..WAVES {
+                        let s = here.speed[p];
+                        let upwind = if s > 0.0 { &waves[f] } else { &waves[f + 2] };
+                        let Some(theta) = wave_ratio(&upwind.wave[p], &here.wave[p]) else {
+                            continue;
+                        };
+                        let weight =
+                            0.5 * s.signum() * (1.0 - dtdx * s.abs()) * limiter_phi(limiter, theta);
+                        correction = correction.add_scaled(&here.wave[p], weight);
+                    }
+                    idx[l] = f;
+                    let flux = &mut fluxes[Self::face_index(&grid, l, idx)];
+                    if f == 0 || f == n {
+                        power -= self.end_power(l, idx, flux);
+                        *flux = flux.add_scaled(&correction, 1.0);
+                        power += self.end_power(l, idx, flux);
+                    } else {
+                        *flux = flux.add_scaled(&correction, 1.0);
+                    }
+                }
             }
-            if f == 0 || f == last {
-                power -= self.end_power(f, flux);
-                *flux = flux.add_scaled(&correction, 1.0);
-                power += self.end_power(f, flux);
-            } else {
-                *flux = flux.add_scaled(&correction, 1.0);
-            }
+            self.face_flux[l] = fluxes;
         }
-        self.face_flux[0] = fluxes;
         self.face_waves = waves;
         power
     }
 
-    /// The power the condition of the end face `f` delivers with face flux `flux`,
-    /// `sign (σ n)·v` per unit area times the area, from `F = −(E v, σ)` (0 on a free end,
-    /// as `boundary_power`).
-    fn end_power(&self, f: usize, flux: &Conserved<D>) -> f64 {
-        let side = usize::from(f != 0);
-        let mut idx = [0usize; D];
-        idx[0] = f;
-        let s = self.edge_coordinate(0, &idx);
-        if self.ghost_condition(0, side, s) == GhostCondition::free() {
+    /// The power the condition of the end face of axis `l` at `idx` delivers with face flux
+    /// `flux`, `sign |Γ_f| t·v`, the traction `t = −F_momentum` and the velocity from
+    /// `F_tensor = −C : sym(v ⊗ e_l)`: `v_l = −F_ll/(λ + 2μ)` (1D: `/E`), `v_k = −F_kl/μ`
+    /// (0 on a free end, as `boundary_power`).
+    fn end_power(&self, l: usize, idx: [usize; D], flux: &Conserved<D>) -> f64 {
+        let side = usize::from(idx[l] != 0);
+        let s = self.edge_coordinate(l, &idx);
+        if self.ghost_condition(l, side, s) == GhostCondition::free() {
             return 0.0;
         }
         let sign = if side == 0 { -1.0 } else { 1.0 };
-        let area = self.grid.cell_volume() / self.grid.spacing[0];
-        let traction = -flux.momentum[0];
-        let velocity = -flux.tensor[(0, 0)] / (2.0 * self.elastic.mu);
-        sign * area * traction * velocity
+        let area = self.grid.cell_volume() / self.grid.spacing[l];
+        let m = &self.elastic;
+        let normal_modulus = 2.0 * m.mu + if D > 1 { m.lambda } else { 0.0 };
+        let velocity = Vector::<D>::from_fn(|k, _| match k == l {
+            true => -flux.tensor[(l, l)] / normal_modulus,
+            false => -flux.tensor[(k, l)] / m.mu,
+        });
+        -sign * area * flux.momentum.dot(&velocity)
     }
 
-    /// The f-waves of every face of the 1D grid and of the ghost face beyond each end
-    /// (module doc), into `waves` (`face_count + 2`, the ghost faces first and last).
-    fn face_waves_into(&self, points: &MaterialPoints<D>, waves: &mut [FaceWaves<D>]) {
+    /// The f-waves of every face of the row of axis `l` through `idx` (its other entries)
+    /// and of the ghost face beyond each end (module doc), into `waves` (`cells_l + 3`, the
+    /// ghost faces first and last).
+    fn row_waves_into(
+        &self,
+        l: usize,
+        mut idx: [usize; D],
+        points: &MaterialPoints<D>,
+        waves: &mut [FaceWaves<D>],
+    ) {
         let fields = self.fields(points);
-        let n = self.grid.cells[0];
-        let e = unit::<D>(0);
-        // the ends' conditions
-        let condition = |end: usize| {
-            let mut idx = [0usize; D];
-            idx[0] = end * n;
-            self.ghost_condition(0, end, self.edge_coordinate(0, &idx))
+        let n = self.grid.cells[l];
+        let e = unit::<D>(l);
+        // the ends' conditions at the row's tangential coordinates
+        let conditions = [0, 1].map(|end| {
+            idx[l] = end * n;
+            self.ghost_condition(l, end, self.edge_coordinate(l, &idx))
+        });
+        let cell = |j: usize| {
+            let mut c = idx;
+            c[l] = j;
+            self.grid.cell_index(c)
         };
-        let conditions = [condition(0), condition(1)];
-        // cell c's state on its high or low face, mirrored through end `mirror` if given,
-        // with its elastic range under the elastoplastic solver (`None` otherwise)
-        let side = |c: usize, high: bool, mirror: Option<usize>| -> Side<D> {
-            let state = fields.side(c, 0, high);
-            let range = self.rod_solver.map(|(j2, _)| {
+        // cell j's state on its high or low face, mirrored through end `mirror` if given,
+        // with its elastic range under the rod's elastoplastic solver (`None` otherwise)
+        let side = |j: usize, high: bool, mirror: Option<usize>| -> Side<D> {
+            let c = cell(j);
+            let state = fields.side(c, l, high);
+            let range = self.rod_solver.filter(|_| D == 1).map(|(j2, _)| {
                 let y = j2.current_yield(&impact_core::plasticity::PlasticState {
                     equivalent_plastic_strain: points.equivalent_plastic_strain[c],
                 });
@@ -165,14 +197,14 @@ impl<const D: usize> DgmpmSolver<D> {
             // mirrors keep σ (and the range)
             let range = range.map(|(lower, upper)| match conditions[end] {
                 GhostCondition::Traction(_) => {
-                    let k = ghost.tensor[(0, 0)] + state.tensor[(0, 0)];
+                    let k = ghost.tensor[(l, l)] + state.tensor[(l, l)];
                     (k - upper, k - lower)
                 }
                 _ => (lower, upper),
             });
             (ghost, range)
         };
-        let second = |c: usize| if n > 1 { c } else { 0 };
+        let second = |j: usize| if n > 1 { j } else { 0 };
         for (j, slot) in waves.iter_mut().enumerate() {
             // padded face j is face f = j - 1, between cells f - 1 and f
             let (left, right) = match j {
@@ -187,33 +219,47 @@ impl<const D: usize> DgmpmSolver<D> {
             };
             *slot = match (left.1, right.1) {
                 (Some(lr), Some(rr)) => self.elastoplastic_waves((&left.0, lr), (&right.0, rr)),
-                _ => self.linear_waves(&left.0, &right.0),
+                _ => self.linear_waves(l, &left.0, &right.0),
             };
         }
     }
 
-    /// The f-waves of the linear-elastic Riemann problem `(left, right)` normal to `e_0`:
-    /// `Z¹ = F(q*) − F(q_L)` at `−c_p`, `Z² = F(q_R) − F(q*)` at `+c_p` (families 0 and 3).
+    /// The f-waves of the linear-elastic Riemann problem `(left, right)` normal to `e_l`,
+    /// through the states between the waves: on the left `m_L` (the star state's normal
+    /// traction and velocity, the left state's tangential ones), on the right `m_R`:
+    /// `Z¹ = F(m_L) − F(q_L)` at `−c_p`, `Z² = F(q*) − F(m_L)` at `−c_s`,
+    /// `Z³ = F(m_R) − F(q*)` at `+c_s`, `Z⁴ = F(q_R) − F(m_R)` at `+c_p` (1D: `Z²`, `Z³`
+    /// vanish, no shear wave).
     #[inline]
-    fn linear_waves(&self, left: &FullState<D>, right: &FullState<D>) -> FaceWaves<D> {
-        let e = unit::<D>(0);
+    fn linear_waves(&self, l: usize, left: &FullState<D>, right: &FullState<D>) -> FaceWaves<D> {
+        let e = unit::<D>(l);
         let (a, b) = (left.on_face(&e), right.on_face(&e));
         let star = linear_elastic_star(&a, &b, &e, self.elastic.z);
-        let (fl, fs, fr) = (
-            normal_flux(&a, &e, &self.elastic),
-            normal_flux(&star, &e, &self.elastic),
-            normal_flux(&b, &e, &self.elastic),
+        // normal parts of the star state, tangential parts of `outer`
+        let between = |outer: &FaceState<D>| FaceState {
+            traction: e * star.traction.dot(&e) + (outer.traction - e * outer.traction.dot(&e)),
+            velocity: e * star.velocity.dot(&e) + (outer.velocity - e * outer.velocity.dot(&e)),
+        };
+        let flux = |q: &FaceState<D>| normal_flux(q, &e, &self.elastic);
+        let (fl, fml, fs, fmr, fr) = (
+            flux(&a),
+            flux(&between(&a)),
+            flux(&star),
+            flux(&between(&b)),
+            flux(&b),
         );
-        let c = self.elastic.z.p / self.elastic.density;
-        let zero = Conserved::zeros();
+        let (cp, cs) = (
+            self.elastic.z.p / self.elastic.density,
+            self.elastic.z.s / self.elastic.density,
+        );
         FaceWaves {
             wave: [
-                fs.add_scaled(&fl, -1.0),
-                zero,
-                zero,
-                fr.add_scaled(&fs, -1.0),
+                fml.add_scaled(&fl, -1.0),
+                fs.add_scaled(&fml, -1.0),
+                fmr.add_scaled(&fs, -1.0),
+                fr.add_scaled(&fmr, -1.0),
             ],
-            speed: [-c, 0.0, 0.0, c],
+            speed: [-cp, -cs, cs, cp],
         }
     }
 
