@@ -458,9 +458,9 @@ fn elastoplastic_runs_write_the_plastic_strain() {
 
 /// `--order 2 --limiter <l>` runs DGMPM's second-order scheme, recorded in provenance.json
 /// and the resolved scene.toml, and re-running that scene file gives the same fields; at
-/// Courant 0.5 it differs from order 1. In 2D it is refused with the field and the reason.
+/// Courant 0.5 it differs from order 1. In 3D it is refused with the field and the reason.
 #[test]
-fn order_two_runs_is_recorded_and_is_refused_in_2d() {
+fn order_two_runs_is_recorded_and_is_refused_in_3d() {
     let (a, b, c) = (tmp("order2"), tmp("order2-again"), tmp("order1"));
     let run = |extra: &[&str], out: &PathBuf| {
         let mut args = vec!["run", "--method", "dgmpm", "--courant", "0.5", "--quiet"];
@@ -491,7 +491,7 @@ fn order_two_runs_is_recorded_and_is_refused_in_2d() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
-        text(&o).contains("dgmpm.order (--order)") && text(&o).contains("1 with --flux ctu"),
+        text(&o).contains("dgmpm.order (--order)") && text(&o).contains("1 in 3D"),
         "{}",
         text(&o)
     );

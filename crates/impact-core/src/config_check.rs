@@ -84,8 +84,8 @@ impl<const D: usize> Problem<D> {
 
     /// DGMPM's order and limiter: a limiter only with `order = 2` (the first-order scheme
     /// has no corrections to limit: a limiter given there is refused, not ignored), and
-    /// `order = 2` in 1D, and in 2D with donor-cell fluxes (not CTU, not the elastoplastic
-    /// solver); refused in 3D and with Saint-Venant–Kirchhoff.
+    /// `order = 2` in 1D and 2D (CTU or donor-cell; not the 2D elastoplastic solver);
+    /// refused in 3D and with Saint-Venant–Kirchhoff.
     fn check_order(&self, o: &DgmpmOptions) -> Result<(), CoreError> {
         match (o.order, o.limiter) {
             (SchemeOrder::First, Some(limiter)) => Err(SceneError::new(
@@ -101,16 +101,6 @@ impl<const D: usize> Problem<D> {
                 "1 in 3D (the second-order wave corrections are implemented in 1D and 2D)",
             )
             .into()),
-            (SchemeOrder::Second, _) if D == 2 && o.flux == TransverseFlux::Ctu => {
-                Err(SceneError::new(
-                    field("dgmpm", "order", "order"),
-                    o.order,
-                    "1 with --flux ctu (the transverse propagation of the corrections, \
-                     Clawpack's transverse_waves = 2, is not written): order 2 in 2D runs \
-                     with --flux dcu",
-                )
-                .into())
-            }
             (SchemeOrder::Second, _) if D == 2 && o.riemann == RiemannSolver::Elastoplastic => {
                 Err(SceneError::new(
                     field("dgmpm", "order", "order"),

@@ -245,6 +245,9 @@ pub struct DgmpmSolver<const D: usize> {
     /// `order = 2`: the f-waves of every face and of a ghost face beyond each end (empty
     /// otherwise; [`wave_correction`]).
     pub(crate) face_waves: Vec<wave_correction::FaceWaves<D>>,
+    /// `order = 2` with CTU (2D): per axis, each face's correction `F̃`, which the
+    /// transverse solve splits once more (empty otherwise; [`ctu`]).
+    pub(crate) wave_flux: [Vec<Conserved<D>>; D],
     /// The fused path's rolling face rows and next state (empty on the other paths).
     pub(crate) fused: fused::FusedBuffers<D>,
     /// Linear elasticity without the elastoplastic solver, 1D or 2D: the fused path applies.
@@ -363,6 +366,7 @@ impl<const D: usize> DgmpmSolver<D> {
             correction_scratch: Vec::new(),
             transverse_sources: std::array::from_fn(|_| Vec::new()),
             face_waves: Vec::new(),
+            wave_flux: std::array::from_fn(|_| Vec::new()),
             fused: fused::FusedBuffers::default(),
             fusable,
             elastic,
@@ -447,6 +451,10 @@ impl<const D: usize> DgmpmSolver<D> {
                 // one row of waves: the longest axis's faces and a ghost face at each end
                 let longest = grid.cells.iter().copied().max().unwrap_or(0);
                 self.face_waves = vec![Default::default(); longest + 3];
+                if ctu {
+                    self.wave_flux =
+                        std::array::from_fn(|l| vec![Conserved::zeros(); grid.face_count(l)]);
+                }
             }
             // 2D: one face array of scratch; 3D: the per-axis sources (`ctu3`)
             let scratch = if ctu && D == 2 {

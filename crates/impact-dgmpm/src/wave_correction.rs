@@ -45,6 +45,7 @@
 //! solver and the return map after the step) and the rod's elastoplastic solver, in 1D;
 //! `Problem::check_config` refuses the others (Saint-Venant–Kirchhoff, 2D, 3D). The buffers are allocated once (`face_count + 2` faces); the step allocates
 //! nothing.
+use crate::faces::Fields;
 use crate::limiter::{limiter_phi, wave_ratio};
 use crate::riemann::elastoplastic::{elastoplastic_star_1d, PlasticSide};
 use crate::riemann::{
@@ -104,20 +105,14 @@ impl<const D: usize> DgmpmSolver<D> {
                 self.row_waves_into(l, idx, points, waves);
                 for f in 0..=n {
                     // the face's waves at f + 1 in the padded row (a ghost face at each end)
-                    let here = &waves[f + 1];
-                    let mut correction = Conserved::<D>::zeros();
-                    for p in 0..WAVES {
-                        let s = here.speed[p];
-                        let upwind = if s > 0.0 { &waves[f] } else { &waves[f + 2] };
-                        let Some(theta) = wave_ratio(&upwind.wave[p], &here.wave[p]) else {
-                            continue;
-                        };
-                        let weight =
-                            0.5 * s.signum() * (1.0 - dtdx * s.abs()) * limiter_phi(limiter, theta);
-                        correction = correction.add_scaled(&here.wave[p], weight);
-                    }
+                    let correction =
+                        correction_of(&waves[f + 1], &waves[f], &waves[f + 2], limiter, dtdx);
                     idx[l] = f;
-                    let flux = &mut fluxes[Self::face_index(&grid, l, idx)];
+                    let face = Self::face_index(&grid, l, idx);
+                    if let Some(store) = self.wave_flux[l].get_mut(face) {
+                        *store = correction;
+                    }
+                    let flux = &mut fluxes[face];
                     if f == 0 || f == n {
                         power -= self.end_power(l, idx, flux);
                         *flux = flux.add_scaled(&correction, 1.0);
@@ -160,11 +155,31 @@ impl<const D: usize> DgmpmSolver<D> {
     fn row_waves_into(
         &self,
         l: usize,
-        mut idx: [usize; D],
+        idx: [usize; D],
         points: &MaterialPoints<D>,
         waves: &mut [FaceWaves<D>],
     ) {
         let fields = self.fields(points);
+        for (j, slot) in waves.iter_mut().enumerate() {
+            *slot = self.padded_face_waves(l, idx, j, fields, Some(points), None);
+        }
+    }
+
+    /// The f-waves of padded face `j` (face `j − 1`, between cells `j − 2` and `j − 1`; the
+    /// ghost faces `0` and `cells_l + 2`) of the row of axis `l` through `idx`; with
+    /// `transverse = (k, side)`, of the ghost row beyond the edge of axis `k` at `side`
+    /// (every state mirrored first through that edge's condition, at its cell's position
+    /// along it: the ghost cells of Clawpack's `bc2`, corners included). `points` gives the
+    /// plastic states of the rod's elastoplastic solver (1D).
+    pub(crate) fn padded_face_waves(
+        &self,
+        l: usize,
+        mut idx: [usize; D],
+        j: usize,
+        fields: Fields<'_, D>,
+        points: Option<&MaterialPoints<D>>,
+        transverse: Option<(usize, usize)>,
+    ) -> FaceWaves<D> {
         let n = self.grid.cells[l];
         let e = unit::<D>(l);
         // the ends' conditions at the row's tangential coordinates
@@ -172,22 +187,28 @@ impl<const D: usize> DgmpmSolver<D> {
             idx[l] = end * n;
             self.ghost_condition(l, end, self.edge_coordinate(l, &idx))
         });
-        let cell = |j: usize| {
-            let mut c = idx;
-            c[l] = j;
-            self.grid.cell_index(c)
-        };
-        // cell j's state on its high or low face, mirrored through end `mirror` if given,
-        // with its elastic range under the rod's elastoplastic solver (`None` otherwise)
-        let side = |j: usize, high: bool, mirror: Option<usize>| -> Side<D> {
-            let c = cell(j);
-            let state = fields.side(c, l, high);
-            let range = self.rod_solver.filter(|_| D == 1).map(|(j2, _)| {
-                let y = j2.current_yield(&impact_core::plasticity::PlasticState {
-                    equivalent_plastic_strain: points.equivalent_plastic_strain[c],
-                });
-                (-y, y)
-            });
+        // cell i's state on its high or low face (first mirrored through the transverse
+        // edge, if any), mirrored through end `mirror` if given, with its elastic range
+        // under the rod's elastoplastic solver (`None` otherwise)
+        let side = |i: usize, high: bool, mirror: Option<usize>| -> Side<D> {
+            let mut at = idx;
+            at[l] = i;
+            let c = self.grid.cell_index(at);
+            let mut state = fields.side(c, l, high);
+            if let Some((k, k_side)) = transverse {
+                let outward = unit::<D>(k) * if k_side == 0 { -1.0 } else { 1.0 };
+                let cond = self.ghost_condition(k, k_side, self.edge_coordinate(k, &at));
+                state = ghost_full(&state, &outward, cond);
+            }
+            let range = match (self.rod_solver.filter(|_| D == 1), points) {
+                (Some((j2, _)), Some(points)) => {
+                    let y = j2.current_yield(&impact_core::plasticity::PlasticState {
+                        equivalent_plastic_strain: points.equivalent_plastic_strain[c],
+                    });
+                    Some((-y, y))
+                }
+                _ => None,
+            };
             let Some(end) = mirror else {
                 return (state, range);
             };
@@ -204,24 +225,46 @@ impl<const D: usize> DgmpmSolver<D> {
             });
             (ghost, range)
         };
-        let second = |j: usize| if n > 1 { j } else { 0 };
-        for (j, slot) in waves.iter_mut().enumerate() {
-            // padded face j is face f = j - 1, between cells f - 1 and f
-            let (left, right) = match j {
-                0 => (side(second(1), false, Some(0)), side(0, true, Some(0))),
-                j if j == n + 2 => (
-                    side(n - 1, false, Some(1)),
-                    side(n - 1 - second(1), true, Some(1)),
-                ),
-                1 => (side(0, false, Some(0)), side(0, false, None)),
-                j if j == n + 1 => (side(n - 1, true, None), side(n - 1, true, Some(1))),
-                j => (side(j - 2, true, None), side(j - 1, false, None)),
-            };
-            *slot = match (left.1, right.1) {
-                (Some(lr), Some(rr)) => self.elastoplastic_waves((&left.0, lr), (&right.0, rr)),
-                _ => self.linear_waves(l, &left.0, &right.0),
-            };
+        let second = |i: usize| if n > 1 { i } else { 0 };
+        let (left, right) = match j {
+            0 => (side(second(1), false, Some(0)), side(0, true, Some(0))),
+            j if j == n + 2 => (
+                side(n - 1, false, Some(1)),
+                side(n - 1 - second(1), true, Some(1)),
+            ),
+            1 => (side(0, false, Some(0)), side(0, false, None)),
+            j if j == n + 1 => (side(n - 1, true, None), side(n - 1, true, Some(1))),
+            j => (side(j - 2, true, None), side(j - 1, false, None)),
+        };
+        match (left.1, right.1) {
+            (Some(lr), Some(rr)) => self.elastoplastic_waves((&left.0, lr), (&right.0, rr)),
+            _ => self.linear_waves(l, &left.0, &right.0),
         }
+    }
+
+    /// CTU with order 2 (2D): the correction fluxes `F̃` of the low and high `l`-faces of
+    /// the ghost cell that mirrors `cell` through the edge of axis `k` at `side`, from the
+    /// ghost row's waves (`padded_face_waves` with the transverse mirror); `dtdx = Δt/Δx_l`.
+    pub(crate) fn ghost_cell_corrections(
+        &self,
+        k: usize,
+        side: usize,
+        l: usize,
+        cell: [usize; D],
+        fields: Fields<'_, D>,
+        dtdx: f64,
+    ) -> (Conserved<D>, Conserved<D>) {
+        let Some(limiter) = self.options.wave_limiter() else {
+            return (Conserved::zeros(), Conserved::zeros());
+        };
+        // the ghost cell's faces are padded cell[l] + 1 (low) and + 2 (high); their
+        // upwind neighbours one further each way
+        let j = cell[l];
+        let waves: [FaceWaves<D>; 4] = std::array::from_fn(|m| {
+            self.padded_face_waves(l, cell, j + m, fields, None, Some((k, side)))
+        });
+        let at = |p: usize| correction_of(&waves[p], &waves[p - 1], &waves[p + 1], limiter, dtdx);
+        (at(1), at(2))
     }
 
     /// The f-waves of the linear-elastic Riemann problem `(left, right)` normal to `e_l`,
@@ -327,6 +370,30 @@ impl<const D: usize> DgmpmSolver<D> {
             speed: [-c0, -ct, ct, c0],
         }
     }
+}
+
+/// The correction flux `F̃ = ½ Σ_p sign(s^p) (1 − dtdx |s^p|) φ(θ^p) Z^p` of the face
+/// with waves `here` (module doc), `before` and `after` its neighbours along the axis (the
+/// upwind one of each family gives `θ`).
+#[inline]
+fn correction_of<const D: usize>(
+    here: &FaceWaves<D>,
+    before: &FaceWaves<D>,
+    after: &FaceWaves<D>,
+    limiter: impact_core::method::WaveLimiter,
+    dtdx: f64,
+) -> Conserved<D> {
+    let mut correction = Conserved::<D>::zeros();
+    for p in 0..WAVES {
+        let s = here.speed[p];
+        let upwind = if s > 0.0 { before } else { after };
+        let Some(theta) = wave_ratio(&upwind.wave[p], &here.wave[p]) else {
+            continue;
+        };
+        let weight = 0.5 * s.signum() * (1.0 - dtdx * s.abs()) * limiter_phi(limiter, theta);
+        correction = correction.add_scaled(&here.wave[p], weight);
+    }
+    correction
 }
 
 /// A face side: its state and, under the elastoplastic solver, its elastic range.
