@@ -178,6 +178,20 @@ fn no_allocation_in_the_step_loop() {
                 }
                 assert_eq!(steps_allocate(&problem, c), 0, "{name} {kind:?} {flux:?}");
                 cases += 1;
+                // order 2 (the wave corrections; with CTU their transverse split): Euler
+                // with CTU, RK2 with donor-cell (Euler is unstable there)
+                if kind == MethodKind::Dgmpm && name == "plate" {
+                    let mut c2 = c;
+                    if let Some(o) = c2.dgmpm_mut() {
+                        o.order = impact_core::method::SchemeOrder::Second;
+                        o.limiter = Some(impact_core::method::WaveLimiter::Mc);
+                        if flux == TransverseFlux::DonorCell {
+                            o.integrator = Integrator::Rk2;
+                        }
+                    }
+                    assert_eq!(steps_allocate(&problem, c2), 0, "{name} order 2 {flux:?}");
+                    cases += 1;
+                }
             }
         }
     }
@@ -196,7 +210,7 @@ fn no_allocation_in_the_step_loop() {
             cases += 1;
         }
     }
-    assert_eq!(cases, 18 + 3 + 9 + 4);
+    assert_eq!(cases, 18 + 3 + 9 + 2 + 4);
 }
 
 /// DGMPM's rayon loops (grids from 4,096 cells on): the cell path (CTU, donor-cell, SVK) and

@@ -1,6 +1,7 @@
-//! Phase 2c (`order = 2`, 1D): the limited second-order wave corrections of the face fluxes
-//! (LeVeque 2002, §6.8-6.15, and §15.4 for systems; Clawpack classic `step1` with
-//! `order = 2`), added to the Godunov fluxes of phase 2 before the flux balance.
+//! Phase 2c (`order = 2`, 1D and 2D): the limited second-order wave corrections of the face
+//! fluxes (LeVeque 2002, §6.8-6.15, and §15.4 for systems; Clawpack classic `step1`, and
+//! `flux2` along each axis in 2D, with `order = 2`), added to the Godunov fluxes of phase 2
+//! before the flux balance (and, with CTU, before the transverse corrections).
 //!
 //! Each face `i−½` has the Riemann problem of its two states (each side's face-node average,
 //! paper §4: the corrections act on the cells' nodal face states, at any points per cell;
@@ -28,6 +29,18 @@
 //! mirrors its one cell twice. A free end's corrections then carry no traction and a
 //! velocity end's no velocity: the edge conditions hold exactly.
 //!
+//! **2D.** Along each axis `l`, row by row, the same with the linear solver's four waves
+//! normal to `e_l` ([`DgmpmSolver::linear_waves`]: P and S on each side, through the states
+//! between them), `Δx_l`, and the mirror ghosts of the row's two ends. With CTU
+//! (`ctu.rs`), as Clawpack's `transverse_waves = 2`: the fluctuations the transverse solver
+//! splits carry the corrections, `A⁻ΔQ + cqxx` and `A⁺ΔQ − cqxx` with `cqxx = 2F̃`
+//! (`flux2`), so each cell's split sum gains `2(F̃_high − F̃_low)`: once through the
+//! corrected face fluxes, once from the stored `F̃` (`wave_flux`); a ghost cell beyond an
+//! edge takes the corrections of its ghost row (every state mirrored through that edge
+//! first, [`DgmpmSolver::padded_face_waves`]). Donor-cell with the corrections is Clawpack's
+//! `transverse_waves = 0`, which lacks the cross-derivative term: unstable with forward
+//! Euler at every Courant number (von Neumann), stable with RK2.
+//!
 //! **Δt.** Euler uses the step's `Δt`. Each stage of Heun's RK2 is a forward Euler step of
 //! the full `Δt` (`q¹ = q⁰ + Δt L(q⁰)`, `q² = q¹ + Δt L(q¹)`, averaged), so each stage's
 //! corrections use `(1 − Δt|s|/Δx)` with that `Δt`: each stage is then the Lax-Wendroff-type
@@ -42,8 +55,10 @@
 //! over), so the ghost face's star state is the boundary half problem's.
 //!
 //! Implemented for the linear-elastic solver (linear elasticity, and J2 with the elastic
-//! solver and the return map after the step) and the rod's elastoplastic solver, in 1D;
-//! `Problem::check_config` refuses the others (Saint-Venant–Kirchhoff, 2D, 3D). The buffers are allocated once (`face_count + 2` faces); the step allocates
+//! solver and the return map after the step; 1D and 2D) and the rod's elastoplastic solver
+//! (1D); `Problem::check_config` refuses the others (Saint-Venant–Kirchhoff, the 2D
+//! elastoplastic solver, 3D). The buffers are allocated once (one row of waves, the longest
+//! axis's faces and two ghost faces; with CTU the `F̃` of every face); the step allocates
 //! nothing.
 use crate::faces::Fields;
 use crate::limiter::{limiter_phi, wave_ratio};
