@@ -170,16 +170,22 @@ pub fn sweep_scenes(
     Ok(vec![crate::stability::cut_scene(&resolved(&study)?)])
 }
 
-/// The order-2 rows of the ladder at `ppc` points per cell (1D linear elasticity and J2
-/// with the elastic solver; the ladder skips them elsewhere, as `Problem::check_config`
-/// refuses them): no limiter (Lax-Wendroff) and MC. One point per cell: forward Euler at
-/// Courant 0.5 (at Courant 1 the corrections vanish, `1 − Δt c/Δx = 0`, and the scheme is
-/// the exact first-order shift); several: RK2 at 0.9, since with forward Euler the
-/// corrections leave no stable Courant number there (von Neumann, README).
+/// The order-2 rows of the ladder at `ppc` points per cell (linear elasticity and J2 with
+/// the elastic solver, 1D and 2D; the ladder skips them where `Problem::check_config`
+/// refuses them): no limiter (Lax-Wendroff) and MC. One point per cell: forward Euler, at
+/// Courant 0.5 in 1D (at Courant 1 the corrections vanish, `1 − Δt c/Δx = 0`, and the
+/// scheme is the exact first-order shift), with CTU at 0.9 in 2D (the scene's edges);
+/// several (1D): RK2 at 0.9, since with forward Euler the corrections leave no stable
+/// Courant number there (von Neumann, README).
 pub(crate) fn order2_configurations(scene: &Scene, ppc: usize) -> Vec<Config> {
-    let (integrator, courant) = match ppc {
-        1 => (Integrator::Euler, 0.5),
+    let (integrator, courant) = match (ppc, scene.dim) {
+        (1, 1) => (Integrator::Euler, 0.5),
+        (1, _) => (Integrator::Euler, 0.9),
         _ => (Integrator::Rk2, 0.9),
+    };
+    let flux = match scene.dim {
+        1 => String::new(),
+        _ => " ctu".to_string(),
     };
     [WaveLimiter::None, WaveLimiter::Mc]
         .into_iter()
@@ -193,7 +199,7 @@ pub(crate) fn order2_configurations(scene: &Scene, ppc: usize) -> Vec<Config> {
             }
             Config {
                 label: format!(
-                    "dgmpm {} o2 {} {ppc}ppc C{courant:?}",
+                    "dgmpm {}{flux} o2 {} {ppc}ppc C{courant:?}",
                     integrator.name(),
                     limiter.name()
                 ),

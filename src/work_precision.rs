@@ -136,6 +136,9 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
             ));
             out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::DonorCell, 0.95));
             out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::Ctu, 0.7));
+            if ppc == 1 && scene.dim == 2 {
+                out.extend(crate::ladder::order2_configurations(scene, ppc));
+            }
         }
     }
     for ppc in [1, several] {

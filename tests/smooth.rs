@@ -100,3 +100,16 @@ fn smooth_bar_order_two() {
     let o = order(&runs, several, |e| e.l2_stress);
     assert!((0.8..1.4).contains(&o), "2 ppc RK2 L2 σ: order {o}");
 }
+
+/// DGMPM order 2 with CTU at one point per cell on the standing P mode of the plate
+/// (against the exact solution): Lax-Wendroff converges at about 2 (README), order 1 at 1.
+#[test]
+fn smooth_plate_order_two() {
+    let (lw, first) = (
+        "dgmpm euler ctu o2 none 1ppc C0.9",
+        "dgmpm euler ctu 1ppc C1.0",
+    );
+    let runs = measured::<2>("smooth-plate", &[lw, first], 3);
+    let o = order(&runs, lw, |e| e.l2_stress);
+    assert!((1.7..2.4).contains(&o), "order 2 L2 σ: order {o}");
+}
