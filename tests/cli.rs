@@ -482,7 +482,7 @@ fn order_two_runs_is_recorded_and_is_refused_in_3d() {
     assert_ne!(run(&["bar"], &c), second);
     let o = impact(&[
         "run",
-        "plate",
+        "block-wave",
         "--order",
         "2",
         "--quiet",
