@@ -50,7 +50,7 @@ if [ ${#python_tests[@]} -gt 0 ]; then
   fi
   # Clawpack (scripts/crosscheck_clawpack.py) builds its Fortran Riemann solvers at install
   # time: it needs gfortran (apt); the run fails with the reason when either cannot be had
-  if ! "$venv/bin/python" -c "import clawpack.pyclaw, clawpack.riemann.vc_elasticity_2D" 2>/dev/null; then
+  if ! "$venv/bin/python" -c "import clawpack.pyclaw, clawpack.riemann.vc_elasticity_2D, clawpack.riemann.acoustics_1D" 2>/dev/null; then
     command -v gfortran >/dev/null 2>&1 || apt_install gfortran || {
       echo "clawpack: cannot install gfortran (needs apt as root or sudo); crosscheck_clawpack.py cannot run" >&2
       exit 1

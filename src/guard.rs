@@ -103,7 +103,13 @@ pub fn von_neumann<const D: usize>(
 fn describe(config: &MethodConfig) -> String {
     let update = config
         .dgmpm()
-        .map(|o| format!(", {} update", o.update.name()))
+        .map(|o| {
+            let order = match o.wave_limiter() {
+                Some(l) => format!(", order 2 with limiter {l} (analysed unlimited)"),
+                None => String::new(),
+            };
+            format!(", {} update{order}", o.update.name())
+        })
         .unwrap_or_default();
     format!(
         "{}, {} points per cell, {}{update}",

@@ -1,11 +1,14 @@
 //! What the studies (`bench work-precision`, `bench convergence`, `stability`) share to run
 //! on any scene: the flags a ladder sets itself, the check of the options it keeps, the
 //! configurations the scene's model takes (and those it refuses, with the reason), the
-//! default levels, and the provenance record of a ladder's folder.
+//! default levels, the provenance record of a ladder's folder, and DGMPM's order-2 rows.
 use crate::work_precision::{configurations, Config};
 use crate::Study;
 use anyhow::Result;
-use impact_core::method::{Integrator, MethodKind, MpmShape, TransverseFlux};
+use impact_core::method::{
+    Integrator, MethodKind, MpmShape, SchemeOrder, TransverseFlux, WaveLimiter,
+};
+use impact_core::Scene;
 use std::path::Path;
 
 /// The flags a ladder sets itself (grid, Courant number and the options it varies): refused
@@ -17,6 +20,8 @@ pub const LADDER_FLAGS: &[&str] = &[
     "--integrator",
     "--flux",
     "--shape",
+    "--order",
+    "--limiter",
 ];
 
 /// A configuration left out of a ladder: its label and why.
@@ -163,4 +168,44 @@ pub fn sweep_scenes(
     };
     let study = Study::load(source, overrides.clone())?;
     Ok(vec![crate::stability::cut_scene(&resolved(&study)?)])
+}
+
+/// The order-2 rows of the ladder at `ppc` points per cell (linear elasticity and J2 with
+/// the elastic solver, 1D and 2D; the ladder skips them where `Problem::check_config`
+/// refuses them): no limiter (Lax-Wendroff) and MC. One point per cell: forward Euler, at
+/// Courant 0.5 in 1D (at Courant 1 the corrections vanish, `1 − Δt c/Δx = 0`, and the
+/// scheme is the exact first-order shift), with CTU at 0.9 in 2D (the scene's edges);
+/// several (1D): RK2 at 0.9, since with forward Euler the corrections leave no stable
+/// Courant number there (von Neumann, README).
+pub(crate) fn order2_configurations(scene: &Scene, ppc: usize) -> Vec<Config> {
+    let (integrator, courant) = match (ppc, scene.dim) {
+        (1, 1) => (Integrator::Euler, 0.5),
+        (1, _) => (Integrator::Euler, 0.9),
+        _ => (Integrator::Rk2, 0.9),
+    };
+    let flux = match scene.dim {
+        1 => String::new(),
+        _ => " ctu".to_string(),
+    };
+    [WaveLimiter::None, WaveLimiter::Mc]
+        .into_iter()
+        .map(|limiter| {
+            let mut config = scene.method_config(MethodKind::Dgmpm);
+            (config.points_per_cell, config.courant) = (ppc, courant);
+            if let Some(o) = config.dgmpm_mut() {
+                o.integrator = integrator;
+                o.order = SchemeOrder::Second;
+                o.limiter = Some(limiter);
+            }
+            Config {
+                label: format!(
+                    "dgmpm {}{flux} o2 {} {ppc}ppc C{courant:?}",
+                    integrator.name(),
+                    limiter.name()
+                ),
+                config,
+                dim: scene.dim,
+            }
+        })
+        .collect()
 }

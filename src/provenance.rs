@@ -17,7 +17,8 @@ use crate::study::{Overrides, Study};
 use anyhow::{bail, Context, Result};
 use impact_core::method::{
     EdgeKind, EdgeTreatment, Integrator, LayoutKind, MethodConfig, MethodKind, MethodOptions,
-    MpmFrame, MpmShape, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
+    MpmFrame, MpmShape, PointUpdate, RiemannSolver, SchemeOrder, StressUpdate, TransverseFlux,
+    WaveLimiter,
 };
 use impact_core::Scene;
 use serde::{Deserialize, Serialize};
@@ -57,6 +58,12 @@ pub struct MethodOptionsRecord {
     /// DGMPM CTU edge treatment (2D).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub edges: Option<EdgeTreatment>,
+    /// DGMPM spatial order.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub order: Option<SchemeOrder>,
+    /// DGMPM wave limiter (order 2).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub limiter: Option<WaveLimiter>,
     /// MPM stress update.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stress_update: Option<StressUpdate>,
@@ -83,6 +90,8 @@ impl MethodOptionsRecord {
             flux: None,
             riemann: None,
             edges: None,
+            order: None,
+            limiter: None,
             stress_update: None,
             frame: None,
             shape: None,
@@ -92,6 +101,8 @@ impl MethodOptionsRecord {
                 r.integrator = Some(o.integrator);
                 r.update = Some(o.update);
                 r.riemann = Some(o.riemann);
+                r.order = Some(o.order);
+                r.limiter = o.wave_limiter();
                 if dim > 1 {
                     r.flux = Some(o.flux);
                     r.edges = Some(o.edges);
@@ -420,6 +431,8 @@ pub fn resolved_scene(study: &Study, kinds: &[MethodKind]) -> Scene {
         s.integrator = Some(o.integrator);
         s.update = Some(o.update);
         s.riemann = Some(o.riemann);
+        s.order = Some(o.order);
+        s.limiter = o.limiter;
         if scene.dim > 1 {
             s.flux = Some(o.flux);
             s.edges = Some(o.edges);

@@ -323,16 +323,27 @@ fn step_matrices<const D: usize>(
 }
 
 /// Largest spectral radius of `G(θ)` over `samples^D` wave numbers (`None` if a complex
-/// Schur decomposition does not converge within its iteration cap).
+/// Schur decomposition does not converge within its iteration cap). DGMPM's `order = 2` is
+/// analysed with no limiter (Lax-Wendroff: the linear scheme; a limiter makes it nonlinear,
+/// and Sweby's TVD limiters, `0 ≤ φ ≤ 2`, keep the limited scheme TVD to Courant 1 at one
+/// point per cell, LeVeque 2002 §6.12).
 pub fn max_amplification<const D: usize>(
     problem: &Problem<D>,
     config: MethodConfig,
     samples: usize,
 ) -> Option<f64> {
-    let reach = if config.dgmpm().map(|o| o.integrator) == Some(Integrator::Rk2) {
-        3
-    } else {
-        2
+    // order 2 (limited wave corrections): the limited scheme is nonlinear, so the analysis
+    // linearises it as its unlimited (Lax-Wendroff) scheme, a stencil of 2 cells per stage
+    let mut config = config;
+    let second = config.dgmpm().and_then(|o| o.wave_limiter()).is_some();
+    if let Some(o) = config.dgmpm_mut().filter(|_| second) {
+        o.limiter = Some(impact_core::method::WaveLimiter::None);
+    }
+    let rk2 = config.dgmpm().map(|o| o.integrator) == Some(Integrator::Rk2);
+    let reach = match (rk2, second) {
+        (true, true) => 4,
+        (true, false) => 3,
+        _ => 2,
     };
     let (offsets, matrices) = step_matrices(problem, config, reach);
     let size = matrices[0].nrows();

@@ -2,7 +2,7 @@
 //! every command takes its problem and method configurations.
 use impact_core::method::{
     EdgeKind, EdgeTreatment, Integrator, LoadDirection, MethodConfig, MethodKind, MpmFrame,
-    MpmShape, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
+    MpmShape, PointUpdate, RiemannSolver, SchemeOrder, StressUpdate, TransverseFlux, WaveLimiter,
 };
 use impact_core::scene::{
     check_courant, check_output_times, check_points_per_cell, check_work, Scene, WorkEstimate,
@@ -50,6 +50,13 @@ pub struct Overrides {
     /// (Clawpack's).
     #[arg(long, value_enum)]
     pub edges: Option<EdgeTreatment>,
+    /// DGMPM spatial order: 1 (the paper's first-order flux) or 2 (limited second-order
+    /// wave corrections, 1D).
+    #[arg(long, value_enum)]
+    pub order: Option<SchemeOrder>,
+    /// DGMPM wave limiter of --order 2 (default mc; none is Lax-Wendroff).
+    #[arg(long, value_enum)]
+    pub limiter: Option<WaveLimiter>,
     /// Direction of the pressure load on the loaded end.
     #[arg(long = "load", value_enum)]
     pub load: Option<LoadDirection>,
@@ -95,6 +102,8 @@ impl Overrides {
             ("--flux", self.flux.is_some()),
             ("--riemann", self.riemann.is_some()),
             ("--edges", self.edges.is_some()),
+            ("--order", self.order.is_some()),
+            ("--limiter", self.limiter.is_some()),
             ("--load", self.load.is_some()),
             ("--load-magnitude", self.load_magnitude.is_some()),
             ("--t-end", self.t_end.is_some()),
@@ -290,6 +299,8 @@ impl Overrides {
             o.flux = self.flux.unwrap_or(o.flux);
             o.riemann = self.riemann.unwrap_or(o.riemann);
             o.edges = self.edges.unwrap_or(o.edges);
+            o.order = self.order.unwrap_or(o.order);
+            o.limiter = self.limiter.or(o.limiter);
         }
         if let Some(o) = config.mpm_mut() {
             o.stress_update = self.stress_update.unwrap_or(o.stress_update);

@@ -122,6 +122,8 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
                 euler,
             ));
             out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::DonorCell, 1.0));
+            // order 2 (limited wave corrections, 1D)
+            out.extend(crate::ladder::order2_configurations(scene, ppc));
         } else {
             out.push(dgmpm(ppc, Integrator::Euler, TransverseFlux::Ctu, euler));
             // donor-cell with Euler at 4 points per cell: von Neumann limit 0.5518 (the
@@ -134,6 +136,9 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
             ));
             out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::DonorCell, 0.95));
             out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::Ctu, 0.7));
+            if ppc == 1 && scene.dim == 2 {
+                out.extend(crate::ladder::order2_configurations(scene, ppc));
+            }
         }
     }
     for ppc in [1, several] {

@@ -138,6 +138,31 @@ fn no_allocation_in_the_step_loop() {
             }
         }
     }
+    // DGMPM order 2 (the wave corrections, 1D): the cell path, RK2 and several points per
+    // cell on the nodal phases
+    {
+        let scene = Scene::builtin("bar").unwrap();
+        let problem = Problem::<1>::from_scene(&scene).unwrap();
+        for (integrator, ppc) in [
+            (Integrator::Euler, 1),
+            (Integrator::Rk2, 1),
+            (Integrator::Euler, 2),
+        ] {
+            let mut c = scene.method_config(MethodKind::Dgmpm);
+            let options = impact::Overrides {
+                integrator: Some(integrator),
+                points_per_cell: Some(ppc),
+                order: Some(impact_core::method::SchemeOrder::Second),
+                limiter: Some(impact_core::method::WaveLimiter::Mc),
+                courant: Some(0.5),
+                ..Default::default()
+            };
+            options.apply_to_config(&mut c);
+            let n = steps_allocate(&problem, c);
+            assert_eq!(n, 0, "{n} allocations: bar order 2 {c:?}");
+            cases += 1;
+        }
+    }
     for name in ["plate", "svk-plate"] {
         let scene = Scene::builtin(name).unwrap();
         let problem = Problem::<2>::from_scene(&scene).unwrap();
@@ -153,6 +178,20 @@ fn no_allocation_in_the_step_loop() {
                 }
                 assert_eq!(steps_allocate(&problem, c), 0, "{name} {kind:?} {flux:?}");
                 cases += 1;
+                // order 2 (the wave corrections; with CTU their transverse split): Euler
+                // with CTU, RK2 with donor-cell (Euler is unstable there)
+                if kind == MethodKind::Dgmpm && name == "plate" {
+                    let mut c2 = c;
+                    if let Some(o) = c2.dgmpm_mut() {
+                        o.order = impact_core::method::SchemeOrder::Second;
+                        o.limiter = Some(impact_core::method::WaveLimiter::Mc);
+                        if flux == TransverseFlux::DonorCell {
+                            o.integrator = Integrator::Rk2;
+                        }
+                    }
+                    assert_eq!(steps_allocate(&problem, c2), 0, "{name} order 2 {flux:?}");
+                    cases += 1;
+                }
             }
         }
     }
@@ -171,7 +210,7 @@ fn no_allocation_in_the_step_loop() {
             cases += 1;
         }
     }
-    assert_eq!(cases, 18 + 9 + 4);
+    assert_eq!(cases, 18 + 3 + 9 + 2 + 4);
 }
 
 /// DGMPM's rayon loops (grids from 4,096 cells on): the cell path (CTU, donor-cell, SVK) and

@@ -7,7 +7,9 @@
 //! Each refusal is a [`SceneError`]: the option's scene field and flag, the value given and
 //! what is allowed with this problem.
 use crate::method::Model;
-use crate::options::{MethodConfig, MethodOptions, MpmFrame, RiemannSolver, TransverseFlux};
+use crate::options::{
+    DgmpmOptions, MethodConfig, MethodOptions, MpmFrame, RiemannSolver, SchemeOrder, TransverseFlux,
+};
 use crate::{CoreError, Problem, SceneError};
 
 /// `dgmpm.<name> (--<flag>)`: the field of a refusal, named as in scene files and flags.
@@ -39,7 +41,8 @@ impl<const D: usize> Problem<D> {
             }
             MethodOptions::Dgmpm(o) => {
                 self.check_points(config)?;
-                self.check_dgmpm(config.points_per_cell, o.flux, o.riemann)
+                self.check_dgmpm(config.points_per_cell, o.flux, o.riemann)?;
+                self.check_order(&o)
             }
         }
     }
@@ -77,6 +80,48 @@ impl<const D: usize> Problem<D> {
             .into());
         }
         Ok(())
+    }
+
+    /// DGMPM's order and limiter: a limiter only with `order = 2` (the first-order scheme
+    /// has no corrections to limit: a limiter given there is refused, not ignored), and
+    /// `order = 2` in 1D and 2D (CTU or donor-cell; not the 2D elastoplastic solver);
+    /// refused in 3D and with Saint-Venant–Kirchhoff.
+    fn check_order(&self, o: &DgmpmOptions) -> Result<(), CoreError> {
+        match (o.order, o.limiter) {
+            (SchemeOrder::First, Some(limiter)) => Err(SceneError::new(
+                field("dgmpm", "limiter", "limiter"),
+                limiter,
+                "no limiter with order = 1 (the first-order scheme has no corrections to \
+                 limit): set order = 2 (--order 2) or leave the limiter out",
+            )
+            .into()),
+            (SchemeOrder::Second, _) if D > 2 => Err(SceneError::new(
+                field("dgmpm", "order", "order"),
+                o.order,
+                "1 in 3D (the second-order wave corrections are implemented in 1D and 2D)",
+            )
+            .into()),
+            (SchemeOrder::Second, _) if D == 2 && o.riemann == RiemannSolver::Elastoplastic => {
+                Err(SceneError::new(
+                    field("dgmpm", "order", "order"),
+                    o.order,
+                    "1 with --riemann elastoplastic in 2D (its plane-strain waves are not \
+                     decomposed; order 2 takes the rod's in 1D)",
+                )
+                .into())
+            }
+            (SchemeOrder::Second, _) if matches!(self.model, Model::Svk(_)) => {
+                Err(SceneError::new(
+                    field("dgmpm", "order", "order"),
+                    o.order,
+                    "1 with Saint-Venant-Kirchhoff (the second-order wave corrections are \
+                     implemented for the linear-elastic solver and the rod's elastoplastic \
+                     solver)",
+                )
+                .into())
+            }
+            _ => Ok(()),
+        }
     }
 
     /// DGMPM's transverse flux and Riemann solver against the model and the dimension.

@@ -37,6 +37,7 @@ pub mod points;
 pub mod problem;
 pub mod reference;
 pub mod scene;
+pub mod scheme_order;
 
 pub use error::{CoreError, SceneError};
 pub use grid::Grid;

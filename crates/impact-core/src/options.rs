@@ -8,6 +8,8 @@
 //! field of its method's options struct; nothing else spells its names.
 use serde::{Deserialize, Serialize};
 
+pub use crate::scheme_order::SchemeOrder;
+
 /// An option enum: the variants with their names, `name()`, `parse()`, `ALL`, `NAMES`,
 /// serde (by name; an unknown name is rejected with the list of allowed names), `Display`
 /// and, behind the `clap` feature, `clap::ValueEnum`.
@@ -140,6 +142,24 @@ option_enum! {
         /// J2 rod: the exact elastoplastic face solver (elastic precursor up to yield, then
         /// the plastic wave); 1D, one point per cell.
         Elastoplastic = "elastoplastic",
+    }
+}
+
+option_enum! {
+    /// The wave limiter `φ(θ)` of DGMPM's second-order corrections (`order = 2`; LeVeque
+    /// 2002, §6.9 and §6.12; Clawpack's `limiter.f`), `θ` the upwind neighbour face's wave
+    /// of the same family projected on the face's own.
+    WaveLimiter {
+        /// `φ = 1`: unlimited, the Lax-Wendroff scheme (not TVD).
+        None = "none",
+        /// `φ = max(0, min(1, θ))`.
+        Minmod = "minmod",
+        /// `φ = max(0, min(1, 2θ), min(2, θ))` (Roe).
+        Superbee = "superbee",
+        /// `φ = (θ + |θ|)/(1 + |θ|)`.
+        VanLeer = "vanleer",
+        /// Monotonized centred: `φ = max(0, min((1 + θ)/2, 2, 2θ))` (van Leer 1977).
+        Mc = "mc",
     }
 }
 
@@ -295,6 +315,24 @@ pub struct DgmpmOptions {
     pub riemann: RiemannSolver,
     /// Edge treatment of CTU (2D).
     pub edges: EdgeTreatment,
+    /// Spatial order: the paper's first-order flux or the limited second-order corrections.
+    pub order: SchemeOrder,
+    /// The wave limiter of `order = 2` (`None`: not chosen, [`DgmpmOptions::DEFAULT_LIMITER`]
+    /// there); refused with `order = 1` (`Problem::check_config`).
+    pub limiter: Option<WaveLimiter>,
+}
+
+impl DgmpmOptions {
+    /// The limiter of `order = 2` when none is chosen: MC, Clawpack's template default.
+    pub const DEFAULT_LIMITER: WaveLimiter = WaveLimiter::Mc;
+
+    /// The limiter the second-order corrections use (`None`: first order, no corrections).
+    pub fn wave_limiter(&self) -> Option<WaveLimiter> {
+        match self.order {
+            SchemeOrder::First => None,
+            SchemeOrder::Second => Some(self.limiter.unwrap_or(Self::DEFAULT_LIMITER)),
+        }
+    }
 }
 
 impl Default for DgmpmOptions {
@@ -306,6 +344,8 @@ impl Default for DgmpmOptions {
             flux: TransverseFlux::Ctu,
             riemann: RiemannSolver::Approximate,
             edges: EdgeTreatment::Restricted,
+            order: SchemeOrder::First,
+            limiter: None,
         }
     }
 }
@@ -450,6 +490,10 @@ impl MethodConfig {
                 push("--integrator", o.integrator.name());
                 push("--update", o.update.name());
                 push("--riemann", o.riemann.name());
+                push("--order", o.order.name());
+                if let Some(limiter) = o.limiter {
+                    push("--limiter", limiter.name());
+                }
                 if dim > 1 {
                     push("--flux", o.flux.name());
                     push("--edges", o.edges.name());

@@ -106,6 +106,9 @@ impl<const D: usize> DgmpmSolver<D> {
             let this = &*self;
             let fields = this.fields(points);
             let l_fluxes = &this.face_flux[l];
+            // order 2: the corrections F̃ of the l-faces (in `l_fluxes` once; Clawpack splits
+            // the fluctuations with `cqxx = 2 F̃` added, so once more here)
+            let l_waves = &this.wave_flux[l];
             // strides of the l-face array: a cell's low l-face is Σ_m c_m stride_m, its high
             // one `stride_l` further (index arithmetic only: writing a multi-index entry
             // picked at run time stalls store forwarding in this loop)
@@ -123,7 +126,12 @@ impl<const D: usize> DgmpmSolver<D> {
                     let inside = j >= 0 && (j as usize) < this.grid.cells[k];
                     inside.then(|| {
                         let lo = base + j as usize * stride[k];
-                        let w = l_fluxes[lo + stride[l]].add_scaled(&l_fluxes[lo], -1.0);
+                        let mut w = l_fluxes[lo + stride[l]].add_scaled(&l_fluxes[lo], -1.0);
+                        if !l_waves.is_empty() {
+                            w = w
+                                .add_scaled(&l_waves[lo + stride[l]], 1.0)
+                                .add_scaled(&l_waves[lo], -1.0);
+                        }
                         if PER_CELL {
                             w
                         } else {
@@ -176,7 +184,24 @@ impl<const D: usize> DgmpmSolver<D> {
             let mut cell = idx;
             cell[k] = j.clamp(0, self.grid.cells[k] as isize - 1) as usize;
             let (m_in, p_in) = self.ghost_cell_fluctuations(k, side, l, cell, fields);
-            m_in.add_scaled(&p_in, 1.0)
+            let w = m_in.add_scaled(&p_in, 1.0);
+            if self.wave_flux[l].is_empty() {
+                return w;
+            }
+            // order 2 (Clawpack's `amdq += cqxx`, `apdq −= cqxx`, `cqxx = 2 F̃`): the ghost
+            // row's corrections, dropped where the fluctuation is (a traction corner)
+            let (low, high) = self.ghost_cell_corrections(k, side, l, cell, fields, 2.0 * scale);
+            let [drop_low, drop_high] = self.dropped_corner_faces(k, side, l, cell);
+            let w = if drop_low {
+                w
+            } else {
+                w.add_scaled(&low, -2.0)
+            };
+            if drop_high {
+                w
+            } else {
+                w.add_scaled(&high, 2.0)
+            }
         };
         let w_side = [
             w[0].unwrap_or_else(|| ghost(0)),
@@ -191,6 +216,29 @@ impl<const D: usize> DgmpmSolver<D> {
             return constrain_correction(&correction, &n_k, cond);
         }
         correction
+    }
+
+    /// Whether the ghost cell mirroring `cell` through the edge of axis `k` at `side` has
+    /// its low and high `l`-face dropped (`ghost_cell_fluctuations`: under `restricted`
+    /// edges, the face towards the diagonal ghost at a corner of two traction edges).
+    fn dropped_corner_faces(&self, k: usize, side: usize, l: usize, cell: [usize; D]) -> [bool; 2] {
+        let traction = |axis: usize, axis_side: usize, s: [f64; 2]| {
+            matches!(
+                self.ghost_condition(axis, axis_side, s),
+                GhostCondition::Traction(_)
+            )
+        };
+        let restricted = self.options.edges == EdgeTreatment::Restricted;
+        let (s_k, s_l) = (
+            self.edge_coordinate(k, &cell),
+            self.edge_coordinate(l, &cell),
+        );
+        let corner =
+            |l_side: usize| restricted && traction(k, side, s_k) && traction(l, l_side, s_l);
+        [
+            cell[l] == 0 && corner(0),
+            cell[l] + 1 == self.grid.cells[l] && corner(1),
+        ]
     }
 
     /// `F(q_C,low) - F(q_C,high) = F(q_C,low - q_C,high)` (the flux is linear): the

@@ -197,7 +197,8 @@ impl<const D: usize> DgmpmSolver<D> {
         if self.path == StepPath::FusedNodal {
             return self.fused_nodal_stage(points, dt, start_weight, last);
         }
-        let power = self.interface_fluxes(points);
+        let mut power = self.interface_fluxes(points);
+        power += self.wave_corrections(points, dt);
         if self.ctu() {
             self.transverse_corrections(points, dt);
         }
@@ -240,7 +241,8 @@ impl<const D: usize> DgmpmSolver<D> {
             return;
         }
         if self.path == StepPath::Cell {
-            let power = self.interface_fluxes(&state.points);
+            let mut power = self.interface_fluxes(&state.points);
+            power += self.wave_corrections(&state.points, dt);
             if self.ctu() {
                 self.transverse_corrections(&state.points, dt);
             }

@@ -92,6 +92,9 @@
 //! - [`fused`]: the cell path's phases in one sweep (linear; 3D in `fused/block.rs`), and
 //!   the nodal stages' (linear, 1D and 2D).
 //! - `step_path.rs`: [`StepPath`], which of these computations a step runs.
+//! - [`wave_correction`]: phase 2c, the limited second-order wave corrections of
+//!   `order = 2` (1D), with the limiters of [`limiter`]; they route the step off the fused
+//!   paths (to the cell path, or the nodal phases).
 //! - [`riemann`]: the Riemann solvers (one file each); a new solver goes there.
 //! - [`method`]: the [`Method`](impact_core::Method) impl.
 
@@ -104,10 +107,12 @@ pub mod faces;
 pub mod fluxes;
 pub mod fused;
 pub mod integrator;
+pub mod limiter;
 pub mod mapping;
 pub mod method;
 pub mod riemann;
 mod step_path;
+pub mod wave_correction;
 pub use step_path::{Fusable, StepPath};
 
 use impact_core::material::Svk;
@@ -118,6 +123,7 @@ use impact_core::parallel::worth_parallel;
 use impact_core::points::MaterialPoints;
 use impact_core::problem::{Boundary, Model};
 use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
+use mapping::{all_inside, shapes};
 use riemann::{Conserved, Elastic, Impedances};
 
 /// Which system DGMPM solves.
@@ -236,6 +242,12 @@ pub struct DgmpmSolver<const D: usize> {
     /// cell, with a ghost layer at each end of the other axes (`ctu3`; the sources `V_k`
     /// then go to `correction_scratch`).
     pub(crate) transverse_sources: [Vec<Conserved<D>>; D],
+    /// `order = 2`: the f-waves of every face and of a ghost face beyond each end (empty
+    /// otherwise; [`wave_correction`]).
+    pub(crate) face_waves: Vec<wave_correction::FaceWaves<D>>,
+    /// `order = 2` with CTU (2D): per axis, each face's correction `F̃`, which the
+    /// transverse solve splits once more (empty otherwise; [`ctu`]).
+    pub(crate) wave_flux: [Vec<Conserved<D>>; D],
     /// The fused path's rolling face rows and next state (empty on the other paths).
     pub(crate) fused: fused::FusedBuffers<D>,
     /// Which fused sweeps apply (linear elasticity without the elastoplastic solver).
@@ -303,60 +315,6 @@ impl<const D: usize> Dgmpm<D> {
     }
 }
 
-/// The local coordinates of every point in its cell, or the error of a point outside the
-/// grid.
-fn local_coordinates<'a, const D: usize>(
-    grid: &'a Grid<D>,
-    points: &'a MaterialPoints<D>,
-) -> impl Iterator<Item = Result<Vector<D>, CoreError>> + 'a {
-    points.reference.iter().map(move |x| {
-        grid.locate(x).map(|(_, xi)| xi).ok_or_else(|| {
-            unsupported(&format!(
-                "material point at {:?} lies outside the grid (degenerate cell sizes?)",
-                x.as_slice()
-            ))
-        })
-    })
-}
-
-/// Whether every point lies strictly inside its cell (every `S_iα > 0`), without storing
-/// the shape functions.
-fn all_inside<const D: usize>(
-    grid: &Grid<D>,
-    points: &MaterialPoints<D>,
-) -> Result<bool, CoreError> {
-    let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
-    let mut shape = [0.0; MAX_NODES];
-    let mut gradient = [Vector::<D>::zeros(); MAX_NODES];
-    let mut inside = true;
-    for xi in local_coordinates(grid, points) {
-        grid.shape(
-            &xi?,
-            &mut shape[..nodes_per_cell],
-            &mut gradient[..nodes_per_cell],
-        );
-        inside &= shape[..nodes_per_cell].iter().all(|&w| w > 0.0);
-    }
-    Ok(inside)
-}
-
-/// `S_iα` and `∇S_iα` of every point's local nodes (`points × 2^D` each), at the points'
-/// (fixed) reference positions.
-#[allow(clippy::type_complexity)]
-fn shapes<const D: usize>(
-    grid: &Grid<D>,
-    points: &MaterialPoints<D>,
-) -> Result<(Vec<f64>, Vec<Vector<D>>), CoreError> {
-    let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
-    let mut shape = vec![0.0; points.len() * nodes_per_cell];
-    let mut shape_gradient = vec![Vector::<D>::zeros(); points.len() * nodes_per_cell];
-    for (p, xi) in local_coordinates(grid, points).enumerate() {
-        let range = p * nodes_per_cell..(p + 1) * nodes_per_cell;
-        grid.shape(&xi?, &mut shape[range.clone()], &mut shape_gradient[range]);
-    }
-    Ok((shape, shape_gradient))
-}
-
 impl<const D: usize> DgmpmSolver<D> {
     /// Allocate every buffer the fastest applicable [`StepPath`] reads and cache the shape
     /// functions at the (fixed) points.
@@ -380,8 +338,14 @@ impl<const D: usize> DgmpmSolver<D> {
             density: problem.material.density,
             z: Impedances { p, s },
         };
+        // (the fused sweeps have no wave corrections: order 2 takes the general paths)
         let linear = matches!(problem.model, Model::LinearElastic | Model::J2(_));
-        let fusable = Fusable::of(D, linear && options.riemann != RiemannSolver::Elastoplastic);
+        let fusable = Fusable::of(
+            D,
+            linear
+                && options.riemann != RiemannSolver::Elastoplastic
+                && options.wave_limiter().is_none(),
+        );
         let path = StepPath::fastest(config.points_per_cell, options.integrator, inside, fusable);
         // the cell path never reads the shape functions: not allocated (96 B per cell in 2D)
         let (shape, shape_gradient) = match path.nodal() {
@@ -404,6 +368,8 @@ impl<const D: usize> DgmpmSolver<D> {
             face_flux: std::array::from_fn(|_| Vec::new()),
             correction_scratch: Vec::new(),
             transverse_sources: std::array::from_fn(|_| Vec::new()),
+            face_waves: Vec::new(),
+            wave_flux: std::array::from_fn(|_| Vec::new()),
             fused: fused::FusedBuffers::default(),
             fusable,
             elastic,
@@ -485,6 +451,15 @@ impl<const D: usize> DgmpmSolver<D> {
         } else if self.face_flux[0].is_empty() {
             self.fused = fused::FusedBuffers::default(); // (another path was the default)
             self.face_flux = std::array::from_fn(|l| vec![Conserved::zeros(); grid.face_count(l)]);
+            if self.options.wave_limiter().is_some() {
+                // one row of waves: the longest axis's faces and a ghost face at each end
+                let longest = grid.cells.iter().copied().max().unwrap_or(0);
+                self.face_waves = vec![Default::default(); longest + 3];
+                if ctu {
+                    self.wave_flux =
+                        std::array::from_fn(|l| vec![Conserved::zeros(); grid.face_count(l)]);
+                }
+            }
             // 2D: one face array of scratch; 3D: the per-axis sources (`ctu3`)
             let scratch = if ctu && D == 2 {
                 grid.face_count(D - 1)

@@ -1,11 +1,11 @@
 //! Particle↔node mapping: phase 1 (particles→nodes, paper eq. 17) and phase 5
 //! (nodes→particles), with the point-side updates that follow them (`Π(F)` at the points
 //! under Saint-Venant–Kirchhoff, positions for output).
-use crate::{DgmpmSolver, Physics, StepPath, CHUNK};
+use crate::{unsupported, DgmpmSolver, Physics, StepPath, CHUNK, MAX_NODES};
 use impact_core::method::PointUpdate;
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
-use impact_core::{Grid, Tensor, Vector};
+use impact_core::{CoreError, Grid, Tensor, Vector};
 
 /// Cells per rayon leaf of the per-cell loops.
 const CELL_GRAIN: usize = 512;
@@ -182,4 +182,58 @@ impl<const D: usize> DgmpmSolver<D> {
             },
         );
     }
+}
+
+/// The local coordinates of every point in its cell, or the error of a point outside the
+/// grid.
+fn local_coordinates<'a, const D: usize>(
+    grid: &'a Grid<D>,
+    points: &'a MaterialPoints<D>,
+) -> impl Iterator<Item = Result<Vector<D>, CoreError>> + 'a {
+    points.reference.iter().map(move |x| {
+        grid.locate(x).map(|(_, xi)| xi).ok_or_else(|| {
+            unsupported(&format!(
+                "material point at {:?} lies outside the grid (degenerate cell sizes?)",
+                x.as_slice()
+            ))
+        })
+    })
+}
+
+/// Whether every point lies strictly inside its cell (every `S_iα > 0`), without storing
+/// the shape functions.
+pub(crate) fn all_inside<const D: usize>(
+    grid: &Grid<D>,
+    points: &MaterialPoints<D>,
+) -> Result<bool, CoreError> {
+    let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
+    let mut shape = [0.0; MAX_NODES];
+    let mut gradient = [Vector::<D>::zeros(); MAX_NODES];
+    let mut inside = true;
+    for xi in local_coordinates(grid, points) {
+        grid.shape(
+            &xi?,
+            &mut shape[..nodes_per_cell],
+            &mut gradient[..nodes_per_cell],
+        );
+        inside &= shape[..nodes_per_cell].iter().all(|&w| w > 0.0);
+    }
+    Ok(inside)
+}
+
+/// `S_iα` and `∇S_iα` of every point's local nodes (`points × 2^D` each), at the points'
+/// (fixed) reference positions.
+#[allow(clippy::type_complexity)]
+pub(crate) fn shapes<const D: usize>(
+    grid: &Grid<D>,
+    points: &MaterialPoints<D>,
+) -> Result<(Vec<f64>, Vec<Vector<D>>), CoreError> {
+    let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
+    let mut shape = vec![0.0; points.len() * nodes_per_cell];
+    let mut shape_gradient = vec![Vector::<D>::zeros(); points.len() * nodes_per_cell];
+    for (p, xi) in local_coordinates(grid, points).enumerate() {
+        let range = p * nodes_per_cell..(p + 1) * nodes_per_cell;
+        grid.shape(&xi?, &mut shape[range.clone()], &mut shape_gradient[range]);
+    }
+    Ok((shape, shape_gradient))
 }

@@ -28,7 +28,7 @@ use crate::error::CoreError;
 use crate::options::{
     DgmpmOptions, EdgeKind, EdgeTreatment, Integrator, LayoutKind, LoadShape, MaterialModel,
     MethodConfig, MethodKind, MethodOptions, MpmFrame, MpmOptions, MpmShape, PointUpdate,
-    RiemannSolver, SegmentCover, StressUpdate, TransverseFlux,
+    RiemannSolver, SchemeOrder, SegmentCover, StressUpdate, TransverseFlux, WaveLimiter,
 };
 
 mod boundary;
@@ -230,6 +230,12 @@ pub struct DgmpmSpec {
     /// CTU's edge treatment (2D): `restricted` (default) or `ghost` (Clawpack's).
     #[serde(default)]
     pub edges: Option<EdgeTreatment>,
+    /// Spatial order, `1` (the paper's, default) or `2` (limited wave corrections).
+    #[serde(default)]
+    pub order: Option<SchemeOrder>,
+    /// Wave limiter of `order = 2` (default `"mc"`); refused with order 1.
+    #[serde(default)]
+    pub limiter: Option<WaveLimiter>,
 }
 
 /// MPM's section.
@@ -278,6 +284,8 @@ impl Default for DgmpmSpec {
             flux: None,
             riemann: None,
             edges: None,
+            order: None,
+            limiter: None,
         }
     }
 }
@@ -325,6 +333,8 @@ impl Scene {
                                 d.riemann
                             }),
                         edges: s.edges.unwrap_or(d.edges),
+                        order: s.order.unwrap_or(d.order),
+                        limiter: s.limiter,
                     }),
                 }
             }
