@@ -185,7 +185,7 @@ impl<const D: usize> Amplification<D> {
     /// The wave numbers sampled with `samples` per axis: the octant `k = 0..=N/2` where
     /// mirrored (and `N` even), else the whole grid `k = 0..N`.
     pub fn wave_numbers(&self, samples: usize) -> Vec<[f64; D]> {
-        let per_axis = if self.mirrored && samples % 2 == 0 {
+        let per_axis = if self.mirrored && samples.is_multiple_of(2) {
             samples / 2 + 1
         } else {
             samples
