@@ -13,6 +13,13 @@
 //! order between levels is `log2(e_k / e_{k+1})`. The last output time is 3/8 of the
 //! mode's period, where neither field passes through zero.
 //!
+//! Where the scene measures its errors in the clean interior (`[metrics] interior =
+//! "dependence"`, the default for a plane wave; [`impact_core::interior`]), a level whose
+//! margin leaves no cell is skipped (printed), and every level of a configuration is
+//! measured over the clean interior of its coarsest level that has one: the margin in metres,
+//! `(R s + 1) h` with `s ≈ c t/(C h)` steps, shrinks under refinement, so that box is clean
+//! on every finer level, and one region makes the errors comparable.
+//!
 //! What it measures (`impact bench convergence --scene smooth-bar --levels 5`, and
 //! `--scene smooth-plate --levels 4`; BENCHMARKS.md has the tables):
 //! - FEM: order 2.00 in L1 and L2 of both fields, 1D and 2D.
@@ -30,6 +37,7 @@
 use crate::work_precision::cells_x;
 use anyhow::{bail, Context, Result};
 use impact_core::controller;
+use impact_core::interior::{margin_cells, steps_bound, Interior, InteriorRule};
 use impact_core::method::MethodKind;
 use impact_core::method::Samples;
 use impact_core::reference::Reference;
@@ -62,11 +70,13 @@ pub struct Level {
     pub errors: FieldErrors,
 }
 
-/// The errors of `samples` against `reference` at `t` (module doc).
+/// The errors of `samples` against `reference` at `t` (module doc); with `interior`, over
+/// the samples whose region lies in it.
 pub fn field_errors<const D: usize>(
     samples: &Samples<D>,
     reference: &Reference,
     t: f64,
+    interior: Option<&Interior<D>>,
 ) -> FieldErrors {
     // the component the reference holds: along x for the exact solutions, along the
     // measuring line's axis for a converged reference
@@ -77,6 +87,9 @@ pub fn field_errors<const D: usize>(
     let mut sums = [0.0f64; 8];
     for i in 0..samples.len() {
         let (x, h) = (samples.reference[i], samples.half_size[i]);
+        if interior.is_some_and(|inside| !inside.holds(&x, &h)) {
+            continue;
+        }
         let volume: f64 = h.iter().map(|v| 2.0 * v).product();
         let (stress, velocity) = reference.averages(&(x - h), &(x + h), t);
         let e_stress = samples.stress[i][(a, a)] - stress;
@@ -104,6 +117,7 @@ fn run_level<const D: usize>(
     problem: &Problem<D>,
     config: impact_core::method::MethodConfig,
     reference: &Reference,
+    region: Option<&Interior<D>>,
 ) -> Result<FieldErrors> {
     let mut method = crate::build(problem, config)?;
     let mut samples = Samples::<D>::default();
@@ -113,10 +127,19 @@ fn run_level<const D: usize>(
         method.as_mut(),
         &problem.output_times,
         crate::run::guard_for(problem),
-        |m, index, t, _| {
+        |m, index, t, steps| {
             if index == last {
                 m.sample_into(&mut samples);
-                errors = field_errors(&samples, reference, t);
+                // the region was chosen for the most steps the run can take: check it
+                let own = crate::run::clean_interior(problem, &config, steps, t)?;
+                if let (Some(own), Some(region)) = (own, region) {
+                    anyhow::ensure!(
+                        (0..D).all(|l| own.lo[l] <= region.lo[l] + 1e-12
+                            && region.hi[l] <= own.hi[l] + 1e-12),
+                        "internal: the measured region leaves the clean interior"
+                    );
+                }
+                errors = field_errors(&samples, reference, t, region);
             }
             Ok(())
         },
@@ -143,6 +166,32 @@ pub fn level_cells(scene: &Scene, k: usize) -> Vec<usize> {
         .collect()
 }
 
+/// The clean interior of `config` on `problem` at its last output time for the most
+/// steps it can take ([`impact_core::interior`]): `Ok(None)` where the errors cover the
+/// whole body, `Err(why)` where the margin leaves no cell.
+pub fn bound_interior<const D: usize>(
+    problem: &Problem<D>,
+    config: &impact_core::method::MethodConfig,
+) -> Result<Option<Interior<D>>, String> {
+    if problem.interior == InteriorRule::Whole {
+        return Ok(None);
+    }
+    let speed = problem.material.p_wave_speed::<D>();
+    let steps = steps_bound(
+        &problem.output_times,
+        config.courant,
+        problem.grid.min_spacing(),
+        speed,
+    );
+    match Interior::after(&problem.grid, config, steps) {
+        Some(inside) => Ok(Some(inside)),
+        None => Err(format!(
+            "no clean interior: {} cells in from each face after up to {steps} steps",
+            margin_cells(config, steps)
+        )),
+    }
+}
+
 /// The refinement ladder `k = 1..=levels` of each configuration on `scene` (dimension `D`),
 /// against the scene's exact solution or (2D) each level's converged reference.
 pub fn ladder<const D: usize>(
@@ -152,6 +201,10 @@ pub fn ladder<const D: usize>(
 ) -> Result<Vec<Level>> {
     let mut out = Vec::new();
     for config in configs {
+        // the region measured at every level: the clean interior of the coarsest level that
+        // has one (the margin in metres shrinks under refinement, so it lies in the finer
+        // levels' interiors; one region for all levels makes the errors comparable)
+        let mut region: Option<Interior<D>> = None;
         for k in 1..=levels {
             let mut s = scene.clone();
             // output times stay physical: transits count on the scene's own grid
@@ -160,14 +213,32 @@ pub fn ladder<const D: usize>(
                 s.time.output_transits = None;
             }
             s.domain.cells = level_cells(scene, k);
-            let problem = Problem::<D>::from_scene(&s)?;
+            // the interior is checked per configuration below (the scene's check uses the
+            // scene's own Courant numbers and options)
+            let mut checked = s.clone();
+            checked
+                .metrics
+                .get_or_insert_with(Default::default)
+                .interior = Some(InteriorRule::Whole);
+            checked.validate()?;
+            let problem = Problem::<D>::from_valid_scene(&s)?;
+            match bound_interior(&problem, &config.config) {
+                Err(why) => {
+                    eprintln!(
+                        "{:<32} {:>5} cells: skipped, {why}",
+                        config.label, s.domain.cells[0]
+                    );
+                    continue;
+                }
+                Ok(own) => region = region.or(own),
+            }
             let reference = crate::reference_for(&problem, false)?.with_context(|| {
                 format!(
                     "scene {} at {:?} cells has no reference to measure errors against",
                     s.name, s.domain.cells
                 )
             })?;
-            let errors = run_level(&problem, config.config, &reference)
+            let errors = run_level(&problem, config.config, &reference, region.as_ref())
                 .with_context(|| format!("{} at {:?} cells", config.label, s.domain.cells))?;
             eprintln!(
                 "{:<32} {:>5} cells: L2 σ {:.3e}, v {:.3e}",

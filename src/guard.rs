@@ -4,7 +4,9 @@
 //! - **Before the run** ([`check_stable`]): the project computes DGMPM's von Neumann
 //!   amplification for any layout ([`crate::stability::max_amplification`]: the one-step
 //!   matrices of the scheme on the scene's material, points per cell, integrator, flux and
-//!   update, Fourier-transformed; 256 wave numbers in 1D, 24² in 2D, 16³ in 3D). A configuration whose
+//!   update, Fourier-transformed; 256 wave numbers in 1D, 24² in 2D, 16³ in 3D, of which
+//!   the octant 9³ where the layout is mirror symmetric, [`crate::von_neumann`]). A
+//!   configuration whose
 //!   largest spectral radius exceeds `1 + 1e-9` at its Courant number grows some mode every
 //!   step on any boundary conditions; it is refused, with its limit (bisection to 1e-5) and
 //!   what would make it stable, unless `--allow-unstable` is given (then it runs, and the
@@ -47,16 +49,35 @@ fn samples(d: usize) -> usize {
 }
 
 /// Largest cost of the check, in `wave numbers × n³` for `n × n` amplification matrices
-/// (`n` = points per cell × unknowns per point): 1D up to 17 points per cell, 2D up to 4,
-/// 3D one (0.1 s to a few seconds with the bisection of a refusal). Beyond it the check would
+/// (`n` = points per cell × unknowns per point): 1D up to 17 points per cell, 2D up to 4
+/// (0.1 s to a few seconds with the bisection of a refusal). Beyond it the check would
 /// take minutes (2D, 64 points per cell: 320 × 320 matrices at 576 wave numbers), so it
 /// is skipped with a note, and the in-run max-norm test guards the run.
 const MAX_COST: f64 = 1e7;
 
-/// The cost of the check for `config` in dimension `d` (see [`MAX_COST`]).
-fn cost(config: &MethodConfig, d: usize) -> f64 {
+/// The same in 3D, where the mirror-symmetric layouts sample the octant
+/// ([`crate::von_neumann`]: 9³ wave numbers) on rayon's pool: up to 8 points per cell
+/// (72 × 72 matrices, 2.7e8; measured in `README.md`'s stability section), not 27 (1e10).
+const MAX_COST_3D: f64 = 3e8;
+
+/// The cost of the check for `config` in dimension `d` (see [`MAX_COST`]); in 3D with
+/// a centred layout the octant's wave numbers ([`crate::von_neumann`]).
+fn cost<const D: usize>(problem: &Problem<D>, config: &MethodConfig) -> f64 {
+    let d = D;
     let n = (config.points_per_cell * (d * (d + 1) / 2 + d)) as f64;
-    (samples(d) as f64).powi(d as i32) * n.powi(3)
+    let centred = problem.layout == impact_core::points::PointLayout::Centred;
+    let per_axis = if d == 3 && centred {
+        samples(d) / 2 + 1
+    } else {
+        samples(d)
+    };
+    (per_axis as f64).powi(d as i32) * n.powi(3)
+}
+
+/// Whether the check runs for `config` (its cost within [`MAX_COST`], 3D
+/// [`MAX_COST_3D`]).
+fn affordable<const D: usize>(problem: &Problem<D>, config: &MethodConfig) -> bool {
+    cost(problem, config) <= if D == 3 { MAX_COST_3D } else { MAX_COST }
 }
 
 /// What the check before a run found.
@@ -87,7 +108,7 @@ pub fn von_neumann<const D: usize>(
     config: MethodConfig,
 ) -> Option<(f64, Option<f64>)> {
     config.dgmpm()?;
-    if cost(&config, D) > MAX_COST {
+    if !affordable(problem, &config) {
         return None;
     }
     let body = linearised(problem);
@@ -275,7 +296,7 @@ pub fn check_stable<const D: usize>(
     if config.dgmpm().is_none() {
         return check_measured(problem, config, allow);
     }
-    if cost(&config, D) > MAX_COST {
+    if !affordable(problem, &config) {
         return Ok(Stability::Unchecked(format!(
             "{}: the von Neumann check is skipped at {} points per cell in {D}D (its matrices \
              would take minutes); the in-run max-norm test guards the run",

@@ -26,6 +26,7 @@ pub mod reference_cache;
 pub mod run;
 pub mod stability;
 pub mod study;
+pub mod von_neumann;
 pub mod work_precision;
 
 pub use reference::{reference_for, REFERENCE_REFINEMENT};

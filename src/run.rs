@@ -84,6 +84,33 @@ impl<const D: usize> Observer<D> for Progress {
 pub struct Silent;
 impl<const D: usize> Observer<D> for Silent {}
 
+/// The clean interior of `problem` after `steps` steps of `config` where its errors keep
+/// to it (`[metrics] interior = "dependence"`, [`impact_core::interior`]), `None` where they
+/// cover the whole body; an error where the margin leaves no cell (the scene was checked
+/// with its own Courant numbers; a flag can change them).
+pub fn clean_interior<const D: usize>(
+    problem: &Problem<D>,
+    config: &MethodConfig,
+    steps: usize,
+    t: f64,
+) -> anyhow::Result<Option<impact_core::interior::Interior<D>>> {
+    use impact_core::interior::{margin_cells, Interior, InteriorRule};
+    if problem.interior == InteriorRule::Whole {
+        return Ok(None);
+    }
+    match Interior::after(&problem.grid, config, steps) {
+        Some(inside) => Ok(Some(inside)),
+        None => anyhow::bail!(
+            "metrics.interior = \"dependence\": {} after {steps} steps (t = {t:.4e} s) leaves no \
+             clean interior ({} cells in from each face, {:?} cells); give more cells, a larger \
+             Courant number or an earlier output time, or `interior = \"whole\"`",
+            config.kind().name(),
+            margin_cells(config, steps),
+            problem.grid.cells
+        ),
+    }
+}
+
 /// Run one method on `problem` through every output time, computing the metrics. A
 /// blow-up ends the run early: the record holds the metrics reached and the error.
 pub fn run_method<const D: usize>(
@@ -109,7 +136,10 @@ pub fn run_method<const D: usize>(
         guard_for(problem),
         |m, index, t, steps| {
             let metrics = match reference {
-                Some(r) => r.evaluate(m, &mut samples, t, &line, dx),
+                Some(r) => {
+                    let interior = clean_interior(problem, &config, steps, t)?;
+                    r.evaluate(m, &mut samples, (t, &line, dx), interior.as_ref())
+                }
                 None => TimeMetrics::without_reference(
                     t,
                     m.energy(),

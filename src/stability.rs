@@ -21,9 +21,10 @@
 //!   so every unknown is a velocity. In Pa and m/s the matrices mixed entries about 4e7
 //!   apart, and their eigenvalues carried errors near 1e-6. That put the printed limits for
 //!   3 and 4 points per cell (0.6431, 0.6325) and for RK2 (0.994, 0.988) below their values.
+use crate::von_neumann::step_matrices;
+pub use crate::von_neumann::{max_amplification, von_neumann_limit};
 use impact_core::method::{Integrator, MethodConfig, MethodKind, PointUpdate, TransverseFlux};
 use impact_core::{Method, Problem, Vector};
-use nalgebra::{Complex, DMatrix};
 use serde::Serialize;
 
 /// One configuration and its limits.
@@ -126,7 +127,7 @@ pub(crate) fn noise(state: &mut u64) -> f64 {
 
 /// The unloaded body of `problem`: free ends in 1D, symmetry edges in 2D (the closest to
 /// the periodic grid of the von Neumann analysis; [`free_edge_limit`] measures free edges).
-fn unloaded<const D: usize>(problem: &Problem<D>) -> Problem<D> {
+pub(crate) fn unloaded<const D: usize>(problem: &Problem<D>) -> Problem<D> {
     let edge = if D == 1 {
         impact_core::Boundary::Free
     } else {
@@ -189,7 +190,12 @@ fn stays_bounded<const D: usize>(body: &Problem<D>, config: MethodConfig, steps:
 }
 
 /// Bisection for the largest stable value in `[lo, hi]` of a monotone criterion.
-fn bisect(mut lo: f64, mut hi: f64, iterations: usize, stable: impl Fn(f64) -> bool) -> f64 {
+pub(crate) fn bisect(
+    mut lo: f64,
+    mut hi: f64,
+    iterations: usize,
+    stable: impl Fn(f64) -> bool,
+) -> f64 {
     if stable(hi) {
         return hi;
     }
@@ -218,233 +224,6 @@ pub fn empirical_limit<const D: usize>(
         cfg.courant = c;
         is_stable(problem, cfg, steps)
     })
-}
-
-/// Unknowns of one point: `σ` (the symmetric part, one value per pair) and `v`.
-fn unknowns(d: usize) -> usize {
-    d * (d + 1) / 2 + d
-}
-
-/// The unknowns of point `i`, stresses divided by the impedance `z` (so that every unknown
-/// is a velocity: the step matrices are then well scaled, module doc).
-fn read_point<const D: usize>(
-    p: &impact_core::points::MaterialPoints<D>,
-    i: usize,
-    z: f64,
-    out: &mut Vec<f64>,
-) {
-    for r in 0..D {
-        for c in r..D {
-            out.push(p.stress[i][(r, c)] / z);
-        }
-    }
-    out.extend(p.velocity[i].iter());
-}
-
-/// Set unknown `k` of point `i` to `value` in the scaled unknowns (a stress is `z · value`).
-fn write_unknown<const D: usize>(
-    p: &mut impact_core::points::MaterialPoints<D>,
-    i: usize,
-    k: usize,
-    value: f64,
-    z: f64,
-) {
-    let mut n = 0;
-    for r in 0..D {
-        for c in r..D {
-            if n == k {
-                p.stress[i][(r, c)] = z * value;
-                p.stress[i][(c, r)] = z * value;
-                return;
-            }
-            n += 1;
-        }
-    }
-    p.velocity[i][k - n] = value;
-}
-
-/// The step matrices `B_m` of DGMPM for `config` on a grid of `2·reach + 1` cells per axis
-/// around the middle cell, `m` in `[-reach, reach]^D`: returns `(offsets, matrices)`.
-fn step_matrices<const D: usize>(
-    problem: &Problem<D>,
-    config: MethodConfig,
-    reach: usize,
-) -> (Vec<[isize; D]>, Vec<DMatrix<f64>>) {
-    let mut body = unloaded(problem);
-    let n = 4 * reach + 3;
-    for l in 0..D {
-        body.grid.cells[l] = n;
-    }
-    let ppc = config.points_per_cell;
-    let size = ppc * unknowns(D);
-    let middle = [n / 2; D];
-    let centre = body.grid.cell_index(middle);
-    let offsets: Vec<[isize; D]> = (0..(2 * reach + 1).pow(D as u32))
-        .map(|mut k| {
-            let mut o = [0isize; D];
-            for v in o.iter_mut() {
-                *v = (k % (2 * reach + 1)) as isize - reach as isize;
-                k /= 2 * reach + 1;
-            }
-            o
-        })
-        .collect();
-    let mut matrices = vec![DMatrix::<f64>::zeros(size, size); offsets.len()];
-    let template = impact_dgmpm::Dgmpm::new(&body, config).expect("internal: valid configuration");
-    let dt = template.stable_dt();
-    let per = unknowns(D);
-    let z = body.material.density * body.material.p_wave_speed::<D>();
-    for col in 0..size {
-        let mut m = template.clone();
-        write_unknown(
-            &mut m.state.points,
-            centre * ppc + col / per,
-            col % per,
-            1.0,
-            z,
-        );
-        m.step(0.0, dt);
-        for (o, offset) in offsets.iter().enumerate() {
-            let mut idx = middle;
-            for l in 0..D {
-                idx[l] = (middle[l] as isize + offset[l]) as usize;
-            }
-            let c = body.grid.cell_index(idx);
-            let mut values = Vec::with_capacity(size);
-            for k in 0..ppc {
-                read_point(&m.state.points, c * ppc + k, z, &mut values);
-            }
-            for (row, v) in values.into_iter().enumerate() {
-                matrices[o][(row, col)] = v;
-            }
-        }
-    }
-    (offsets, matrices)
-}
-
-/// Largest spectral radius of `G(θ)` over `samples^D` wave numbers (`None` if a complex
-/// Schur decomposition does not converge within its iteration cap). DGMPM's `order = 2` is
-/// analysed with no limiter (Lax-Wendroff: the linear scheme; a limiter makes it nonlinear,
-/// and Sweby's TVD limiters, `0 ≤ φ ≤ 2`, keep the limited scheme TVD to Courant 1 at one
-/// point per cell, LeVeque 2002 §6.12).
-pub fn max_amplification<const D: usize>(
-    problem: &Problem<D>,
-    config: MethodConfig,
-    samples: usize,
-) -> Option<f64> {
-    // order 2 (limited wave corrections): the limited scheme is nonlinear, so the analysis
-    // linearises it as its unlimited (Lax-Wendroff) scheme, a stencil of 2 cells per stage
-    let mut config = config;
-    let second = config.dgmpm().and_then(|o| o.wave_limiter()).is_some();
-    if let Some(o) = config.dgmpm_mut().filter(|_| second) {
-        o.limiter = Some(impact_core::method::WaveLimiter::None);
-    }
-    let rk2 = config.dgmpm().map(|o| o.integrator) == Some(Integrator::Rk2);
-    let reach = match (rk2, second) {
-        (true, true) => 4,
-        (true, false) => 3,
-        _ => 2,
-    };
-    let (offsets, matrices) = step_matrices(problem, config, reach);
-    let size = matrices[0].nrows();
-    let mut worst: f64 = 0.0;
-    for k in 0..samples.pow(D as u32) {
-        let mut theta = [0.0; D];
-        let mut rest = k;
-        for t in theta.iter_mut() {
-            *t = 2.0 * std::f64::consts::PI * (rest % samples) as f64 / samples as f64;
-            rest /= samples;
-        }
-        let mut g = DMatrix::<Complex<f64>>::zeros(size, size);
-        for (offset, b) in offsets.iter().zip(&matrices) {
-            let phase: f64 = (0..D).map(|l| -(offset[l] as f64) * theta[l]).sum();
-            let e = Complex::new(phase.cos(), phase.sin());
-            g += b.map(|x| Complex::new(x, 0.0)) * e;
-        }
-        let eig = eigenvalues(g)?;
-        worst = worst.max(eig.iter().map(|z| z.norm()).fold(0.0, f64::max));
-    }
-    Some(worst)
-}
-
-/// The eigenvalues of `g` from its complex Schur form `T` (the diagonal of `T`). Where
-/// nalgebra leaves a 2 × 2 block on the diagonal, its two eigenvalues are the roots of the
-/// block's characteristic polynomial, `tr/2 ± sqrt(tr²/4 - det)`. Where the QR iteration
-/// does not converge (measured: 3D donor-cell at its limit, θ = (0, 3π/2, 3π/2), a
-/// defective matrix on which the shifts stall), the eigenvalues `μ - s` of the shifted
-/// `g + s 1` (`s` = 0.25, 0.5 + 0.5i, 0.3i); `None` if none converges.
-fn eigenvalues(g: DMatrix<Complex<f64>>) -> Option<Vec<Complex<f64>>> {
-    let n = g.nrows();
-    let shifts = [
-        Complex::new(0.0, 0.0),
-        Complex::new(0.25, 0.0),
-        Complex::new(0.5, 0.5),
-        Complex::new(0.0, 0.3),
-    ];
-    for shift in shifts {
-        let shifted = if shift == Complex::new(0.0, 0.0) {
-            g.clone()
-        } else {
-            &g + DMatrix::<Complex<f64>>::identity(n, n) * shift
-        };
-        let Some(schur) = nalgebra::linalg::Schur::try_new(shifted, 1e-14, 10_000) else {
-            continue;
-        };
-        if let Some(e) = schur.eigenvalues() {
-            return Some(e.iter().map(|z| z - shift).collect());
-        }
-        let (_, t) = schur.unpack();
-        let mut out = Vec::with_capacity(n);
-        let mut i = 0;
-        while i < n {
-            if i + 1 < n && t[(i + 1, i)].norm() > 0.0 {
-                let (a, b, c, d) = (t[(i, i)], t[(i, i + 1)], t[(i + 1, i)], t[(i + 1, i + 1)]);
-                let half = (a + d) * 0.5;
-                let root = (half * half - (a * d - b * c)).sqrt();
-                out.extend([half + root - shift, half - root - shift]);
-                i += 2;
-            } else {
-                out.push(t[(i, i)] - shift);
-                i += 1;
-            }
-        }
-        return Some(out);
-    }
-    None
-}
-
-/// Von Neumann critical Courant number of DGMPM `config` (`NaN` if an eigenvalue
-/// computation failed; 0 if unstable at every Courant number from 0.05).
-pub fn von_neumann_limit<const D: usize>(
-    problem: &Problem<D>,
-    config: MethodConfig,
-    samples: usize,
-) -> f64 {
-    let failed = std::cell::Cell::new(false);
-    let stable = |c: f64| {
-        let mut cfg = config;
-        cfg.courant = c;
-        match max_amplification(problem, cfg, samples) {
-            Some(rho) => rho <= 1.0 + 1e-9,
-            None => {
-                failed.set(true);
-                false
-            }
-        }
-    };
-    // unstable even at the bracket's low end: 0 (e.g. Euler with the increment update,
-    // whose excess amplification grows like C³ from 0)
-    let limit = if stable(0.05) {
-        // 17 halvings of [0.05, 1.5]: a resolution of 1.1e-5
-        bisect(0.05, 1.5, 17, stable)
-    } else {
-        0.0
-    };
-    if failed.get() {
-        f64::NAN
-    } else {
-        limit
-    }
 }
 
 /// The configurations of the sweep for dimension `D`.
@@ -529,10 +308,17 @@ pub fn sweep<const D: usize>(
             },
             empirical: empirical_limit(problem, c, steps),
             // 2D: one point per cell (4 and 9 points per cell make 20×20 and 45×45
-            // amplification matrices per wave number, too slow for the sweep)
-            von_neumann: (dgmpm && (D == 1 || c.points_per_cell == 1))
-                .then(|| von_neumann_limit(problem, c, [256, 24, 16][D.min(3) - 1]))
-                .filter(|v| v.is_finite()),
+            // amplification matrices per wave number, too slow for the sweep); 3D: also 8
+            // points per cell with Euler (the octant of `crate::von_neumann`, 20 to 50 s
+            // each on 2 cores)
+            von_neumann: (dgmpm
+                && (D == 1
+                    || c.points_per_cell == 1
+                    || (D == 3
+                        && c.points_per_cell == 8
+                        && c.dgmpm().is_some_and(|o| o.integrator == Integrator::Euler))))
+            .then(|| von_neumann_limit(problem, c, [256, 24, 16][D.min(3) - 1]))
+            .filter(|v| v.is_finite()),
             monotone: monotonicity_limit(problem, c),
         };
         progress(&row);

@@ -2,8 +2,9 @@
 //! half and at its own resolution (18×18×12 and 36×36×24 cells) against Pekeris' exact
 //! solution ([`impact_core::exact::Lamb`]): the traces' L2 errors shrink under
 //! refinement, the P onset arrives within two cells of the exact one and the Rayleigh
-//! pulse within two (MPM with linear hats at one point per cell: 2.5; it lags by 1.5-2.2
-//! cells, README).
+//! pulse within two (MPM with linear hats at one point per cell: 2.5; it lags by 1.0-2.2
+//! cells: its own phase error, growing with the distance and independent of the time step
+//! and of the stress update, `mpm_rayleigh_lag_is_its_phase_error`; README).
 use impact::lamb::{lamb_load, onset, p_level, receivers, relative_l2, steepest, traces};
 use impact_core::method::MethodKind;
 use impact_core::{Problem, Scene};
@@ -64,6 +65,48 @@ fn surface_traces_converge_and_arrive_on_time() {
                 fine < coarse && *fine < 0.3,
                 "{kind:?}, receiver {k}: L2 of w {coarse} → {fine}"
             );
+        }
+    }
+}
+
+/// Why MPM (linear hats, one point per cell) is allowed 2.5 cells on the Rayleigh arrival:
+/// its lag is its own phase error, not the readout. On the shipped grid (36 cells along x)
+/// the lag grows with the distance travelled (1.5, 1.9, 2.2 cells at r ≈ 0.38, 0.58, 0.78 m),
+/// and it stays within 0.3 cells when the Courant number is halved (so it is not USL's
+/// O(Δt) velocity lag) or the stress is updated after the grid update (MUSL). DGMPM and FEM
+/// read their traces at the same depth (half a cell below the surface: a point, an element
+/// centre) with the same pick and arrive within 0.73 cells (README).
+#[test]
+fn mpm_rayleigh_lag_is_its_phase_error() {
+    use impact_core::method::StressUpdate;
+    let s = Scene::builtin("lamb").unwrap();
+    let problem = Problem::<3>::from_scene(&s).unwrap();
+    let load = lamb_load(&problem).unwrap();
+    let points = receivers(&s, &load, &problem).unwrap();
+    let h = problem.grid.min_spacing();
+    let lag = |courant: f64, update: StressUpdate| -> Vec<f64> {
+        let mut c = s.method_config(MethodKind::Mpm);
+        c.courant = courant;
+        c.mpm_mut().unwrap().stress_update = update;
+        let recorded = traces(&problem, c, &load, &points).unwrap();
+        recorded
+            .iter()
+            .map(|t| {
+                (steepest(&t.t, &t.vertical).unwrap() - steepest(&t.t, &t.vertical_exact).unwrap())
+                    * load.exact.rayleigh_speed()
+                    / h
+            })
+            .collect()
+    };
+    let base = lag(0.5, StressUpdate::Usl);
+    let half = lag(0.25, StressUpdate::Usl);
+    let musl = lag(0.5, StressUpdate::Musl);
+    println!("MPM Rayleigh lag (cells): C 0.5 {base:.2?}, C 0.25 {half:.2?}, MUSL {musl:.2?}");
+    assert!(base.windows(2).all(|w| w[1] > w[0]), "{base:?}");
+    assert!(base[0] > 0.5, "{base:?}");
+    for other in [&half, &musl] {
+        for (a, b) in base.iter().zip(other.iter()) {
+            assert!((a - b).abs() < 0.3, "{base:?} {other:?}");
         }
     }
 }

@@ -6,7 +6,7 @@
 //! the `exmex` crate: e.g. `velocity = ["0.5*sin(PI*x/6)"]`. The methods evaluate it at
 //! their velocity and stress carriers (material points; FEM nodes for the velocity) once,
 //! before the first step.
-use crate::exact::StandingWave;
+use crate::exact::{PlaneWave, StandingWave};
 use crate::{Tensor, Vector};
 use exmex::prelude::*;
 
@@ -128,6 +128,9 @@ pub enum InitialState {
     Rest,
     /// The standing P mode (exact solution with `symmetry` edges).
     StandingWave(StandingWave),
+    /// A travelling plane P or S pulse (exact until the boundaries' influence arrives):
+    /// velocity, stress and (FEM) displacement at `t = 0`.
+    PlaneWave(PlaneWave),
     /// Velocity components and stress components (`xx` in 1D; `xx, yy, xy` in 2D;
     /// `xx, yy, zz, yz, xz, xy` in 3D: [`stress_components`]) by formula; a missing list
     /// is zero.
@@ -159,15 +162,40 @@ impl InitialState {
                 let v = w.velocity(std::array::from_fn(|l| if l < D { x[l] } else { 0.0 }), 0.0);
                 Vector::<D>::from_fn(|k, _| v[k])
             }
+            InitialState::PlaneWave(w) => {
+                let v = w.velocity(pad(x), 0.0);
+                Vector::<D>::from_fn(|k, _| v[k])
+            }
             InitialState::Formula { velocity, .. } => {
                 Vector::<D>::from_fn(|k, _| velocity.get(k).map_or(0.0, |f| f.eval(x.as_slice())))
             }
         }
     }
 
+    /// Displacement at reference position `x`: zero but for the plane wave (FEM, whose
+    /// state is its displacement, takes the wave's stress through it).
+    pub fn displacement<const D: usize>(&self, x: &Vector<D>) -> Vector<D> {
+        match self {
+            InitialState::PlaneWave(w) => {
+                let u = w.displacement(pad(x), 0.0);
+                Vector::<D>::from_fn(|k, _| u[k])
+            }
+            _ => Vector::<D>::zeros(),
+        }
+    }
+
     /// Stress at reference position `x` (the standing mode starts unstressed).
     pub fn stress<const D: usize>(&self, x: &Vector<D>) -> Tensor<D> {
         let mut sigma = Tensor::<D>::zeros();
+        if let InitialState::PlaneWave(w) = self {
+            let voigt = w.stress(pad(x), 0.0);
+            for (k, &(i, j)) in stress_components(3).iter().enumerate() {
+                if i < D && j < D {
+                    sigma[(i, j)] = voigt[k];
+                    sigma[(j, i)] = voigt[k];
+                }
+            }
+        }
         if let InitialState::Formula { stress, .. } = self {
             let value = |k: usize| stress.get(k).map_or(0.0, |f| f.eval(x.as_slice()));
             for (k, &(i, j)) in stress_components(D).iter().enumerate() {
@@ -177,6 +205,11 @@ impl InitialState {
         }
         sigma
     }
+}
+
+/// `x` with zeros beyond dimension `D`.
+fn pad<const D: usize>(x: &Vector<D>) -> [f64; 3] {
+    std::array::from_fn(|l| if l < D { x[l] } else { 0.0 })
 }
 
 /// The stress components `(i, j)` a scene's `initial.stress` lists in dimension `dim`:

@@ -24,6 +24,7 @@ pub mod error;
 pub mod exact;
 pub mod grid;
 pub mod initial;
+pub mod interior;
 pub mod line;
 pub mod load;
 pub mod material;

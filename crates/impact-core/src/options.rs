@@ -85,6 +85,7 @@ macro_rules! option_enum {
         }
     };
 }
+pub(crate) use option_enum;
 
 option_enum! {
     /// Which method a configuration belongs to.

@@ -219,6 +219,8 @@ pub struct Problem<const D: usize> {
     /// The measuring line stated by the scene; `None`: inferred from the loads
     /// ([`crate::line::MeasureLine::of`]).
     pub line: Option<crate::line::MeasureLine>,
+    /// Where errors are measured ([`Scene::interior_rule`], [`crate::interior`]).
+    pub interior: crate::interior::InteriorRule,
 }
 
 impl<const D: usize> Problem<D> {
@@ -276,6 +278,7 @@ impl<const D: usize> Problem<D> {
             output_times,
             t_end,
             line: scene.measure_line(),
+            interior: scene.interior_rule(),
         };
         problem.set_schedule(None, scene.time.t_end)?;
         Ok(problem)

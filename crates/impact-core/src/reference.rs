@@ -17,7 +17,10 @@
 //! the normal stress along it at the samples whose region it crosses. The exact solutions
 //! above are plane waves along x, measured along x.
 pub use crate::converged::Converged;
-use crate::exact::{BarExact, ElastoplasticWave, Front, NoFront, StandingWave, SvkBarExact};
+use crate::exact::{
+    BarExact, ElastoplasticWave, Front, NoFront, PlaneWave, StandingWave, SvkBarExact,
+};
+use crate::interior::Interior;
 use crate::line::MeasureLine;
 use crate::method::{Method, Samples};
 use crate::metrics::{energy_error, ErrorBasis, FrontStatus, Profile, ProfileMetrics};
@@ -36,6 +39,8 @@ pub enum Reference {
     SvkBar(SvkBarExact),
     /// The standing P mode of a box with `symmetry` edges (smooth; no front).
     Standing(StandingWave),
+    /// A travelling plane pulse (smooth; no front), exact in the clean interior.
+    Plane(PlaneWave),
     /// The elastic precursor and plastic wave of a J2 rod or plane wave (until the
     /// precursor reaches the far end); the front is the precursor.
     Elastoplastic(ElastoplasticWave),
@@ -181,12 +186,8 @@ impl Reference {
             ),
             Reference::SvkBar(b) => b.averages(lo[0], hi[0], t),
             Reference::Elastoplastic(w) => w.averages(lo[0], hi[0], t),
-            Reference::Standing(w) => {
-                let pad = |v: &Vector<D>, default: f64| {
-                    std::array::from_fn(|l| if l < D { v[l] } else { default })
-                };
-                w.averages(pad(lo, 0.0), pad(hi, 1.0), t)
-            }
+            Reference::Standing(w) => w.averages(pad(lo, 0.0), pad(hi, 1.0), t),
+            Reference::Plane(w) => w.averages(pad(lo, 0.0), pad(hi, 0.0), t),
             Reference::Converged(c) => {
                 let lo2 = std::array::from_fn(|l| if l < D { lo[l] } else { 0.0 });
                 let hi2 = std::array::from_fn(|l| if l < D { hi[l] } else { c.spacing[l] });
@@ -203,7 +204,7 @@ impl Reference {
         match self {
             Reference::Bar(b) => b.leading_front(t),
             Reference::SvkBar(b) => b.leading_front(t),
-            Reference::Standing(_) => Err(NoFront::NotAStep),
+            Reference::Standing(_) | Reference::Plane(_) => Err(NoFront::NotAStep),
             Reference::Elastoplastic(w) => {
                 if t <= w.valid_until {
                     Ok(w.fronts(t)[0])
@@ -221,6 +222,8 @@ impl Reference {
             Reference::Bar(b) => Some(b.work(t)),
             Reference::SvkBar(b) => Some(b.work(t)),
             Reference::Standing(_) => Some(0.0),
+            // the boundaries may work on the pulse's tails
+            Reference::Plane(_) => None,
             // W = p u(0, t) (rod) or V (−σ_xx) t per unit area: the state at X = 0 is
             // constant behind the plastic wave
             Reference::Elastoplastic(w) => Some(-w.behind.0 * w.behind.1 * t),
@@ -250,6 +253,15 @@ impl Reference {
                 "exact standing P mode, ω = {:.6e} rad/s (averages over each sample's region)",
                 w.frequency
             ),
+            Reference::Plane(w) => format!(
+                "exact plane {} pulse along n = [{:.4}, {:.4}, {:.4}] at {:.1} m/s (averages over \
+                 each sample's region, in the clean interior no boundary can have reached)",
+                if w.is_shear() { "S" } else { "P" },
+                w.direction[0],
+                w.direction[1],
+                w.direction[2],
+                w.speed
+            ),
             Reference::Converged(c) => c.description.clone(),
         }
     }
@@ -260,23 +272,29 @@ impl Reference {
             Reference::Bar(b) => b.pressure.abs(),
             Reference::SvkBar(b) => b.pressure.abs(),
             Reference::Standing(w) => w.peak_stress_xx(),
+            Reference::Plane(w) => w.stress_scale(),
             Reference::Elastoplastic(w) => w.behind.0.abs(),
             Reference::Converged(c) => c.peak_stress(),
         }
     }
 
     /// The profile of the normal stress `σ_aa` along `line` (axis `a`) of `samples` (at
-    /// their reference positions) with the reference's averages over each sample's region.
+    /// their reference positions) with the reference's averages over each sample's region;
+    /// with `interior`, only the samples whose region lies in it.
     pub fn profile<const D: usize>(
         &self,
         samples: &Samples<D>,
         t: f64,
         line: &MeasureLine,
+        interior: Option<&Interior<D>>,
     ) -> Profile {
         let mut p = Profile::default();
         let a = line.axis;
         for i in line_samples(samples, line) {
             let (x, h) = (samples.reference[i], samples.half_size[i]);
+            if interior.is_some_and(|box_| !box_.holds(&x, &h)) {
+                continue;
+            }
             p.x.push(x[a]);
             p.width.push(2.0 * h[a]);
             p.value.push(samples.stress[i][(a, a)]);
@@ -302,17 +320,17 @@ impl Reference {
     }
 
     /// All metrics of `method` at time `t` along `line` (`samples` is a reusable buffer;
-    /// front widths in cells of the grid's size along the line).
+    /// front widths in cells of the grid's size along the line); with `interior`, the
+    /// profile keeps to the samples in it (the energy stays the whole body's).
     pub fn evaluate<const D: usize, M: Method<D> + ?Sized>(
         &self,
         method: &M,
         samples: &mut Samples<D>,
-        t: f64,
-        line: &MeasureLine,
-        dx: f64,
+        (t, line, dx): (f64, &MeasureLine, f64),
+        interior: Option<&Interior<D>>,
     ) -> TimeMetrics {
         method.sample_into(samples);
-        let profile = self.profile(samples, t, line);
+        let profile = self.profile(samples, t, line, interior);
         // a front without a jump (a zero load) has nothing to measure
         let front = self.front(t).and_then(|f| {
             if f.behind != f.ahead {
@@ -341,6 +359,7 @@ impl Reference {
                 self.work(t).map(|w| w * Self::work_scale(samples))
             }
             Reference::Standing(w) => Some(w.energy(total_volume(samples))),
+            Reference::Plane(_) => None,
             Reference::Converged(_) => self.work(t).map(|w| w + method.initial_energy()),
         }
         .unwrap_or(method.external_work() + method.initial_energy());
@@ -382,6 +401,11 @@ impl Reference {
             energy_relative,
         }
     }
+}
+
+/// `v` with `default` beyond dimension `D`.
+fn pad<const D: usize>(v: &Vector<D>, default: f64) -> [f64; 3] {
+    std::array::from_fn(|l| if l < D { v[l] } else { default })
 }
 
 /// Total volume (length in 1D, area in 2D) of the samples' regions.

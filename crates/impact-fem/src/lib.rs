@@ -188,8 +188,16 @@ impl<const D: usize> Fem<D> {
         let velocity_half = (0..nodes)
             .map(|v| problem.initial.velocity(&solver.grid.vertex_position(v)))
             .collect();
+        // u(0): zero but for a plane wave, whose stress FEM takes as its displacement
+        let displacement = (0..nodes)
+            .map(|v| {
+                problem
+                    .initial
+                    .displacement(&solver.grid.vertex_position(v))
+            })
+            .collect();
         let mut state = FemState {
-            displacement: vec![Vector::<D>::zeros(); nodes],
+            displacement,
             velocity_half,
             acceleration: vec![Vector::<D>::zeros(); nodes],
             last_dt: 0.0,

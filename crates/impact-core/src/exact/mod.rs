@@ -14,6 +14,9 @@
 //! point force on an elastic half-space with `ν = 1/4` (Pekeris 1955), surface displacements
 //! for a step and, by Duhamel, for any load history (issue 24).
 //!
+//! [`PlaneWave`] (file `plane.rs`): a smooth P or S pulse travelling in any direction,
+//! exact until the boundaries' influence arrives ([`crate::interior`]).
+//!
 //! [`StandingWave`] (file `standing.rs`): a smooth standing P mode with roller edges, the
 //! exact solution of the convergence suite.
 mod bar;
@@ -25,12 +28,14 @@ mod lamb;
 mod lamb_quadrature;
 #[cfg(test)]
 mod lamb_tests;
+mod plane;
 mod plastic;
 mod select;
 mod standing;
 mod svk;
 pub use bar::{BarEnd, BarExact, EndLoad};
 pub use lamb::{Arrivals, Lamb, LambError};
+pub use plane::PlaneWave;
 pub use plastic::ElastoplasticWave;
 pub use standing::StandingWave;
 pub use svk::SvkBarExact;

@@ -13,6 +13,8 @@ impl Reference {
     ///   uniaxial strain) and loads over whole edges: [`BarExact`] with any condition at
     ///   each end and any load history; in 1D from any initial state (d'Alembert);
     /// - the standing P mode with symmetry edges all round: [`StandingWave`](super::StandingWave);
+    /// - a travelling plane pulse, with any boundaries: [`PlaneWave`](super::PlaneWave), exact
+    ///   in the clean interior ([`crate::interior`]);
     /// - J2: a step pressure at the left end of a free rod (1D) or a step velocity on the
     ///   whole left edge of a free plane wave (2D): [`ElastoplasticWave`];
     /// - Saint-Venant–Kirchhoff: a step pressure at the left end of a free bar (1D):
@@ -30,12 +32,15 @@ impl Reference {
             (InitialState::StandingWave(w), Model::LinearElastic) if all_symmetry => {
                 return Ok(Reference::Standing(*w))
             }
+            // exact wherever the boundaries have not acted: the metrics keep to the clean
+            // interior (`crate::interior`; the scene's default for a plane wave)
+            (InitialState::PlaneWave(w), Model::LinearElastic) => return Ok(Reference::Plane(*w)),
             (_, Model::LinearElastic) if D == 1 => {}
             (_, Model::LinearElastic) => {
                 return Err(
                     "the scene starts from an initial state that is not the standing \
-                            mode with symmetry edges all round, and in 2D and 3D only those have an \
-                            exact solution"
+                            mode with symmetry edges all round nor a plane wave, and in 2D and 3D \
+                            only those have an exact solution"
                         .into(),
                 )
             }

@@ -1,5 +1,6 @@
 //! The initial-state part of [`Scene::validate`] and its typed form
-//! ([`Scene::initial_state`]): a standing mode or formulas (not both), formulas that parse,
+//! ([`Scene::initial_state`]): a standing mode, a plane wave (`plane_wave.rs`) or formulas
+//! (one of them), formulas that parse,
 //! read only the body's coordinates and stay finite and within the small-strain bounds at
 //! every cell centre.
 use super::validate::MAX_STRAIN;
@@ -15,6 +16,16 @@ impl Scene {
             return Ok(());
         };
         let formulas = spec.velocity.is_some() || spec.stress.is_some();
+        if let Some(wave) = &spec.plane_wave {
+            if formulas || spec.standing_wave.is_some() {
+                return Err(SceneError::new(
+                    "initial.plane_wave",
+                    "given with another initial state",
+                    "one of `plane_wave`, `standing_wave` or `velocity`/`stress` formulas",
+                ));
+            }
+            return self.check_plane_wave(wave);
+        }
         if let Some(wave) = &spec.standing_wave {
             if formulas {
                 return Err(SceneError::new(
@@ -131,12 +142,16 @@ impl Scene {
     pub fn initial_state(&self) -> InitialState {
         let Some(InitialSpec {
             standing_wave,
+            plane_wave,
             velocity,
             stress,
         }) = &self.initial
         else {
             return InitialState::Rest;
         };
+        if let Some(wave) = plane_wave {
+            return InitialState::PlaneWave(self.plane_wave(wave));
+        }
         if let Some(wave) = standing_wave {
             let (material, _) = self.p_modulus();
             let lengths: [f64; 3] =

@@ -5,10 +5,13 @@
 //! [metrics]
 //! line = { from = [0.0, 0.0], to = [4.0, 0.0] }   # the paper's bottom row of the plate
 //! receivers = [[0.4, 0.0, 1.2], [0.8, 0.0, 1.2]]  # where traces are recorded (Lamb)
+//! interior = "dependence"   # errors only where no boundary can have acted (crate::interior)
 //! ```
 use super::Scene;
 use crate::error::SceneError;
+use crate::interior::{margin_cells, steps_bound, InteriorRule};
 use crate::line::{LineOrigin, MeasureLine};
+use crate::options::MethodKind;
 use serde::{Deserialize, Serialize};
 
 /// The `[metrics]` section.
@@ -22,6 +25,11 @@ pub struct MetricsSpec {
     /// one coordinate per axis, inside the body or on its boundary.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub receivers: Option<Vec<Vec<f64>>>,
+    /// Where errors are measured: `whole` (the body) or `dependence` (the clean interior no
+    /// boundary can have reached, [`crate::interior`]); default `dependence` for a plane
+    /// wave, `whole` otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interior: Option<InteriorRule>,
 }
 
 /// A straight line parallel to an axis, from the face a front enters by.
@@ -43,6 +51,7 @@ impl Scene {
     /// `[0, length]` and runs parallel to one axis with a non-zero length.
     pub(super) fn check_metrics(&self) -> Result<(), SceneError> {
         self.check_receivers()?;
+        self.check_interior()?;
         let Some(line) = self.metrics.as_ref().and_then(|m| m.line.as_ref()) else {
             return Ok(());
         };
@@ -68,6 +77,56 @@ impl Scene {
             .collect();
         if moving.len() != 1 {
             return Err(SceneError::new("metrics.line", shown, ALLOWED));
+        }
+        Ok(())
+    }
+
+    /// Where errors are measured: the stated rule, else `dependence` for a plane wave and
+    /// `whole` otherwise.
+    pub fn interior_rule(&self) -> InteriorRule {
+        let plane = self
+            .initial
+            .as_ref()
+            .is_some_and(|i| i.plane_wave.is_some());
+        match self.metrics.as_ref().and_then(|m| m.interior) {
+            Some(rule) => rule,
+            None if plane => InteriorRule::Dependence,
+            None => InteriorRule::Whole,
+        }
+    }
+
+    /// With the `dependence` rule, each method as the scene configures it keeps a clean
+    /// interior at the last output time: the margin `R s + 1` cells ([`crate::interior`],
+    /// `s` bounded by the Courant number and the schedule) leaves at least one cell along
+    /// every axis.
+    fn check_interior(&self) -> Result<(), SceneError> {
+        if self.interior_rule() != InteriorRule::Dependence {
+            return Ok(());
+        }
+        let (times, _) = self.schedule_seconds();
+        let (h, transit) = self.transit();
+        for kind in MethodKind::ALL {
+            let config = self.method_config(kind);
+            let steps = steps_bound(&times, config.courant, h, h / transit);
+            let margin = margin_cells(&config, steps);
+            if let Some(l) = (0..self.dim).find(|&l| self.domain.cells[l] <= 2 * margin) {
+                return Err(SceneError::new(
+                    "metrics.interior",
+                    "\"dependence\"",
+                    format!(
+                        "a clean interior: {} at Courant {} takes up to {steps} steps to t = \
+                         {:.4e} s and a boundary reaches {margin} cells in from each face, \
+                         which leaves no cell of the {} along {}; give more cells, an earlier \
+                         last output time, or `interior = \"whole\"` (errors over the whole \
+                         body)",
+                        kind.name(),
+                        config.courant,
+                        times.last().copied().unwrap_or(0.0),
+                        self.domain.cells[l],
+                        super::AXIS_NAMES[l]
+                    ),
+                ));
+            }
         }
         Ok(())
     }

@@ -37,6 +37,8 @@ pub use sides::{BoundarySpec, Coordinates, SidesSpec, AXIS_NAMES};
 mod initial;
 mod layout;
 mod metrics;
+mod plane_wave;
+pub use plane_wave::{PlaneWaveKind, PlaneWaveSpec};
 mod validate;
 pub use metrics::{LineSpec, MetricsSpec};
 use serde::{Deserialize, Serialize};
@@ -162,14 +164,18 @@ pub struct EdgeSpec {
     pub duration: Option<f64>,
 }
 
-/// The state at `t = 0` ([`crate::initial`]): a standing P mode with an exact solution,
-/// or velocity and stress by formula; not both.
+/// The state at `t = 0` ([`crate::initial`]): a standing P mode or a travelling plane
+/// pulse with an exact solution, or velocity and stress by formula; one of them.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InitialSpec {
     /// The standing P mode of [`crate::exact::StandingWave`] (exact with `symmetry` edges).
     #[serde(default)]
     pub standing_wave: Option<StandingWaveSpec>,
+    /// A travelling plane pulse, [`crate::exact::PlaneWave`] (exact in the clean interior,
+    /// [`crate::interior`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plane_wave: Option<PlaneWaveSpec>,
     /// Velocity components (m/s) as formulas of `x` (and `y`, `z`), one per axis.
     #[serde(default)]
     pub velocity: Option<Vec<String>>,
@@ -459,6 +465,8 @@ pub const BUILTIN: &[&str] = &[
     "block",
     "ep-block",
     "lamb",
+    "oblique-wave",
+    "oblique-plate-wave",
 ];
 
 /// TOML text of a shipped scene.
@@ -479,6 +487,8 @@ pub fn builtin(name: &str) -> Option<&'static str> {
         "block" => Some(include_str!("../../../../scenes/block.toml")),
         "ep-block" => Some(include_str!("../../../../scenes/ep-block.toml")),
         "lamb" => Some(include_str!("../../../../scenes/lamb.toml")),
+        "oblique-wave" => Some(include_str!("../../../../scenes/oblique-wave.toml")),
+        "oblique-plate-wave" => Some(include_str!("../../../../scenes/oblique-plate-wave.toml")),
         _ => None,
     }
 }
