@@ -7,7 +7,7 @@
 //! as vertices; the grid cells, or the FEM mesh, with their fields); per method a `.pvd`
 //! collection of each; with the `hdf5` feature a `<method>.h5` time series of the samples
 //! and of the grid, described by `<method>.xdmf` (samples) and `<method>_grid.xdmf` (the
-//! grid's quadrilaterals or hexahedra: [`impact_io::h5`]); per run `summary.json`, `stress.png` (profiles at up to three times)
+//! grid's quadrilaterals or hexahedra: `impact_io::h5`); per run `summary.json`, `stress.png` (profiles at up to three times)
 //! and, in 2D, `stress_map.png` (σ_xx colour map per method at the last output time).
 use crate::run::{Observer, RunRecord};
 use anyhow::Context;

@@ -30,14 +30,14 @@
 //! velocity end's no velocity: the edge conditions hold exactly.
 //!
 //! **2D.** Along each axis `l`, row by row, the same with the linear solver's four waves
-//! normal to `e_l` ([`DgmpmSolver::linear_waves`]: P and S on each side, through the states
+//! normal to `e_l` (`DgmpmSolver::linear_waves`: P and S on each side, through the states
 //! between them), `Δx_l`, and the mirror ghosts of the row's two ends. With CTU
 //! (`ctu.rs`), as Clawpack's `transverse_waves = 2`: the fluctuations the transverse solver
 //! splits carry the corrections, `A⁻ΔQ + cqxx` and `A⁺ΔQ − cqxx` with `cqxx = 2F̃`
 //! (`flux2`), so each cell's split sum gains `2(F̃_high − F̃_low)`: once through the
 //! corrected face fluxes, once from the stored `F̃` (`wave_flux`); a ghost cell beyond an
 //! edge takes the corrections of its ghost row (every state mirrored through that edge
-//! first, [`DgmpmSolver::padded_face_waves`]). Donor-cell with the corrections is Clawpack's
+//! first, `DgmpmSolver::padded_face_waves`). Donor-cell with the corrections is Clawpack's
 //! `transverse_waves = 0`, which lacks the cross-derivative term: unstable with forward
 //! Euler at every Courant number (von Neumann), stable with RK2.
 //!
