@@ -171,10 +171,11 @@ pub fn sweep_scenes(
 }
 
 /// The order-2 rows of the ladder at `ppc` points per cell (linear elasticity and J2 with
-/// the elastic solver, 1D and 2D; the ladder skips them where `Problem::check_config`
+/// the elastic solver, 1D-3D; the ladder skips them where `Problem::check_config`
 /// refuses them): no limiter (Lax-Wendroff) and MC. One point per cell: forward Euler, at
 /// Courant 0.5 in 1D (at Courant 1 the corrections vanish, `1 − Δt c/Δx = 0`, and the
-/// scheme is the exact first-order shift), with CTU at 0.9 in 2D (the scene's edges);
+/// scheme is the exact first-order shift), with CTU at 0.9 in 2D and 3D (the scene's edges;
+/// CTU set, since donor-cell with Euler is unstable at order 2);
 /// several (1D): RK2 at 0.9, since with forward Euler the corrections leave no stable
 /// Courant number there (von Neumann, README).
 pub(crate) fn order2_configurations(scene: &Scene, ppc: usize) -> Vec<Config> {
@@ -194,6 +195,9 @@ pub(crate) fn order2_configurations(scene: &Scene, ppc: usize) -> Vec<Config> {
             (config.points_per_cell, config.courant) = (ppc, courant);
             if let Some(o) = config.dgmpm_mut() {
                 o.integrator = integrator;
+                if scene.dim > 1 {
+                    o.flux = TransverseFlux::Ctu;
+                }
                 o.order = SchemeOrder::Second;
                 o.limiter = Some(limiter);
             }

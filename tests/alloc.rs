@@ -208,9 +208,18 @@ fn no_allocation_in_the_step_loop() {
             c.courant = 0.4;
             assert_eq!(steps_allocate(&problem, c), 0, "3D {flux:?} {integrator:?}");
             cases += 1;
+            // order 2 (the wave corrections; with CTU their transverse split, `ctu3.rs`)
+            if let Some(o) = c.dgmpm_mut() {
+                o.order = impact_core::method::SchemeOrder::Second;
+                o.limiter = Some(impact_core::method::WaveLimiter::Mc);
+            }
+            c.courant = 0.3;
+            let what = format!("3D order 2 {flux:?} {integrator:?}");
+            assert_eq!(steps_allocate(&problem, c), 0, "{what}");
+            cases += 1;
         }
     }
-    assert_eq!(cases, 18 + 3 + 9 + 2 + 4);
+    assert_eq!(cases, 18 + 3 + 9 + 2 + 4 + 4);
 }
 
 /// DGMPM's rayon loops (grids from 4,096 cells on): the cell path (CTU, donor-cell, SVK) and

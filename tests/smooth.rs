@@ -113,3 +113,20 @@ fn smooth_plate_order_two() {
     let o = order(&runs, lw, |e| e.l2_stress);
     assert!((1.7..2.4).contains(&o), "order 2 L2 σ: order {o}");
 }
+
+/// DGMPM order 2 with CTU (Clawpack's `flux3` with `method = (2, 22)`: the corrections'
+/// transverse and transverse-transverse split) at one point per cell on the standing mode
+/// (1, 1, 1) of the cube (against the exact solution): Lax-Wendroff converges at about 2
+/// (README), order 1 at about 1.
+#[test]
+fn smooth_block_order_two() {
+    let (lw, first) = (
+        "dgmpm euler ctu o2 none 1ppc C0.9",
+        "dgmpm euler ctu 1ppc C1.0",
+    );
+    let runs = measured::<3>("smooth-block", &[lw, first], 3);
+    let o = order(&runs, lw, |e| e.l2_stress);
+    assert!((1.8..2.4).contains(&o), "order 2 L2 σ: order {o}");
+    let o1 = order(&runs, first, |e| e.l2_stress);
+    assert!(o > o1 + 0.5, "order 2 {o} against order 1 {o1}");
+}

@@ -1,4 +1,4 @@
-//! Phase 2c (`order = 2`, 1D and 2D): the limited second-order wave corrections of the face
+//! Phase 2c (`order = 2`, 1D, 2D and 3D): the limited second-order wave corrections of the face
 //! fluxes (LeVeque 2002, §6.8-6.15, and §15.4 for systems; Clawpack classic `step1`, and
 //! `flux2` along each axis in 2D, with `order = 2`), added to the Godunov fluxes of phase 2
 //! before the flux balance (and, with CTU, before the transverse corrections).
@@ -41,6 +41,9 @@
 //! `transverse_waves = 0`, which lacks the cross-derivative term: unstable with forward
 //! Euler at every Courant number (von Neumann), stable with RK2.
 //!
+//! **3D.** The same row by row along each of the three axes; with CTU the transverse and
+//! transverse-transverse split of `ctu3.rs` (Clawpack's `flux3`, `method = (2, 22)`).
+//!
 //! **Δt.** Euler uses the step's `Δt`. Each stage of Heun's RK2 is a forward Euler step of
 //! the full `Δt` (`q¹ = q⁰ + Δt L(q⁰)`, `q² = q¹ + Δt L(q¹)`, averaged), so each stage's
 //! corrections use `(1 − Δt|s|/Δx)` with that `Δt`: each stage is then the Lax-Wendroff-type
@@ -55,9 +58,9 @@
 //! over), so the ghost face's star state is the boundary half problem's.
 //!
 //! Implemented for the linear-elastic solver (linear elasticity, and J2 with the elastic
-//! solver and the return map after the step; 1D and 2D) and the rod's elastoplastic solver
-//! (1D); `Problem::check_config` refuses the others (Saint-Venant–Kirchhoff, the 2D
-//! elastoplastic solver, 3D). The buffers are allocated once (one row of waves, the longest
+//! solver and the return map after the step; 1D, 2D and 3D) and the rod's elastoplastic
+//! solver (1D); `Problem::check_config` refuses the others (Saint-Venant–Kirchhoff, the 2D
+//! elastoplastic solver). The buffers are allocated once (one row of waves, the longest
 //! axis's faces and two ghost faces; with CTU the `F̃` of every face); the step allocates
 //! nothing.
 use crate::faces::Fields;
