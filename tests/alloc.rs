@@ -138,10 +138,10 @@ fn no_allocation_in_the_step_loop() {
             }
         }
     }
-    // DGMPM order 2 (the wave corrections, 1D): the cell path, RK2 and several points per
-    // cell on the nodal phases
-    {
-        let scene = Scene::builtin("bar").unwrap();
+    // DGMPM order 2 (the wave corrections, 1D; SVK's acoustic waves): the cell path, RK2
+    // and several points per cell on the nodal phases
+    for name in ["bar", "svk-bar"] {
+        let scene = Scene::builtin(name).unwrap();
         let problem = Problem::<1>::from_scene(&scene).unwrap();
         for (integrator, ppc) in [
             (Integrator::Euler, 1),
@@ -159,7 +159,7 @@ fn no_allocation_in_the_step_loop() {
             };
             options.apply_to_config(&mut c);
             let n = steps_allocate(&problem, c);
-            assert_eq!(n, 0, "{n} allocations: bar order 2 {c:?}");
+            assert_eq!(n, 0, "{n} allocations: {name} order 2 {c:?}");
             cases += 1;
         }
     }
@@ -219,7 +219,7 @@ fn no_allocation_in_the_step_loop() {
             cases += 1;
         }
     }
-    assert_eq!(cases, 18 + 3 + 9 + 2 + 4 + 4);
+    assert_eq!(cases, 18 + 3 + 3 + 9 + 2 + 4 + 4);
 }
 
 /// DGMPM's rayon loops (grids from 4,096 cells on): the cell path (CTU, donor-cell, SVK) and

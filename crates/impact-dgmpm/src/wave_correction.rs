@@ -57,12 +57,17 @@
 //! mirrored ghost side takes the mirrored range (a traction mirror `σ ↦ k − σ` turns it
 //! over), so the ghost face's star state is the boundary half problem's.
 //!
+//! **Saint-Venant–Kirchhoff** (1D, approximate solver): its two acoustic waves, each
+//! linearised about its side (`wave_correction/svk.rs`).
+//!
 //! Implemented for the linear-elastic solver (linear elasticity, and J2 with the elastic
-//! solver and the return map after the step; 1D, 2D and 3D) and the rod's elastoplastic
-//! solver (1D); `Problem::check_config` refuses the others (Saint-Venant–Kirchhoff, the 2D
-//! elastoplastic solver). The buffers are allocated once (one row of waves, the longest
+//! solver and the return map after the step; 1D, 2D and 3D), the rod's elastoplastic
+//! solver (1D) and the approximate SVK solver (1D); `Problem::check_config` refuses the
+//! others (SVK in 2D and 3D or with the exact solver, the 2D elastoplastic solver). The buffers are allocated once (one row of waves, the longest
 //! axis's faces and two ghost faces; with CTU the `F̃` of every face); the step allocates
 //! nothing.
+mod svk;
+
 use crate::faces::Fields;
 use crate::limiter::{limiter_phi, wave_ratio};
 use crate::riemann::elastoplastic::{elastoplastic_star_1d, PlasticSide};
@@ -158,6 +163,11 @@ impl<const D: usize> DgmpmSolver<D> {
         }
         let sign = if side == 0 { -1.0 } else { 1.0 };
         let area = self.grid.cell_volume() / self.grid.spacing[l];
+        if let crate::Physics::Svk { .. } = self.physics {
+            // `F_n = −(v ⊗ n, Π n)`: the velocity is `−F_tensor e_l`
+            let velocity = -(flux.tensor * unit::<D>(l));
+            return -sign * area * flux.momentum.dot(&velocity);
+        }
         let m = &self.elastic;
         let normal_modulus = 2.0 * m.mu + if D > 1 { m.lambda } else { 0.0 };
         let velocity = Vector::<D>::from_fn(|k, _| match k == l {
@@ -198,6 +208,9 @@ impl<const D: usize> DgmpmSolver<D> {
         points: Option<&MaterialPoints<D>>,
         transverse: Option<(usize, usize)>,
     ) -> FaceWaves<D> {
+        if let (crate::Physics::Svk { svk, .. }, 1) = (self.physics, D) {
+            return self.svk_padded_waves(&svk, j, fields);
+        }
         let n = self.grid.cells[l];
         let e = unit::<D>(l);
         // the ends' conditions at the row's tangential coordinates
