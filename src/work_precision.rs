@@ -136,7 +136,8 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
             ));
             out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::DonorCell, 0.95));
             out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::Ctu, 0.7));
-            if ppc == 1 {
+            // (not 3D at 8 points per cell: the ladders' cost)
+            if ppc == 1 || scene.dim == 2 {
                 out.extend(crate::ladder::order2_configurations(scene, ppc));
             }
         }
