@@ -171,17 +171,20 @@ pub fn sweep_scenes(
 }
 
 /// The order-2 rows of the ladder at `ppc` points per cell (linear elasticity and J2 with
-/// the elastic solver, 1D and 2D; the ladder skips them where `Problem::check_config`
+/// the elastic solver, 1D-3D; the ladder skips them where `Problem::check_config`
 /// refuses them): no limiter (Lax-Wendroff) and MC. One point per cell: forward Euler, at
 /// Courant 0.5 in 1D (at Courant 1 the corrections vanish, `1 − Δt c/Δx = 0`, and the
-/// scheme is the exact first-order shift), with CTU at 0.9 in 2D (the scene's edges);
-/// several (1D): RK2 at 0.9, since with forward Euler the corrections leave no stable
+/// scheme is the exact first-order shift), with CTU at 0.9 in 2D and 3D (the scene's edges;
+/// CTU set, since donor-cell with Euler is unstable at order 2);
+/// several: RK2 (1D at 0.9; 2D with CTU at 0.7, inside RK2's order-2 CTU limit 0.7342 at
+/// one point per cell), since with forward Euler the corrections leave no stable
 /// Courant number there (von Neumann, README).
 pub(crate) fn order2_configurations(scene: &Scene, ppc: usize) -> Vec<Config> {
     let (integrator, courant) = match (ppc, scene.dim) {
         (1, 1) => (Integrator::Euler, 0.5),
         (1, _) => (Integrator::Euler, 0.9),
-        _ => (Integrator::Rk2, 0.9),
+        (_, 1) => (Integrator::Rk2, 0.9),
+        _ => (Integrator::Rk2, 0.7),
     };
     let flux = match scene.dim {
         1 => String::new(),
@@ -194,6 +197,9 @@ pub(crate) fn order2_configurations(scene: &Scene, ppc: usize) -> Vec<Config> {
             (config.points_per_cell, config.courant) = (ppc, courant);
             if let Some(o) = config.dgmpm_mut() {
                 o.integrator = integrator;
+                if scene.dim > 1 {
+                    o.flux = TransverseFlux::Ctu;
+                }
                 o.order = SchemeOrder::Second;
                 o.limiter = Some(limiter);
             }

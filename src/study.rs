@@ -51,7 +51,7 @@ pub struct Overrides {
     #[arg(long, value_enum)]
     pub edges: Option<EdgeTreatment>,
     /// DGMPM spatial order: 1 (the paper's first-order flux) or 2 (limited second-order
-    /// wave corrections, 1D).
+    /// wave corrections, 1D-3D).
     #[arg(long, value_enum)]
     pub order: Option<SchemeOrder>,
     /// DGMPM wave limiter of --order 2 (default mc; none is Lax-Wendroff).

@@ -149,7 +149,8 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
                 rk2_dcu,
             ));
             out.push(dgmpm(ppc, Integrator::Rk2, TransverseFlux::Ctu, rk2_ctu));
-            if ppc == 1 && scene.dim == 2 {
+            // (not 3D at 8 points per cell: the ladders' cost)
+            if ppc == 1 || scene.dim == 2 {
                 out.extend(crate::ladder::order2_configurations(scene, ppc));
             }
         }

@@ -142,10 +142,10 @@ fn no_allocation_in_the_step_loop() {
             }
         }
     }
-    // DGMPM order 2 (the wave corrections, 1D): the cell path, RK2 and several points per
-    // cell on the nodal phases
-    {
-        let scene = Scene::builtin("bar").unwrap();
+    // DGMPM order 2 (the wave corrections, 1D; SVK's acoustic waves): the cell path, RK2
+    // and several points per cell on the nodal phases
+    for name in ["bar", "svk-bar"] {
+        let scene = Scene::builtin(name).unwrap();
         let problem = Problem::<1>::from_scene(&scene).unwrap();
         for (integrator, ppc) in [
             (Integrator::Euler, 1),
@@ -163,7 +163,7 @@ fn no_allocation_in_the_step_loop() {
             };
             options.apply_to_config(&mut c);
             let n = steps_allocate(&problem, c);
-            assert_eq!(n, 0, "{n} allocations: bar order 2 {c:?}");
+            assert_eq!(n, 0, "{n} allocations: {name} order 2 {c:?}");
             cases += 1;
         }
     }
@@ -212,9 +212,18 @@ fn no_allocation_in_the_step_loop() {
             c.courant = 0.4;
             assert_eq!(steps_allocate(&problem, c), 0, "3D {flux:?} {integrator:?}");
             cases += 1;
+            // order 2 (the wave corrections; with CTU their transverse split, `ctu3.rs`)
+            if let Some(o) = c.dgmpm_mut() {
+                o.order = impact_core::method::SchemeOrder::Second;
+                o.limiter = Some(impact_core::method::WaveLimiter::Mc);
+            }
+            c.courant = 0.3;
+            let what = format!("3D order 2 {flux:?} {integrator:?}");
+            assert_eq!(steps_allocate(&problem, c), 0, "{what}");
+            cases += 1;
         }
     }
-    assert_eq!(cases, 18 + 3 + 9 + 2 + 4);
+    assert_eq!(cases, 18 + 3 + 3 + 9 + 2 + 4 + 4);
 }
 
 /// DGMPM's rayon loops (grids from 4,096 cells on): the cell path (CTU, donor-cell, SVK) and

@@ -84,8 +84,8 @@ impl<const D: usize> Problem<D> {
 
     /// DGMPM's order and limiter: a limiter only with `order = 2` (the first-order scheme
     /// has no corrections to limit: a limiter given there is refused, not ignored), and
-    /// `order = 2` in 1D and 2D (CTU or donor-cell; not the 2D elastoplastic solver);
-    /// refused in 3D and with Saint-Venant–Kirchhoff.
+    /// `order = 2` in 1D, 2D and 3D (CTU or donor-cell; not the 2D elastoplastic solver);
+    /// with Saint-Venant–Kirchhoff only in 1D with the approximate solver.
     fn check_order(&self, o: &DgmpmOptions) -> Result<(), CoreError> {
         match (o.order, o.limiter) {
             (SchemeOrder::First, Some(limiter)) => Err(SceneError::new(
@@ -93,12 +93,6 @@ impl<const D: usize> Problem<D> {
                 limiter,
                 "no limiter with order = 1 (the first-order scheme has no corrections to \
                  limit): set order = 2 (--order 2) or leave the limiter out",
-            )
-            .into()),
-            (SchemeOrder::Second, _) if D > 2 => Err(SceneError::new(
-                field("dgmpm", "order", "order"),
-                o.order,
-                "1 in 3D (the second-order wave corrections are implemented in 1D and 2D)",
             )
             .into()),
             (SchemeOrder::Second, _) if D == 2 && o.riemann == RiemannSolver::Elastoplastic => {
@@ -110,13 +104,16 @@ impl<const D: usize> Problem<D> {
                 )
                 .into())
             }
-            (SchemeOrder::Second, _) if matches!(self.model, Model::Svk(_)) => {
+            (SchemeOrder::Second, _)
+                if matches!(self.model, Model::Svk(_))
+                    && (D > 1 || o.riemann == RiemannSolver::Exact) =>
+            {
                 Err(SceneError::new(
                     field("dgmpm", "order", "order"),
                     o.order,
-                    "1 with Saint-Venant-Kirchhoff (the second-order wave corrections are \
-                     implemented for the linear-elastic solver and the rod's elastoplastic \
-                     solver)",
+                    "1 with Saint-Venant-Kirchhoff in 2D and 3D or with riemann = \"exact\" \
+                     (the second-order wave corrections take the approximate solver's waves, \
+                     in 1D)",
                 )
                 .into())
             }

@@ -221,7 +221,13 @@ impl<const D: usize> DgmpmSolver<D> {
     /// Whether the ghost cell mirroring `cell` through the edge of axis `k` at `side` has
     /// its low and high `l`-face dropped (`ghost_cell_fluctuations`: under `restricted`
     /// edges, the face towards the diagonal ghost at a corner of two traction edges).
-    fn dropped_corner_faces(&self, k: usize, side: usize, l: usize, cell: [usize; D]) -> [bool; 2] {
+    pub(crate) fn dropped_corner_faces(
+        &self,
+        k: usize,
+        side: usize,
+        l: usize,
+        cell: [usize; D],
+    ) -> [bool; 2] {
         let traction = |axis: usize, axis_side: usize, s: [f64; 2]| {
             matches!(
                 self.ghost_condition(axis, axis_side, s),

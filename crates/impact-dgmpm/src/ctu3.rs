@@ -34,6 +34,22 @@
 //! `edges = "restricted"` the correction on an edge face is restricted to what the edge's
 //! condition leaves free ([`constrain_correction`]), as in 2D.
 //!
+//! **Order 2** (`order = 2`, as Clawpack's `flux3` with `method = (2, 22)`, the
+//! recommended second-order CTU, stable to Courant 1): with `F̃` the correction fluxes of
+//! [`crate::wave_correction`] (added to the face fluxes before this phase, `cqxx = F̃` in
+//! `flux3`) and `G_l(X) = F̃_l(X, high) − F̃_l(X, low)`, the transverse terms split
+//! `A⁻ΔQ + 2cqxx` and `A⁺ΔQ − 2cqxx` (flux3's `gadd −= ½Δt/Δx B^±A^±ΔQ` and
+//! `gadd ± Δt/Δx B^± cqxx`), and the transverse-transverse terms `A⁻ΔQ + 3cqxx` and
+//! `A⁺ΔQ − 3cqxx` (flux3's `cpapdq2 = cpapdq − 3 cpcqxxp`, `cpamdq2 = cpamdq + 3 cpcqxxm`,
+//! and the same for `bpapdq` before the H fluxes). Summed over a cell's two `l`-faces,
+//! `V_k` takes `W_l + 2G_l` in its first terms and `W_l + 3G_l` in the `s` terms. The
+//! arrays `W_l` hold `W_l + 3G_l` (the stored fluxes already carry `F̃` once, so `+ 2G_l`
+//! inside; `+ 3G_l` on a ghost cell, whose fluctuations come from its states) and `G_l`
+//! beside it; `V_k = V_k(W + 3G) + Δt/(2Δx_l) G_l + Δt/(2Δx_m) G_m`. A ghost cell's `G_l`
+//! comes from its ghost row's waves ([`DgmpmSolver::ghost_cell_corrections`], the face
+//! dropped at a restricted traction corner dropping its `F̃`, as in 2D), behind two edges
+//! by the same mirror-or-mean rule as `W_l`. Order 2 never takes the fused sweep.
+//!
 //! The fused 3D sweep (`fused/block/ctu.rs`, the default at one point per cell with
 //! Euler) forms the same values layer by layer through [`source_of`] and
 //! `DgmpmSolver::ghost_fluctuation`, bit for bit these arrays' results.
@@ -83,10 +99,27 @@ impl<const D: usize> DgmpmSolver<D> {
             &mut self.transverse_sources,
             std::array::from_fn(|_| Vec::new()),
         );
+        let order2 = !self.wave_flux[0].is_empty();
         for (l, w) in fluct.iter_mut().enumerate() {
             let dims = self.fluctuation_dims(l);
             let this = &*self;
             let fields = this.fields(points);
+            if order2 {
+                // order 2: `W_l + 3G_l` in the first half, `G_l` in the second (module doc)
+                let dtdx = dt / this.grid.spacing[l];
+                let half = w.len() / 2;
+                let (tt, g) = w.split_at_mut(half);
+                let parts = (chunks(tt, CHUNK), chunks(g, CHUNK));
+                for_each_chunk(this.parallel, 1, parts, |r, (tt, g)| {
+                    let mut idx = Self::multi_index(dims, r * CHUNK);
+                    for (v, g) in tt.iter_mut().zip(g.iter_mut()) {
+                        let pos = std::array::from_fn(|j| idx[j] as isize - isize::from(j != l));
+                        (*v, *g) = this.corrected_fluctuation_at(l, pos, fields, dtdx);
+                        Self::advance(&mut idx, &dims);
+                    }
+                });
+                continue;
+            }
             for_each_chunk(this.parallel, 1, chunks(w, CHUNK), |r, out| {
                 let mut idx = Self::multi_index(dims, r * CHUNK);
                 for v in out.iter_mut() {
@@ -172,13 +205,71 @@ impl<const D: usize> DgmpmSolver<D> {
         // W_l and its neighbours along e_m, W_m and its neighbours along e_l
         let wl = [w(l, m, -1), w(l, m, 0), w(l, m, 1)];
         let wm = [w(m, l, -1), w(m, l, 0), w(m, l, 1)];
-        source_of(
+        let v = source_of(
             k,
             [&wl[0], &wl[1], &wl[2]],
             [&wm[0], &wm[1], &wm[2]],
             scales,
             constants,
-        )
+        );
+        if self.wave_flux[0].is_empty() {
+            return v;
+        }
+        // order 2: the arrays hold `W + 3G` (the transverse-transverse terms'); the
+        // face-sharing terms take `W + 2G`, so `G` once less (module doc)
+        let g = |a: usize| {
+            let half = fluct[a].len() / 2;
+            let mut index = 0;
+            for j in (0..D).rev() {
+                let ghost = j != a;
+                let coordinate = pos[j] + isize::from(ghost);
+                index = index * (cells[j] + 2 * usize::from(ghost)) + coordinate as usize;
+            }
+            fluct[a][half + index]
+        };
+        v.add_scaled(&g(l), -scales.l).add_scaled(&g(m), -scales.m)
+    }
+
+    /// Order 2 (module doc): `(W_l + 3G_l, G_l)` of the cell at `pos`, `G_l = F̃_high −
+    /// F̃_low` its `l`-faces' correction fluxes (`dtdx = Δt/Δx_l`): inside from the stored
+    /// `F̃` (the stored fluxes, hence `fluctuation_at`, hold `W_l + G_l`), behind one edge
+    /// from the ghost row's waves (`ghost_cell_corrections`, a face whose fluctuation is
+    /// dropped at a traction corner dropping its `F̃` too, as in 2D), behind two edges the
+    /// same rule as `W_l` (mirror or mean).
+    fn corrected_fluctuation_at(
+        &self,
+        l: usize,
+        pos: [isize; D],
+        fields: Fields<'_, D>,
+        dtdx: f64,
+    ) -> (Conserved<D>, Conserved<D>) {
+        let n = self.grid.cells;
+        if (0..D).all(|a| pos[a] >= 0 && pos[a] < n[a] as isize) {
+            let cell: [usize; D] = std::array::from_fn(|j| pos[j] as usize);
+            let lo = Self::face_index(&self.grid, l, cell);
+            let stride: usize = n[..l].iter().product();
+            let f = &self.wave_flux[l];
+            let g = f[lo + stride].add_scaled(&f[lo], -1.0);
+            let w = self.fluctuation_at(l, pos, fields);
+            return (w.add_scaled(&g, 2.0), g);
+        }
+        let g = self.two_edge_rule(pos, |a, side, cell| {
+            let (low, high) = self.ghost_cell_corrections(a, side, l, cell, fields, dtdx);
+            let [drop_low, drop_high] = self.dropped_corner_faces(a, side, l, cell);
+            let g = Conserved::<D>::zeros();
+            let g = if drop_low {
+                g
+            } else {
+                g.add_scaled(&low, -1.0)
+            };
+            if drop_high {
+                g
+            } else {
+                g.add_scaled(&high, 1.0)
+            }
+        });
+        let w = self.ghost_fluctuation(l, pos, fields);
+        (w.add_scaled(&g, 3.0), g)
     }
 
     /// `W_l` of the cell at `pos` (never outside along `l`): from the stored fluxes inside
@@ -209,14 +300,25 @@ impl<const D: usize> DgmpmSolver<D> {
         pos: [isize; D],
         fields: Fields<'_, D>,
     ) -> Conserved<D> {
+        self.two_edge_rule(pos, |a, side, cell| {
+            let (minus, plus) = self.ghost_cell_fluctuations(a, side, l, cell, fields);
+            minus.add_scaled(&plus, 1.0)
+        })
+    }
+
+    /// The value of the ghost cell at `pos` (outside the grid along one or two axes) from
+    /// `single(a, side, cell)`, the value behind the one edge of axis `a` at `side` of the
+    /// clamped `cell`: behind one edge that value, behind two the module doc's rule.
+    fn two_edge_rule(
+        &self,
+        pos: [isize; D],
+        single: impl Fn(usize, usize, [usize; D]) -> Conserved<D>,
+    ) -> Conserved<D> {
         let n = self.grid.cells;
         let cell: [usize; D] = std::array::from_fn(|j| pos[j].clamp(0, n[j] as isize - 1) as usize);
         let side = |a: usize| usize::from(pos[a] >= 0);
         let mut outside = (0..D).filter(|&a| pos[a] < 0 || pos[a] >= n[a] as isize);
-        let ghost = |a: usize| {
-            let (minus, plus) = self.ghost_cell_fluctuations(a, side(a), l, cell, fields);
-            minus.add_scaled(&plus, 1.0)
-        };
+        let ghost = |a: usize| single(a, side(a), cell);
         match (outside.next(), outside.next()) {
             (None, _) => unreachable!("internal: a ghost cell lies outside the grid"),
             (Some(a), None) => ghost(a),

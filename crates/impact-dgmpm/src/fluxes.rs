@@ -198,7 +198,7 @@ impl<const D: usize> DgmpmSolver<D> {
     /// ([`riemann::svk::exact_boundary_1d`]); with the acoustic solver from the interior's
     /// wave relation ([`riemann::svk::acoustic_boundary`]). A face with no admissible
     /// state (hyperbolicity lost) gets a NaN state, which the guard reports.
-    fn svk_star(
+    pub(crate) fn svk_star(
         &self,
         svk: &Svk,
         riemann: RiemannSolver,

@@ -92,9 +92,8 @@
 //! - [`fused`]: the cell path's phases in one sweep (linear; 3D in `fused/block.rs`), and
 //!   the nodal stages' (linear, 1D and 2D).
 //! - `step_path.rs`: [`StepPath`], which of these computations a step runs.
-//! - [`wave_correction`]: phase 2c, the limited second-order wave corrections of
-//!   `order = 2` (1D), with the limiters of [`limiter`]; they route the step off the fused
-//!   paths (to the cell path, or the nodal phases).
+//! - [`wave_correction`]: phase 2c, `order = 2`'s limited wave corrections (1D-3D, limiters
+//!   in [`limiter`]); they route the step off the fused paths (to the cell or nodal ones).
 //! - [`riemann`]: the Riemann solvers (one file each); a new solver goes there.
 //! - [`method`]: the [`Method`](impact_core::Method) impl.
 
@@ -245,8 +244,7 @@ pub struct DgmpmSolver<const D: usize> {
     /// `order = 2`: the f-waves of every face and of a ghost face beyond each end (empty
     /// otherwise; [`wave_correction`]).
     pub(crate) face_waves: Vec<wave_correction::FaceWaves<D>>,
-    /// `order = 2` with CTU (2D): per axis, each face's correction `F̃`, which the
-    /// transverse solve splits once more (empty otherwise; [`ctu`]).
+    /// `order = 2` with CTU: per axis, each face's `F̃`, split once more (else empty; `ctu*`).
     pub(crate) wave_flux: [Vec<Conserved<D>>; D],
     /// The fused path's rolling face rows and next state (empty on the other paths).
     pub(crate) fused: fused::FusedBuffers<D>,
@@ -468,13 +466,15 @@ impl<const D: usize> DgmpmSolver<D> {
             };
             self.correction_scratch = vec![Conserved::zeros(); scratch];
             if ctu && D == 3 {
-                // the fluctuations W_l (a ghost layer on the other axes) and one source array
-                // V_k (a ghost layer along k), the largest of the three
+                // the fluctuations W_l (a ghost layer on the other axes; order 2: twice, with
+                // G_l) and one source array V_k (a ghost layer along k), the largest of three
+                let halves = 1 + usize::from(!self.wave_flux[0].is_empty());
                 let cells = grid.cells;
                 let padded = |l: usize, across: bool| -> usize {
                     (0..D)
                         .map(|j| cells[j] + 2 * usize::from((j != l) == across))
-                        .product()
+                        .product::<usize>()
+                        * if across { halves } else { 1 }
                 };
                 self.transverse_sources =
                     std::array::from_fn(|l| vec![Conserved::zeros(); padded(l, true)]);
