@@ -77,8 +77,9 @@ pub fn sweep_scene(dim: usize) -> impact_core::Scene {
 
 /// `scene` cut for a sweep (`impact stability --scene`): at most 150 cells in 1D and 16×12
 /// in 2D, each cell's size kept (the lengths shrink), at rest, every edge free (the sweep
-/// replaces the edges by its unloaded body's anyway). Material, model, point layout and
-/// method options stay the scene's.
+/// replaces the edges by its unloaded body's anyway), without the scene's metrics (a
+/// measuring line, receivers or region of the full body may lie outside the cut one, and a
+/// sweep measures none). Material, model, point layout and method options stay the scene's.
 pub fn cut_scene(scene: &impact_core::Scene) -> impact_core::Scene {
     let mut s = scene.clone();
     let most = if s.dim == 1 { [150, 1] } else { [16, 12] };
@@ -89,6 +90,7 @@ pub fn cut_scene(scene: &impact_core::Scene) -> impact_core::Scene {
     }
     s.initial = None;
     s.boundary = impact_core::scene::BoundarySpec::default();
+    s.metrics = None;
     s
 }
 

@@ -388,3 +388,22 @@ fn reach_one_per_stage_holds_every_coupling_in_3d() {
         }
     }
 }
+
+/// `impact stability --scene <any shipped scene>`: the cut body is a valid scene (a scene's
+/// measuring line beyond the cut, as `plate-wave`'s x = 4 m against a cut of 2 m, was
+/// refused before the cut dropped the metrics).
+#[test]
+fn every_shipped_scene_cuts_to_a_valid_sweep_body() {
+    for name in impact_core::scene::BUILTIN {
+        let scene = Scene::builtin(name).expect("shipped scene");
+        let cut = impact::stability::cut_scene(&scene);
+        cut.validate()
+            .unwrap_or_else(|e| panic!("{name}: the cut scene is refused: {e}"));
+        for (l, (&n, &full)) in cut.domain.cells.iter().zip(&scene.domain.cells).enumerate() {
+            assert!(
+                n <= full && n <= 150,
+                "{name}: axis {l} keeps {n} cells of {full}"
+            );
+        }
+    }
+}
