@@ -3,39 +3,11 @@
 //! tests check it against the equations of motion by finite differences): the boundaries
 //! never reach the clean interior the errors are measured in, and DGMPM CTU converges at
 //! first order on it (`impact bench convergence --scene oblique-wave`).
-use impact::convergence::{ladder, orders, FieldErrors, Level};
-use impact::work_precision::configurations;
+mod common;
+use common::{measured, order, Error};
 use impact_core::controller;
 use impact_core::method::{MethodConfig, Samples};
 use impact_core::{Method, Problem, Scene};
-
-/// Which error of a run.
-type Error = fn(&FieldErrors) -> f64;
-
-fn measured<const D: usize>(scene: &str, labels: &[&str], levels: usize) -> Vec<Level> {
-    let scene = Scene::builtin(scene).unwrap();
-    let configs: Vec<_> = configurations(&scene)
-        .into_iter()
-        .filter(|c| labels.contains(&c.label.as_str()))
-        .collect();
-    assert_eq!(
-        configs.len(),
-        labels.len(),
-        "unknown label among {labels:?}"
-    );
-    let runs = ladder::<D>(&scene, &configs, levels).unwrap();
-    print!("{}", impact::convergence::table(&runs));
-    runs
-}
-
-/// Mean observed order of the last two refinements of `label`'s `error`.
-fn order(runs: &[Level], label: &str, error: Error) -> f64 {
-    let levels: Vec<&Level> = runs.iter().filter(|r| r.config == label).collect();
-    let o = orders(&levels, error);
-    assert!(o.len() >= 2, "{label}: {} levels measured", levels.len());
-    let tail = &o[o.len() - 2..];
-    tail.iter().sum::<f64>() / 2.0
-}
 
 /// 3D, 8³ to 64³ cells: DGMPM CTU (Euler, Courant 1) at first order in σ_xx and v_x.
 #[test]

@@ -2,36 +2,8 @@
 //! the standing waves of `smooth-bar` and `smooth-plate` against their exact solution. The
 //! expected orders and why some fall below the scheme's formal order are in the module doc
 //! of `impact::convergence`.
-use impact::convergence::{ladder, orders, FieldErrors, Level};
-use impact::work_precision::configurations;
-use impact_core::Scene;
-
-/// Which error of a run.
-type Error = fn(&FieldErrors) -> f64;
-
-fn measured<const D: usize>(scene: &str, labels: &[&str], levels: usize) -> Vec<Level> {
-    let scene = Scene::builtin(scene).unwrap();
-    let configs: Vec<_> = configurations(&scene)
-        .into_iter()
-        .filter(|c| labels.contains(&c.label.as_str()))
-        .collect();
-    assert_eq!(
-        configs.len(),
-        labels.len(),
-        "unknown label among {labels:?}"
-    );
-    let runs = ladder::<D>(&scene, &configs, levels).unwrap();
-    print!("{}", impact::convergence::table(&runs));
-    runs
-}
-
-/// Mean observed order of the last two refinements of `label`'s `error`.
-fn order(runs: &[Level], label: &str, error: Error) -> f64 {
-    let levels: Vec<&Level> = runs.iter().filter(|r| r.config == label).collect();
-    let o = orders(&levels, error);
-    let tail = &o[o.len() - 2..];
-    tail.iter().sum::<f64>() / 2.0
-}
+mod common;
+use common::{measured, order, Error};
 
 #[test]
 fn smooth_bar_orders() {

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
+use impact::convergence::{ladder, orders, FieldErrors, Level};
 use impact::run::{run_method, RunRecord, Silent};
+use impact::work_precision::configurations;
 use impact_core::method::{Integrator, MethodConfig, MethodKind};
 use impact_core::reference::Reference;
 use impact_core::{Blowup, Problem, Scene};
@@ -71,4 +73,32 @@ pub fn text(o: &std::process::Output) -> String {
 /// A JSON file, parsed.
 pub fn json(path: &std::path::Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// Which error of a run (the convergence suites: `smooth.rs`, `oblique.rs`).
+pub type Error = fn(&FieldErrors) -> f64;
+
+pub fn measured<const D: usize>(scene: &str, labels: &[&str], levels: usize) -> Vec<Level> {
+    let scene = Scene::builtin(scene).unwrap();
+    let configs: Vec<_> = configurations(&scene)
+        .into_iter()
+        .filter(|c| labels.contains(&c.label.as_str()))
+        .collect();
+    assert_eq!(
+        configs.len(),
+        labels.len(),
+        "unknown label among {labels:?}"
+    );
+    let runs = ladder::<D>(&scene, &configs, levels).unwrap();
+    print!("{}", impact::convergence::table(&runs));
+    runs
+}
+
+/// Mean observed order of the last two refinements of `label`'s `error`.
+pub fn order(runs: &[Level], label: &str, error: Error) -> f64 {
+    let levels: Vec<&Level> = runs.iter().filter(|r| r.config == label).collect();
+    let o = orders(&levels, error);
+    assert!(o.len() >= 2, "{label}: {} levels measured", levels.len());
+    let tail = &o[o.len() - 2..];
+    tail.iter().sum::<f64>() / 2.0
 }
