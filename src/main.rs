@@ -245,9 +245,9 @@ enum BenchCommand {
 #[derive(Args)]
 struct StabilityArgs {
     /// Sweep on this scene (a shipped name or a scene file): its material, model, point
-    /// layout and cell size, on its grid cut to at most 150 cells (1D) or 16×12 (2D) with
-    /// every edge unloaded. Default: the paper's bar (1D) and the plane wave cut to 16×12
-    /// cells (2D).
+    /// layout and cell size, on its grid cut to at most 150 cells (1D), or cut or widened to
+    /// 16×12 (2D) or 12×12×12 (3D), with every edge unloaded. Default: the paper's bar (1D)
+    /// and the plane wave cut to 16×12 cells (2D).
     #[arg(long, conflicts_with = "dim")]
     scene: Option<String>,
     /// Scene and method flags of `impact run` that the sweep does not vary (--riemann,
