@@ -87,6 +87,42 @@ fn above_the_von_neumann_limit_is_refused_before_any_work() {
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
 }
 
+/// A J2 scene is checked on its linearisation at rest (the same E, ν, ρ and the linear
+/// face solver), whatever its `riemann`: donor-cell with Euler at Courant 1 on
+/// `ep-plate-wave` is refused with the limit of the linear `plate-wave` (both scenes'
+/// steel on square cells), with the elastic and the elastoplastic solver alike. Before,
+/// the linearisation kept the J2 solver, could not be built, and passed: the
+/// elastoplastic run blew up at step 70.
+#[test]
+fn a_j2_scene_is_checked_on_its_linearisation() {
+    let limit = |args: &[&str]| {
+        let mut all = vec![
+            "run",
+            "--method",
+            "dgmpm",
+            "--flux",
+            "dcu",
+            "--courant",
+            "1.0",
+        ];
+        all.extend_from_slice(args);
+        all.extend_from_slice(&["--quiet", "--no-files"]);
+        let o = impact(&all);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", text(&o));
+        let e = stderr(&o);
+        let at = e.find("von Neumann limit ").expect("the limit is stated") + 18;
+        e[at..at + 6].to_string()
+    };
+    let linear = limit(&["plate-wave"]);
+    for riemann in ["elastic", "elastoplastic"] {
+        assert_eq!(
+            limit(&["ep-plate-wave", "--riemann", riemann]),
+            linear,
+            "{riemann}"
+        );
+    }
+}
+
 /// Run anyway: the max-norm test stops it (the energy test does not: the free bar's
 /// kinetic energy grows like t²), exit 3, with the step, time, place, the limit; the
 /// summary records that it ran above its limit.
