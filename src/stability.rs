@@ -433,28 +433,35 @@ pub fn diagnose_blowup<const D: usize>(
     })
 }
 
-/// The largest row sum `max_α Σ_β |D_αβ|` of DGMPM's one-step operator on the right-going
-/// characteristic `r = v − σ/Z` (1D): the monotonicity (positivity) bound the DGMPM thesis
-/// uses. The scheme is linear and the characteristics decouple, so `D` is the `r → r` block
-/// of the step matrices `B_m`, read between every point `β` of the cells around and every
-/// point `α` of the middle cell. A monotone scheme has `Σ_β |D_αβ| ≤ 1`.
+/// The largest row sum `max_α Σ_β |D_αβ|` of DGMPM's one-step operator on either
+/// characteristic, `r = v − σ/Z` (right-going) and `l = v + σ/Z` (left-going) (1D): the
+/// monotonicity (positivity) bound the DGMPM thesis uses. The scheme is linear and the
+/// characteristics decouple, so `D` is the `r → r` (or `l → l`) block of the step matrices
+/// `B_m`, read between every point `β` of the cells around and every point `α` of the
+/// middle cell. A monotone scheme has `Σ_β |D_αβ| ≤ 1`. The two blocks differ where the
+/// layout is not mirror symmetric (the left-going wave sees the layout `1 − ξ`: given
+/// positions 0.3, 0.5 are monotone up to 0.7077 on `r` but 0.6900 on `l`; reading `r` alone
+/// overstated the limit there, found by `tests/stability.rs`' independent analysis).
 pub fn monotonicity_row_sum<const D: usize>(problem: &Problem<D>, config: MethodConfig) -> f64 {
     let (_, matrices) = step_matrices(problem, config, 2);
     let ppc = config.points_per_cell;
-    // unknowns per point: (σ/Z, v); r = v − σ/Z has the unit input (−½, ½)
+    // unknowns per point: (σ/Z, v); r = v − σ/Z has the unit input (−½, ½), l = v + σ/Z
+    // the unit input (½, ½): `sign` −1 for r, +1 for l
     let mut worst: f64 = 0.0;
-    for alpha in 0..ppc {
-        let mut sum = 0.0;
-        for b in &matrices {
-            for beta in 0..ppc {
-                let (s_out, v_out) = (2 * alpha, 2 * alpha + 1);
-                let (s_in, v_in) = (2 * beta, 2 * beta + 1);
-                // B (−½ e_s + ½ e_v), then r = v − s
-                let column = |row: usize| 0.5 * (b[(row, v_in)] - b[(row, s_in)]);
-                sum += (column(v_out) - column(s_out)).abs();
+    for sign in [-1.0, 1.0] {
+        for alpha in 0..ppc {
+            let mut sum = 0.0;
+            for b in &matrices {
+                for beta in 0..ppc {
+                    let (s_out, v_out) = (2 * alpha, 2 * alpha + 1);
+                    let (s_in, v_in) = (2 * beta, 2 * beta + 1);
+                    // B (½ sign e_s + ½ e_v), then v + sign s
+                    let column = |row: usize| 0.5 * (b[(row, v_in)] + sign * b[(row, s_in)]);
+                    sum += (column(v_out) + sign * column(s_out)).abs();
+                }
             }
+            worst = worst.max(sum);
         }
-        worst = worst.max(sum);
     }
     worst
 }

@@ -20,13 +20,16 @@ fn l1_ladder(make: impl Fn(&impact_core::Scene) -> MethodConfig) -> Vec<f64> {
         .collect()
 }
 
-fn assert_converges(name: &str, errors: &[f64], min_order: f64, max_order: f64) {
+/// The mean observed order over the ladder, `log2(e₀/e_last)/(levels − 1)`, must lie in
+/// `band` (the reason for each band is beside its call), and the error must fall at every
+/// refinement.
+fn assert_converges(name: &str, errors: &[f64], band: (f64, f64)) -> Vec<f64> {
     let orders = observed_orders(errors);
-    println!("{name}: L1 {errors:.3?} observed orders {orders:.3?}");
     let mean = (errors[0] / errors[errors.len() - 1]).log2() / (errors.len() - 1) as f64;
+    println!("{name}: L1 {errors:.4?} observed orders {orders:.3?}, mean {mean:.3}");
     assert!(
-        mean > min_order && mean < max_order,
-        "{name}: mean order {mean}"
+        mean > band.0 && mean < band.1,
+        "{name}: mean order {mean}, expected in {band:?}"
     );
     for o in &orders {
         assert!(
@@ -34,7 +37,15 @@ fn assert_converges(name: &str, errors: &[f64], min_order: f64, max_order: f64) 
             "{name}: error must drop at every refinement, orders {orders:?}"
         );
     }
+    orders
 }
+
+/// L1 orders on a jump (LeVeque 2002, §8.7): a first-order dissipative scheme smears the
+/// front over `O(sqrt(Δx t))`, so the L1 error is `O(Δx^{1/2})`; a second-order scheme's
+/// front zone scales as `Δx^{2/3}` (dissipative, or dispersive with an Airy-type wake
+/// `(Δx² t)^{1/3}`), order 2/3.
+const JUMP_FIRST_ORDER: f64 = 0.5;
+const JUMP_SECOND_ORDER: f64 = 2.0 / 3.0;
 
 #[test]
 fn dgmpm_default_is_exact_at_every_level() {
@@ -48,22 +59,49 @@ fn dgmpm_default_is_exact_at_every_level() {
 #[test]
 fn dgmpm_below_courant_one_converges_at_the_first_order_rate_for_a_jump() {
     // first-order upwind on a discontinuity: L1 error ~ sqrt(Δx), order 1/2
-    let errors = l1_ladder(|s| dgmpm(s, 0.5, 1, Integrator::Euler));
-    assert_converges("dgmpm courant 0.5", &errors, 0.35, 0.75);
-    let errors = l1_ladder(|s| dgmpm(s, 0.5, 2, Integrator::Rk2));
-    assert_converges("dgmpm courant 0.5 2ppc rk2", &errors, 0.35, 0.75);
+    // first-order upwind on a discontinuity: L1 error ~ sqrt(Δx), order 1/2 (measured
+    // 0.498, 0.499, 0.500 for both); ±0.03 holds the mean and every step
+    let band = (JUMP_FIRST_ORDER - 0.03, JUMP_FIRST_ORDER + 0.03);
+    for (label, ppc, integrator) in [
+        ("dgmpm courant 0.5", 1, Integrator::Euler),
+        ("dgmpm courant 0.5 2ppc rk2", 2, Integrator::Rk2),
+    ] {
+        let errors = l1_ladder(|s| dgmpm(s, 0.5, ppc, integrator));
+        let orders = assert_converges(label, &errors, band);
+        assert!(
+            orders.iter().all(|o| (band.0..band.1).contains(o)),
+            "{orders:?}"
+        );
+    }
 }
 
 #[test]
 fn mpm_converges_at_default_courant() {
+    // MPM (USL, hats, total Lagrangian): second order in space for the stress but its
+    // velocity lags by O(Δt) (tests/smooth.rs), so on the jump its rate lies between the
+    // first- and second-order ones, 1/2 and 2/3 (measured 0.590, 0.588, 0.600: steady)
     let errors = l1_ladder(|s| s.method_config(MethodKind::Mpm));
-    assert_converges("mpm courant 0.5", &errors, 0.2, 1.2);
+    let orders = assert_converges(
+        "mpm courant 0.5",
+        &errors,
+        (JUMP_FIRST_ORDER, JUMP_SECOND_ORDER),
+    );
+    let band = JUMP_FIRST_ORDER..JUMP_SECOND_ORDER;
+    assert!(orders.iter().all(|o| band.contains(o)), "{orders:?}");
 }
 
 #[test]
 fn fem_converges_at_default_courant() {
+    // central differences with lumped mass (second order, non-dissipative): 2/3 on the
+    // jump asymptotically. Measured 0.136, 0.536, 0.601 (mean 0.42): pre-asymptotic at 150
+    // to 300 cells (the Gibbs wake there is a few cells wide, comparable to the smeared
+    // front), then rising towards 2/3 from below. Asserted: the orders rise, and the last
+    // lies in (0.55, 2/3 + 0.05); the mean is bounded below by the first-order 1/2 − 0.1.
     let errors = l1_ladder(|s| s.method_config(MethodKind::Fem));
-    assert_converges("fem courant 0.9", &errors, 0.2, 1.2);
+    let orders = assert_converges("fem courant 0.9", &errors, (0.4, JUMP_SECOND_ORDER));
+    assert!(orders.windows(2).all(|w| w[1] > w[0]), "{orders:?}");
+    let last = orders[orders.len() - 1];
+    assert!(last > 0.55 && last < JUMP_SECOND_ORDER + 0.05, "{orders:?}");
 }
 
 /// Why MPM defaults to the total Lagrangian frame: with points moving through the grid
@@ -106,22 +144,29 @@ fn updated_lagrangian_mpm_with_smooth_shapes_converges() {
             })
         })
     };
+    // Updated Lagrangian MUSL re-projects the grid velocity onto the points every step, a
+    // PIC-like smoothing that makes the front diffusive: first-order rate 1/2 on the jump.
+    // Measured mean orders 0.465 (GIMP), 0.511 (cubic), 0.489 (GIMP 2 ppc), 0.468 (quadratic
+    // 2 ppc), 0.501 (CPDI); the steps scatter (0.37 to 0.60: the points' phase against the
+    // faces at the output time changes with refinement), so only the mean is bounded,
+    // 1/2 ± 0.06.
+    let band = (JUMP_FIRST_ORDER - 0.06, JUMP_FIRST_ORDER + 0.06);
     let gimp = ladder(MpmShape::Gimp, 1);
-    assert_converges("mpm UL musl gimp", &gimp, 0.2, 1.2);
+    assert_converges("mpm UL musl gimp", &gimp, band);
     let quadratic = ladder(MpmShape::Bspline2, 1);
     for (g, q) in gimp.iter().zip(&quadratic) {
         assert!((g - q).abs() <= 1e-12 * q, "{gimp:?} vs {quadratic:?}");
     }
     let cubic = ladder(MpmShape::Bspline3, 1);
-    assert_converges("mpm UL musl bspline3", &cubic, 0.2, 1.2);
+    assert_converges("mpm UL musl bspline3", &cubic, band);
     let gimp2 = ladder(MpmShape::Gimp, 2);
-    assert_converges("mpm UL musl gimp 2ppc", &gimp2, 0.2, 1.2);
+    assert_converges("mpm UL musl gimp 2ppc", &gimp2, band);
     let quadratic2 = ladder(MpmShape::Bspline2, 2);
     assert!(gimp2 != quadratic2, "{gimp2:?}");
-    assert_converges("mpm UL musl bspline2 2ppc", &quadratic2, 0.2, 1.2);
+    assert_converges("mpm UL musl bspline2 2ppc", &quadratic2, band);
     // CPDI1: the domain (here a segment) stretches with F, so points cross faces smoothly
     let cpdi = ladder(MpmShape::Cpdi, 2);
-    assert_converges("mpm UL musl cpdi 2ppc", &cpdi, 0.2, 1.2);
+    assert_converges("mpm UL musl cpdi 2ppc", &cpdi, band);
 }
 
 /// DGMPM with the exact SVK solver converges to the exact fan at a fixed time (0.316 ms)
@@ -151,7 +196,13 @@ fn dgmpm_svk_exact_solver_converges_to_the_fan() {
             rec.times[0].l1
         })
         .collect();
-    assert_converges("dgmpm svk exact solver", &errors, 0.3, 2.0);
+    // A first-order scheme on the continuous fan (kinks at its edges) converges at order 1
+    // asymptotically; the step load makes the fan narrower than a cell at early times,
+    // where the error behaves as on a jump (order 1/2). Measured 0.618, 0.664, 0.702: between
+    // the two and rising towards 1. Asserted: every order in (1/2, 1), rising.
+    let orders = assert_converges("dgmpm svk exact solver", &errors, (0.5, 1.0));
+    assert!(orders.iter().all(|o| (0.5..1.0).contains(o)), "{orders:?}");
+    assert!(orders.windows(2).all(|w| w[1] > w[0]), "{orders:?}");
 }
 
 /// The paper's own fan (8e8 Pa, 0.316 ms) converges once the grid resolves it: from 1,200
@@ -186,7 +237,12 @@ fn dgmpm_svk_exact_solver_converges_to_the_paper_s_fan_once_resolved() {
             rec.times[0].l1
         })
         .collect();
-    assert_converges("dgmpm svk exact solver, paper's fan", &errors, 0.3, 2.0);
+    // as above, order 1 asymptotically on the resolved fan; measured 0.409, 0.559, rising
+    // out of the step-like regime below 1,200 cells. Asserted: the orders rise and the last
+    // lies in (1/2, 1); the mean is at least 0.4 (the first step, 0.41, is still step-like).
+    let orders = assert_converges("dgmpm svk exact solver, paper's fan", &errors, (0.4, 1.0));
+    assert!(orders.windows(2).all(|w| w[1] > w[0]), "{orders:?}");
+    assert!((0.5..1.0).contains(&orders[orders.len() - 1]), "{orders:?}");
 }
 
 fn run_svk(

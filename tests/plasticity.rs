@@ -224,7 +224,13 @@ fn elastoplastic_solver_beats_the_elastic_one_on_the_rod() {
 }
 
 /// Every method converges on the rod under refinement (L1 at the last output, 150 to 600
-/// cells): the observed orders are printed and positive.
+/// cells). The solution is two jumps, so the L1 order is that of a scheme on a jump
+/// (LeVeque 2002, §8.7): 1/2 for a first-order dissipative scheme, 2/3 for a second-order
+/// one. DGMPM (first-order upwind): 1/2 ± 0.05 at each step (measured 0.52, 0.49). MPM
+/// (second order in space, its velocity lagging by O(Δt)): between 1/2 and 2/3 in the mean
+/// (measured 0.64, 0.54, mean 0.59). FEM (second order): 2/3 expected, measured 0.82, 0.44
+/// (mean 0.63): the steps scatter as its dispersive wake behind the plastic shock samples
+/// differently at each level, so only the mean is bounded, 2/3 ± 0.1.
 #[test]
 fn every_method_converges_on_the_rod() {
     for kind in MethodKind::ALL {
@@ -233,8 +239,16 @@ fn every_method_converges_on_the_rod() {
             .map(|&n| *rod_errors(n, kind, None).last().unwrap())
             .collect();
         let orders = impact_core::metrics::observed_orders(&errors);
-        println!("{kind}: L1 {errors:?}, orders {orders:.2?}");
+        let mean = (errors[0] / errors[2]).log2() / 2.0;
+        println!("{kind}: L1 {errors:?}, orders {orders:.3?}, mean {mean:.3}");
         assert!(orders.iter().all(|&o| o > 0.0), "{kind}: {orders:?}");
+        match kind {
+            MethodKind::Dgmpm => {
+                assert!(orders.iter().all(|o| (o - 0.5).abs() < 0.05), "{orders:?}")
+            }
+            MethodKind::Mpm => assert!(mean > 0.5 && mean < 2.0 / 3.0, "{mean}"),
+            MethodKind::Fem => assert!((mean - 2.0 / 3.0).abs() < 0.1, "{mean}"),
+        }
     }
 }
 
@@ -286,37 +300,85 @@ fn elastoplastic_solver_has_no_overshoot_at_either_front() {
 }
 
 /// In plane strain the elastoplastic solver follows each side's uniaxial-strain path to the
-/// yield surface (the Hugoniot elastic limit from rest) and then the plastic modulus: on the
-/// plane wave (DCU at Courant 0.6: CTU's corrections are elastic and refused with it) its L1
-/// error is below the elastic solver's at every output (measured 8.296e-2, 5.967e-2,
-/// 4.933e-2 against 8.339e-2, 5.994e-2, 4.953e-2), momentum equals the impulse, and CTU is
-/// refused with a message.
+/// yield surface (the Hugoniot elastic limit from rest) and then the plastic modulus. On the
+/// plane wave (DCU at Courant 0.6: CTU's corrections are elastic and refused with it; the
+/// wave is invariant along y, so the scheme is 1D Godunov with the exact piecewise-linear
+/// Riemann solver, at Courant 0.6 for the precursor and `0.6 c_p/c_L = 0.48` for the
+/// plastic wave) the physics guarantees at the last output (0.51 ms, before the precursor
+/// reaches the free edge):
+/// - no overshoot anywhere: both waves compress and accelerate towards the impactor, so
+///   the exact profile is monotone between rest and the state behind the plastic wave, and
+///   a first-order upwind (monotone) update creates no new extremum: every point's σ_xx and
+///   v_x lie between rest and that state, within 0.1 % of its size (measured at 0.51 ms:
+///   the largest compression 8.7482e8 Pa against 8.7448e8 behind, +0.039 %; v_x at most
+///   20.006 m/s against 20, +0.03 %; the rod's plastic wave 0.000 %);
+/// - momentum equals the load's impulse (conservation, to 1e-9).
+///
+/// The front positions are not asserted here: at Courant 0.6 the smeared fronts, 6.2 to
+/// 18.6 cells apart, overlap, and the half-jump crossing of the plastic wave falls inside
+/// the precursor's smear (measured at 0.17 ms: plastic wave at 0.7363 m against 0.8059 m,
+/// and a 25 % "overshoot" in its window that is the precursor's ramp; `tests/plasticity.rs`
+/// asserts the positions where the fronts are sharp: CTU at Courant 1, every method). The
+/// L1 errors of the elastic solver (followed by the return map) and of the elastoplastic
+/// one are printed, not ranked: they differ by 0.5 % only (8.296e-2, 5.967e-2, 4.933e-2
+/// against 8.339e-2, 5.994e-2, 4.953e-2). CTU is refused with a message.
 #[test]
 fn plane_strain_elastoplastic_solver() {
     use impact_core::method::{RiemannSolver, TransverseFlux};
     let scene = Scene::builtin("ep-plate-wave").unwrap();
     let problem = Problem::<2>::from_scene(&scene).unwrap();
     let reference = Reference::for_problem(&problem).unwrap();
-    let run = |riemann: RiemannSolver| {
+    let Reference::Elastoplastic(exact) = &reference else {
+        panic!("ep-plate-wave has the exact two-wave reference")
+    };
+    let config = |riemann: RiemannSolver| {
         let mut config = scene.method_config(MethodKind::Dgmpm);
         config.courant = 0.6;
         let o = config.dgmpm_mut().unwrap();
         (o.riemann, o.flux) = (riemann, TransverseFlux::DonorCell);
-        let (rec, blowup) = run_method(&problem, config, Some(&reference), &mut Silent).unwrap();
+        config
+    };
+    let l1 = |riemann: RiemannSolver| {
+        let (rec, blowup) =
+            run_method(&problem, config(riemann), Some(&reference), &mut Silent).unwrap();
         assert!(blowup.is_none(), "{blowup:?}");
         rec.times.iter().map(|t| t.l1).collect::<Vec<f64>>()
     };
-    let (elastic, plastic) = (
-        run(RiemannSolver::Elastic),
-        run(RiemannSolver::Elastoplastic),
+    println!(
+        "plane wave, DCU 0.6: L1 elastic {:?}, elastoplastic {:?}",
+        l1(RiemannSolver::Elastic),
+        l1(RiemannSolver::Elastoplastic)
     );
-    println!("plane wave, DCU 0.6: elastic {elastic:?}, elastoplastic {plastic:?}");
-    for (e, p) in elastic.iter().zip(&plastic) {
-        assert!(p < e, "{plastic:?} vs {elastic:?}");
+    let mut m = impact::build(&problem, config(RiemannSolver::Elastoplastic)).unwrap();
+    let dt = m.stable_dt();
+    let steps = (problem.t_end / dt).round() as usize;
+    for k in 0..steps {
+        m.step(k as f64 * dt, dt);
     }
-    let mut config = scene.method_config(MethodKind::Dgmpm);
-    config.dgmpm_mut().unwrap().riemann = RiemannSolver::Elastoplastic;
-    let refused = impact::build(&problem, config)
+    let (p, j) = (m.momentum()[0], m.external_impulse()[0]);
+    assert!(((p - j) / j).abs() < 1e-9, "momentum {p} vs impulse {j}");
+    let mut samples = impact_core::Samples::<2>::default();
+    m.sample_into(&mut samples);
+    let (sigma, v) = (-exact.behind.0, exact.behind.1);
+    let compression = samples.stress.iter().map(|s| -s[(0, 0)]);
+    let velocity = samples.velocity.iter().map(|u| u[0]);
+    let range = |it: &mut dyn Iterator<Item = f64>| {
+        it.fold((f64::MAX, f64::MIN), |(lo, hi), x| (lo.min(x), hi.max(x)))
+    };
+    let (c, u) = (
+        range(&mut compression.into_iter()),
+        range(&mut velocity.into_iter()),
+    );
+    println!(
+        "t = {:.3e}: compression in [{:.4e}, {:.4e}] Pa (behind: {sigma:.4e}), v_x in \
+         [{:.4e}, {:.4e}] m/s (behind: {v:.4e})",
+        problem.t_end, c.0, c.1, u.0, u.1
+    );
+    assert!(c.0 >= -1e-3 * sigma && c.1 <= sigma * (1.0 + 1e-3), "{c:?}");
+    assert!(u.0 >= -1e-3 * v && u.1 <= v * (1.0 + 1e-3), "{u:?}");
+    let mut refused = config(RiemannSolver::Elastoplastic);
+    refused.dgmpm_mut().unwrap().flux = TransverseFlux::Ctu;
+    let refused = impact::build(&problem, refused)
         .err()
         .expect("CTU is refused")
         .to_string();

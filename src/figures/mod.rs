@@ -100,6 +100,10 @@ pub struct Image {
     pub stem: String,
     /// PNG width and height in pixels.
     pub size: [u32; 2],
+    /// The plotted numbers beside the image (`<stem>.csv`: `panel,series,x,y`), for
+    /// figures with curves.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub data: Option<String>,
 }
 
 /// One figure in the index.
@@ -166,10 +170,20 @@ impl Target<'_> {
             impact_io::plot::save(&path, figure)
                 .with_context(|| format!("drawing {}", path.display()))?;
         }
+        let data = match figure.data() {
+            Some(csv) => {
+                let path = self.dir.join(format!("{stem}.csv"));
+                std::fs::write(&path, csv)
+                    .with_context(|| format!("writing {}", path.display()))?;
+                Some(format!("{stem}.csv"))
+            }
+            None => None,
+        };
         let (width, height) = figure.size();
         Ok(Image {
             stem: stem.to_string(),
             size: [width, height],
+            data,
         })
     }
 }
@@ -260,6 +274,10 @@ fn carry_over(from: &Path, to: &Path, entry: &Entry) -> Result<()> {
             let name = format!("{}.{extension}", image.stem);
             std::fs::copy(from.join(&name), to.join(&name))
                 .with_context(|| format!("keeping {}", from.join(&name).display()))?;
+        }
+        if let Some(name) = &image.data {
+            std::fs::copy(from.join(name), to.join(name))
+                .with_context(|| format!("keeping {}", from.join(name).display()))?;
         }
     }
     Ok(())

@@ -96,7 +96,8 @@ pub trait Method<const D: usize>: Send {
     fn step(&mut self, t: f64, dt: f64);
     /// Sample stress and velocity where the method stores them.
     fn sample_into(&self, out: &mut Samples<D>);
-    /// Kinetic plus strain energy of the discrete state (J).
+    /// Kinetic plus strain energy of the discrete state, plus the plastic work `∫ q dε̄`
+    /// under J2 (J).
     fn energy(&self) -> f64;
     /// Work done by the loads since `t = 0` (J), as the method delivered it.
     fn external_work(&self) -> f64;

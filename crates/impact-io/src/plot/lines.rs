@@ -85,6 +85,21 @@ impl LineFigure {
 }
 
 impl Draw for LineFigure {
+    /// `panel,series,x,y`: the panel's index (0-based, in drawing order), the series'
+    /// label (commas replaced by `;`), and each plotted point.
+    fn data(&self) -> Option<String> {
+        let mut csv = String::from("panel,series,x,y\n");
+        for (k, panel) in self.panels.iter().enumerate() {
+            for series in &panel.series {
+                let label = series.label.replace(',', ";");
+                for (x, y) in &series.points {
+                    csv.push_str(&format!("{k},{label},{x},{y}\n"));
+                }
+            }
+        }
+        Some(csv)
+    }
+
     fn size(&self) -> (u32, u32) {
         let columns = self.columns.max(1);
         let rows = self.panels.len().div_ceil(columns).max(1);

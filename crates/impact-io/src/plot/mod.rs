@@ -129,6 +129,13 @@ pub trait Draw {
     fn size(&self) -> (u32, u32);
     /// Draw onto `root`.
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String>;
+    /// The plotted numbers as CSV text, where the figure has curves (line figures:
+    /// `panel,series,x,y`, one row per plotted point, in the axes' units and `f64`'s
+    /// shortest round-trip digits), so that a figure can be checked against the run it
+    /// draws; `None` for maps and bars.
+    fn data(&self) -> Option<String> {
+        None
+    }
 }
 
 /// Two figures, one above the other (e.g. Fig. 5's maps above its profiles).
@@ -147,6 +154,11 @@ impl<A: Draw, B: Draw> Draw for Stacked<A, B> {
         let bottom = bottom.shrink((0, 0), self.1.size());
         self.0.draw(&top)?;
         self.1.draw(&bottom)
+    }
+
+    /// The data of the part that has curves (the upper one first).
+    fn data(&self) -> Option<String> {
+        self.0.data().or_else(|| self.1.data())
     }
 }
 
