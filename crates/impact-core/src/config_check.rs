@@ -84,8 +84,9 @@ impl<const D: usize> Problem<D> {
 
     /// DGMPM's order and limiter: a limiter only with `order = 2` (the first-order scheme
     /// has no corrections to limit: a limiter given there is refused, not ignored), and
-    /// `order = 2` in 1D, 2D and 3D (CTU or donor-cell; not the 2D elastoplastic solver);
-    /// with Saint-Venant–Kirchhoff only in 1D with the approximate solver.
+    /// `order = 2` in 1D, 2D and 3D (CTU or donor-cell; the elastoplastic solver where it
+    /// runs: 1D and 2D donor-cell); with Saint-Venant–Kirchhoff only in 1D with the
+    /// approximate solver.
     fn check_order(&self, o: &DgmpmOptions) -> Result<(), CoreError> {
         match (o.order, o.limiter) {
             (SchemeOrder::First, Some(limiter)) => Err(SceneError::new(
@@ -95,15 +96,6 @@ impl<const D: usize> Problem<D> {
                  limit): set order = 2 (--order 2) or leave the limiter out",
             )
             .into()),
-            (SchemeOrder::Second, _) if D == 2 && o.riemann == RiemannSolver::Elastoplastic => {
-                Err(SceneError::new(
-                    field("dgmpm", "order", "order"),
-                    o.order,
-                    "1 with --riemann elastoplastic in 2D (its plane-strain waves are not \
-                     decomposed; order 2 takes the rod's in 1D)",
-                )
-                .into())
-            }
             (SchemeOrder::Second, _)
                 if matches!(self.model, Model::Svk(_))
                     && (D > 1 || o.riemann == RiemannSolver::Exact) =>

@@ -254,7 +254,8 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) physics: Physics,
     /// J2 plasticity: the return map corrects the points after each step (phase 6).
     pub(crate) plastic: Option<impact_core::plasticity::J2>,
-    /// The rod's elastoplastic Riemann solver (J2, `--riemann elastoplastic`, 1D).
+    /// The elastoplastic Riemann solver (J2, `--riemann elastoplastic`: the rod in 1D, plane
+    /// strain in 2D) and its impedances.
     pub(crate) rod_solver: Option<(
         impact_core::plasticity::J2,
         riemann::elastoplastic::RodImpedances,

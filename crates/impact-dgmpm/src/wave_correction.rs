@@ -50,38 +50,47 @@
 //! step it replaces (with RK2 the time accuracy is then both the stage's and the
 //! Runge-Kutta's; the corrections are not re-derived for the method of lines).
 //!
-//! **The elastoplastic solver** (J2 rod, `--riemann elastoplastic`): each side's jump to
-//! the star state is an elastic wave (`±c_0`) up to the bound of the side's elastic range
-//! `[−Y, Y]` it crosses, then a plastic wave (`±c_t`, `c_t = sqrt(E_t/ρ)`), the wave curves
-//! of `riemann::elastoplastic`: four families, each limited against its own family. A
-//! mirrored ghost side takes the mirrored range (a traction mirror `σ ↦ k − σ` turns it
-//! over), so the ghost face's star state is the boundary half problem's.
+//! **The elastoplastic solver** (J2, `--riemann elastoplastic`, the rod in 1D and plane
+//! strain in 2D): each side's normal jump to the star state is an elastic wave (`±c_0`) up
+//! to the bound of the side's elastic range it crosses, then a plastic wave (`±c_t`), the
+//! wave curves of `riemann::elastoplastic`; in 2D the linear solver's shear waves carry the
+//! tangential part: six families, each limited against its own family
+//! (`wave_correction/elastoplastic.rs`). A mirrored ghost side takes the mirrored range (a
+//! traction mirror `σ ↦ k − σ` turns it over), so the ghost face's star state is the
+//! boundary half problem's.
 //!
 //! **Saint-Venant–Kirchhoff** (1D, approximate solver): its two acoustic waves, each
 //! linearised about its side (`wave_correction/svk.rs`).
 //!
 //! Implemented for the linear-elastic solver (linear elasticity, and J2 with the elastic
-//! solver and the return map after the step; 1D, 2D and 3D), the rod's elastoplastic
-//! solver (1D) and the approximate SVK solver (1D); `Problem::check_config` refuses the
-//! others (SVK in 2D and 3D or with the exact solver, the 2D elastoplastic solver). The buffers are allocated once (one row of waves, the longest
+//! solver and the return map after the step; 1D, 2D and 3D), the elastoplastic solver
+//! (1D, and 2D with donor-cell: CTU is refused with it at any order) and the approximate
+//! SVK solver (1D); `Problem::check_config` refuses the others (SVK in 2D and 3D or with
+//! the exact solver). The buffers are allocated once (one row of waves, the longest
 //! axis's faces and two ghost faces; with CTU the `F̃` of every face); the step allocates
 //! nothing.
+mod elastoplastic;
 mod svk;
 
 use crate::faces::Fields;
 use crate::limiter::{limiter_phi, wave_ratio};
-use crate::riemann::elastoplastic::{elastoplastic_star_1d, PlasticSide};
 use crate::riemann::{
     ghost_full, linear_elastic_star, normal_flux, Conserved, FaceState, FullState, GhostCondition,
 };
 use crate::{unit, DgmpmSolver};
+use elastoplastic::elastic_range;
 use impact_core::points::MaterialPoints;
 use impact_core::{Grid, Vector};
 
-/// Wave families of a 1D face, in order of speed: left-going elastic (P), left-going
-/// plastic, right-going plastic, right-going elastic; the linear solver has only the first
-/// and the last (the others are zero).
-pub(crate) const WAVES: usize = 4;
+/// Wave families of a face: left-going elastic (P), left-going plastic, left-going shear
+/// (S), right-going shear, right-going plastic, right-going elastic. The linear solver has
+/// no plastic waves, the rod (1D) no shear waves, the approximate SVK solver only the first
+/// and the last: the others are zero (and skipped by the limiter, so the sum of the
+/// corrections is the same, in the same order, as over the nonzero families alone).
+pub(crate) const WAVES: usize = 6;
+
+/// The last family (right-going elastic).
+pub(crate) const LAST: usize = WAVES - 1;
 
 /// The f-waves `Z^p` of one face and their speeds `s^p`, in family order (module doc).
 #[derive(Debug, Clone, Copy)]
@@ -231,13 +240,8 @@ impl<const D: usize> DgmpmSolver<D> {
                 let cond = self.ghost_condition(k, k_side, self.edge_coordinate(k, &at));
                 state = ghost_full(&state, &outward, cond);
             }
-            let range = match (self.rod_solver.filter(|_| D == 1), points) {
-                (Some((j2, _)), Some(points)) => {
-                    let y = j2.current_yield(&impact_core::plasticity::PlasticState {
-                        equivalent_plastic_strain: points.equivalent_plastic_strain[c],
-                    });
-                    Some((-y, y))
-                }
+            let range = match (self.rod_solver, points) {
+                (Some((j2, _)), Some(points)) => Some(elastic_range(&j2, l, c, &state, points)),
                 _ => None,
             };
             let Some(end) = mirror else {
@@ -247,12 +251,14 @@ impl<const D: usize> DgmpmSolver<D> {
             let ghost = ghost_full(&state, &outward, conditions[end]);
             // a traction mirror maps σ to k − σ (the range turns over); the velocity
             // mirrors keep σ (and the range)
-            let range = range.map(|(lower, upper)| match conditions[end] {
+            // (a partly covered face keeps the linear solver, as its Godunov flux does)
+            let range = range.and_then(|(lower, upper)| match conditions[end] {
                 GhostCondition::Traction(_) => {
                     let k = ghost.tensor[(l, l)] + state.tensor[(l, l)];
-                    (k - upper, k - lower)
+                    Some((k - upper, k - lower))
                 }
-                _ => (lower, upper),
+                GhostCondition::PartialVelocity { .. } => None,
+                _ => Some((lower, upper)),
             });
             (ghost, range)
         };
@@ -268,7 +274,7 @@ impl<const D: usize> DgmpmSolver<D> {
             j => (side(j - 2, true, None), side(j - 1, false, None)),
         };
         match (left.1, right.1) {
-            (Some(lr), Some(rr)) => self.elastoplastic_waves((&left.0, lr), (&right.0, rr)),
+            (Some(lr), Some(rr)) => self.elastoplastic_waves(l, (&left.0, lr), (&right.0, rr)),
             _ => self.linear_waves(l, &left.0, &right.0),
         }
     }
@@ -326,79 +332,17 @@ impl<const D: usize> DgmpmSolver<D> {
             self.elastic.z.p / self.elastic.density,
             self.elastic.z.s / self.elastic.density,
         );
+        // the P and S families of `WAVES` (no plastic waves)
         FaceWaves {
             wave: [
                 fml.add_scaled(&fl, -1.0),
+                Conserved::zeros(),
                 fs.add_scaled(&fml, -1.0),
                 fmr.add_scaled(&fs, -1.0),
+                Conserved::zeros(),
                 fr.add_scaled(&fmr, -1.0),
             ],
-            speed: [-cp, -cs, cs, cp],
-        }
-    }
-
-    /// The f-waves of the rod's elastoplastic Riemann problem ([`elastoplastic_star_1d`]),
-    /// each side with its elastic range `[lower, upper]`: on the left, the elastic wave from
-    /// `q_L` to the bound `b` it reaches (at `−c_0`) and the plastic wave from there to `q*`
-    /// (at `−c_t`), the state at the bound being `(b, v_L + (b − σ_L)/Z_0)`; the mirror on the
-    /// right (`+c_t`, `+c_0`). A side whose `σ*` lies in its range has no plastic wave.
-    fn elastoplastic_waves(
-        &self,
-        (left, (ll, lu)): (&FullState<D>, (f64, f64)),
-        (right, (rl, ru)): (&FullState<D>, (f64, f64)),
-    ) -> FaceWaves<D> {
-        let (_, z) = self.rod_solver.expect("internal: the elastoplastic solver");
-        let (sl, vl) = (left.tensor[(0, 0)], left.velocity[0]);
-        let (sr, vr) = (right.tensor[(0, 0)], right.velocity[0]);
-        let sides = (
-            PlasticSide {
-                stress: sl,
-                velocity: vl,
-                lower: ll,
-                upper: lu,
-            },
-            PlasticSide {
-                stress: sr,
-                velocity: vr,
-                lower: rl,
-                upper: ru,
-            },
-        );
-        let (ss, vs) = elastoplastic_star_1d(&sides.0, &sides.1, z);
-        let e = unit::<D>(0);
-        let flux = |sigma: f64, v: f64| {
-            let face = crate::riemann::FaceState {
-                traction: e * sigma,
-                velocity: e * v,
-            };
-            normal_flux(&face, &e, &self.elastic)
-        };
-        // the state where a side's elastic wave ends (`direction` +1 left, −1 right)
-        let bound = |(sigma, v, lower, upper): (f64, f64, f64, f64), direction: f64| {
-            let b = if ss > upper {
-                upper
-            } else if ss < lower {
-                lower
-            } else {
-                return None;
-            };
-            Some((b, v + direction * (b - sigma) / z.elastic))
-        };
-        let (fl, fs, fr) = (flux(sl, vl), flux(ss, vs), flux(sr, vr));
-        let left_mid = bound((sl, vl, ll, lu), 1.0).map_or(fs, |(b, v)| flux(b, v));
-        let right_mid = bound((sr, vr, rl, ru), -1.0).map_or(fs, |(b, v)| flux(b, v));
-        let (c0, ct) = (
-            z.elastic / self.elastic.density,
-            z.plastic / self.elastic.density,
-        );
-        FaceWaves {
-            wave: [
-                left_mid.add_scaled(&fl, -1.0),
-                fs.add_scaled(&left_mid, -1.0),
-                right_mid.add_scaled(&fs, -1.0),
-                fr.add_scaled(&right_mid, -1.0),
-            ],
-            speed: [-c0, -ct, ct, c0],
+            speed: [-cp, 0.0, -cs, cs, 0.0, cp],
         }
     }
 }

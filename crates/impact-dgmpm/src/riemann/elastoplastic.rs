@@ -57,8 +57,10 @@ impl PlasticSide {
 /// `lame = (λ, μ)`. Along the path `Δσ = Δε (λ 1 + 2μ n⊗n)` the deviator moves by
 /// `2μ Δε N`, `N = n⊗n − 1/3` (`|N|² = 2/3`), so `q² = 3/2 |s + 2μΔε N|² = y²` is the
 /// quadratic `4μ² Δε² + 6μ (s:N) Δε + (3/2 |s|² − y²) = 0`; its roots bound the elastic
-/// strains and `σ_nn ± = σ_nn + (λ + 2μ) Δε±`. A state outside the surface (round-off past
-/// a return) gets an empty range at its own stress. At rest the bounds are the Hugoniot
+/// strains and `σ_nn ± = σ_nn + (λ + 2μ) Δε±`. A state on the surface to round-off (`q² − y²`
+/// within `1e-12 y²`: where a return leaves it) is taken on it (one bound at its own
+/// stress, the other across the elastic range); one further outside gets an empty range at
+/// its own stress. At rest the bounds are the Hugoniot
 /// elastic limit `± y (λ + 2μ)/(2μ)`.
 pub fn uniaxial_strain_bounds(
     stress: &impact_core::plasticity::Tensor3,
@@ -72,7 +74,12 @@ pub fn uniaxial_strain_bounds(
     let nn = n * n.transpose() - impact_core::plasticity::Tensor3::identity() / 3.0;
     let a = 4.0 * mu * mu;
     let b = 6.0 * mu * s.dot(&nn);
-    let c = 1.5 * s.norm_squared() - y * y;
+    // a state on the surface to round-off (the return map leaves `q = y` within a few ulps,
+    // on either side) is on it: loading is plastic at once, unloading elastic
+    let c = match 1.5 * s.norm_squared() - y * y {
+        c if c > 0.0 && c <= ON_SURFACE * y * y => 0.0,
+        c => c,
+    };
     let normal = n.dot(&(stress * n));
     let discriminant = b * b - 4.0 * a * c;
     if c > 0.0 || discriminant < 0.0 {
@@ -83,6 +90,10 @@ pub fn uniaxial_strain_bounds(
     let modulus = lambda + 2.0 * mu;
     (normal + modulus * low, normal + modulus * high)
 }
+
+/// Relative tolerance on `q² − y²` within which [`uniaxial_strain_bounds`] takes a state for
+/// one on the yield surface.
+const ON_SURFACE: f64 = 1e-12;
 
 /// Impedances `Z_0 = ρ c_0` and `Z_t = ρ c_t`.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -18,7 +18,7 @@
 //! elasticity these are the waves the mirror ghost cells give (the parent module), so a
 //! free end's correction carries no traction and a velocity end's no velocity: the end's
 //! condition holds at order 2 as at order 1.
-use super::FaceWaves;
+use super::{FaceWaves, LAST};
 use crate::faces::Fields;
 use crate::riemann::{Conserved, FaceState, FullState, GhostCondition};
 use crate::{unit, DgmpmSolver};
@@ -57,8 +57,8 @@ impl<const D: usize> DgmpmSolver<D> {
                 let m = mirror_of(end);
                 let w = self.svk_padded_waves(svk, inner, fields);
                 let mut out = FaceWaves::default();
-                (out.wave[0], out.speed[0]) = (m(&w.wave[3]), -w.speed[3]);
-                (out.wave[3], out.speed[3]) = (m(&w.wave[0]), -w.speed[0]);
+                (out.wave[0], out.speed[0]) = (m(&w.wave[LAST]), -w.speed[LAST]);
+                (out.wave[LAST], out.speed[LAST]) = (m(&w.wave[0]), -w.speed[0]);
                 out
             }
             1 => {
@@ -67,7 +67,7 @@ impl<const D: usize> DgmpmSolver<D> {
                 let (c, flux) = self.svk_side(svk, &inner);
                 let wave = flux.add_scaled(&svk_flux(&star, &e), -1.0);
                 let mut out = FaceWaves::default();
-                (out.wave[3], out.speed[3]) = (wave, c);
+                (out.wave[LAST], out.speed[LAST]) = (wave, c);
                 (out.wave[0], out.speed[0]) = (mirror_of(0)(&wave), -c);
                 out
             }
@@ -78,7 +78,7 @@ impl<const D: usize> DgmpmSolver<D> {
                 let wave = svk_flux(&star, &e).add_scaled(&flux, -1.0);
                 let mut out = FaceWaves::default();
                 (out.wave[0], out.speed[0]) = (wave, -c);
-                (out.wave[3], out.speed[3]) = (mirror_of(1)(&wave), c);
+                (out.wave[LAST], out.speed[LAST]) = (mirror_of(1)(&wave), c);
                 out
             }
             _ => {
@@ -88,7 +88,7 @@ impl<const D: usize> DgmpmSolver<D> {
                 let fs = svk_flux(&star, &e);
                 let mut out = FaceWaves::default();
                 (out.wave[0], out.speed[0]) = (fs.add_scaled(&fl, -1.0), -cl);
-                (out.wave[3], out.speed[3]) = (fr.add_scaled(&fs, -1.0), cr);
+                (out.wave[LAST], out.speed[LAST]) = (fr.add_scaled(&fs, -1.0), cr);
                 out
             }
         }
