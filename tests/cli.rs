@@ -259,7 +259,7 @@ fn run_plate_writes_the_2d_outputs() {
     assert!(o.status.success(), "{}", text(&o));
     let s = json(&out.join("summary.json"));
     assert_eq!(s["dim"], 2);
-    assert!(s["reference"].as_str().unwrap().contains("132x100"));
+    assert!(s["reference"].as_str().unwrap().contains("264x200"));
     for m in ["dgmpm", "mpm", "fem"] {
         let csv = std::fs::read_to_string(out.join(format!("{m}_t2.csv"))).unwrap();
         assert_eq!(
