@@ -87,6 +87,9 @@ pub struct CheckReport {
     pub rows: Vec<CheckRow>,
     /// Whether the gate passes.
     pub pass: bool,
+    /// The reference the fronts and errors are measured against, in words (for a
+    /// converged one: method, grid and the second reference of the spread).
+    pub reference: String,
 }
 
 /// How much better DGMPM must be (`--min-width-ratio`, `--max-overshoot`).
@@ -351,7 +354,12 @@ pub fn check_study<const D: usize>(
         &problem,
         std::iter::once(dgmpm).chain(mpms.iter().copied()),
     )?;
-    let reference = crate::reference_for(&problem, options.progress)?.with_context(|| {
+    let reference = crate::reference_for(
+        &problem,
+        &[MethodKind::Dgmpm, MethodKind::Mpm],
+        options.progress,
+    )?
+    .with_context(|| {
         format!(
             "scene {} has no reference to measure fronts against",
             study.name()
@@ -381,6 +389,7 @@ pub fn check_study<const D: usize>(
             mpm_record,
             rows,
             pass,
+            reference: reference.describe(),
         });
     }
     Ok(reports)

@@ -37,6 +37,12 @@ struct ReportJson<'a> {
     mpm: ConfigJson<'a>,
     stopped: Vec<&'a str>,
     rows: &'a [CheckRow],
+    /// What the fronts and errors are measured against.
+    reference: &'a str,
+    /// Each run's metrics per output time (`l1_rel` with `l1_spread`, the reference's
+    /// uncertainty, for a converged reference).
+    dgmpm_times: &'a [impact_core::reference::TimeMetrics],
+    mpm_times: &'a [impact_core::reference::TimeMetrics],
 }
 
 /// The `--json` document.
@@ -89,6 +95,9 @@ pub fn write_json(
                     .map(String::as_str)
                     .collect(),
                 rows: &r.rows,
+                reference: &r.reference,
+                dgmpm_times: &r.dgmpm_record.times,
+                mpm_times: &r.mpm_record.times,
             })
             .collect(),
     };

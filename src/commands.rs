@@ -99,6 +99,7 @@ pub(crate) fn run_scene<const D: usize>(plan: &RunPlan) -> Result<()> {
         impact_core::line::MeasureLine::of(&problem).describe::<D>()
     );
     let report = run_study::<D>(study, &plan.methods, options)?;
+    say!("reference: {}", report.reference);
     print_header();
     for r in &report.records {
         print_rows(r);
@@ -154,7 +155,7 @@ pub(crate) fn check_command(args: &CheckArgs) -> Result<bool> {
             &[MethodKind::Dgmpm, MethodKind::Mpm],
         );
         record.reference = study
-            .reference_for_errors()
+            .reference_for_errors(&[MethodKind::Dgmpm, MethodKind::Mpm])
             .unwrap_or_else(|e| e.to_string());
         record.runs = reports
             .iter()
@@ -234,7 +235,7 @@ pub(crate) fn work_precision_command(
     );
     for p in &points {
         say!(
-            "{:<26} {:>8} {:>7} {:>10.3e} {:>12.3e} {:>9.1} {:>10.3e}{}",
+            "{:<26} {:>8} {:>7} {:>10.3e} {:>12.3e} {:>9.1} {:>10.3e}{}{}",
             p.config,
             p.cells,
             p.steps,
@@ -242,6 +243,8 @@ pub(crate) fn work_precision_command(
             p.updates_per_s,
             p.peak_rss_mib,
             p.l1_rel,
+            p.l1_spread
+                .map_or(String::new(), |s| format!(" ± {s:.1e} (reference spread)")),
             p.error
                 .as_ref()
                 .map_or(String::new(), |e| format!("  stopped: {e}"))

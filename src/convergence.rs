@@ -232,12 +232,13 @@ pub fn ladder<const D: usize>(
                 }
                 Ok(own) => region = region.or(own),
             }
-            let reference = crate::reference_for(&problem, false)?.with_context(|| {
-                format!(
-                    "scene {} at {:?} cells has no reference to measure errors against",
-                    s.name, s.domain.cells
-                )
-            })?;
+            let reference =
+                crate::reference_for(&problem, &MethodKind::ALL, false)?.with_context(|| {
+                    format!(
+                        "scene {} at {:?} cells has no reference to measure errors against",
+                        s.name, s.domain.cells
+                    )
+                })?;
             let errors = run_level(&problem, config.config, &reference, region.as_ref())
                 .with_context(|| format!("{} at {:?} cells", config.label, s.domain.cells))?;
             eprintln!(
@@ -273,7 +274,7 @@ pub fn run(
         crate::ladder::LADDER_FLAGS,
         "sets the grid, the Courant number and the options its ladder varies",
     )?;
-    let reference = study.reference_for_errors()?;
+    let reference = study.reference_for_errors(&MethodKind::ALL)?;
     let (configs, skipped) = crate::ladder::usable_configurations(study)?;
     notes(&format!("reference: {reference}"));
     for (label, why) in &skipped {

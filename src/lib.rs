@@ -23,6 +23,7 @@ pub mod plots;
 pub mod provenance;
 pub mod reference;
 pub mod reference_cache;
+pub mod reference_setup;
 pub mod run;
 pub mod stability;
 pub mod study;

@@ -175,9 +175,9 @@ enum BenchCommand {
         scene: String,
         /// Refinement levels (1D: 75·2^k cells; 2D: 16·2^k cells along x, y keeping the
         /// scene's cell shape). Default: 9 in 1D (to 19,200 cells), 7 for plate-wave (to
-        /// 1024×768, about 17 min on 2 cores), 6 for plate (to 512×388, about 23 min: each run
-        /// computes its own 4× finer reference, which would pass the 1e7-cell input limit at
-        /// 1024), 5 for other 2D scenes.
+        /// 1024×768, about 17 min on 2 cores), 5 for plate (to 256×194: each run computes its
+        /// own 8× finer references, which would pass the 1e7-cell input limit at 512), 5 for
+        /// other 2D scenes.
         #[arg(long)]
         levels: Option<usize>,
         /// Output folder (default: out/work-precision-<scene>).

@@ -30,6 +30,10 @@ pub struct Summary {
     pub dim: usize,
     /// Reference the errors are measured against.
     pub reference: String,
+    /// The converged reference's method, options, refinement and fine cells and the
+    /// second reference of the spread (absent for an exact reference or none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference_setup: Option<crate::reference_setup::ReferenceSetup>,
     /// Where profiles, errors and fronts are measured ([`impact_core::line`]).
     pub metrics_line: String,
     /// One entry per method.

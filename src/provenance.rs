@@ -447,6 +447,7 @@ pub fn resolved_scene(study: &Study, kinds: &[MethodKind]) -> Scene {
         s.shape = Some(o.shape);
     }
     scene.fem.courant = config(MethodKind::Fem).courant;
+    crate::reference_setup::state_in(study, kinds, &mut scene);
     scene
 }
 

@@ -1,24 +1,29 @@
-//! The reference a run is measured against: the exact solution, or a converged solution.
-use impact_core::method::{DgmpmOptions, Integrator, MethodConfig, MethodOptions, TransverseFlux};
+//! The reference a run is measured against: the exact solution, or a converged solution
+//! (which method, on which grid, and the second reference of the spread:
+//! [`crate::reference_setup`]).
+use crate::reference_setup::{describe_config, ReferenceMethod};
+use impact_core::method::{MethodConfig, MethodKind};
 use impact_core::{Method, Problem};
 
-/// Refinement factor of the converged reference of scenes without an exact solution.
-pub const REFERENCE_REFINEMENT: usize = 4;
+pub use crate::reference_setup::REFERENCE_REFINEMENT;
 
 /// Largest fine grid of a converged reference (cells): beyond it errors are not computed
 /// (the reference is an automatic extra run, kept to what any machine holds in minutes).
 pub const MAX_REFERENCE_CELLS: f64 = 1e7;
 
-/// The reference of `problem`: its exact solution when it has one; otherwise a converged
-/// solution: DGMPM (1 point per cell, CTU in 2D and 3D, forward Euler, Courant 1)
-/// on a grid [`REFERENCE_REFINEMENT`] times finer, at the same output times, computed once
-/// and then read from the cache ([`crate::reference_cache`]), its description stating
-/// why there is no exact one. `say` prints what is computed or read (on stderr) and shows
-/// a progress bar.
+/// The reference of `problem` when the command compares the methods `compared`: its exact
+/// solution when it has one; otherwise a converged solution ([`crate::reference_setup`]:
+/// by default a method not compared, on a grid [`REFERENCE_REFINEMENT`] times finer, at
+/// the same output times) with a second one of another method on the same grid (the
+/// spread, each error's uncertainty), each computed once and then read from the cache
+/// ([`crate::reference_cache`]), its description stating why there is no exact one. `say`
+/// prints what is computed or read (on stderr) and shows a progress bar.
 pub fn reference_for<const D: usize>(
     problem: &Problem<D>,
+    compared: &[MethodKind],
     say: bool,
 ) -> anyhow::Result<Option<impact_core::reference::Reference>> {
+    use impact_core::converged::Spread;
     use impact_core::reference::{Converged, Reference};
     let line = impact_core::line::MeasureLine::of(problem);
     let why = match Reference::exact(problem) {
@@ -34,7 +39,8 @@ pub fn reference_for<const D: usize>(
         }
         Err(why) => why,
     };
-    let r = REFERENCE_REFINEMENT;
+    let setup = crate::reference_setup::resolve(problem, compared)?;
+    let r = setup.refinement;
     let fine_cells = problem.grid.cell_count() as f64 * (r as f64).powi(D as i32);
     if fine_cells > MAX_REFERENCE_CELLS {
         if say {
@@ -48,62 +54,26 @@ pub fn reference_for<const D: usize>(
         }
         return Ok(None);
     }
-    let mut fine = problem.clone();
-    for l in 0..D {
-        fine.grid.cells[l] *= r;
-        fine.grid.spacing[l] /= r as f64;
-    }
-    let config = converged_config(&fine.model);
-    let options = *config.dgmpm().expect("internal: a DGMPM configuration");
-    let grid = match D {
-        1 => format!("{} cells", fine.grid.cells[0]),
-        _ => {
-            let counts: Vec<String> = fine.grid.cells.iter().map(|n| n.to_string()).collect();
-            format!("a {} grid", counts.join("x"))
-        }
-    };
-    let flux = match D {
-        1 => String::new(),
-        _ => format!("{}, ", options.flux.name().to_uppercase()),
-    };
+    let fine = fine_problem(problem, r);
     let description = format!(
-        "converged reference: DGMPM (1 ppc, {flux}{}, Courant {}) on {grid} ({r}x finer); no \
-         exact solution: {why}",
-        options.integrator.name(),
-        config.courant,
+        "converged reference: {} on {} ({r}x finer); no exact solution: {why}",
+        describe_config(&setup.judge.config, D),
+        setup.grid(),
     );
-    let entry = crate::reference_cache::Entry::new(
-        &crate::reference_cache::folder(),
-        &format!("{fine:?}\n{config:?}"),
+    let stored = computed_or_cached(problem, &fine, (&setup.judge, r), &description, say)?;
+    let spread_description = format!(
+        "second reference (spread): {} on the same grid",
+        describe_config(&setup.spread.config, D)
     );
-    let fine_cells = fine.grid.cell_count();
-    let (stored, cached) = entry.get_or_compute(problem.output_times.len(), fine_cells, || {
-        if say {
-            eprintln!("computing the {description}");
-        }
-        let progress = say.then(|| crate::run::progress_bar("reference"));
-        let (stress_xx, velocity_x, work) =
-            converged_run(problem, &fine, config, line.axis, progress.as_ref())?;
-        if let Some(p) = progress {
-            p.finish_and_clear();
-        }
-        Ok(crate::reference_cache::Stored {
-            stress_xx,
-            velocity_x,
-            work,
-        })
-    })?;
-    if say && cached {
-        eprintln!(
-            "the {description}: read from the cache {}",
-            entry.path().display()
-        );
-    }
+    let second = computed_or_cached(problem, &fine, (&setup.spread, r), &spread_description, say)?;
     let crate::reference_cache::Stored {
         stress_xx,
         velocity_x,
         work,
     } = stored;
+    let description = format!(
+        "{description}; the spread beside each error is its distance from the {spread_description}"
+    );
     let (load_scale, step_load) = problem.load_scale();
     // beyond the scene's dimension: one cell of unit size
     let cells: [usize; 3] = std::array::from_fn(|l| if l < D { fine.grid.cells[l] } else { 1 });
@@ -144,7 +114,84 @@ pub fn reference_for<const D: usize>(
         opposite_load: loaded_at(problem, &line, line.end),
         rest: matches!(problem.initial, impact_core::initial::InitialState::Rest),
         work,
+        spread: Some(Spread {
+            description: spread_description,
+            stress: second.stress_xx,
+        }),
     }))))
+}
+
+/// `problem` on a grid `r` times finer along each axis, its stated reference options
+/// cleared (they choose the reference; they do not change its run).
+fn fine_problem<const D: usize>(problem: &Problem<D>, r: usize) -> Problem<D> {
+    let mut fine = problem.clone();
+    for l in 0..D {
+        fine.grid.cells[l] *= r;
+        fine.grid.spacing[l] /= r as f64;
+    }
+    fine.reference = Default::default();
+    fine
+}
+
+/// The cache entry of the reference run of `method` on `fine` (`r` times finer) in `dir`:
+/// its key holds the reference's method, options and refinement and the fine problem, so
+/// references of different methods, options or grids never share an entry.
+pub fn cache_entry<const D: usize>(
+    dir: &std::path::Path,
+    fine: &Problem<D>,
+    (method, r): (&ReferenceMethod, usize),
+) -> crate::reference_cache::Entry {
+    let config = &method.config;
+    crate::reference_cache::Entry::new(
+        dir,
+        &format!(
+            "reference {} refinement {r}\n{fine:?}\n{config:?}",
+            method.method.name()
+        ),
+    )
+}
+
+/// The reference run of `method` on `fine`, read from the cache or computed and stored.
+fn computed_or_cached<const D: usize>(
+    problem: &Problem<D>,
+    fine: &Problem<D>,
+    (method, r): (&ReferenceMethod, usize),
+    description: &str,
+    say: bool,
+) -> anyhow::Result<crate::reference_cache::Stored> {
+    let axis = impact_core::line::MeasureLine::of(problem).axis;
+    fine.check_config(&method.config).map_err(|e| {
+        anyhow::anyhow!(
+            "the {description} cannot run this scene: {e}; choose another with `--reference` \
+             or `--reference-spread` (`[metrics] reference`, `reference_spread`: {})",
+            MethodKind::allowed()
+        )
+    })?;
+    let entry = cache_entry(&crate::reference_cache::folder(), fine, (method, r));
+    let fine_cells = fine.grid.cell_count();
+    let (stored, cached) = entry.get_or_compute(problem.output_times.len(), fine_cells, || {
+        if say {
+            eprintln!("computing the {description}");
+        }
+        let progress = say.then(|| crate::run::progress_bar("reference"));
+        let (stress_xx, velocity_x, work) =
+            converged_run(problem, fine, method.config, axis, progress.as_ref())?;
+        if let Some(p) = progress {
+            p.finish_and_clear();
+        }
+        Ok(crate::reference_cache::Stored {
+            stress_xx,
+            velocity_x,
+            work,
+        })
+    })?;
+    if say && cached {
+        eprintln!(
+            "the {description}: read from the cache {}",
+            entry.path().display()
+        );
+    }
+    Ok(stored)
 }
 
 /// Whether the edge of the body at coordinate `at` of the line's axis carries a load of
@@ -173,39 +220,6 @@ fn loaded_at<const D: usize>(
     }
 }
 
-/// The converged reference's configuration.
-fn converged_config(model: &impact_core::method::Model) -> MethodConfig {
-    use impact_core::method::{Model, RiemannSolver};
-    // CTU at Courant 1 for linear elasticity and J2 (the elastic solver, then the return
-    // map); donor-cell with RK2 at Courant 0.9 for SVK (CTU is implemented for linear
-    // elasticity only; RK2 with donor-cell is stable to 1.0, and 0.9 ran bounded on the
-    // 132x100 SVK plate for 1 ms; at 0.5 it smears twice as much)
-    let linear = !matches!(model, Model::Svk(_));
-    let riemann = match model {
-        Model::J2(_) => RiemannSolver::Elastic,
-        _ => DgmpmOptions::default().riemann,
-    };
-    let options = DgmpmOptions {
-        riemann,
-        integrator: if linear {
-            Integrator::Euler
-        } else {
-            Integrator::Rk2
-        },
-        flux: if linear {
-            TransverseFlux::Ctu
-        } else {
-            TransverseFlux::DonorCell
-        },
-        ..DgmpmOptions::default()
-    };
-    MethodConfig {
-        courant: if linear { 1.0 } else { 0.9 },
-        points_per_cell: 1,
-        options: MethodOptions::Dgmpm(options),
-    }
-}
-
 /// Step the fine `problem` to the coarse problem's output times, keeping σ_aa, v_a along
 /// `axis` (one point per cell, stored cell by cell) and the external work at each.
 #[allow(clippy::type_complexity)]
@@ -218,13 +232,20 @@ fn converged_run<const D: usize>(
 ) -> anyhow::Result<(Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<f64>)> {
     let mut method = crate::build(fine, config)?;
     let mut samples = impact_core::method::Samples::<D>::default();
+    let cells = fine.grid.cell_count();
     let (mut stress_xx, mut velocity_x, mut work) = (Vec::new(), Vec::new(), Vec::new());
-    impact_core::controller::run::<D, dyn Method<D>, std::convert::Infallible>(
+    impact_core::controller::run::<D, dyn Method<D>, anyhow::Error>(
         method.as_mut(),
         &problem.output_times,
         crate::interrupt::guard(),
         |m, _, _, _| {
             m.sample_into(&mut samples);
+            if samples.len() != cells {
+                anyhow::bail!(
+                    "internal: the reference run gave {} samples for {cells} cells",
+                    samples.len()
+                );
+            }
             // one point per cell, stored cell by cell: sample i is cell i
             stress_xx.push(samples.stress.iter().map(|s| s[(axis, axis)]).collect());
             velocity_x.push(samples.velocity.iter().map(|v| v[axis]).collect());
@@ -241,6 +262,7 @@ fn converged_run<const D: usize>(
         impact_core::controller::RunError::Interrupted { .. } => {
             crate::interrupt::Interrupted(format!("the converged reference: {e}")).into()
         }
+        impact_core::controller::RunError::Output(e) => e,
         e => anyhow::anyhow!("the reference run failed: {e}"),
     })?;
     Ok((stress_xx, velocity_x, work))

@@ -1,12 +1,15 @@
 //! The on-disk cache of converged references ([`crate::reference_for`]).
 //!
-//! A converged reference is a DGMPM run on a grid 4× finer; at `--cells 400` on the plate it
-//! takes 14 s and 1 GB for a 0.18 s FEM run, so it is computed once per key and stored.
+//! A converged reference is a run of DGMPM, FEM or MPM on a grid 8× finer (4× in 3D;
+//! [`crate::reference_setup`]), and each run with one needs two (the second gives the
+//! spread); at `--cells 400` on the plate a 4× DGMPM reference took 14 s and 1 GB for a
+//! 0.18 s FEM run, so each is computed once per key and stored.
 //!
 //! - **Folder**: `$IMPACT_CACHE_DIR` if set, else `$XDG_CACHE_HOME/impact/references`, else
 //!   `$HOME/.cache/impact/references`, else `.impact-cache/references` in the working
 //!   directory.
-//! - **Key**: the `Debug` text of everything that determines the run (the fine problem: grid,
+//! - **Key**: the reference's method and refinement, and the `Debug` text of everything
+//!   that determines the run (the fine problem: grid,
 //!   material, model, boundaries, loads, initial state, point layout, output times; the
 //!   method configuration; the `impact` version, this file's format version, and the size
 //!   and modification time of the running executable, so a rebuilt solver never reads a

@@ -211,6 +211,8 @@ pub struct RunOptions {
 /// The outcome of [`run_study`].
 #[derive(Debug, Clone)]
 pub struct RunReport {
+    /// The reference the errors are measured against, in words.
+    pub reference: String,
     /// One record per method, in the order run.
     pub records: Vec<RunRecord>,
     /// The blow-ups that stopped runs.
@@ -238,7 +240,7 @@ pub fn run_study<const D: usize>(
     let dir = &folder.path().to_path_buf();
     let reference = match options.no_reference {
         true => None,
-        false => crate::reference_for(&problem, !options.quiet)?,
+        false => crate::reference_for(&problem, kinds, !options.quiet)?,
     };
     let mut summary = Summary {
         scene: study.name().to_string(),
@@ -246,6 +248,12 @@ pub fn run_study<const D: usize>(
         reference: reference
             .as_ref()
             .map_or("none (errors not computed)".into(), |r| r.describe()),
+        reference_setup: match &reference {
+            Some(impact_core::reference::Reference::Converged(_)) => {
+                study.reference_setup(kinds)?
+            }
+            _ => None,
+        },
         metrics_line: impact_core::line::MeasureLine::of(&problem).describe::<D>(),
         runs: Vec::new(),
         peak_rss_mib: None,
@@ -302,6 +310,7 @@ pub fn run_study<const D: usize>(
     crate::interrupt::check()?;
     folder.commit(concat!("impact ", env!("CARGO_PKG_VERSION")))?;
     Ok(RunReport {
+        reference: summary.reference,
         records: summary.runs,
         failures,
     })

@@ -5,7 +5,7 @@ use impact_core::method::{
     MpmShape, PointUpdate, RiemannSolver, SchemeOrder, StressUpdate, TransverseFlux, WaveLimiter,
 };
 use impact_core::scene::{
-    check_courant, check_output_times, check_points_per_cell, check_work, Scene, WorkEstimate,
+    check_courant, check_output_times, check_points_per_cell, check_work, Scene,
     DEFAULT_WORK_BUDGET, MAX_POINTS,
 };
 use impact_core::{CoreError, Problem, SceneError};
@@ -85,6 +85,24 @@ pub struct Overrides {
     /// (refused otherwise); the outputs record it.
     #[arg(long)]
     pub allow_unstable: bool,
+    /// The converged reference's method, for a scene without an exact solution (default:
+    /// the first of dgmpm, fem the command does not compare; `[metrics] reference`).
+    #[arg(long, value_enum)]
+    pub reference: Option<MethodKind>,
+    /// The converged reference's grid: this many times finer along each axis (2 to 16,
+    /// default 8 in 1D and 2D, 4 in 3D; `[metrics] reference_refinement`).
+    #[arg(long)]
+    pub reference_refinement: Option<usize>,
+    /// The second reference, whose distance from the first is each error's uncertainty
+    /// (default: the other of dgmpm, fem; `[metrics] reference_spread`).
+    #[arg(long, value_enum)]
+    pub reference_spread: Option<MethodKind>,
+    /// Shape functions of an MPM reference (default bspline2; `[metrics] reference_shape`).
+    #[arg(long, value_enum)]
+    pub reference_shape: Option<MpmShape>,
+    /// Transverse flux of a DGMPM reference (`[metrics] reference_flux`).
+    #[arg(long, value_enum)]
+    pub reference_flux: Option<TransverseFlux>,
 }
 
 impl Overrides {
@@ -111,6 +129,14 @@ impl Overrides {
             ("--work-budget", self.work_budget.is_some()),
             ("--yield-stress", self.yield_stress.is_some()),
             ("--hardening", self.hardening.is_some()),
+            ("--reference", self.reference.is_some()),
+            (
+                "--reference-refinement",
+                self.reference_refinement.is_some(),
+            ),
+            ("--reference-spread", self.reference_spread.is_some()),
+            ("--reference-shape", self.reference_shape.is_some()),
+            ("--reference-flux", self.reference_flux.is_some()),
         ];
         set.iter()
             .filter(|(_, given)| *given)
@@ -180,6 +206,7 @@ impl Overrides {
             };
             edge.value = Some(if compression { magnitude } else { -magnitude });
         }
+        self.apply_reference(scene)?; // crate::reference_setup
         if let (Some(flux), 1) = (self.flux, scene.dim) {
             return Err(SceneError::new(
                 "--flux",
@@ -311,7 +338,7 @@ impl Overrides {
 }
 
 /// The work budget of a study's runs.
-fn budget_of(study: &Study) -> f64 {
+pub(crate) fn budget_of(study: &Study) -> f64 {
     study.overrides.work_budget.unwrap_or(DEFAULT_WORK_BUDGET)
 }
 
@@ -370,7 +397,7 @@ impl Study {
     /// reference's included.
     pub fn check_work(&self, kinds: &[MethodKind]) -> Result<(), CoreError> {
         self.check_methods_work(kinds)?;
-        if let Some(reference) = self.reference_work()? {
+        for reference in self.reference_work(kinds)? {
             check_work(&reference, budget_of(self))?;
         }
         Ok(())
@@ -419,58 +446,6 @@ impl Study {
             3 => each::<3>(self, configs),
             d => Err(SceneError::new("dim", d, "1, 2 or 3").into()),
         }
-    }
-
-    /// The work of the converged reference a 2D or 3D scene without an exact solution needs
-    /// (DGMPM on a grid [`crate::REFERENCE_REFINEMENT`] times finer: `r^2` the cells, `r`
-    /// the steps, at Courant 0.9, the lower of the two [`crate::reference_for`] uses);
-    /// `None` otherwise.
-    fn reference_work(&self) -> Result<Option<WorkEstimate>, SceneError> {
-        fn has_exact<const D: usize>(study: &Study) -> Result<bool, SceneError> {
-            let problem = impact_core::Problem::<D>::from_valid_scene(&study.scene)
-                .map_err(|e| SceneError::new("scene", e, "a scene that builds its problem"))?;
-            Ok(impact_core::reference::Reference::for_problem(&problem).is_some())
-        }
-        let exact = match self.dim() {
-            1 => true, // a 1D scene without an exact solution: its fine grid is cheap
-            2 => has_exact::<2>(self)?,
-            _ => has_exact::<3>(self)?,
-        };
-        if exact {
-            return Ok(None);
-        }
-        let refinement = crate::REFERENCE_REFINEMENT as f64;
-        let mut config = self.scene.method_config(MethodKind::Dgmpm);
-        config.points_per_cell = 1;
-        config.courant = 0.9;
-        let coarse = self.scene.work_estimate(&config);
-        Ok(Some(WorkEstimate {
-            what: "the converged reference",
-            points: coarse.points * refinement.powi(self.dim() as i32),
-            steps: coarse.steps * refinement,
-        }))
-    }
-
-    /// The reference a study of `command` measures its errors against, in words: the
-    /// scene's exact solution, or the converged reference of each grid (1D and 2D).
-    pub fn reference_for_errors(&self) -> Result<String, CoreError> {
-        fn exact<const D: usize>(study: &Study) -> Result<Option<String>, CoreError> {
-            let problem = study.problem::<D>()?;
-            Ok(impact_core::reference::Reference::for_problem(&problem).map(|r| r.describe()))
-        }
-        let exact = match self.dim() {
-            1 => exact::<1>(self)?,
-            2 => exact::<2>(self)?,
-            _ => exact::<3>(self)?,
-        };
-        Ok(match exact {
-            Some(description) => format!("exact: {description}"),
-            None => format!(
-                "converged: DGMPM on a grid {}x finer than each run's, computed per grid \
-                 (and cached), since the scene has no exact solution",
-                crate::REFERENCE_REFINEMENT
-            ),
-        })
     }
 
     /// Scene name.

@@ -42,6 +42,18 @@ pub(crate) fn fmt_error(value: f64, basis: ErrorBasis) -> String {
     }
 }
 
+/// An L1 error with the reference's uncertainty where there is a second reference:
+/// `4.100e-2±8e-4` (the spread in the error's basis, [`impact_core::converged::Spread`]).
+pub(crate) fn fmt_l1(t: &impact_core::reference::TimeMetrics) -> String {
+    match (t.l1_spread, t.errors) {
+        (Some(s), ErrorBasis::Relative) => format!("{}±{s:.1e}", fmt_error(t.l1, t.errors)),
+        (Some(s), ErrorBasis::AbsoluteZeroReference) => {
+            format!("{}±{s:.1e}Pa", fmt_error(t.l1, t.errors))
+        }
+        _ => fmt_error(t.l1, t.errors),
+    }
+}
+
 pub(crate) fn print_rows(r: &RunRecord) {
     let mut notes: Vec<String> = Vec::new();
     for t in &r.times {
@@ -54,7 +66,7 @@ pub(crate) fn print_rows(r: &RunRecord) {
             r.steps,
             r.wall_s,
             t.t * 1e3,
-            fmt_error(t.l1, t.errors),
+            fmt_l1(t),
             fmt_error(t.linf, t.errors),
             fmt_opt(t.front_width_cells, 2),
             fmt_opt(t.overshoot_pct, 2),
@@ -72,6 +84,11 @@ pub(crate) fn print_rows(r: &RunRecord) {
             (status, None) => Some(status.describe().to_string()),
         };
         for note in [
+            t.l1_spread.map(|_| {
+                "L1_rel ± the reference's uncertainty: the L1 distance between the reference and \
+                 the second, independent one (`reference:` above)"
+                    .to_string()
+            }),
             (t.errors != ErrorBasis::Relative).then(|| t.errors.describe().to_string()),
             front_note,
             (!t.energy_relative).then(|| {
@@ -139,6 +156,18 @@ pub(crate) fn print_check(scene: &str, report: &impact::check::CheckReport) {
                 fmt_opt(s.mpm_overshoot, 3),
             );
         }
+    }
+    say!("reference: {}", report.reference);
+    for (name, record) in [("DGMPM", &report.dgmpm_record), ("MPM", &report.mpm_record)] {
+        let errors: Vec<String> = record
+            .times
+            .iter()
+            .map(|t| format!("{:.4} ms {}", t.t * 1e3, fmt_l1(t)))
+            .collect();
+        say!(
+            "L1 of the stress along the line, {name}: {}",
+            errors.join(", ")
+        );
     }
     for e in [&report.dgmpm_record.error, &report.mpm_record.error]
         .into_iter()

@@ -2,7 +2,9 @@
 //! fixed time; each run is a separate `impact run --no-files` process, so its wall time
 //! (stepping only), steps and peak memory (`VmHWM`) are its own. Errors are relative L1 of
 //! σ_xx (Π for SVK) against the scene's reference: exact for `bar`, `svk-bar` and
-//! `plate-wave`; for `plate`, each run's converged reference (DGMPM on a grid 4× finer).
+//! `plate-wave`; for `plate`, each run's converged reference (DGMPM on a grid 8× finer,
+//! with FEM's on the same grid for the spread beside each error, `l1_spread`; stated in the
+//! resolved `scene.toml` so every run of the ladder has the same one).
 //!
 //! Any scene runs (a shipped name or a scene file), with every `impact run` flag the ladder
 //! does not set itself ([`crate::ladder::LADDER_FLAGS`]): the study's resolved scene is written to the
@@ -65,6 +67,10 @@ pub struct Point {
     /// `error` then says why).
     #[serde(skip_serializing_if = "not_finite", default = "not_measured")]
     pub l1_rel: f64,
+    /// The reference's uncertainty beside `l1_rel`: the L1 distance between the converged
+    /// reference and the second one (absent for an exact reference).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub l1_spread: Option<f64>,
     /// Error text if the run stopped or measured no relative error.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
@@ -262,6 +268,7 @@ fn run_one(
         updates_per_s: cells as f64 * steps as f64 / wall,
         peak_rss_mib: s["peak_rss_mib"].as_f64().unwrap_or(f64::NAN),
         l1_rel: r["times"][0]["l1_rel"].as_f64().unwrap_or(f64::NAN),
+        l1_spread: r["times"][0]["l1_spread"].as_f64(),
         error: r["error"].as_str().map(String::from).or_else(|| {
             r["times"][0]["l1_rel"]
                 .is_null()
@@ -320,7 +327,7 @@ pub fn run(
         LADDER_FLAGS,
         "sets the grid, the Courant number and the options its ladder varies",
     )?;
-    let reference = study.reference_for_errors()?;
+    let reference = study.reference_for_errors(&MethodKind::ALL)?;
     let (configs, skipped) = usable_configurations(study)?;
     notes(&format!("reference: {reference}"));
     for (label, why) in &skipped {
@@ -509,12 +516,13 @@ fn write(out: &Path, scene: &str, points: &[Point]) -> Result<()> {
     impact_io::write_atomic(&out.join("work_precision.csv"), |w| {
         writeln!(
             w,
-            "scene,config,cells_x,cells,steps,wall_s,updates_per_s,peak_rss_mib,l1_rel,error"
+            "scene,config,cells_x,cells,steps,wall_s,updates_per_s,peak_rss_mib,l1_rel,error,\
+             l1_spread"
         )?;
         for p in points {
             writeln!(
                 w,
-                "{},{},{},{},{},{:.6e},{:.6e},{:.1},{:.6e},{}",
+                "{},{},{},{},{},{:.6e},{:.6e},{:.1},{:.6e},{},{}",
                 p.scene,
                 p.config,
                 p.cells_x,
@@ -524,7 +532,8 @@ fn write(out: &Path, scene: &str, points: &[Point]) -> Result<()> {
                 p.updates_per_s,
                 p.peak_rss_mib,
                 p.l1_rel,
-                p.error.as_deref().unwrap_or("").replace(',', ";")
+                p.error.as_deref().unwrap_or("").replace(',', ";"),
+                p.l1_spread.map_or(String::new(), |s| format!("{s:.6e}"))
             )?;
         }
         Ok(())
@@ -601,6 +610,7 @@ mod tests {
             updates_per_s: 0.0,
             peak_rss_mib: 0.0,
             l1_rel,
+            l1_spread: None,
             error: None,
         }
     }

@@ -28,7 +28,9 @@ fn reference(problem: &Problem<2>) -> Reference {
     let cache = std::env::temp_dir().join(format!("impact-fronts-{}", std::process::id()));
     // the cache folder is read from the environment; one folder for this test binary
     std::env::set_var("IMPACT_CACHE_DIR", &cache);
-    impact::reference_for(problem, false).unwrap().unwrap()
+    impact::reference_for(problem, &MethodKind::ALL, false)
+        .unwrap()
+        .unwrap()
 }
 
 fn run(scene: &Scene, kind: MethodKind) -> (RunRecord, Problem<2>) {
@@ -244,7 +246,9 @@ fn a_pulse_on_the_right_end_is_measured_leftwards() {
         [time]\noutput_transits = [30, 60, 130]\n";
     let scene = Scene::from_toml(text, "test").unwrap();
     let problem = Problem::<1>::from_scene(&scene).unwrap();
-    let reference = impact::reference_for(&problem, false).unwrap().unwrap();
+    let reference = impact::reference_for(&problem, &MethodKind::ALL, false)
+        .unwrap()
+        .unwrap();
     let run = |kind| {
         run_method(
             &problem,

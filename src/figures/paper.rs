@@ -47,7 +47,7 @@ impl<const D: usize> Shipped<D> {
         let scene = Scene::builtin(name).expect("internal: a shipped scene");
         let problem = Problem::<D>::from_scene(&scene)?;
         let reference = match with_reference {
-            true => crate::reference_for(&problem, progress)?,
+            true => crate::reference_for(&problem, &impact_core::MethodKind::ALL, progress)?,
             false => None,
         };
         let (mut collected, mut records) = (Vec::new(), Vec::new());

@@ -67,6 +67,25 @@ pub struct Converged {
     pub rest: bool,
     /// Work done by the loads at each output time, per the reference run.
     pub work: Vec<f64>,
+    /// The second, independent reference on the same fine grid: its distance from this one
+    /// is the uncertainty of every error measured against this one.
+    pub spread: Option<Spread>,
+}
+
+/// A second converged reference (another method) on the same fine grid as [`Converged`].
+///
+/// For a run's profile `f_h` measured against the reference `f_A` and the second one `f_B`
+/// (each averaged over every sample's region), the triangle inequality bounds how much the
+/// relative L1 error depends on which reference judges:
+/// `|Σ w|f_h − f_A| − Σ w|f_h − f_B|| ≤ Σ w|f_A − f_B|`, so the spread
+/// `Σ w|f_A − f_B| / Σ w|f_A|` is reported beside the error `Σ w|f_h − f_A| / Σ w|f_A|`
+/// as its uncertainty ([`crate::metrics::Profile::spread`]).
+#[derive(Debug, Clone)]
+pub struct Spread {
+    /// What it is (printed in the output).
+    pub description: String,
+    /// `σ_aa` per fine cell per output time (the layout of [`Converged::stress`]).
+    pub stress: Vec<Vec<f64>>,
 }
 
 impl Converged {
@@ -106,6 +125,14 @@ impl Converged {
         } else {
             f64::NAN
         }
+    }
+
+    /// Average of the second reference's `σ_aa` over the box `[lo, hi]` at `t` (`None`
+    /// without a second reference).
+    pub fn spread_average(&self, lo: [f64; 3], hi: [f64; 3], t: f64) -> Option<f64> {
+        self.spread
+            .as_ref()
+            .map(|s| self.average(&s.stress, lo, hi, t))
     }
 
     /// Average of `σ_aa` over `[a, b]` along the line, across the line's band.

@@ -34,6 +34,9 @@ pub struct Profile {
     pub value: Vec<f64>,
     /// Exact averages over each sample's region.
     pub exact: Vec<f64>,
+    /// A second reference's averages over each sample's region (empty without one;
+    /// [`crate::converged::Spread`]).
+    pub second: Vec<f64>,
 }
 
 /// Metrics of one method at one time.
@@ -118,6 +121,29 @@ impl Profile {
         self.width = pick(&self.width);
         self.value = pick(&self.value);
         self.exact = pick(&self.exact);
+        if self.second.len() == idx.len() {
+            self.second = pick(&self.second);
+        }
+    }
+
+    /// The distance between the reference and the second one in the basis of
+    /// [`Self::errors`]: `Σ w|f_A − f_B| / Σ w|f_A|` (over `scale` where the reference
+    /// vanishes; width-weighted mean in Pa for [`ErrorBasis::AbsoluteZeroReference`]).
+    /// By the triangle inequality, the L1 error against the second reference differs from
+    /// the one against the first by at most this: the error's uncertainty from the choice
+    /// of reference. `None` without a second reference.
+    pub fn spread(&self, scale: f64) -> Option<f64> {
+        if self.second.len() != self.x.len() || self.x.is_empty() {
+            return None;
+        }
+        let as_run = Profile {
+            x: self.x.clone(),
+            width: self.width.clone(),
+            value: self.second.clone(),
+            exact: self.exact.clone(),
+            second: Vec::new(),
+        };
+        Some(as_run.errors(scale).0).filter(|v| v.is_finite())
     }
 
     /// Relative L1 and L∞ errors against the exact averages. If the exact profile is

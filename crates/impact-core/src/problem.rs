@@ -221,6 +221,8 @@ pub struct Problem<const D: usize> {
     pub line: Option<crate::line::MeasureLine>,
     /// Where errors are measured ([`Scene::interior_rule`], [`crate::interior`]).
     pub interior: crate::interior::InteriorRule,
+    /// The converged reference as `[metrics]` states it (the command resolves the rest).
+    pub reference: crate::scene::ReferenceOptions,
 }
 
 impl<const D: usize> Problem<D> {
@@ -279,6 +281,7 @@ impl<const D: usize> Problem<D> {
             t_end,
             line: scene.measure_line(),
             interior: scene.interior_rule(),
+            reference: scene.reference_options(),
         };
         problem.set_schedule(None, scene.time.t_end)?;
         Ok(problem)

@@ -63,6 +63,10 @@ pub struct TimeMetrics {
     pub linf: f64,
     /// What `l1` and `linf` hold.
     pub errors: ErrorBasis,
+    /// The uncertainty of `l1` from the choice of reference: the L1 distance between the
+    /// reference and a second, independent one in the same basis
+    /// ([`crate::metrics::Profile::spread`]); `None` without a second reference.
+    pub l1_spread: Option<f64>,
     /// Front width in cells.
     pub front_width_cells: Option<f64>,
     /// Overshoot in % of the jump.
@@ -101,6 +105,7 @@ impl TimeMetrics {
             l1: 0.0,
             linf: 0.0,
             errors: ErrorBasis::NoReference,
+            l1_spread: None,
             front_width_cells: None,
             overshoot_pct: None,
             front_position: None,
@@ -134,6 +139,7 @@ impl Serialize for TimeMetrics {
         }
         map.serialize_entry("errors", &self.errors)?;
         for (key, value) in [
+            ("l1_spread", self.l1_spread),
             ("front_width_cells", self.front_width_cells),
             ("overshoot_pct", self.overshoot_pct),
             ("front_position", self.front_position),
@@ -299,6 +305,13 @@ impl Reference {
             p.width.push(2.0 * h[a]);
             p.value.push(samples.stress[i][(a, a)]);
             p.exact.push(self.averages(&(x - h), &(x + h), t).0);
+            if let Reference::Converged(c) = self {
+                let (lo, hi) = (pad(&(x - h), 0.0), pad(&(x + h), 0.0));
+                let hi = std::array::from_fn(|l| if l < D { hi[l] } else { c.spacing[l] });
+                if let Some(second) = c.spread_average(lo, hi, t) {
+                    p.second.push(second);
+                }
+            }
         }
         p.sort();
         p
@@ -348,6 +361,7 @@ impl Reference {
             overshoot_pct,
             errors,
         } = profile.metrics(front.as_ref(), dx, self.scale());
+        let l1_spread = profile.spread(self.scale());
         // the energy the discrete state should hold, E* = W + E_0 (`energy_error`): the
         // work done on it plus its initial energy; the exact plane-wave work and energy are
         // per unit height, the converged work is the total (its run starts from the same
@@ -391,6 +405,7 @@ impl Reference {
             l1: l1_rel,
             linf: linf_rel,
             errors,
+            l1_spread,
             front_width_cells,
             overshoot_pct,
             front_position,

@@ -6,13 +6,24 @@
 //! line = { from = [0.0, 0.0], to = [4.0, 0.0] }   # the paper's bottom row of the plate
 //! receivers = [[0.4, 0.0, 1.2], [0.8, 0.0, 1.2]]  # where traces are recorded (Lamb)
 //! interior = "dependence"   # errors only where no boundary can have acted (crate::interior)
+//! reference = "fem"          # the converged reference's method (no exact solution)
+//! reference_refinement = 4   # its grid, this many times finer along each axis
+//! reference_spread = "dgmpm" # the second, independent reference: its distance is the
+//!                            # uncertainty reported beside every error
 //! ```
+//!
+//! [`ReferenceOptions`] holds the reference fields; the command resolves what is not stated
+//! (which methods it compares decides the default method, the `impact` crate's
+//! `reference` module).
 use super::Scene;
 use crate::error::SceneError;
 use crate::interior::{margin_cells, steps_bound, InteriorRule};
 use crate::line::{LineOrigin, MeasureLine};
-use crate::options::MethodKind;
+use crate::options::{MethodKind, MpmShape, TransverseFlux};
 use serde::{Deserialize, Serialize};
+
+/// Allowed refinements of a converged reference (along each axis).
+pub const REFERENCE_REFINEMENTS: std::ops::RangeInclusive<usize> = 2..=16;
 
 /// The `[metrics]` section.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
@@ -30,6 +41,41 @@ pub struct MetricsSpec {
     /// wave, `whole` otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub interior: Option<InteriorRule>,
+    /// The converged reference's method, for a scene without an exact solution (default:
+    /// chosen by the command from the methods it compares).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference: Option<MethodKind>,
+    /// How many times finer than the run's grid the converged reference is, along each
+    /// axis ([`REFERENCE_REFINEMENTS`]; default: the command's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference_refinement: Option<usize>,
+    /// The second converged reference, of another method on the same fine grid, whose
+    /// distance from the first is reported beside every error as its uncertainty
+    /// (default: chosen by the command).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference_spread: Option<MethodKind>,
+    /// The shape functions of an MPM reference (default: quadratic B-splines).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference_shape: Option<MpmShape>,
+    /// The transverse flux of a 2D or 3D DGMPM reference (default: CTU for linear
+    /// elasticity and J2, donor-cell for Saint-Venant-Kirchhoff).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference_flux: Option<TransverseFlux>,
+}
+
+/// The reference fields of `[metrics]` (each `None`: not stated, the command's default).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ReferenceOptions {
+    /// `reference`.
+    pub method: Option<MethodKind>,
+    /// `reference_refinement`.
+    pub refinement: Option<usize>,
+    /// `reference_spread`.
+    pub spread: Option<MethodKind>,
+    /// `reference_shape`.
+    pub shape: Option<MpmShape>,
+    /// `reference_flux`.
+    pub flux: Option<TransverseFlux>,
 }
 
 /// A straight line parallel to an axis, from the face a front enters by.
@@ -52,6 +98,7 @@ impl Scene {
     pub(super) fn check_metrics(&self) -> Result<(), SceneError> {
         self.check_receivers()?;
         self.check_interior()?;
+        self.check_reference()?;
         let Some(line) = self.metrics.as_ref().and_then(|m| m.line.as_ref()) else {
             return Ok(());
         };
@@ -127,6 +174,61 @@ impl Scene {
                     ),
                 ));
             }
+        }
+        Ok(())
+    }
+
+    /// The reference fields of `[metrics]`.
+    pub fn reference_options(&self) -> ReferenceOptions {
+        let Some(m) = self.metrics.as_ref() else {
+            return ReferenceOptions::default();
+        };
+        ReferenceOptions {
+            method: m.reference,
+            refinement: m.reference_refinement,
+            spread: m.reference_spread,
+            shape: m.reference_shape,
+            flux: m.reference_flux,
+        }
+    }
+
+    /// The refinement lies in [`REFERENCE_REFINEMENTS`]; the spread's method differs from
+    /// the reference's; a flux only in 2D and 3D.
+    fn check_reference(&self) -> Result<(), SceneError> {
+        let o = self.reference_options();
+        if let Some(r) = o.refinement {
+            if !REFERENCE_REFINEMENTS.contains(&r) {
+                return Err(SceneError::new(
+                    "metrics.reference_refinement",
+                    r,
+                    format!(
+                        "an integer from {} to {} (the reference grid's cells per run cell \
+                         along each axis)",
+                        REFERENCE_REFINEMENTS.start(),
+                        REFERENCE_REFINEMENTS.end()
+                    ),
+                ));
+            }
+        }
+        if let (Some(a), Some(b)) = (o.method, o.spread) {
+            if a == b {
+                return Err(SceneError::new(
+                    "metrics.reference_spread",
+                    format!("\"{b}\""),
+                    format!(
+                        "a method other than the reference's (\"{a}\"): the spread measures how \
+                         far two independent references lie apart ({})",
+                        MethodKind::allowed()
+                    ),
+                ));
+            }
+        }
+        if let (Some(flux), 1) = (o.flux, self.dim) {
+            return Err(SceneError::new(
+                "metrics.reference_flux",
+                format!("\"{flux}\""),
+                "a transverse flux only in 2D and 3D scenes",
+            ));
         }
         Ok(())
     }
