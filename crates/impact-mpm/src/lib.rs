@@ -368,7 +368,7 @@ impl<const D: usize> MpmSolver<D> {
     }
 
     /// The empty-node floor as a fraction of a cell's mass (default `1e-10`,
-    /// [`EmptyNodes`]'s doc): the momentum conservation tests lower it to show that what
+    /// `EmptyNodes`'s doc): the momentum conservation tests lower it to show that what
     /// APIC loses in the updated frame is what the floor drops (the forces on nodes whose
     /// weights fall below it), not the transfer.
     pub fn set_empty_node_floor(&mut self, fraction: f64) {

@@ -314,7 +314,7 @@ impl<const D: usize> MpmSolver<D> {
             .sum()
     }
 
-    /// Phase 3: the velocity update of the transfer ([`PointVelocity`]; APIC:
+    /// Phase 3: the velocity update of the transfer (`PointVelocity`; APIC:
     /// `crate::affine`), FLIP's `v_p += Δt Σ_i N_ip f_i/m_i` by default, and the position
     /// update `x_p += Δt Σ_i N_ip p_i/m_i` (`1/m_i` from the grid update, 0 on empty
     /// nodes).
