@@ -53,7 +53,8 @@
 //! Layout: `shape.rs` (the shape functions and their stencils: a new one goes there),
 //! `weights.rs` (their values at the points: one row per point or one shared row),
 //! `transfer.rs` (phases 1, 3, 4, 5: the scatters, coloured by node layer, and the gathers),
-//! `affine.rs` (APIC's gather), `grid_update.rs`
+//! `affine.rs` (APIC's gather), `loads.rs` (the loads' nodal forces and the prescribed point
+//! velocities), `grid_update.rs`
 //! (phase 2), `method.rs` (the `Method` impl); this file holds the solver and its buffers.
 //!
 //! Every piece is dimension-generic (`const D`): in 3D the stencils have 8, 27 or 64 nodes
@@ -68,6 +69,7 @@ mod affine;
 mod cpdi;
 mod edges;
 mod grid_update;
+mod loads;
 mod method;
 pub mod shape;
 use edges::{edge_conditions, node_constraints, point_constraints, MirrorConstraint, SurfaceLoad};

@@ -15,11 +15,11 @@
 //! counting-sorted by layer when their cells change (once in the total Lagrangian frame,
 //! where they are in layer order from the start and the scatters read them directly).
 //! Point loops write disjoint points.
-use crate::{Band, MpmSolver, MAX_NODES};
+use crate::{Band, MpmSolver};
 use impact_core::method::{Model, MpmFrame, MpmOptions, MpmTransfer};
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
-use impact_core::{Grid, Tensor, Vector};
+use impact_core::{Tensor, Vector};
 
 /// Points (or nodes) per chunk of the point and node loops.
 pub(crate) const CHUNK: usize = 2048;
@@ -270,50 +270,6 @@ impl<const D: usize> MpmSolver<D> {
         });
     }
 
-    /// External surface loads as nodal forces at the current surface positions, at their
-    /// step average over `window` (`impact_core::load`): a load is spread over the nodes of
-    /// its cell that carry mass (renormalised shape functions), so the whole force reaches
-    /// the body.
-    pub(crate) fn external_forces(&mut self, points: &MaterialPoints<D>, window: (f64, f64)) {
-        let npc = Grid::<D>::NODES_PER_CELL;
-        let mut s = [0.0; MAX_NODES];
-        let mut g = [Vector::<D>::zeros(); MAX_NODES];
-        for load in &self.loads {
-            let x = match self.options.frame {
-                MpmFrame::TotalLagrangian => points.reference[load.point],
-                MpmFrame::UpdatedLagrangian => points.position[load.point],
-            } + load.offset;
-            let Some((c, xi)) = self.grid.locate(&x) else {
-                continue;
-            };
-            self.grid.shape(&xi, &mut s[..npc], &mut g[..npc]);
-            let with_mass = |a: usize| {
-                let i = self.grid.vertex_of(c, a);
-                self.empty.holds(i, self.nodes.mass[i])
-            };
-            let total: f64 = (0..npc).filter(|&a| with_mass(a)).map(|a| s[a]).sum();
-            if total <= 0.0 {
-                continue;
-            }
-            let force = load.force * load.history.mean(window.0, window.1);
-            for a in 0..npc {
-                let i = self.grid.vertex_of(c, a);
-                if self.empty.holds(i, self.nodes.mass[i]) {
-                    self.nodes.force[i] += force * (s[a] / total);
-                }
-            }
-        }
-    }
-
-    /// Power of the surface loads over the step `window`, `Σ F ḡ · v_p` with `ḡ` the step
-    /// average of `g` and `v_p` the velocity of the loaded point.
-    pub(crate) fn load_power(&self, points: &MaterialPoints<D>, window: (f64, f64)) -> f64 {
-        self.loads
-            .iter()
-            .map(|l| l.history.mean(window.0, window.1) * l.force.dot(&points.velocity[l.point]))
-            .sum()
-    }
-
     /// Phase 3: the velocity update of the transfer (`PointVelocity`; APIC:
     /// `crate::affine`), FLIP's `v_p += Δt Σ_i N_ip f_i/m_i` by default, and the position
     /// update `x_p += Δt Σ_i N_ip p_i/m_i` (`1/m_i` from the grid update, 0 on empty
@@ -518,79 +474,7 @@ impl<const D: usize> MpmSolver<D> {
             }
         }
     }
-
-    /// Points on a velocity edge take the prescribed velocity (as the paper does), its
-    /// average over the step `window` (its value at `t0` for an empty window, the state at
-    /// `t = 0`). Returns the impulse this gives them, `Σ m_p Δv_p`.
-    pub(crate) fn impose_point_velocities(
-        &self,
-        points: &mut MaterialPoints<D>,
-        window: (f64, f64),
-    ) -> Vector<D> {
-        let mut kick = Vector::<D>::zeros();
-        for c in &self.point_constraints {
-            let (p, axis, value) = (c.carrier, c.axis, c.mean(window));
-            kick[axis] += points.mass[p] * (value - points.velocity[p][axis]);
-            points.velocity[p][axis] = value;
-        }
-        kick
-    }
 }
 
 #[cfg(test)]
-mod tests {
-    use crate::Mpm;
-    use impact_core::method::MethodKind;
-    use impact_core::{Method, Problem, Scene};
-
-    /// The coloured scatter reads the points of each layer through `layer_order` unless
-    /// they are in it already: an order reversed within every layer gives the sums of the
-    /// points' own order to round-off (2 threads, the parallel passes).
-    #[test]
-    fn scatter_sums_do_not_depend_on_the_order_within_a_layer() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            let mut scene = Scene::builtin("plate").unwrap();
-            scene.domain.cells = vec![80, 60];
-            let problem = Problem::<2>::from_scene(&scene).unwrap();
-            let config = scene.method_config(MethodKind::Mpm);
-            let mut own = Mpm::<2>::new(&problem, config).unwrap();
-            let dt = own.stable_dt();
-            for n in 0..5 {
-                own.step(n as f64 * dt, dt);
-            }
-            assert!(own.solver.parallel && own.solver.in_layer_order);
-            let mut reversed = own.clone();
-            let solver = &mut reversed.solver;
-            solver.in_layer_order = false;
-            solver.layer_order = (0..own.state.points.len()).collect();
-            for layer in solver.layer_start.windows(2) {
-                solver.layer_order[layer[0]..layer[1]].reverse();
-            }
-            assert!(solver.layer_order[0] != 0);
-            own.solver
-                .particles_to_grid(&own.state.points, &own.state.affine, true);
-            reversed
-                .solver
-                .particles_to_grid(&reversed.state.points, &reversed.state.affine, true);
-            let (a, b) = (&own.solver.nodes, &reversed.solver.nodes);
-            let peak = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-            let force: Vec<f64> = a.force.iter().map(|f| f.amax()).collect();
-            let momentum: Vec<f64> = a.momentum.iter().map(|p| p.amax()).collect();
-            let (mass_scale, force_scale) = (peak(&a.mass), peak(&force));
-            let momentum_scale = peak(&momentum);
-            assert!(
-                force_scale > 0.0 && momentum_scale > 0.0,
-                "the wave must be there"
-            );
-            for i in 0..a.mass.len() {
-                assert!((a.mass[i] - b.mass[i]).abs() <= 1e-14 * mass_scale);
-                assert!((a.force[i] - b.force[i]).amax() <= 1e-13 * force_scale);
-                assert!((a.momentum[i] - b.momentum[i]).amax() <= 1e-13 * momentum_scale);
-            }
-        });
-    }
-}
+mod tests;

@@ -99,9 +99,7 @@ fn momenta<const D: usize>(
 /// and the angular momentum, relative to `Σ m |v|` and to `|L(0)|`.
 fn drift<const D: usize>(
     model: &str,
-    shape: MpmShape,
-    update: StressUpdate,
-    frame: MpmFrame,
+    (shape, update, frame): (MpmShape, StressUpdate, MpmFrame),
     ppc: usize,
     steps: usize,
     floor: Option<f64>,
@@ -174,9 +172,7 @@ fn apic_conserves_linear_and_angular_momentum_of_a_spinning_body() {
         let floor = moving.then_some(1e-16);
         let (p, l) = drift::<2>(
             "elastic",
-            shape,
-            update,
-            frame,
+            (shape, update, frame),
             4,
             150,
             floor,
@@ -190,9 +186,7 @@ fn apic_conserves_linear_and_angular_momentum_of_a_spinning_body() {
         if moving {
             let (p, l) = drift::<2>(
                 "elastic",
-                shape,
-                update,
-                frame,
+                (shape, update, frame),
                 4,
                 150,
                 None,
@@ -208,9 +202,11 @@ fn apic_conserves_linear_and_angular_momentum_of_a_spinning_body() {
     // J2 (a symmetric stress too) and 3D
     let (p, l) = drift::<2>(
         "j2",
-        MpmShape::Bspline2,
-        StressUpdate::Usl,
-        MpmFrame::UpdatedLagrangian,
+        (
+            MpmShape::Bspline2,
+            StressUpdate::Usl,
+            MpmFrame::UpdatedLagrangian,
+        ),
         4,
         150,
         Some(1e-16),
@@ -223,9 +219,7 @@ fn apic_conserves_linear_and_angular_momentum_of_a_spinning_body() {
     ] {
         let (p, l) = drift::<3>(
             "elastic",
-            shape,
-            StressUpdate::Usl,
-            frame,
+            (shape, StressUpdate::Usl, frame),
             1,
             60,
             Some(1e-16),
@@ -244,9 +238,7 @@ fn pic_loses_the_angular_momentum_that_apic_keeps() {
     let (update, frame) = (StressUpdate::Usl, MpmFrame::UpdatedLagrangian);
     let (p, l) = drift::<2>(
         "elastic",
-        shape,
-        update,
-        frame,
+        (shape, update, frame),
         4,
         150,
         Some(1e-16),
