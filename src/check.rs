@@ -8,7 +8,7 @@
 use crate::run::{run_method, RunRecord, Silent};
 use crate::study::Study;
 use anyhow::{bail, Context, Result};
-use impact_core::method::{MethodConfig, MethodKind, MpmShape};
+use impact_core::method::{MethodConfig, MethodKind, MpmShape, MpmTransfer};
 use serde::Serialize;
 
 /// The verdict at one output time.
@@ -200,6 +200,18 @@ pub fn judge(dgmpm: &RunRecord, mpm: &RunRecord, thresholds: &Thresholds) -> (Ve
     (rows, ok && compared > 0)
 }
 
+/// MPM's shape functions, and its transfer where not FLIP (`bspline2 apic`): how
+/// reports, tables and `check --against all-mpm` name the MPM compared with.
+pub fn mpm_label(config: &MethodConfig) -> String {
+    match config.mpm() {
+        None => "-".into(),
+        Some(o) => match o.transfer_tag() {
+            tag if tag.is_empty() => o.shape.name().into(),
+            tag => format!("{} {tag}", o.shape.name()),
+        },
+    }
+}
+
 /// Which MPM the gate compares DGMPM with (`--against`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Against {
@@ -207,7 +219,8 @@ pub enum Against {
     SceneMpm,
     /// The scene's MPM with these shape functions.
     Shape(MpmShape),
-    /// The scene's MPM with every shape function, one verdict each.
+    /// The scene's MPM with every shape function, and every shape with FLIP, PIC and APIC,
+    /// one verdict each.
     AllMpm,
 }
 
@@ -226,7 +239,9 @@ impl Against {
         })
     }
 
-    /// The MPM configurations compared with, from the scene's.
+    /// The MPM configurations compared with, from the scene's. `all-mpm`: every shape with
+    /// the scene's transfer, then with FLIP, PIC and APIC (each configuration once; APIC
+    /// not with CPDI, which it does not take: `Problem::check_config`).
     fn configs(self, scene_mpm: MethodConfig) -> Vec<MethodConfig> {
         let with = |shape: MpmShape| {
             let mut c = scene_mpm;
@@ -238,7 +253,22 @@ impl Against {
         match self {
             Against::SceneMpm => vec![scene_mpm],
             Against::Shape(shape) => vec![with(shape)],
-            Against::AllMpm => MpmShape::ALL.into_iter().map(with).collect(),
+            Against::AllMpm => {
+                let mut out: Vec<MethodConfig> = MpmShape::ALL.into_iter().map(with).collect();
+                for transfer in [MpmTransfer::Flip, MpmTransfer::Pic, MpmTransfer::Apic] {
+                    for shape in MpmShape::ALL {
+                        let mut c = with(shape);
+                        if let Some(o) = c.mpm_mut() {
+                            (o.transfer, o.flip_fraction) = (transfer, None);
+                        }
+                        let refused = transfer == MpmTransfer::Apic && shape == MpmShape::Cpdi;
+                        if !refused && !out.contains(&c) {
+                            out.push(c);
+                        }
+                    }
+                }
+                out
+            }
         }
     }
 }

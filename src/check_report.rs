@@ -31,7 +31,7 @@ struct ConfigJson<'a> {
 
 #[derive(Debug, Serialize)]
 struct ReportJson<'a> {
-    mpm_shape: &'a str,
+    mpm_shape: String,
     pass: bool,
     dgmpm: ConfigJson<'a>,
     mpm: ConfigJson<'a>,
@@ -65,8 +65,9 @@ fn config(record: &crate::run::RunRecord) -> ConfigJson<'_> {
     }
 }
 
-fn shape(report: &CheckReport) -> &'static str {
-    report.mpm.mpm().map_or("-", |o| o.shape.name())
+/// MPM's shape functions, and its transfer where not FLIP (`bspline2 apic`).
+fn shape(report: &CheckReport) -> String {
+    crate::check::mpm_label(&report.mpm)
 }
 
 /// Write the JSON document (atomically), with what produced it (`provenance`: command

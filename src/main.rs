@@ -128,8 +128,9 @@ struct CheckArgs {
     #[command(flatten)]
     scene: SceneArgs,
     /// The MPM to compare with: the scene's (default), the scene's with one shape function
-    /// (linear, gimp, bspline2, bspline3, cpdi), or `all-mpm` (every shape function, one
-    /// verdict each; the gate passes only if DGMPM beats them all).
+    /// (linear, gimp, bspline2, bspline3, cpdi), or `all-mpm` (every shape function, then
+    /// every shape with PIC and with APIC, one verdict each; the gate passes only if DGMPM
+    /// beats them all).
     #[arg(long)]
     against: Option<String>,
     /// DGMPM's Courant number only (`--courant` sets both methods).

@@ -17,8 +17,8 @@ use crate::study::{Overrides, Study};
 use anyhow::{bail, Context, Result};
 use impact_core::method::{
     EdgeKind, EdgeTreatment, Integrator, LayoutKind, MethodConfig, MethodKind, MethodOptions,
-    MpmFrame, MpmShape, PointUpdate, RiemannSolver, SchemeOrder, StressUpdate, TransverseFlux,
-    WaveLimiter,
+    MpmFrame, MpmShape, MpmTransfer, PointUpdate, RiemannSolver, SchemeOrder, StressUpdate,
+    TransverseFlux, WaveLimiter,
 };
 use impact_core::Scene;
 use serde::{Deserialize, Serialize};
@@ -73,6 +73,12 @@ pub struct MethodOptionsRecord {
     /// MPM shape functions.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shape: Option<MpmShape>,
+    /// MPM velocity transfer.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transfer: Option<MpmTransfer>,
+    /// MPM's FLIP share (`transfer = "blend"`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flip_fraction: Option<f64>,
 }
 
 impl MethodOptionsRecord {
@@ -95,6 +101,8 @@ impl MethodOptionsRecord {
             stress_update: None,
             frame: None,
             shape: None,
+            transfer: None,
+            flip_fraction: None,
         };
         match config.options {
             MethodOptions::Dgmpm(o) => {
@@ -112,6 +120,8 @@ impl MethodOptionsRecord {
                 r.stress_update = Some(o.stress_update);
                 r.frame = Some(o.frame);
                 r.shape = Some(o.shape);
+                r.transfer = Some(o.transfer);
+                r.flip_fraction = o.flip_fraction;
             }
             MethodOptions::Fem(_) => {}
         }
@@ -445,6 +455,8 @@ pub fn resolved_scene(study: &Study, kinds: &[MethodKind]) -> Scene {
         s.stress_update = Some(o.stress_update);
         s.frame = Some(o.frame);
         s.shape = Some(o.shape);
+        s.transfer = Some(o.transfer);
+        s.flip_fraction = o.flip_fraction;
     }
     scene.fem.courant = config(MethodKind::Fem).courant;
     crate::reference_setup::state_in(study, kinds, &mut scene);

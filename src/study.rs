@@ -2,7 +2,8 @@
 //! every command takes its problem and method configurations.
 use impact_core::method::{
     EdgeKind, EdgeTreatment, Integrator, LoadDirection, MethodConfig, MethodKind, MpmFrame,
-    MpmShape, PointUpdate, RiemannSolver, SchemeOrder, StressUpdate, TransverseFlux, WaveLimiter,
+    MpmShape, MpmTransfer, PointUpdate, RiemannSolver, SchemeOrder, StressUpdate, TransverseFlux,
+    WaveLimiter,
 };
 use impact_core::scene::{
     check_courant, check_output_times, check_points_per_cell, check_work, Scene,
@@ -40,6 +41,13 @@ pub struct Overrides {
     /// MPM shape functions: linear hats, uniform GIMP, quadratic or cubic B-splines.
     #[arg(long, value_enum)]
     pub shape: Option<MpmShape>,
+    /// MPM velocity transfer: FLIP (default), PIC, a PIC/FLIP blend (--flip-fraction) or
+    /// APIC.
+    #[arg(long, value_enum)]
+    pub transfer: Option<MpmTransfer>,
+    /// The FLIP share α in [0, 1] of --transfer blend (1 is FLIP, 0 is PIC).
+    #[arg(long, allow_negative_numbers = true)]
+    pub flip_fraction: Option<f64>,
     /// DGMPM transverse flux in 2D: donor-cell upwind or corner transport upwind.
     #[arg(long, value_enum)]
     pub flux: Option<TransverseFlux>,
@@ -117,6 +125,8 @@ impl Overrides {
             ("--stress-update", self.stress_update.is_some()),
             ("--frame", self.frame.is_some()),
             ("--shape", self.shape.is_some()),
+            ("--transfer", self.transfer.is_some()),
+            ("--flip-fraction", self.flip_fraction.is_some()),
             ("--flux", self.flux.is_some()),
             ("--riemann", self.riemann.is_some()),
             ("--edges", self.edges.is_some()),
@@ -333,6 +343,8 @@ impl Overrides {
             o.stress_update = self.stress_update.unwrap_or(o.stress_update);
             o.frame = self.frame.unwrap_or(o.frame);
             o.shape = self.shape.unwrap_or(o.shape);
+            o.transfer = self.transfer.unwrap_or(o.transfer);
+            o.flip_fraction = self.flip_fraction.or(o.flip_fraction);
         }
     }
 }

@@ -115,7 +115,7 @@ pub(crate) fn print_rows(r: &RunRecord) {
 
 pub(crate) fn print_check(scene: &str, report: &impact::check::CheckReport) {
     let (dg, mpm) = (&report.dgmpm, &report.mpm);
-    let shape = mpm.mpm().map_or("-", |o| o.shape.name());
+    let shape = impact::check::mpm_label(mpm);
     say!(
         "check {scene}: DGMPM (courant {}, {} ppc, {}) vs MPM (courant {}, {} ppc, {}, {shape})",
         dg.courant,

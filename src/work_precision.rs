@@ -19,7 +19,9 @@
 use crate::ladder::{provenance, usable_configurations, LADDER_FLAGS};
 use crate::Study;
 use anyhow::{bail, Context, Result};
-use impact_core::method::{Integrator, MethodConfig, MethodKind, MpmShape, TransverseFlux};
+use impact_core::method::{
+    Integrator, MethodConfig, MethodKind, MpmShape, MpmTransfer, TransverseFlux,
+};
 use impact_core::Scene;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -164,8 +166,9 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
     for ppc in [1, several] {
         let mut config = scene.method_config(MethodKind::Mpm);
         (config.points_per_cell, config.courant) = (ppc, 0.5);
+        let tag = transfer_tag(&config);
         out.push(Config {
-            label: format!("mpm {ppc}ppc C0.5"),
+            label: format!("mpm{tag} {ppc}ppc C0.5"),
             config,
             dim: scene.dim,
         });
@@ -184,8 +187,24 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
         if let Some(o) = config.mpm_mut() {
             o.shape = shape;
         }
+        let tag = transfer_tag(&config);
         out.push(Config {
-            label: format!("mpm {} {ppc}ppc C0.5", shape.name()),
+            label: format!("mpm{tag} {} {ppc}ppc C0.5", shape.name()),
+            config,
+            dim: scene.dim,
+        });
+    }
+    // APIC (issue 26): with the quadratic B-spline at several points per cell (the MPM
+    // most codes run today), and with hats at one point per cell (where its affine
+    // velocity is the nodal velocity gradient: `impact_mpm`'s `affine` module)
+    for (shape, ppc) in [(MpmShape::Bspline2, several), (MpmShape::Linear, 1)] {
+        let mut config = scene.method_config(MethodKind::Mpm);
+        (config.points_per_cell, config.courant) = (ppc, 0.5);
+        if let Some(o) = config.mpm_mut() {
+            (o.shape, o.transfer, o.flip_fraction) = (shape, MpmTransfer::Apic, None);
+        }
+        out.push(Config {
+            label: format!("mpm apic {} {ppc}ppc C0.5", shape.name()),
             config,
             dim: scene.dim,
         });
@@ -198,6 +217,14 @@ pub fn configurations(scene: &Scene) -> Vec<Config> {
         dim: scene.dim,
     });
     out
+}
+
+/// The MPM transfer of `config` as a label part: empty for FLIP, else ` pic`, ...
+fn transfer_tag(config: &MethodConfig) -> String {
+    match config.mpm().map(|o| o.transfer_tag()) {
+        Some(tag) if !tag.is_empty() => format!(" {tag}"),
+        _ => String::new(),
+    }
 }
 
 /// Cells along x of level `k` (1D: 75·2^k; 2D: 16·2^k, with 12·2^k along y; 3D: 4·2^k,

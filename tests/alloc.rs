@@ -5,7 +5,8 @@
 //! rayon's worker threads (all of them, the loop's own included) and ignores the test
 //! harness's threads (which report finished tests while another one counts).
 use impact_core::method::{
-    Integrator, MethodKind, PointUpdate, RiemannSolver, StressUpdate, TransverseFlux,
+    Integrator, MethodKind, MpmFrame, MpmShape, MpmTransfer, PointUpdate, RiemannSolver,
+    StressUpdate, TransverseFlux,
 };
 use impact_core::{Problem, Scene};
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -142,6 +143,66 @@ fn no_allocation_in_the_step_loop() {
             }
         }
     }
+    // MPM's transfers (issue 26): PIC, the blend and APIC (hats and the quadratic
+    // B-spline, both frames), USL and MUSL, linear elastic and SVK
+    for name in ["bar", "svk-bar"] {
+        let scene = Scene::builtin(name).unwrap();
+        let problem = Problem::<1>::from_scene(&scene).unwrap();
+        for (transfer, alpha, shape, stress_update, frame) in [
+            (
+                MpmTransfer::Pic,
+                None,
+                MpmShape::Linear,
+                StressUpdate::Usl,
+                MpmFrame::TotalLagrangian,
+            ),
+            (
+                MpmTransfer::Blend,
+                Some(0.9),
+                MpmShape::Gimp,
+                StressUpdate::Musl,
+                MpmFrame::TotalLagrangian,
+            ),
+            (
+                MpmTransfer::Apic,
+                None,
+                MpmShape::Linear,
+                StressUpdate::Usl,
+                MpmFrame::TotalLagrangian,
+            ),
+            (
+                MpmTransfer::Apic,
+                None,
+                MpmShape::Bspline2,
+                StressUpdate::Musl,
+                MpmFrame::TotalLagrangian,
+            ),
+            (
+                MpmTransfer::Apic,
+                None,
+                MpmShape::Bspline2,
+                StressUpdate::Usf,
+                MpmFrame::UpdatedLagrangian,
+            ),
+        ] {
+            if name == "svk-bar" && frame == MpmFrame::UpdatedLagrangian {
+                continue; // SVK is total Lagrangian
+            }
+            let mut c = scene.method_config(MethodKind::Mpm);
+            let options = impact::Overrides {
+                transfer: Some(transfer),
+                flip_fraction: alpha,
+                shape: Some(shape),
+                stress_update: Some(stress_update),
+                frame: Some(frame),
+                ..Default::default()
+            };
+            options.apply_to_config(&mut c);
+            let n = steps_allocate(&problem, c);
+            assert_eq!(n, 0, "{n} allocations: {name} {c:?}");
+            cases += 1;
+        }
+    }
     // DGMPM order 2 (the wave corrections, 1D; SVK's acoustic waves): the cell path, RK2
     // and several points per cell on the nodal phases
     for name in ["bar", "svk-bar"] {
@@ -223,7 +284,7 @@ fn no_allocation_in_the_step_loop() {
             cases += 1;
         }
     }
-    assert_eq!(cases, 18 + 3 + 3 + 9 + 2 + 4 + 4);
+    assert_eq!(cases, 18 + 9 + 3 + 3 + 9 + 2 + 4 + 4);
 }
 
 /// DGMPM's rayon loops (grids from 4,096 cells on): the cell path (CTU, donor-cell, SVK) and
@@ -292,7 +353,6 @@ fn block(cells: [usize; 3], model: &str) -> Problem<3> {
 /// (donor-cell and CTU, linear and J2) in 3D, serial and, on 4,608 cells, on rayon.
 #[test]
 fn no_allocation_in_the_3d_step_loop() {
-    use impact_core::method::{MpmFrame, MpmShape};
     let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
     let elastic = "model = \"linear-elastic\"";
     let j2 = "model = \"j2\"\nyield_stress = 4.0e8\nhardening = 2.0e10";
@@ -344,6 +404,34 @@ fn no_allocation_in_the_3d_step_loop() {
                 (o.shape, o.stress_update, o.frame) = (shape, update, frame);
                 configs.push(c);
             }
+            // the transfers (issue 26): APIC with hats (total Lagrangian) and with the
+            // quadratic B-spline (updated), PIC with CPDI
+            for (transfer, shape, frame) in [
+                (
+                    MpmTransfer::Apic,
+                    MpmShape::Linear,
+                    MpmFrame::TotalLagrangian,
+                ),
+                (MpmTransfer::Pic, MpmShape::Cpdi, MpmFrame::TotalLagrangian),
+                (
+                    MpmTransfer::Apic,
+                    MpmShape::Bspline2,
+                    MpmFrame::UpdatedLagrangian,
+                ),
+                (
+                    MpmTransfer::Apic,
+                    MpmShape::Gimp,
+                    MpmFrame::UpdatedLagrangian,
+                ),
+            ] {
+                if model == svk && frame == MpmFrame::UpdatedLagrangian {
+                    continue;
+                }
+                let mut c = scene_config(MethodKind::Mpm);
+                let o = c.mpm_mut().unwrap();
+                (o.shape, o.transfer, o.frame) = (shape, transfer, frame);
+                configs.push(c);
+            }
             if model != svk {
                 // DGMPM's fused 3D sweep (linear elasticity, Euler): donor-cell and CTU
                 for flux in [TransverseFlux::DonorCell, TransverseFlux::Ctu] {
@@ -364,5 +452,5 @@ fn no_allocation_in_the_3d_step_loop() {
             }
         }
     }
-    assert_eq!(cases, 2 * (8 + 8 + 3));
+    assert_eq!(cases, 2 * (12 + 12 + 5));
 }

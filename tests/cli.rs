@@ -364,9 +364,10 @@ fn svk_outputs_name_and_hold_the_first_piola_kirchhoff_stress() {
     assert!(vtu.contains("Name=\"piola_stress\"") && !vtu.contains("Name=\"cauchy_stress\""));
 }
 
-/// `check --against all-mpm` prints one verdict per MPM shape function, and the MPM front
-/// widths it prints are those `impact run --method mpm --shape <shape>` records against
-/// the same reference.
+/// `check --against all-mpm` prints one verdict per MPM shape function with FLIP (the
+/// scene's transfer), then per shape with PIC and with APIC (not CPDI), and the MPM front
+/// widths it prints are those `impact run --method mpm --shape <shape> --transfer <t>`
+/// records against the same reference.
 #[test]
 fn check_against_all_mpm_prints_every_variant_with_the_run_figures() {
     for scene in ["bar", "svk-bar", "plate"] {
@@ -378,7 +379,12 @@ fn check_against_all_mpm_prints_every_variant_with_the_run_figures() {
             .filter(|l| l.starts_with("PASS") || l.starts_with("FAIL"))
             .collect();
         let shapes = impact_core::method::MpmShape::NAMES;
-        assert_eq!(verdicts.len(), shapes.len(), "{stdout}");
+        let variants: Vec<(&str, &str)> = ["flip", "pic", "apic"]
+            .into_iter()
+            .flat_map(|t| shapes.iter().map(move |s| (*s, t)))
+            .filter(|&(s, t)| !(t == "apic" && s == "cpdi"))
+            .collect();
+        assert_eq!(verdicts.len(), variants.len(), "{stdout}");
         // the exit status is the conjunction of the verdicts
         assert_eq!(
             o.status.success(),
@@ -386,14 +392,18 @@ fn check_against_all_mpm_prints_every_variant_with_the_run_figures() {
             "{stdout}"
         );
         let blocks: Vec<&str> = stdout.split("check ").skip(1).collect();
-        for (block, shape) in blocks.iter().zip(shapes.iter().copied()) {
-            assert!(block.contains(&format!("usl, {shape})")), "{block}");
+        for (block, (shape, transfer)) in blocks.iter().zip(variants.iter().copied()) {
+            let label = match transfer {
+                "flip" => shape.to_string(),
+                t => format!("{shape} {t}"),
+            };
+            assert!(block.contains(&format!("usl, {label})")), "{block}");
             let printed: Vec<String> = block
                 .lines()
                 .filter(|l| l.trim_start().starts_with(|c: char| c.is_ascii_digit()))
                 .map(|l| l.split_whitespace().nth(2).unwrap().to_string())
                 .collect();
-            let out = tmp(&format!("against-{scene}-{shape}"));
+            let out = tmp(&format!("against-{scene}-{shape}-{transfer}"));
             // the same judge as the check's (FEM where there is no exact solution: the
             // default of a run of MPM alone would be DGMPM)
             let r = impact(&[
@@ -405,6 +415,8 @@ fn check_against_all_mpm_prints_every_variant_with_the_run_figures() {
                 shape,
                 "--reference",
                 "fem",
+                "--transfer",
+                transfer,
                 "--no-files",
                 "--quiet",
                 "--out",
@@ -422,7 +434,7 @@ fn check_against_all_mpm_prints_every_variant_with_the_run_figures() {
                         .map_or("-".into(), |w| format!("{w:.3}"))
                 })
                 .collect();
-            assert_eq!(printed, recorded, "{scene} {shape}");
+            assert_eq!(printed, recorded, "{scene} {shape} {transfer}");
         }
     }
 }

@@ -8,13 +8,54 @@
 //! what is allowed with this problem.
 use crate::method::Model;
 use crate::options::{
-    DgmpmOptions, MethodConfig, MethodOptions, MpmFrame, RiemannSolver, SchemeOrder, TransverseFlux,
+    DgmpmOptions, MethodConfig, MethodOptions, MpmFrame, MpmOptions, MpmShape, MpmTransfer,
+    RiemannSolver, SchemeOrder, TransverseFlux,
 };
 use crate::{CoreError, Problem, SceneError};
 
 /// `dgmpm.<name> (--<flag>)`: the field of a refusal, named as in scene files and flags.
 fn field(section: &str, name: &str, flag: &str) -> String {
     format!("{section}.{name} (--{flag})")
+}
+
+/// MPM's transfer and its FLIP share: `flip_fraction` in `[0, 1]`, given with
+/// `transfer = "blend"` only (required there: no hidden default share); APIC not with CPDI
+/// (its domain-averaged weights have no affine transfer implemented: `impact_mpm`'s
+/// `transfer` module).
+fn check_transfer(o: &MpmOptions) -> Result<(), CoreError> {
+    let fraction = field("mpm", "flip_fraction", "flip-fraction");
+    match (o.transfer, o.flip_fraction) {
+        (MpmTransfer::Blend, None) => Err(SceneError::new(
+            fraction,
+            "missing",
+            "a FLIP share in [0, 1] with transfer = \"blend\" (1 is FLIP, 0 is PIC)",
+        )
+        .into()),
+        (MpmTransfer::Blend, Some(alpha)) if !(0.0..=1.0).contains(&alpha) => Err(SceneError::new(
+            fraction,
+            alpha,
+            "a FLIP share in [0, 1] (1 is FLIP, 0 is PIC)",
+        )
+        .into()),
+        (transfer, Some(alpha)) if transfer != MpmTransfer::Blend => Err(SceneError::new(
+            fraction,
+            alpha,
+            format!(
+                "no flip_fraction with transfer = \"{transfer}\": it is the FLIP share of \
+                 transfer = \"blend\" (--transfer blend)"
+            ),
+        )
+        .into()),
+        (MpmTransfer::Apic, _) if o.shape == MpmShape::Cpdi => Err(SceneError::new(
+            field("mpm", "transfer", "transfer"),
+            o.transfer,
+            "\"flip\", \"pic\" or \"blend\" with shape = \"cpdi\" (APIC's affine transfer \
+             is implemented for hats, GIMP and B-splines, not for CPDI's domain-averaged \
+             weights)",
+        )
+        .into()),
+        _ => Ok(()),
+    }
 }
 
 impl<const D: usize> Problem<D> {
@@ -37,7 +78,7 @@ impl<const D: usize> Problem<D> {
                     )
                     .into());
                 }
-                Ok(())
+                check_transfer(&o)
             }
             MethodOptions::Dgmpm(o) => {
                 self.check_points(config)?;
@@ -215,7 +256,9 @@ impl<const D: usize> Problem<D> {
 
 #[cfg(test)]
 mod tests {
-    use crate::options::{MethodKind, MpmFrame, RiemannSolver, TransverseFlux};
+    use crate::options::{
+        MethodKind, MpmFrame, MpmShape, MpmTransfer, RiemannSolver, TransverseFlux,
+    };
     use crate::{Problem, Scene};
 
     /// The refusal of `config` on `scene`, as text.
@@ -328,6 +371,48 @@ mod tests {
             (
                 refusal::<2>("plate", |c| c.points_per_cell = 2, MethodKind::Mpm),
                 ["domain.points_per_cell (--points-per-cell)", "2", "1, 4, 9"],
+            ),
+            (
+                refusal::<1>(
+                    "bar",
+                    |c| c.mpm_mut().unwrap().transfer = MpmTransfer::Blend,
+                    MethodKind::Mpm,
+                ),
+                ["mpm.flip_fraction (--flip-fraction)", "missing", "[0, 1]"],
+            ),
+            (
+                refusal::<2>(
+                    "plate",
+                    |c| {
+                        let o = c.mpm_mut().unwrap();
+                        (o.transfer, o.flip_fraction) = (MpmTransfer::Blend, Some(1.5));
+                    },
+                    MethodKind::Mpm,
+                ),
+                ["mpm.flip_fraction (--flip-fraction)", "1.5", "[0, 1]"],
+            ),
+            (
+                refusal::<1>(
+                    "bar",
+                    |c| c.mpm_mut().unwrap().flip_fraction = Some(0.5),
+                    MethodKind::Mpm,
+                ),
+                [
+                    "mpm.flip_fraction (--flip-fraction)",
+                    "0.5",
+                    "transfer = \"flip\"",
+                ],
+            ),
+            (
+                refusal::<1>(
+                    "bar",
+                    |c| {
+                        let o = c.mpm_mut().unwrap();
+                        (o.transfer, o.shape) = (MpmTransfer::Apic, MpmShape::Cpdi);
+                    },
+                    MethodKind::Mpm,
+                ),
+                ["mpm.transfer (--transfer)", "apic", "shape = \"cpdi\""],
             ),
             (
                 refusal::<1>("bar", |c| c.courant = 2.5, MethodKind::Fem),

@@ -32,7 +32,7 @@ impl PartialEq for Formula {
 }
 
 impl Formula {
-    /// Parse `text` as a formula of the first `dim` coordinates (`x`, then `y`). The error
+    /// Parse `text` as a formula of the first `dim` coordinates (`x`, then `y`, then `z`). The error
     /// says what is wrong, for the caller to name the field.
     pub fn parse(text: &str, dim: usize) -> Result<Self, String> {
         let plain = expand_exponents(text)?;
@@ -60,7 +60,8 @@ impl Formula {
     /// The value at `position` (NaN where the formula is undefined, e.g. `ln` of a
     /// negative number; validation refuses those).
     pub fn eval(&self, position: &[f64]) -> f64 {
-        let mut values = [0.0; 2];
+        // up to three coordinates (3D: `x`, `y` and `z`)
+        let mut values = [0.0; 3];
         for (slot, &axis) in values.iter_mut().zip(&self.axes) {
             *slot = position[axis];
         }

@@ -2,8 +2,8 @@
 pub use crate::options::{
     DgmpmOptions, EdgeKind, EdgeTreatment, FemOptions, Integrator, LayoutKind, LoadDirection,
     LoadShape, MaterialModel, MethodConfig, MethodKind, MethodOptions, MpmFrame, MpmOptions,
-    MpmShape, PointUpdate, RiemannSolver, SchemeOrder, SegmentCover, StressUpdate, TransverseFlux,
-    WaveLimiter,
+    MpmShape, MpmTransfer, PointUpdate, RiemannSolver, SchemeOrder, SegmentCover, StressUpdate,
+    TransverseFlux, WaveLimiter,
 };
 pub use crate::problem::Model;
 use crate::{Tensor, Vector};

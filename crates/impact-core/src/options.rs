@@ -10,6 +10,9 @@ use serde::{Deserialize, Serialize};
 
 pub use crate::scheme_order::SchemeOrder;
 
+mod config;
+pub use config::{DgmpmOptions, FemOptions, MethodConfig, MethodOptions, MpmOptions};
+
 /// An option enum: the variants with their names, `name()`, `parse()`, `ALL`, `NAMES`,
 /// serde (by name; an unknown name is rejected with the list of allowed names), `Display`
 /// and, behind the `clap` feature, `clap::ValueEnum`.
@@ -210,6 +213,24 @@ option_enum! {
 }
 
 option_enum! {
+    /// MPM velocity transfer from the grid to the points (and, for APIC, back):
+    /// `impact_mpm`'s `transfer` module states the formulas and references.
+    MpmTransfer {
+        /// FLIP: `v_p += Σ_i w_ip Δv_i`, the interpolated nodal velocity increment (Brackbill
+        /// & Ruppel 1986; Sulsky, Zhou & Schreyer 1995).
+        Flip = "flip",
+        /// PIC: `v_p = Σ_i w_ip v_i`, the interpolated new nodal velocity (Harlow 1964).
+        Pic = "pic",
+        /// `v_p = α (v_p + Σ_i w_ip Δv_i) + (1 − α) Σ_i w_ip v_i`, the FLIP share `α` given
+        /// by `flip_fraction`.
+        Blend = "blend",
+        /// APIC (Jiang, Schroeder, Selle, Teran & Stomakhin 2015): PIC plus a per-point
+        /// affine velocity `C_p`, carried to the grid as `v_p + C_p (x_i − x_p)`.
+        Apic = "apic",
+    }
+}
+
+option_enum! {
     /// Direction of a pressure load.
     LoadDirection {
         /// Pushing into the body (positive pressure).
@@ -300,214 +321,6 @@ option_enum! {
         /// Ghost cells only, as Clawpack: the corrections on edge faces are not restricted
         /// and a traction corner's diagonal ghost is the ghost of the ghost cell.
         Ghost = "ghost",
-    }
-}
-
-/// DGMPM's options.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct DgmpmOptions {
-    /// Time integrator.
-    pub integrator: Integrator,
-    /// Point update after the nodal solve.
-    pub update: PointUpdate,
-    /// Transverse flux (2D).
-    pub flux: TransverseFlux,
-    /// Riemann solver (Saint-Venant–Kirchhoff).
-    pub riemann: RiemannSolver,
-    /// Edge treatment of CTU (2D).
-    pub edges: EdgeTreatment,
-    /// Spatial order: the paper's first-order flux or the limited second-order corrections.
-    pub order: SchemeOrder,
-    /// The wave limiter of `order = 2` (`None`: not chosen, [`DgmpmOptions::DEFAULT_LIMITER`]
-    /// there); refused with `order = 1` (`Problem::check_config`).
-    pub limiter: Option<WaveLimiter>,
-}
-
-impl DgmpmOptions {
-    /// The limiter of `order = 2` when none is chosen: MC, Clawpack's template default.
-    pub const DEFAULT_LIMITER: WaveLimiter = WaveLimiter::Mc;
-
-    /// The limiter the second-order corrections use (`None`: first order, no corrections).
-    pub fn wave_limiter(&self) -> Option<WaveLimiter> {
-        match self.order {
-            SchemeOrder::First => None,
-            SchemeOrder::Second => Some(self.limiter.unwrap_or(Self::DEFAULT_LIMITER)),
-        }
-    }
-}
-
-impl Default for DgmpmOptions {
-    /// The paper's: forward Euler, nodal point update, CTU in 2D, approximate SVK solver.
-    fn default() -> Self {
-        Self {
-            integrator: Integrator::Euler,
-            update: PointUpdate::Nodal,
-            flux: TransverseFlux::Ctu,
-            riemann: RiemannSolver::Approximate,
-            edges: EdgeTreatment::Restricted,
-            order: SchemeOrder::First,
-            limiter: None,
-        }
-    }
-}
-
-/// MPM's options.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct MpmOptions {
-    /// Stress update order.
-    pub stress_update: StressUpdate,
-    /// Frame of the shape functions.
-    pub frame: MpmFrame,
-    /// Shape functions.
-    pub shape: MpmShape,
-}
-
-impl Default for MpmOptions {
-    /// USL in the total Lagrangian frame with linear hats (the paper's comparisons, §5).
-    fn default() -> Self {
-        Self {
-            stress_update: StressUpdate::Usl,
-            frame: MpmFrame::TotalLagrangian,
-            shape: MpmShape::Linear,
-        }
-    }
-}
-
-/// FEM's options (none yet: linear elements, lumped mass, central differences).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct FemOptions {}
-
-/// The options of one method.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MethodOptions {
-    /// DGMPM.
-    Dgmpm(DgmpmOptions),
-    /// MPM.
-    Mpm(MpmOptions),
-    /// FEM.
-    Fem(FemOptions),
-}
-
-impl MethodOptions {
-    /// The defaults of `kind`.
-    pub fn defaults(kind: MethodKind) -> Self {
-        match kind {
-            MethodKind::Dgmpm => Self::Dgmpm(DgmpmOptions::default()),
-            MethodKind::Mpm => Self::Mpm(MpmOptions::default()),
-            MethodKind::Fem => Self::Fem(FemOptions::default()),
-        }
-    }
-}
-
-/// Options of one method run: what every method shares and the method's own part.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MethodConfig {
-    /// Courant number `c_p Δt / Δx_min`.
-    pub courant: f64,
-    /// Material points per cell (DGMPM, MPM; FEM ignores it).
-    pub points_per_cell: usize,
-    /// The method and its own options.
-    pub options: MethodOptions,
-}
-
-impl MethodConfig {
-    /// `kind` with its default options.
-    pub fn new(kind: MethodKind, courant: f64, points_per_cell: usize) -> Self {
-        Self {
-            courant,
-            points_per_cell,
-            options: MethodOptions::defaults(kind),
-        }
-    }
-
-    /// Which method.
-    pub fn kind(&self) -> MethodKind {
-        match self.options {
-            MethodOptions::Dgmpm(_) => MethodKind::Dgmpm,
-            MethodOptions::Mpm(_) => MethodKind::Mpm,
-            MethodOptions::Fem(_) => MethodKind::Fem,
-        }
-    }
-
-    /// DGMPM's options (`None` for another method).
-    pub fn dgmpm(&self) -> Option<&DgmpmOptions> {
-        match &self.options {
-            MethodOptions::Dgmpm(o) => Some(o),
-            _ => None,
-        }
-    }
-
-    /// DGMPM's options, to change (`None` for another method).
-    pub fn dgmpm_mut(&mut self) -> Option<&mut DgmpmOptions> {
-        match &mut self.options {
-            MethodOptions::Dgmpm(o) => Some(o),
-            _ => None,
-        }
-    }
-
-    /// MPM's options (`None` for another method).
-    pub fn mpm(&self) -> Option<&MpmOptions> {
-        match &self.options {
-            MethodOptions::Mpm(o) => Some(o),
-            _ => None,
-        }
-    }
-
-    /// MPM's options, to change (`None` for another method).
-    pub fn mpm_mut(&mut self) -> Option<&mut MpmOptions> {
-        match &mut self.options {
-            MethodOptions::Mpm(o) => Some(o),
-            _ => None,
-        }
-    }
-
-    /// Short label of the integrator column: DGMPM's integrator, the stress update for
-    /// MPM, `central` for FEM.
-    pub fn integrator_label(&self) -> &'static str {
-        match &self.options {
-            MethodOptions::Dgmpm(o) => o.integrator.name(),
-            MethodOptions::Mpm(o) => o.stress_update.name(),
-            MethodOptions::Fem(_) => "central",
-        }
-    }
-
-    /// The `impact run` flags that select this configuration (`--method`, `--courant`,
-    /// `--points-per-cell` and the method's own options; `--flux` only in 2D).
-    pub fn to_flags(&self, dim: usize) -> Vec<String> {
-        let mut flags = vec![
-            "--method".to_string(),
-            self.kind().name().to_string(),
-            "--courant".to_string(),
-            self.courant.to_string(),
-            "--points-per-cell".to_string(),
-            self.points_per_cell.to_string(),
-        ];
-        let mut push = |flag: &str, value: &str| {
-            flags.push(flag.to_string());
-            flags.push(value.to_string());
-        };
-        match &self.options {
-            MethodOptions::Dgmpm(o) => {
-                push("--integrator", o.integrator.name());
-                push("--update", o.update.name());
-                push("--riemann", o.riemann.name());
-                push("--order", o.order.name());
-                if let Some(limiter) = o.limiter {
-                    push("--limiter", limiter.name());
-                }
-                if dim > 1 {
-                    push("--flux", o.flux.name());
-                    push("--edges", o.edges.name());
-                }
-            }
-            MethodOptions::Mpm(o) => {
-                push("--stress-update", o.stress_update.name());
-                push("--frame", o.frame.name());
-                push("--shape", o.shape.name());
-            }
-            MethodOptions::Fem(_) => {}
-        }
-        flags
     }
 }
 

@@ -9,7 +9,9 @@
 //!    body's surface `x_s`).
 //! 2. [`MpmSolver::grid_update`]: `p_i += Δt f_i`; prescribed velocities are imposed on
 //!    their nodes; symmetry edges zero the normal component.
-//! 3. [`MpmSolver::grid_to_particles`]: `v_p += Δt Σ_i N_ip f_i/m_i` (FLIP) and
+//! 3. [`MpmSolver::grid_to_particles`]: `v_p += Δt Σ_i N_ip f_i/m_i` (FLIP, the default;
+//!    the transfer is an option, [`MpmTransfer`]: PIC `v_p = Σ_i N_ip p_i/m_i`, a blend of
+//!    the two, or APIC with an affine velocity per point, `affine.rs`) and
 //!    `x_p += Δt Σ_i N_ip p_i/m_i`.
 //! 4. MUSL only ([`MpmSolver::remap_momentum`]): `p_i = Σ_p N_ip m_p v_p^{n+1}` again.
 //! 5. [`MpmSolver::update_stress`]: with the nodal velocity `v_i = p_i/m_i`,
@@ -50,7 +52,9 @@
 //!
 //! Layout: `shape.rs` (the shape functions and their stencils: a new one goes there),
 //! `weights.rs` (their values at the points: one row per point or one shared row),
-//! `transfer.rs` (phases 1, 3, 4, 5: the scatters, coloured by node layer, and the gathers), `grid_update.rs`
+//! `transfer.rs` (phases 1, 3, 4, 5: the scatters, coloured by node layer, and the gathers),
+//! `affine.rs` (APIC's gather), `loads.rs` (the loads' nodal forces and the prescribed point
+//! velocities), `grid_update.rs`
 //! (phase 2), `method.rs` (the `Method` impl); this file holds the solver and its buffers.
 //!
 //! Every piece is dimension-generic (`const D`): in 3D the stencils have 8, 27 or 64 nodes
@@ -61,18 +65,20 @@
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
+mod affine;
 mod cpdi;
 mod edges;
 mod grid_update;
+mod loads;
 mod method;
 pub mod shape;
 use edges::{edge_conditions, node_constraints, point_constraints, MirrorConstraint, SurfaceLoad};
 mod transfer;
 mod weights;
-use impact_core::method::{MethodConfig, Model, MpmOptions, MpmShape, StressUpdate};
+use impact_core::method::{MethodConfig, Model, MpmOptions, MpmShape, MpmTransfer, StressUpdate};
 use impact_core::parallel::worth_parallel;
 use impact_core::points::MaterialPoints;
-use impact_core::{Constraint, CoreError, Grid, LinearElastic, Problem, Vector};
+use impact_core::{Constraint, CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
 
 /// Cells added on every side of the body's grid for the background grid.
 pub const PADDING: usize = 4;
@@ -89,6 +95,9 @@ pub struct MpmState<const D: usize> {
     pub impulse: Vector<D>,
     /// Energy of the state at `t = 0` (J).
     pub initial_energy: f64,
+    /// APIC's affine velocity `C_p = B_p D_p⁻¹` of each point (`crate::affine`; empty with
+    /// the other transfers), zero at `t = 0`.
+    pub affine: Vec<Tensor<D>>,
 }
 
 /// Nodal sums of the background grid (struct of arrays).
@@ -155,6 +164,12 @@ impl EmptyNodes {
             walls,
             floors: std::array::from_fn(|w| floor * 0.5f64.powi(w as i32)),
         }
+    }
+
+    /// The floor as `fraction n min_p m_p` instead of `10⁻¹⁰ n min_p m_p`.
+    fn rescale(&mut self, fraction: f64) {
+        let scale = fraction / 1e-10;
+        self.floors.iter_mut().for_each(|f| *f *= scale);
     }
 
     /// Whether node `i`, of mass `mass`, carries mass (is not empty).
@@ -253,6 +268,10 @@ impl<const D: usize> Mpm<D> {
             node_constraints(&grid, &velocity_edges);
         let point_constraints = point_constraints(&body, &points, &velocity_edges);
         let parallel = worth_parallel(np);
+        let affine = match options.transfer {
+            MpmTransfer::Apic => vec![Tensor::<D>::zeros(); np],
+            _ => Vec::new(),
+        };
         let mut mpm = Self {
             solver: MpmSolver {
                 config,
@@ -285,6 +304,7 @@ impl<const D: usize> Mpm<D> {
                 work: 0.0,
                 impulse: Vector::<D>::zeros(),
                 initial_energy: 0.0,
+                affine,
             },
         };
         mpm.solver.allocate_weights(&mpm.state.points);
@@ -307,7 +327,7 @@ impl<const D: usize> MpmSolver<D> {
     pub fn step(&mut self, state: &mut MpmState<D>, t: f64, dt: f64) {
         let window = (t, t + dt);
         let usl = self.options.stress_update != StressUpdate::Usf;
-        self.particles_to_grid(&state.points, usl);
+        self.particles_to_grid(&state.points, &state.affine, usl);
         self.shapes_ready = true;
         if !usl {
             self.update_stress(&mut state.points, dt);
@@ -323,15 +343,15 @@ impl<const D: usize> MpmSolver<D> {
         state.impulse += impulse;
         let fused = self.fused_gather(&state.points);
         if fused {
-            self.grid_to_particles_and_stress(&mut state.points, dt);
+            self.grid_to_particles_and_stress(&mut state.points, &mut state.affine, dt);
         } else {
-            self.grid_to_particles(&mut state.points, dt);
+            self.grid_to_particles(&mut state.points, &mut state.affine, dt);
         }
         // trapezoidal work of the loads over the step
         state.work += 0.5 * dt * (power_start + self.load_power(&state.points, window));
         state.impulse += self.impose_point_velocities(&mut state.points, window);
         if self.options.stress_update == StressUpdate::Musl {
-            self.remap_momentum(&state.points, window);
+            self.remap_momentum(&state.points, &state.affine, window);
         }
         if usl && !fused {
             self.update_stress(&mut state.points, dt);
@@ -347,6 +367,14 @@ impl<const D: usize> MpmSolver<D> {
             && self.options.stress_update == StressUpdate::Usl
             && matches!(self.model, Model::LinearElastic | Model::J2(_))
             && points.domain.is_empty()
+    }
+
+    /// The empty-node floor as a fraction of a cell's mass (default `1e-10`,
+    /// `EmptyNodes`'s doc): the momentum conservation tests lower it to show that what
+    /// APIC loses in the updated frame is what the floor drops (the forces on nodes whose
+    /// weights fall below it), not the transfer.
+    pub fn set_empty_node_floor(&mut self, fraction: f64) {
+        self.empty.rescale(fraction);
     }
 
     /// Run phases 3 and 5 as separate gathers (`false`; the reference the fused gather is

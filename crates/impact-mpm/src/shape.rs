@@ -98,6 +98,9 @@ pub struct Stencil<const D: usize> {
     pub offsets: Vec<usize>,
     /// Linear index stride of each axis.
     pub(crate) strides: [usize; D],
+    /// Position of local node `a` relative to the base node, `(k_0 h_0, …)` for its
+    /// per-axis index `k` (APIC's `x_i − x_p`: `crate::affine`).
+    pub(crate) steps: Vec<Vector<D>>,
     /// GIMP's half domain in cells, `1/(2 n)` for `n` points per cell and axis.
     half: f64,
 }
@@ -126,14 +129,22 @@ impl<const D: usize> Stencil<D> {
                 })
             })
             .collect();
-        Self {
+        let mut stencil = Self {
             shape,
             width,
             nodes,
             offsets,
             strides,
+            steps: Vec::new(),
             half: 0.5 / points_per_axis.max(1) as f64,
-        }
+        };
+        stencil.steps = (0..nodes)
+            .map(|a| {
+                let local = stencil.local_index(a);
+                Vector::<D>::from_fn(|k, _| local[k] as f64 * grid.spacing[k])
+            })
+            .collect();
+        stencil
     }
 
     /// The per-axis position (first axis fastest) of local node `a` in the stencil.

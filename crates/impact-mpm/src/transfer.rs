@@ -15,17 +15,43 @@
 //! counting-sorted by layer when their cells change (once in the total Lagrangian frame,
 //! where they are in layer order from the start and the scatters read them directly).
 //! Point loops write disjoint points.
-use crate::{Band, MpmSolver, MAX_NODES};
-use impact_core::method::{Model, MpmFrame};
+use crate::{Band, MpmSolver};
+use impact_core::method::{Model, MpmFrame, MpmOptions, MpmTransfer};
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
-use impact_core::{Grid, Tensor, Vector};
+use impact_core::{Tensor, Vector};
 
 /// Points (or nodes) per chunk of the point and node loops.
-const CHUNK: usize = 2048;
+pub(crate) const CHUNK: usize = 2048;
 /// Point layers per block of the coloured scatter (module doc): a block's node layers
 /// (about 40 KB each at 1000 cells a row in 2D) stay in cache while its points add to them.
 const BLOCK_LAYERS: usize = 8;
+
+/// The point velocity update of the transfers without an affine part, with
+/// `v_i = Σ_i N_ip p_i/m_i` the interpolated new nodal velocity and
+/// `Δv = Δt Σ_i N_ip f_i/m_i` the interpolated increment.
+#[derive(Clone, Copy)]
+pub(crate) enum PointVelocity {
+    /// FLIP (Brackbill & Ruppel 1986): `v_p += Δv`.
+    Flip,
+    /// PIC (Harlow 1964): `v_p = v_i`.
+    Pic,
+    /// `v_p = α (v_p + Δv) + (1 − α) v_i` (FLIP share `α`): exactly FLIP at `α = 1` and
+    /// PIC at `α = 0` (`1·x + 0·y = x` in floating point for finite `y`).
+    Blend(f64),
+}
+
+impl PointVelocity {
+    /// The update of `options.transfer`; `None` for APIC (`crate::affine`).
+    pub(crate) fn of(options: &MpmOptions) -> Option<Self> {
+        match options.transfer {
+            MpmTransfer::Flip => Some(Self::Flip),
+            MpmTransfer::Pic => Some(Self::Pic),
+            MpmTransfer::Blend => Some(Self::Blend(options.flip_fraction.unwrap_or(1.0))),
+            MpmTransfer::Apic => None,
+        }
+    }
+}
 
 /// Which nodal sums a scatter fills.
 #[derive(Clone, Copy)]
@@ -44,9 +70,33 @@ struct Weights<'a, const D: usize> {
     bases: &'a [usize],
     shape: &'a [f64],
     gradient: &'a [Vector<D>],
+    /// Node positions relative to the base node ([`crate::shape::Stencil`]'s `steps`).
+    steps: &'a [Vector<D>],
 }
 
 impl<const D: usize> Weights<'_, D> {
+    /// APIC's velocity of point `p` at its stencil's local node `a`, `v_p + C_p (x_i − x_p)`
+    /// (`crate::affine`), with `centre` the point relative to its base node.
+    #[inline]
+    fn affine_velocity(
+        &self,
+        velocity: &Vector<D>,
+        affine: &Tensor<D>,
+        centre: &Vector<D>,
+        p: usize,
+        entry: usize,
+    ) -> Vector<D> {
+        velocity + affine * (self.steps[entry - p * self.stride] - centre)
+    }
+
+    /// Point `p` relative to its base node, `Σ_a w_ap (x_a − x_base)` (linear completeness:
+    /// the weights' own centre, consistent with them to round-off).
+    #[inline]
+    fn centre(&self, p: usize) -> Vector<D> {
+        let row = &self.shape[p * self.stride..p * self.stride + self.steps.len()];
+        row.iter().zip(self.steps).map(|(w, x)| x * *w).sum()
+    }
+
     /// `(entry of p's weights, node − offset)` for each node of point `p`'s stencil.
     #[inline]
     fn nodes_of(&self, p: usize, offset: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
@@ -86,6 +136,7 @@ impl<const D: usize> MpmSolver<D> {
             bases: &self.point_base,
             shape: &self.shape,
             gradient: &self.shape_gradient,
+            steps: &self.stencil.steps,
         };
         let contribution = |p: usize, sums: &mut Band<'_, D>| contribution(&weights, p, sums);
         let nodes = &mut self.nodes;
@@ -164,9 +215,15 @@ impl<const D: usize> MpmSolver<D> {
     }
 
     /// Phase 1: shape functions, then mass `m_i = Σ_p N_ip m_p`, momentum
-    /// `p_i = Σ_p N_ip m_p v_p` and (with `with_internal`) the internal force
-    /// `f_i = -Σ_p (V_p σ_p) ∇N_ip` on the grid.
-    pub fn particles_to_grid(&mut self, points: &MaterialPoints<D>, with_internal: bool) {
+    /// `p_i = Σ_p N_ip m_p v_p` (APIC, `affine` not empty:
+    /// `p_i = Σ_p N_ip m_p (v_p + C_p (x_i − x_p))`, `crate::affine`) and (with
+    /// `with_internal`) the internal force `f_i = -Σ_p (V_p σ_p) ∇N_ip` on the grid.
+    pub fn particles_to_grid(
+        &mut self,
+        points: &MaterialPoints<D>,
+        affine: &[Tensor<D>],
+        with_internal: bool,
+    ) {
         self.update_shapes(points);
         let fill = Fill {
             mass: true,
@@ -177,10 +234,20 @@ impl<const D: usize> MpmSolver<D> {
             let (mass, velocity) = (points.mass[p], points.velocity[p]);
             // V_p σ_p formed once per point
             let stress = points.stress[p] * points.volume[p];
+            let centre = if affine.is_empty() {
+                Vector::<D>::zeros()
+            } else {
+                weights.centre(p)
+            };
             for (a, i) in weights.nodes_of(p, sums.offset) {
                 let w = weights.shape[a] * mass;
                 sums.mass[i] += w;
-                sums.momentum[i] += velocity * w;
+                if affine.is_empty() {
+                    sums.momentum[i] += velocity * w;
+                } else {
+                    let v = weights.affine_velocity(&velocity, &affine[p], &centre, p, a);
+                    sums.momentum[i] += v * w;
+                }
                 if with_internal {
                     sums.force[i] -= stress * weights.gradient[a];
                 }
@@ -203,54 +270,20 @@ impl<const D: usize> MpmSolver<D> {
         });
     }
 
-    /// External surface loads as nodal forces at the current surface positions, at their
-    /// step average over `window` (`impact_core::load`): a load is spread over the nodes of
-    /// its cell that carry mass (renormalised shape functions), so the whole force reaches
-    /// the body.
-    pub(crate) fn external_forces(&mut self, points: &MaterialPoints<D>, window: (f64, f64)) {
-        let npc = Grid::<D>::NODES_PER_CELL;
-        let mut s = [0.0; MAX_NODES];
-        let mut g = [Vector::<D>::zeros(); MAX_NODES];
-        for load in &self.loads {
-            let x = match self.options.frame {
-                MpmFrame::TotalLagrangian => points.reference[load.point],
-                MpmFrame::UpdatedLagrangian => points.position[load.point],
-            } + load.offset;
-            let Some((c, xi)) = self.grid.locate(&x) else {
-                continue;
-            };
-            self.grid.shape(&xi, &mut s[..npc], &mut g[..npc]);
-            let with_mass = |a: usize| {
-                let i = self.grid.vertex_of(c, a);
-                self.empty.holds(i, self.nodes.mass[i])
-            };
-            let total: f64 = (0..npc).filter(|&a| with_mass(a)).map(|a| s[a]).sum();
-            if total <= 0.0 {
-                continue;
-            }
-            let force = load.force * load.history.mean(window.0, window.1);
-            for a in 0..npc {
-                let i = self.grid.vertex_of(c, a);
-                if self.empty.holds(i, self.nodes.mass[i]) {
-                    self.nodes.force[i] += force * (s[a] / total);
-                }
-            }
+    /// Phase 3: the velocity update of the transfer (`PointVelocity`; APIC:
+    /// `crate::affine`), FLIP's `v_p += Δt Σ_i N_ip f_i/m_i` by default, and the position
+    /// update `x_p += Δt Σ_i N_ip p_i/m_i` (`1/m_i` from the grid update, 0 on empty
+    /// nodes).
+    pub fn grid_to_particles(
+        &self,
+        points: &mut MaterialPoints<D>,
+        affine: &mut [Tensor<D>],
+        dt: f64,
+    ) {
+        match PointVelocity::of(&self.options) {
+            None => self.gather_affine::<false>(points, affine, dt),
+            Some(update) => self.gather::<false>(points, update, dt),
         }
-    }
-
-    /// Power of the surface loads over the step `window`, `Σ F ḡ · v_p` with `ḡ` the step
-    /// average of `g` and `v_p` the velocity of the loaded point.
-    pub(crate) fn load_power(&self, points: &MaterialPoints<D>, window: (f64, f64)) -> f64 {
-        self.loads
-            .iter()
-            .map(|l| l.history.mean(window.0, window.1) * l.force.dot(&points.velocity[l.point]))
-            .sum()
-    }
-
-    /// Phase 3: FLIP velocity update `v_p += Δt Σ_i N_ip f_i/m_i` and position update
-    /// `x_p += Δt Σ_i N_ip p_i/m_i` (`1/m_i` from the grid update, 0 on empty nodes).
-    pub fn grid_to_particles(&self, points: &mut MaterialPoints<D>, dt: f64) {
-        self.gather::<false>(points, dt);
     }
 
     /// Phases 3 and 5 of USL in one gather of each point's nodes (small strain): the FLIP
@@ -258,15 +291,29 @@ impl<const D: usize> MpmSolver<D> {
     /// phase 5 (`V_p *= 1 + Δt tr ∇v` in the updated Lagrangian frame; J2: the return map
     /// after). Phase 5 reads only the grid-updated nodes, which phase 3 leaves alone, so
     /// the order is USL's; tested against the separate phases to 1e-13.
-    pub fn grid_to_particles_and_stress(&self, points: &mut MaterialPoints<D>, dt: f64) {
-        self.gather::<true>(points, dt);
+    pub fn grid_to_particles_and_stress(
+        &self,
+        points: &mut MaterialPoints<D>,
+        affine: &mut [Tensor<D>],
+        dt: f64,
+    ) {
+        match PointVelocity::of(&self.options) {
+            None => self.gather_affine::<true>(points, affine, dt),
+            Some(update) => self.gather::<true>(points, update, dt),
+        }
         if let Model::J2(j2) = self.model {
             j2.correct_points(points, self.parallel);
         }
     }
 
-    /// The gather of phase 3 and, with `STRESS`, phase 5 (small strain).
-    fn gather<const STRESS: bool>(&self, points: &mut MaterialPoints<D>, dt: f64) {
+    /// The gather of phase 3 and, with `STRESS`, phase 5 (small strain), for the transfers
+    /// without an affine part.
+    fn gather<const STRESS: bool>(
+        &self,
+        points: &mut MaterialPoints<D>,
+        update: PointVelocity,
+        dt: f64,
+    ) {
         let (npc, stride) = (self.stencil.nodes, self.weight_stride);
         let nodes = &self.nodes;
         let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
@@ -303,7 +350,11 @@ impl<const D: usize> MpmSolver<D> {
                             l += node_velocity * self.shape_gradient[p * stride + a].transpose();
                         }
                     }
-                    *vp += dv;
+                    match update {
+                        PointVelocity::Flip => *vp += dv,
+                        PointVelocity::Pic => *vp = v,
+                        PointVelocity::Blend(alpha) => *vp = (*vp + dv) * alpha + v * (1.0 - alpha),
+                    }
                     *xp += v * dt;
                     if STRESS {
                         stress[j] += self.material.stress(&((l + l.transpose()) * 0.5)) * dt;
@@ -320,7 +371,13 @@ impl<const D: usize> MpmSolver<D> {
     /// the shape functions of the start of the step) with the mass, the padding's sums
     /// folded onto the interior as in phase 2 (`grid_update.rs`), then the prescribed nodal
     /// velocities.
-    pub fn remap_momentum(&mut self, points: &MaterialPoints<D>, window: (f64, f64)) {
+    /// APIC (`affine` not empty) maps `v_p + C_p (x_i − x_p)` as phase 1 does.
+    pub fn remap_momentum(
+        &mut self,
+        points: &MaterialPoints<D>,
+        affine: &[Tensor<D>],
+        window: (f64, f64),
+    ) {
         // the mass again too (the same sums as phase 1): the fold reads the padding's own
         let fill = Fill {
             mass: true,
@@ -328,10 +385,20 @@ impl<const D: usize> MpmSolver<D> {
             force: false,
         };
         self.scatter(fill, |weights, p, sums| {
+            let centre = if affine.is_empty() {
+                Vector::<D>::zeros()
+            } else {
+                weights.centre(p)
+            };
             for (a, i) in weights.nodes_of(p, sums.offset) {
                 let w = weights.shape[a] * points.mass[p];
                 sums.mass[i] += w;
-                sums.momentum[i] += points.velocity[p] * w;
+                if affine.is_empty() {
+                    sums.momentum[i] += points.velocity[p] * w;
+                } else {
+                    let v = &points.velocity[p];
+                    sums.momentum[i] += weights.affine_velocity(v, &affine[p], &centre, p, a) * w;
+                }
             }
         });
         self.fold_padding(window, false);
@@ -407,78 +474,7 @@ impl<const D: usize> MpmSolver<D> {
             }
         }
     }
-
-    /// Points on a velocity edge take the prescribed velocity (as the paper does), its
-    /// average over the step `window` (its value at `t0` for an empty window, the state at
-    /// `t = 0`). Returns the impulse this gives them, `Σ m_p Δv_p`.
-    pub(crate) fn impose_point_velocities(
-        &self,
-        points: &mut MaterialPoints<D>,
-        window: (f64, f64),
-    ) -> Vector<D> {
-        let mut kick = Vector::<D>::zeros();
-        for c in &self.point_constraints {
-            let (p, axis, value) = (c.carrier, c.axis, c.mean(window));
-            kick[axis] += points.mass[p] * (value - points.velocity[p][axis]);
-            points.velocity[p][axis] = value;
-        }
-        kick
-    }
 }
 
 #[cfg(test)]
-mod tests {
-    use crate::Mpm;
-    use impact_core::method::MethodKind;
-    use impact_core::{Method, Problem, Scene};
-
-    /// The coloured scatter reads the points of each layer through `layer_order` unless
-    /// they are in it already: an order reversed within every layer gives the sums of the
-    /// points' own order to round-off (2 threads, the parallel passes).
-    #[test]
-    fn scatter_sums_do_not_depend_on_the_order_within_a_layer() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            let mut scene = Scene::builtin("plate").unwrap();
-            scene.domain.cells = vec![80, 60];
-            let problem = Problem::<2>::from_scene(&scene).unwrap();
-            let config = scene.method_config(MethodKind::Mpm);
-            let mut own = Mpm::<2>::new(&problem, config).unwrap();
-            let dt = own.stable_dt();
-            for n in 0..5 {
-                own.step(n as f64 * dt, dt);
-            }
-            assert!(own.solver.parallel && own.solver.in_layer_order);
-            let mut reversed = own.clone();
-            let solver = &mut reversed.solver;
-            solver.in_layer_order = false;
-            solver.layer_order = (0..own.state.points.len()).collect();
-            for layer in solver.layer_start.windows(2) {
-                solver.layer_order[layer[0]..layer[1]].reverse();
-            }
-            assert!(solver.layer_order[0] != 0);
-            own.solver.particles_to_grid(&own.state.points, true);
-            reversed
-                .solver
-                .particles_to_grid(&reversed.state.points, true);
-            let (a, b) = (&own.solver.nodes, &reversed.solver.nodes);
-            let peak = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-            let force: Vec<f64> = a.force.iter().map(|f| f.amax()).collect();
-            let momentum: Vec<f64> = a.momentum.iter().map(|p| p.amax()).collect();
-            let (mass_scale, force_scale) = (peak(&a.mass), peak(&force));
-            let momentum_scale = peak(&momentum);
-            assert!(
-                force_scale > 0.0 && momentum_scale > 0.0,
-                "the wave must be there"
-            );
-            for i in 0..a.mass.len() {
-                assert!((a.mass[i] - b.mass[i]).abs() <= 1e-14 * mass_scale);
-                assert!((a.force[i] - b.force[i]).amax() <= 1e-13 * force_scale);
-                assert!((a.momentum[i] - b.momentum[i]).amax() <= 1e-13 * momentum_scale);
-            }
-        });
-    }
-}
+mod tests;

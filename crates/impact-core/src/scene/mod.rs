@@ -27,8 +27,9 @@
 use crate::error::CoreError;
 use crate::options::{
     DgmpmOptions, EdgeKind, EdgeTreatment, Integrator, LayoutKind, LoadShape, MaterialModel,
-    MethodConfig, MethodKind, MethodOptions, MpmFrame, MpmOptions, MpmShape, PointUpdate,
-    RiemannSolver, SchemeOrder, SegmentCover, StressUpdate, TransverseFlux, WaveLimiter,
+    MethodConfig, MethodKind, MethodOptions, MpmFrame, MpmOptions, MpmShape, MpmTransfer,
+    PointUpdate, RiemannSolver, SchemeOrder, SegmentCover, StressUpdate, TransverseFlux,
+    WaveLimiter,
 };
 
 mod boundary;
@@ -260,6 +261,13 @@ pub struct MpmSpec {
     /// Shape functions.
     #[serde(default)]
     pub shape: Option<MpmShape>,
+    /// Velocity transfer (default `"flip"`).
+    #[serde(default)]
+    pub transfer: Option<MpmTransfer>,
+    /// The FLIP share `α ∈ [0, 1]` of `transfer = "blend"` (required there, refused with
+    /// the other transfers).
+    #[serde(default)]
+    pub flip_fraction: Option<f64>,
 }
 
 /// FEM's section.
@@ -303,6 +311,8 @@ impl Default for MpmSpec {
             stress_update: None,
             frame: None,
             shape: None,
+            transfer: None,
+            flip_fraction: None,
         }
     }
 }
@@ -354,6 +364,8 @@ impl Scene {
                         stress_update: s.stress_update.unwrap_or(d.stress_update),
                         frame: s.frame.unwrap_or(d.frame),
                         shape: s.shape.unwrap_or(d.shape),
+                        transfer: s.transfer.unwrap_or(d.transfer),
+                        flip_fraction: s.flip_fraction,
                     }),
                 }
             }

@@ -1,0 +1,55 @@
+//! The coloured scatter's sums against the points' order (`transfer.rs`).
+use crate::Mpm;
+use impact_core::method::MethodKind;
+use impact_core::{Method, Problem, Scene};
+
+/// The coloured scatter reads the points of each layer through `layer_order` unless
+/// they are in it already: an order reversed within every layer gives the sums of the
+/// points' own order to round-off (2 threads, the parallel passes).
+#[test]
+fn scatter_sums_do_not_depend_on_the_order_within_a_layer() {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        let mut scene = Scene::builtin("plate").unwrap();
+        scene.domain.cells = vec![80, 60];
+        let problem = Problem::<2>::from_scene(&scene).unwrap();
+        let config = scene.method_config(MethodKind::Mpm);
+        let mut own = Mpm::<2>::new(&problem, config).unwrap();
+        let dt = own.stable_dt();
+        for n in 0..5 {
+            own.step(n as f64 * dt, dt);
+        }
+        assert!(own.solver.parallel && own.solver.in_layer_order);
+        let mut reversed = own.clone();
+        let solver = &mut reversed.solver;
+        solver.in_layer_order = false;
+        solver.layer_order = (0..own.state.points.len()).collect();
+        for layer in solver.layer_start.windows(2) {
+            solver.layer_order[layer[0]..layer[1]].reverse();
+        }
+        assert!(solver.layer_order[0] != 0);
+        own.solver
+            .particles_to_grid(&own.state.points, &own.state.affine, true);
+        reversed
+            .solver
+            .particles_to_grid(&reversed.state.points, &reversed.state.affine, true);
+        let (a, b) = (&own.solver.nodes, &reversed.solver.nodes);
+        let peak = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let force: Vec<f64> = a.force.iter().map(|f| f.amax()).collect();
+        let momentum: Vec<f64> = a.momentum.iter().map(|p| p.amax()).collect();
+        let (mass_scale, force_scale) = (peak(&a.mass), peak(&force));
+        let momentum_scale = peak(&momentum);
+        assert!(
+            force_scale > 0.0 && momentum_scale > 0.0,
+            "the wave must be there"
+        );
+        for i in 0..a.mass.len() {
+            assert!((a.mass[i] - b.mass[i]).abs() <= 1e-14 * mass_scale);
+            assert!((a.force[i] - b.force[i]).amax() <= 1e-13 * force_scale);
+            assert!((a.momentum[i] - b.momentum[i]).amax() <= 1e-13 * momentum_scale);
+        }
+    });
+}
