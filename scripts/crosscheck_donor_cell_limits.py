@@ -8,13 +8,18 @@ tangential ρ c_s), the 9 × 9 amplification matrix on a Fourier mode, numpy's e
 bisection on the Courant number Δt c_p/Δx. ν = 0.3; units ρ = c_p = 1.
 
 Prints 2D 0.65167 (θ_z = 0, 24² phases; `impact stability`: 0.6516) and 3D 0.48331
-(16³ phases; tests/stability.rs pins the program's 0.4833).
+(16³ phases; tests/stability.rs pins the program's 0.4833). The tests (run by
+scripts/test.sh) compare them with the limit the program's guard states when it refuses
+donor-cell at Courant 0.99 on `plate-wave` and `block-wave` (ν = 0.3, square cells).
 
     scripts/.venv/bin/python scripts/crosscheck_donor_cell_limits.py
 """
 import itertools
+import re
+import subprocess
 
 import numpy as np
+from conftest import impact_bin
 
 POISSON = 0.3
 MU = (1 - 2 * POISSON) / (2 * (1 - POISSON))  # μ/(λ + 2μ) with λ + 2μ = 1
@@ -71,25 +76,49 @@ def rates(theta, dim):
     return m
 
 
-def max_radius(courant, samples, dim):
+def rate_matrices(samples, dim):
+    """The rate matrices of every phase of the grid (they do not depend on the Courant
+    number, so they are built once and the bisection only forms `1 + C·M`)."""
     phases = 2 * np.pi * np.arange(samples) / samples
-    worst = 0.0
-    for theta in itertools.product(phases, repeat=dim):
-        theta = list(theta) + [0.0] * (3 - dim)
-        g = np.eye(9) + courant * rates(theta, dim)
-        worst = max(worst, abs(np.linalg.eigvals(g)).max())
-    return worst
+    return np.array([rates(list(theta) + [0.0] * (3 - dim), dim)
+                     for theta in itertools.product(phases, repeat=dim)])
+
+
+def max_radius(courant, matrices):
+    g = np.eye(9) + courant * matrices
+    return abs(np.linalg.eigvals(g)).max()
 
 
 def limit(samples, dim):
+    matrices = rate_matrices(samples, dim)
     lo, hi = 0.05, 1.0
     for _ in range(25):
         mid = (lo + hi) / 2
-        if max_radius(mid, samples, dim) <= 1 + 1e-9:
+        if max_radius(mid, matrices) <= 1 + 1e-9:
             lo = mid
         else:
             hi = mid
     return lo
+
+
+def program_limit(scene: str) -> float:
+    """The von Neumann limit impact's guard states for donor-cell Euler at Courant 0.99."""
+    run = subprocess.run([impact_bin(), "run", scene, "--method", "dgmpm", "--flux", "dcu",
+                          "--courant", "0.99", "--quiet", "--no-files"],
+                         capture_output=True, text=True)
+    assert run.returncode == 2, f"{scene}: expected a refusal, got {run.returncode}: {run.stderr}"
+    found = re.search(r"von Neumann limit ([0-9.]+)", run.stderr)
+    assert found, run.stderr
+    return float(found.group(1))
+
+
+def test_2d_limit_equals_the_program_s():
+    # the program bisects to 1e-5 and prints 4 decimals
+    assert abs(limit(24, 2) - program_limit("plate-wave")) <= 2e-4
+
+
+def test_3d_limit_equals_the_program_s():
+    assert abs(limit(16, 3) - program_limit("block-wave")) <= 2e-4
 
 
 if __name__ == "__main__":
