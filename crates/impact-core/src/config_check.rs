@@ -126,7 +126,7 @@ impl<const D: usize> Problem<D> {
     /// DGMPM's order and limiter: a limiter only with `order = 2` (the first-order scheme
     /// has no corrections to limit: a limiter given there is refused, not ignored), and
     /// `order = 2` in 1D, 2D and 3D (CTU or donor-cell; the elastoplastic solver where it
-    /// runs: 1D and 2D donor-cell); with Saint-Venant–Kirchhoff only in 1D with the
+    /// runs: donor-cell); with Saint-Venant–Kirchhoff only in 1D with the
     /// approximate solver.
     fn check_order(&self, o: &DgmpmOptions) -> Result<(), CoreError> {
         match (o.order, o.limiter) {
@@ -206,17 +206,6 @@ impl<const D: usize> Problem<D> {
                     );
                 }
                 if riemann == RiemannSolver::Elastoplastic {
-                    if D > 2 {
-                        return refuse(
-                            &riemann_field,
-                            &riemann,
-                            "\"elastic\" in 3D (the elastoplastic face solver gives a state \
-                             on the yield surface an empty elastic range when the return map \
-                             leaves it a round-off outside, so a 3D run of a plane-strain \
-                             scene leaves the 2D run by 2e-3 within 6 steps: not verified in \
-                             3D)",
-                        );
-                    }
                     if ppc != 1 {
                         return refuse(
                             "domain.points_per_cell (--points-per-cell)",

@@ -6,7 +6,8 @@
 //! CTU with its transverse and transverse-transverse corrections) and integrator (Euler:
 //! the cell path, RK2: the nodal path), linear elasticity (the plane wave, the plate's
 //! partial impact by centre and by fraction, the standing mode), J2 (elastic solver and
-//! the return map) and Saint-Venant–Kirchhoff (approximate solver).
+//! the return map; the elastoplastic face solver, donor-cell, order 1 and 2) and
+//! Saint-Venant–Kirchhoff (approximate solver).
 //!
 //! Not CTU with RK2 (the nodal path): there the corrections of the faces normal to an
 //! invariant axis, equal on a cell's two faces, reach the face's nodes only and leave a
@@ -283,7 +284,30 @@ fn invariant_along_z_is_the_plane_strain_run_for_j2_and_svk() {
         options: "",
         initial: None,
     };
+    // the elastoplastic face solver (donor-cell; its CTU is refused), order 1 and 2
+    let ep_solver = Plane {
+        name: "ep-plate-wave-ep-solver",
+        options: "riemann = \"elastoplastic\"",
+        ..ep
+    };
+    let ep_solver_order_2 = Plane {
+        name: "ep-plate-wave-ep-solver-order-2",
+        options: "riemann = \"elastoplastic\"\norder = 2\nlimiter = \"mc\"",
+        ..ep
+    };
     for (plane, flux, integrator, courant) in [
+        (
+            &ep_solver,
+            TransverseFlux::DonorCell,
+            Integrator::Euler,
+            0.45,
+        ),
+        (
+            &ep_solver_order_2,
+            TransverseFlux::DonorCell,
+            Integrator::Euler,
+            0.45,
+        ),
         (&ep, TransverseFlux::Ctu, Integrator::Euler, 0.9),
         (&ep, TransverseFlux::DonorCell, Integrator::Rk2, 0.45),
         (&svk, TransverseFlux::DonorCell, Integrator::Rk2, 0.45),
