@@ -18,8 +18,8 @@
 //! points per cell with Euler 0.6; RK2 1.0 (2D: DCU 0.95, CTU 0.7); MPM 0.5; FEM 0.9.
 mod summary;
 
-pub use summary::{ranking, summarize, summarize_dir};
 use summary::EXACT;
+pub use summary::{ranking, summarize, summarize_dir};
 
 use crate::ladder::{provenance, usable_configurations, LADDER_FLAGS};
 use crate::Study;
