@@ -304,19 +304,7 @@ impl crate::Overrides {
     /// validation; the refinement here, naming its flag).
     pub(crate) fn apply_reference(&self, scene: &mut impact_core::Scene) -> Result<(), SceneError> {
         if let Some(r) = self.reference_refinement {
-            let allowed = impact_core::scene::REFERENCE_REFINEMENTS;
-            if !allowed.contains(&r) {
-                return Err(SceneError::new(
-                    "--reference-refinement",
-                    r,
-                    format!(
-                        "an integer from {} to {} (the reference grid's cells per run cell \
-                         along each axis)",
-                        allowed.start(),
-                        allowed.end()
-                    ),
-                ));
-            }
+            impact_core::scene::check_reference_refinement("--reference-refinement", r)?;
         }
         if let (Some(flux), 1) = (self.reference_flux, scene.dim) {
             return Err(SceneError::new(

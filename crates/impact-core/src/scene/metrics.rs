@@ -25,6 +25,24 @@ use serde::{Deserialize, Serialize};
 /// Allowed refinements of a converged reference (along each axis).
 pub const REFERENCE_REFINEMENTS: std::ops::RangeInclusive<usize> = 2..=16;
 
+/// A reference refinement `r` given as `field` (scene key or flag): refused outside
+/// [`REFERENCE_REFINEMENTS`], naming the field, the value and the range.
+pub fn check_reference_refinement(field: &str, r: usize) -> Result<(), SceneError> {
+    if REFERENCE_REFINEMENTS.contains(&r) {
+        return Ok(());
+    }
+    Err(SceneError::new(
+        field,
+        r,
+        format!(
+            "an integer from {} to {} (the reference grid's cells per run cell along each \
+             axis)",
+            REFERENCE_REFINEMENTS.start(),
+            REFERENCE_REFINEMENTS.end()
+        ),
+    ))
+}
+
 /// The `[metrics]` section.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -197,18 +215,7 @@ impl Scene {
     fn check_reference(&self) -> Result<(), SceneError> {
         let o = self.reference_options();
         if let Some(r) = o.refinement {
-            if !REFERENCE_REFINEMENTS.contains(&r) {
-                return Err(SceneError::new(
-                    "metrics.reference_refinement",
-                    r,
-                    format!(
-                        "an integer from {} to {} (the reference grid's cells per run cell \
-                         along each axis)",
-                        REFERENCE_REFINEMENTS.start(),
-                        REFERENCE_REFINEMENTS.end()
-                    ),
-                ));
-            }
+            check_reference_refinement("metrics.reference_refinement", r)?;
         }
         if let (Some(a), Some(b)) = (o.method, o.spread) {
             if a == b {

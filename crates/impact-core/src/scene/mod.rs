@@ -41,7 +41,9 @@ mod metrics;
 mod plane_wave;
 pub use plane_wave::{PlaneWaveKind, PlaneWaveSpec};
 mod validate;
-pub use metrics::{LineSpec, MetricsSpec, ReferenceOptions, REFERENCE_REFINEMENTS};
+pub use metrics::{
+    check_reference_refinement, LineSpec, MetricsSpec, ReferenceOptions, REFERENCE_REFINEMENTS,
+};
 use serde::{Deserialize, Serialize};
 pub use validate::{
     check_courant, check_output_times, check_points_per_cell, check_work, points_per_axis,
