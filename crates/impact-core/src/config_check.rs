@@ -138,15 +138,13 @@ impl<const D: usize> Problem<D> {
             )
             .into()),
             (SchemeOrder::Second, _)
-                if matches!(self.model, Model::Svk(_))
-                    && (D > 1 || o.riemann == RiemannSolver::Exact) =>
+                if matches!(self.model, Model::Svk(_)) && o.riemann == RiemannSolver::Exact =>
             {
                 Err(SceneError::new(
                     field("dgmpm", "order", "order"),
                     o.order,
-                    "1 with Saint-Venant-Kirchhoff in 2D and 3D or with riemann = \"exact\" \
-                     (the second-order wave corrections take the approximate solver's waves, \
-                     in 1D)",
+                    "1 with Saint-Venant-Kirchhoff and riemann = \"exact\" (the second-order \
+                     wave corrections take the approximate solver's waves)",
                 )
                 .into())
             }

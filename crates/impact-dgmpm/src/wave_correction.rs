@@ -59,18 +59,21 @@
 //! traction mirror `σ ↦ k − σ` turns it over), so the ghost face's star state is the
 //! boundary half problem's.
 //!
-//! **Saint-Venant–Kirchhoff** (1D, approximate solver): its two acoustic waves, each
-//! linearised about its side (`wave_correction/svk.rs`).
+//! **Saint-Venant–Kirchhoff** (approximate solver): in 1D its two acoustic waves, each
+//! linearised about its side (`wave_correction/svk.rs`); in 2D and 3D (donor-cell) each
+//! side's jump split into a P wave along the side's acoustic tensor's largest eigenvector
+//! and one shear wave, in the linear solver's P and S slots (`wave_correction/svk_nd.rs`).
 //!
 //! Implemented for the linear-elastic solver (linear elasticity, and J2 with the elastic
 //! solver and the return map after the step; 1D, 2D and 3D), the elastoplastic solver
 //! (1D, and 2D with donor-cell: CTU is refused with it at any order) and the approximate
-//! SVK solver (1D); `Problem::check_config` refuses the others (SVK in 2D and 3D or with
-//! the exact solver). The buffers are allocated once (one row of waves, the longest
-//! axis's faces and two ghost faces; with CTU the `F̃` of every face); the step allocates
-//! nothing.
+//! SVK solver (1D, 2D and 3D; donor-cell, CTU is refused with SVK at any order);
+//! `Problem::check_config` refuses the others (SVK with the exact solver). The buffers
+//! are allocated once (one row of waves, the longest axis's faces and two ghost faces;
+//! with CTU the `F̃` of every face); the step allocates nothing.
 mod elastoplastic;
 mod svk;
+mod svk_nd;
 
 use crate::faces::Fields;
 use crate::limiter::{limiter_phi, wave_ratio};
@@ -217,8 +220,11 @@ impl<const D: usize> DgmpmSolver<D> {
         points: Option<&MaterialPoints<D>>,
         transverse: Option<(usize, usize)>,
     ) -> FaceWaves<D> {
-        if let (crate::Physics::Svk { svk, .. }, 1) = (self.physics, D) {
-            return self.svk_padded_waves(&svk, j, fields);
+        if let crate::Physics::Svk { svk, .. } = self.physics {
+            return match D {
+                1 => self.svk_padded_waves(&svk, j, fields),
+                _ => self.svk_padded_waves_nd(&svk, l, idx, j, fields),
+            };
         }
         let n = self.grid.cells[l];
         let e = unit::<D>(l);

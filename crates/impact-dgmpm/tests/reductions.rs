@@ -7,7 +7,7 @@
 //! the cell path, RK2: the nodal path), linear elasticity (the plane wave, the plate's
 //! partial impact by centre and by fraction, the standing mode), J2 (elastic solver and
 //! the return map; the elastoplastic face solver, donor-cell, order 1 and 2) and
-//! Saint-Venant–Kirchhoff (approximate solver).
+//! Saint-Venant–Kirchhoff (approximate solver, order 1 and 2, donor-cell).
 //!
 //! Not CTU with RK2 (the nodal path): there the corrections of the faces normal to an
 //! invariant axis, equal on a cell's two faces, reach the face's nodes only and leave a
@@ -284,6 +284,12 @@ fn invariant_along_z_is_the_plane_strain_run_for_j2_and_svk() {
         options: "",
         initial: None,
     };
+    // order 2 with the approximate solver's P and S f-waves (donor-cell)
+    let svk_order_2 = Plane {
+        name: "svk-plate-order-2",
+        options: "order = 2\nlimiter = \"mc\"",
+        ..svk
+    };
     // the elastoplastic face solver (donor-cell; its CTU is refused), order 1 and 2
     let ep_solver = Plane {
         name: "ep-plate-wave-ep-solver",
@@ -312,6 +318,18 @@ fn invariant_along_z_is_the_plane_strain_run_for_j2_and_svk() {
         (&ep, TransverseFlux::DonorCell, Integrator::Rk2, 0.45),
         (&svk, TransverseFlux::DonorCell, Integrator::Rk2, 0.45),
         (&svk, TransverseFlux::DonorCell, Integrator::Euler, 0.45),
+        (
+            &svk_order_2,
+            TransverseFlux::DonorCell,
+            Integrator::Rk2,
+            0.45,
+        ),
+        (
+            &svk_order_2,
+            TransverseFlux::DonorCell,
+            Integrator::Euler,
+            0.45,
+        ),
     ] {
         let worst = reduce_plane(plane, flux, integrator, courant);
         assert!(
