@@ -429,10 +429,12 @@ fn stability_on_user_scenes() {
     ]);
     assert!(o.status.success(), "{}", text(&o));
     let scene = Scene::from_file(&out.join("scene.toml")).unwrap();
-    assert_eq!(scene.domain.cells, [16, 10]);
+    // cut along x (20 -> 16) and widened along y (10 -> 12): a sweep body holds the 2D
+    // sweep's 16×12 cells whatever the scene's extent (`impact::stability::cut_scene`)
+    assert_eq!(scene.domain.cells, [16, 12]);
     // the cell size kept: 0.15 m by 0.15 m
     assert!((scene.domain.length[0] - 2.4).abs() < 1e-12);
-    assert!((scene.domain.length[1] - 1.5).abs() < 1e-12);
+    assert!((scene.domain.length[1] - 1.8).abs() < 1e-12);
     let record = json(&out.join("provenance.json"));
     let configs = record["configurations"].as_array().unwrap();
     assert!(configs
