@@ -51,7 +51,7 @@ impl<const D: usize> MpmSolver<D> {
         affine: &mut [Tensor<D>],
         dt: f64,
     ) {
-        let (npc, stride) = (self.stencil.nodes, self.weight_stride);
+        let (stencil_nodes, stride) = (self.stencil.nodes, self.weight_stride);
         let steps = &self.stencil.steps;
         let nodes = &self.nodes;
         let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
@@ -85,14 +85,14 @@ impl<const D: usize> MpmSolver<D> {
                     let row = p * stride;
                     // the point relative to its base node (linear completeness)
                     let mut centre = Vector::<D>::zeros();
-                    for a in 0..npc {
+                    for a in 0..stencil_nodes {
                         centre += steps[a] * self.shape[row + a];
                     }
                     let mut v = Vector::<D>::zeros();
                     let mut b = Tensor::<D>::zeros();
                     let mut inertia = Vector::<D>::zeros();
                     let mut l = Tensor::<D>::zeros();
-                    for a in 0..npc {
+                    for a in 0..stencil_nodes {
                         let i = base + self.stencil.offsets[a];
                         let s = self.shape[row + a];
                         let node_velocity = nodes.momentum[i] * nodes.inv_mass[i];
