@@ -13,6 +13,12 @@
 //! order between levels is `log2(e_k / e_{k+1})`. The last output time is 3/8 of the
 //! mode's period, where neither field passes through zero.
 //!
+//! On a scene without an exact solution each level is measured against its converged
+//! reference ([`crate::reference_for`]), and beside every error the table, CSV and JSON
+//! give the reference's spread in the same norm ([`SpreadErrors`]): how far the second,
+//! independent reference lies from the first, which bounds how much the error depends on
+//! the choice of judge.
+//!
 //! Where the scene measures its errors in the clean interior (`[metrics] interior =
 //! "dependence"`, the default for a plane wave; [`impact_core::interior`]), a level whose
 //! margin leaves no cell is skipped (printed), and every level of a configuration is
@@ -56,6 +62,28 @@ pub struct FieldErrors {
     pub l1_velocity: f64,
     /// L2 of `v_x`.
     pub l2_velocity: f64,
+    /// The reference's uncertainty beside each error (no exact solution: the second
+    /// converged reference's distance from the first in the same norms); `None` against
+    /// an exact solution.
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub spread: Option<SpreadErrors>,
+}
+
+/// The spread of a converged reference in the norms of [`FieldErrors`]: for the first
+/// reference `f_A` and the second `f_B` averaged over each sample's region,
+/// `Σ V_i |f_A − f_B| / Σ V_i |f_A|` (L1) and `sqrt(Σ V_i (f_A − f_B)² / Σ V_i f_A²)` (L2).
+/// By the triangle inequality an error's value moves by at most its spread when the
+/// other reference judges ([`impact_core::converged::Spread`]).
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct SpreadErrors {
+    /// L1 spread of `σ_xx`.
+    pub l1_stress_spread: f64,
+    /// L2 spread of `σ_xx`.
+    pub l2_stress_spread: f64,
+    /// L1 spread of `v_x`.
+    pub l1_velocity_spread: f64,
+    /// L2 spread of `v_x`.
+    pub l2_velocity_spread: f64,
 }
 
 /// One run of the ladder.
@@ -85,6 +113,9 @@ pub fn field_errors<const D: usize>(
         _ => 0,
     };
     let mut sums = [0.0f64; 8];
+    // |f_A − f_B| sums (L1, L2) of σ and v, for the spread
+    let mut spread_sums = [0.0f64; 4];
+    let (mut measured, mut with_spread) = (0usize, 0usize);
     for i in 0..samples.len() {
         let (x, h) = (samples.reference[i], samples.half_size[i]);
         if interior.is_some_and(|inside| !inside.holds(&x, &h)) {
@@ -92,6 +123,19 @@ pub fn field_errors<const D: usize>(
         }
         let volume: f64 = h.iter().map(|v| 2.0 * v).product();
         let (stress, velocity) = reference.averages(&(x - h), &(x + h), t);
+        measured += 1;
+        if let Some((second_stress, second_velocity)) =
+            reference.spread_averages(&(x - h), &(x + h), t)
+        {
+            {
+                let (d_stress, d_velocity) = (stress - second_stress, velocity - second_velocity);
+                spread_sums[0] += volume * d_stress.abs();
+                spread_sums[1] += volume * d_stress * d_stress;
+                spread_sums[2] += volume * d_velocity.abs();
+                spread_sums[3] += volume * d_velocity * d_velocity;
+                with_spread += 1;
+            }
+        }
         let e_stress = samples.stress[i][(a, a)] - stress;
         let e_velocity = samples.velocity[i][a] - velocity;
         for (k, (e, q)) in [(e_stress, stress), (e_velocity, velocity)]
@@ -109,6 +153,12 @@ pub fn field_errors<const D: usize>(
         l2_stress: (sums[2] / sums[3]).sqrt(),
         l1_velocity: sums[4] / sums[5],
         l2_velocity: (sums[6] / sums[7]).sqrt(),
+        spread: (measured > 0 && with_spread == measured).then(|| SpreadErrors {
+            l1_stress_spread: spread_sums[0] / sums[1],
+            l2_stress_spread: (spread_sums[1] / sums[3]).sqrt(),
+            l1_velocity_spread: spread_sums[2] / sums[5],
+            l2_velocity_spread: (spread_sums[3] / sums[7]).sqrt(),
+        }),
     }
 }
 
@@ -339,6 +389,16 @@ pub fn table(runs: &[Level]) -> String {
             mean(|e| e.l1_velocity),
             mean(|e| e.l2_velocity),
         );
+        if let Some(spread) = last.spread {
+            text += &format!(
+                "{:<32} {:>10.1e} {:>10.1e} {:>10.1e} {:>10.1e}   (± the reference's spread)\n",
+                "",
+                spread.l1_stress_spread,
+                spread.l2_stress_spread,
+                spread.l1_velocity_spread,
+                spread.l2_velocity_spread,
+            );
+        }
     }
     text
 }
@@ -348,13 +408,24 @@ fn write(out: &Path, scene: &str, runs: &[Level]) -> Result<()> {
     impact_io::write_atomic(&out.join("convergence.csv"), |w| {
         writeln!(
             w,
-            "scene,config,cells_x,l1_stress,l2_stress,l1_velocity,l2_velocity"
+            "scene,config,cells_x,l1_stress,l2_stress,l1_velocity,l2_velocity,\
+             l1_stress_spread,l2_stress_spread,l1_velocity_spread,l2_velocity_spread"
         )?;
         for r in runs {
             let e = r.errors;
+            // the spread columns are empty against an exact solution
+            let spread = e.spread.map_or(",,,".to_string(), |s| {
+                format!(
+                    "{:.6e},{:.6e},{:.6e},{:.6e}",
+                    s.l1_stress_spread,
+                    s.l2_stress_spread,
+                    s.l1_velocity_spread,
+                    s.l2_velocity_spread
+                )
+            });
             writeln!(
                 w,
-                "{scene},{},{},{:.6e},{:.6e},{:.6e},{:.6e}",
+                "{scene},{},{},{:.6e},{:.6e},{:.6e},{:.6e},{spread}",
                 r.config, r.cells_x, e.l1_stress, e.l2_stress, e.l1_velocity, e.l2_velocity
             )?;
         }

@@ -117,6 +117,7 @@ pub fn reference_for<const D: usize>(
         spread: Some(Spread {
             description: spread_description,
             stress: second.stress_xx,
+            velocity: second.velocity_x,
         }),
     }))))
 }

@@ -183,3 +183,58 @@ fn bad_reference_options_name_the_field_and_the_allowed_values() {
         assert!(e.contains(field) && e.contains(allowed), "{line}: {e}");
     }
 }
+
+/// `impact bench convergence` on a scene without an exact solution gives every level's
+/// errors with the reference's spread in the same norm, for σ and v, L1 and L2. Swapping
+/// the two references (DGMPM judges with FEM's spread, then FEM with DGMPM's) checks both
+/// at once: the distance `D = ‖A − B‖` is one number, so `s = D/‖A‖` and `s' = D/‖B‖`
+/// give `‖B‖/‖A‖ = s/s'`, and the triangle inequality `|‖f − A‖ − ‖f − B‖| ≤ ‖A − B‖`
+/// reads `|e_A − e_B s/s'| ≤ s` in the relative errors the ladder reports (L1, and L2 by
+/// Minkowski's inequality).
+#[test]
+fn convergence_errors_carry_the_spread_of_their_reference() {
+    use impact::convergence::{ladder, FieldErrors, SpreadErrors};
+    use_test_cache();
+    let errors = |judge: MethodKind, spread: MethodKind| {
+        let mut scene = Scene::builtin("plate").unwrap();
+        let metrics = scene.metrics.get_or_insert_with(Default::default);
+        metrics.reference = Some(judge);
+        metrics.reference_spread = Some(spread);
+        metrics.reference_refinement = Some(4);
+        let configs: Vec<_> = impact::work_precision::configurations(&scene)
+            .into_iter()
+            .filter(|c| c.label == "fem C0.9" || c.label == "mpm 1ppc C0.5")
+            .collect();
+        assert_eq!(configs.len(), 2, "the ladder's FEM and MPM rows");
+        ladder::<2>(&scene, &configs, 2).unwrap()
+    };
+    let by_dgmpm = errors(MethodKind::Dgmpm, MethodKind::Fem);
+    let by_fem = errors(MethodKind::Fem, MethodKind::Dgmpm);
+    assert_eq!(by_dgmpm.len(), 4);
+    type Norm = (
+        fn(&FieldErrors) -> f64,
+        fn(&SpreadErrors) -> f64,
+        &'static str,
+    );
+    let norms: [Norm; 4] = [
+        (|e| e.l1_stress, |s| s.l1_stress_spread, "L1 σ"),
+        (|e| e.l2_stress, |s| s.l2_stress_spread, "L2 σ"),
+        (|e| e.l1_velocity, |s| s.l1_velocity_spread, "L1 v"),
+        (|e| e.l2_velocity, |s| s.l2_velocity_spread, "L2 v"),
+    ];
+    for (a, b) in by_dgmpm.iter().zip(&by_fem) {
+        assert_eq!((&a.config, a.cells_x), (&b.config, b.cells_x));
+        let (spread_a, spread_b) = (a.errors.spread.unwrap(), b.errors.spread.unwrap());
+        for (error, spread, name) in norms {
+            let (s, s_swapped) = (spread(&spread_a), spread(&spread_b));
+            assert!(s > 0.0 && s.is_finite(), "{name} spread {s}");
+            let (e_a, e_b) = (error(&a.errors), error(&b.errors));
+            assert!(
+                (e_a - e_b * s / s_swapped).abs() <= s * (1.0 + 1e-12),
+                "{} at {} cells, {name}: {e_a} by DGMPM, {e_b} by FEM, spreads {s}, {s_swapped}",
+                a.config,
+                a.cells_x
+            );
+        }
+    }
+}

@@ -86,6 +86,8 @@ pub struct Spread {
     pub description: String,
     /// `σ_aa` per fine cell per output time (the layout of [`Converged::stress`]).
     pub stress: Vec<Vec<f64>>,
+    /// `v_a` per fine cell per output time (the layout of [`Converged::velocity`]).
+    pub velocity: Vec<Vec<f64>>,
 }
 
 impl Converged {
@@ -133,6 +135,17 @@ impl Converged {
         self.spread
             .as_ref()
             .map(|s| self.average(&s.stress, lo, hi, t))
+    }
+
+    /// Averages of the second reference's `σ_aa` and `v_a` over the box `[lo, hi]` at `t`
+    /// (`None` without a second reference).
+    pub fn spread_averages(&self, lo: [f64; 3], hi: [f64; 3], t: f64) -> Option<(f64, f64)> {
+        self.spread.as_ref().map(|s| {
+            (
+                self.average(&s.stress, lo, hi, t),
+                self.average(&s.velocity, lo, hi, t),
+            )
+        })
     }
 
     /// Average of `σ_aa` over `[a, b]` along the line, across the line's band.

@@ -205,6 +205,25 @@ impl Reference {
         }
     }
 
+    /// The second reference's averages of `σ_aa` and `v_a` over `[lo, hi]` at `t` (the
+    /// spread of [`crate::converged::Spread`]): `None` for an exact solution or a converged
+    /// reference without a second one.
+    pub fn spread_averages<const D: usize>(
+        &self,
+        lo: &Vector<D>,
+        hi: &Vector<D>,
+        t: f64,
+    ) -> Option<(f64, f64)> {
+        match self {
+            Reference::Converged(c) => {
+                let lo2 = std::array::from_fn(|l| if l < D { lo[l] } else { 0.0 });
+                let hi2 = std::array::from_fn(|l| if l < D { hi[l] } else { c.spacing[l] });
+                c.spread_averages(lo2, hi2, t)
+            }
+            _ => None,
+        }
+    }
+
     /// The leading front at `t`, or why there is none.
     pub fn front(&self, t: f64) -> Result<Front, NoFront> {
         match self {
