@@ -249,12 +249,12 @@ impl<const D: usize> FileWriter<'_, D> {
         let measure = self.measure.array_name();
         let mut header: Vec<String> = Vec::new();
         let mut columns: Vec<Vec<f64>> = Vec::new();
-        for l in 0..D {
-            header.push(AXES[l].to_string());
+        for (l, name) in AXES.iter().enumerate().take(D) {
+            header.push(name.to_string());
             columns.push(col(&|i| s.reference[i][l]));
         }
-        for l in 0..D {
-            header.push(format!("{}_current", AXES[l]));
+        for (l, name) in AXES.iter().enumerate().take(D) {
+            header.push(format!("{name}_current"));
             columns.push(col(&|i| s.position[i][l]));
         }
         let full: Vec<[f64; 9]> = order.iter().map(|&i| self.full_stress(i)).collect();
@@ -262,8 +262,8 @@ impl<const D: usize> FileWriter<'_, D> {
             header.push(format!("{measure}_{name}"));
             columns.push(full.iter().map(|f| f[k]).collect());
         }
-        for l in 0..D {
-            header.push(format!("velocity_{}", AXES[l]));
+        for (l, name) in AXES.iter().enumerate().take(D) {
+            header.push(format!("velocity_{name}"));
             columns.push(col(&|i| s.velocity[i][l]));
         }
         if !s.plastic_strain.is_empty() {
