@@ -234,7 +234,7 @@ def test_dgmpm_matches_clawpack_cell_by_cell(tmp_path, name):
 def test_the_default_edge_treatment_differs_from_clawpacks(tmp_path):
     """impact's default (`--edges restricted`) keeps free edges traction-free and drops the
     diagonal ghost at traction corners: on the partial plate it departs from Clawpack by far
-    more than round-off (measured 0.41 of a field's peak, README), on the plane wave not at all."""
+    more than round-off (measured 0.41 of a field's peak, docs/methods.md), on the plane wave not at all."""
     assert worst_difference(tmp_path, "plate", "restricted") > 1e-3
     assert worst_difference(tmp_path, "plate-wave", "restricted") <= 1e-12
 
@@ -340,7 +340,7 @@ def test_order_two_bar_matches_clawpack_cell_by_cell(tmp_path, limiter):
 # ---------------------------------------------------------------------------------------
 # 2D, order 2: donor-cell fluxes (Clawpack's `transverse_waves = 0`, the normal corrections
 # of the P and S waves along each axis; unstable with forward Euler at every Courant number,
-# von Neumann, README: the unsplit corrections lack the cross-derivative term that CTU
+# von Neumann, docs/methods.md: the unsplit corrections lack the cross-derivative term that CTU
 # supplies; the 48 steps compared stay far from any growth of round-off), and CTU.
 
 

@@ -37,13 +37,22 @@ def test_grid_sampled_over_the_bottom_row_matches_the_csv(plate_out, method):
 def test_sample_files_match_the_csv(plate_out, method):
     for k in range(3):
         points = pv.read(plate_out / f"{method}_t{k}.vtu")
-        ref = np.asarray(points["reference"])
+        ref = np.asarray(points["reference_position"])
         bottom = ref[:, 1] <= ref[:, 1].min() + 1e-9
         order = np.argsort(ref[bottom, 0])
         sxx = np.asarray(points["cauchy_stress"])[bottom, 0][order]
         profile = read_csv(plate_out / f"{method}_t{k}.csv")
         np.testing.assert_allclose(ref[bottom, 0][order], profile["x"], rtol=0, atol=1e-12)
         np.testing.assert_allclose(sxx, profile["cauchy_stress_xx"], rtol=1e-11, atol=1e-3)
+        # every component and the coordinates of the measured line, and the reference solution
+        # under the same name in both files
+        np.testing.assert_allclose(ref[bottom, 1][order], profile["y"], rtol=0, atol=1e-12)
+        syy = np.asarray(points["cauchy_stress"])[bottom, 4][order]
+        np.testing.assert_allclose(syy, profile["cauchy_stress_yy"], rtol=1e-11, atol=1e-3)
+        vy = np.asarray(points["velocity"])[bottom, 1][order]
+        np.testing.assert_allclose(vy, profile["velocity_y"], rtol=1e-11, atol=1e-12)
+        exact = np.asarray(points["reference_cauchy_stress_xx"])[bottom][order]
+        np.testing.assert_allclose(exact, profile["reference_cauchy_stress_xx"], rtol=1e-11, atol=1e-3)
 
 
 @pytest.mark.skipif(os.environ.get("IMPACT_HAS_HDF5") != "1", reason="impact built without the hdf5 feature")

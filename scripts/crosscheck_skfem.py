@@ -97,7 +97,7 @@ def test_fem_matches_scikit_fem(plate_out, plate_summary):
         np.testing.assert_allclose(profile["cauchy_stress_xx"], sxx, rtol=0, atol=1e-8 * scale)
 
         grid = meshio.read(plate_out / f"fem_grid_t{k}.vtu")
-        v_impact = grid.point_data["velocity"]
+        v_impact = grid.point_data["nodal_velocity"]
         v_scale = np.abs(velocity).max()
         np.testing.assert_allclose(v_impact[:, 0], velocity[dof_x], rtol=0, atol=1e-8 * v_scale)
         np.testing.assert_allclose(v_impact[:, 1], velocity[dof_y], rtol=0, atol=1e-8 * v_scale)

@@ -1,4 +1,4 @@
-"""The gate's table in README.md: `impact check bar|plate` with DGMPM at Courant 0.5, 0.9, 1.0
+"""The gate's table in docs/cli.md: `impact check bar|plate` with DGMPM at Courant 0.5, 0.9, 1.0
 and 1-4 points per cell (Euler; RK2 beside it at several points per cell), MPM at the scene's
 configuration (Courant 0.5, 1 point per cell). Usage: python3 scripts/gate_table.py target/release/impact"""
 import json, subprocess, sys, tempfile, os

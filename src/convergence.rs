@@ -450,6 +450,7 @@ fn write(out: &Path, scene: &str, runs: &[Level]) -> Result<()> {
                     .collect(),
                 colour: k + 1,
                 reference: false,
+                marker: None,
             })
             .collect(),
     };

@@ -215,14 +215,16 @@ pub fn figure(finest: &[(String, Vec<Trace>)]) -> LineFigure {
                     points: pick(&traces[k], true),
                     colour: 0,
                     reference: true,
+                    marker: None,
                 });
             }
             for (m, (name, traces)) in finest.iter().enumerate() {
                 series.push(Series {
-                    label: name.clone(),
+                    label: crate::plots::display_name(name),
                     points: pick(&traces[k], false),
                     colour: m + 1,
                     reference: false,
+                    marker: None,
                 });
             }
             let r = finest.first().map_or(0.0, |(_, t)| t[k].r);
@@ -239,9 +241,5 @@ pub fn figure(finest: &[(String, Vec<Trace>)]) -> LineFigure {
             });
         }
     }
-    LineFigure {
-        panels,
-        columns: 2,
-        panel_size: (640, 300),
-    }
+    LineFigure::new(panels, 2, impact_io::plot::PrintWidth::Full, 0.5)
 }

@@ -2,9 +2,12 @@
 //! carries ([`StressMeasure`]): `cauchy_stress` in small strain, `piola_stress` (first
 //! Piola–Kirchhoff) under Saint-Venant–Kirchhoff.
 //!
-//! Per method and output time a CSV profile (stress xx and v_x along x;
-//! the bottom row in 2D; with the reference as columns) and two `.vtu` files (the samples
-//! as vertices; the grid cells, or the FEM mesh, with their fields); per method a `.pvd`
+//! Per method and output time a CSV profile (the samples along the measuring line with
+//! their coordinates, every stress and velocity component, and the reference solution as
+//! `reference_*` columns) and two `.vtu` files (the samples as vertices, with their
+//! `reference_position` and, at output times, the reference solution under the CSV's
+//! `reference_*` names; the grid cells, or the FEM mesh with `nodal_velocity` at its nodes
+//! and the cell averages as cell data, with their fields); per method a `.pvd`
 //! collection of each; with the `hdf5` feature a `<method>.h5` time series of the samples
 //! and of the grid, described by `<method>.xdmf` (samples) and `<method>_grid.xdmf` (the
 //! grid's quadrilaterals or hexahedra: `impact_io::h5`); per run `summary.json`, `stress.png` (profiles at up to three times)
@@ -182,6 +185,37 @@ fn with_zz<const D: usize>(
     full
 }
 
+/// Axis letters of columns and arrays.
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// The stress components a `d`-dimensional run writes: (index in the row-major 3×3
+/// tensor, suffix); Voigt order.
+fn stress_components(d: usize) -> &'static [(usize, &'static str)] {
+    match d {
+        1 => &[(0, "xx")],
+        2 => &[(0, "xx"), (4, "yy"), (8, "zz"), (1, "xy")],
+        _ => &[
+            (0, "xx"),
+            (4, "yy"),
+            (8, "zz"),
+            (5, "yz"),
+            (2, "xz"),
+            (1, "xy"),
+        ],
+    }
+}
+
+/// The names of the reference solution's columns and arrays along axis `a`:
+/// `reference_<measure>_aa` and `reference_velocity_a` (the reference *solution*; the
+/// samples' reference *position* is `reference_position`).
+fn reference_names(measure: &str, a: usize) -> (String, String) {
+    let l = AXES[a.min(2)];
+    (
+        format!("reference_{measure}_{l}{l}"),
+        format!("reference_velocity_{l}"),
+    )
+}
+
 /// Vertex order of a grid cell as VTK wants it, from the grid's local vertex numbering
 /// (bit `l` of `a` set: the high side along axis `l`): line 0 1; quad counter-clockwise;
 /// hexahedron (VTK type 12) the bottom face counter-clockwise, then the top face above it.
@@ -195,8 +229,13 @@ fn vtk_order(d: usize) -> (&'static [usize], CellType) {
 
 impl<const D: usize> FileWriter<'_, D> {
     /// The profile along the measuring line ([`impact_core::line`]): kept for the figures
-    /// and written as CSV (with reference columns when there is one). Along y the columns
-    /// are named for y (`y`, `..._yy`, `velocity_y`).
+    /// and written as CSV: every sample the line crosses, sorted along it, with its
+    /// reference and current coordinates (`x`, `y`, `z`; `x_current`, ...), every stress
+    /// component (`<measure>_xx`, `_yy`, `_zz`, `_yz`, `_xz`, `_xy` as the dimension has
+    /// them), every velocity component (`velocity_x`, ...), the plastic strain under J2, and
+    /// the reference solution along the line's axis `a` (`reference_<measure>_aa`,
+    /// `reference_velocity_a`) when there is one. In 1D the columns are those of earlier
+    /// versions.
     fn profile(&mut self, index: usize, t: f64) -> anyhow::Result<()> {
         let s = &self.samples;
         let a = self.line.axis;
@@ -206,32 +245,29 @@ impl<const D: usize> FileWriter<'_, D> {
         let x = col(&|i| s.reference[i][a]);
         let xc = col(&|i| s.position[i][a]);
         let sxx = col(&|i| s.stress[i][(a, a)]);
-        let vx = col(&|i| s.velocity[i][a]);
         let path = self.dir.join(format!("{}_t{}.csv", self.method, index));
-        let along = |name: &str| {
-            if a == 0 {
-                name.to_string()
-            } else {
-                name.replace("xx", "yy").replace("_x", "_y")
-            }
-        };
-        let stress_column = along(self.measure.xx_column());
-        let reference_column = format!("reference_{stress_column}");
-        let (position, current, velocity, reference_velocity) = (
-            ["x", "y"][a].to_string(),
-            ["x_current", "y_current"][a].to_string(),
-            along("velocity_x"),
-            along("reference_velocity_x"),
-        );
-        let mut header = vec![
-            position.as_str(),
-            current.as_str(),
-            stress_column.as_str(),
-            velocity.as_str(),
-        ];
-        let mut columns: Vec<Vec<f64>> = vec![x.clone(), xc, sxx.clone(), vx];
+        let measure = self.measure.array_name();
+        let mut header: Vec<String> = Vec::new();
+        let mut columns: Vec<Vec<f64>> = Vec::new();
+        for (l, name) in AXES.iter().enumerate().take(D) {
+            header.push(name.to_string());
+            columns.push(col(&|i| s.reference[i][l]));
+        }
+        for (l, name) in AXES.iter().enumerate().take(D) {
+            header.push(format!("{name}_current"));
+            columns.push(col(&|i| s.position[i][l]));
+        }
+        let full: Vec<[f64; 9]> = order.iter().map(|&i| self.full_stress(i)).collect();
+        for &(k, name) in stress_components(D) {
+            header.push(format!("{measure}_{name}"));
+            columns.push(full.iter().map(|f| f[k]).collect());
+        }
+        for (l, name) in AXES.iter().enumerate().take(D) {
+            header.push(format!("velocity_{name}"));
+            columns.push(col(&|i| s.velocity[i][l]));
+        }
         if !s.plastic_strain.is_empty() {
-            header.push("equivalent_plastic_strain");
+            header.push("equivalent_plastic_strain".into());
             columns.push(col(&|i| s.plastic_strain[i]));
         }
         if let Some(r) = self.reference {
@@ -242,19 +278,48 @@ impl<const D: usize> FileWriter<'_, D> {
                     r.averages(&(c - h), &(c + h), t)
                 })
                 .collect();
-            header.extend([reference_column.as_str(), reference_velocity.as_str()]);
+            let (stress_name, velocity_name) = reference_names(measure, a);
+            header.extend([stress_name, velocity_name]);
             columns.push(exact.iter().map(|e| e.0).collect());
             columns.push(exact.iter().map(|e| e.1).collect());
         }
         if self.files {
+            let names: Vec<&str> = header.iter().map(String::as_str).collect();
             let refs: Vec<&[f64]> = columns.iter().map(|c| c.as_slice()).collect();
-            impact_io::write_csv(&path, &header, &refs)?;
+            impact_io::write_csv(&path, &names, &refs)?;
         }
         if self.collect {
-            self.positions.push((t, columns[1].clone()));
+            self.positions.push((t, xc));
             self.profiles.push((t, x.into_iter().zip(sxx).collect()));
         }
         Ok(())
+    }
+
+    /// Sample `i`'s stress as a 3×3 row-major tensor, with the out-of-plane σ_zz of plane
+    /// strain (or the method's own, where it carries one).
+    fn full_stress(&self, i: usize) -> [f64; 9] {
+        let t = &self.samples.stress[i];
+        let mut full = with_zz(tensor9(t), t, self.plane_strain);
+        if let Some(szz) = self.samples.stress_zz.get(i) {
+            full[8] = *szz;
+        }
+        full
+    }
+
+    /// The reference solution at every sample (`σ_aa`, `v_a` along the line's axis `a`,
+    /// averaged over the sample's region), at output times only and where every value is
+    /// finite; `None` otherwise.
+    fn reference_at_samples(&self, frame: &str, t: f64) -> Option<(Vec<f64>, Vec<f64>)> {
+        let r = self.reference.filter(|_| frame != INITIAL)?;
+        let s = &self.samples;
+        let (stress, velocity): (Vec<f64>, Vec<f64>) = (0..s.len())
+            .map(|i| {
+                let (c, h) = (s.reference[i], s.half_size[i]);
+                r.averages(&(c - h), &(c + h), t)
+            })
+            .unzip();
+        let finite = stress.iter().chain(&velocity).all(|v| v.is_finite());
+        finite.then_some((stress, velocity))
     }
 
     /// The samples as VTK vertices, in `<method>_<frame>.vtu` (and the `.h5` series at
@@ -263,20 +328,11 @@ impl<const D: usize> FileWriter<'_, D> {
         let s = &self.samples;
         let n = s.len();
         let points: Vec<f64> = s.position.iter().flat_map(pad3).collect();
-        let reference: Vec<f64> = s.reference.iter().flat_map(pad3).collect();
-        let zz = self.plane_strain;
-        let stress: Vec<f64> = s
-            .stress
-            .iter()
-            .enumerate()
-            .flat_map(|(i, t)| {
-                let mut full = with_zz(tensor9(t), t, zz);
-                if let Some(szz) = s.stress_zz.get(i) {
-                    full[8] = *szz;
-                }
-                full
-            })
-            .collect();
+        let reference_position: Vec<f64> = s.reference.iter().flat_map(pad3).collect();
+        let reference_solution = self.reference_at_samples(frame, t);
+        let (reference_stress_name, reference_velocity_name) =
+            reference_names(self.measure.array_name(), self.line.axis);
+        let stress: Vec<f64> = (0..n).flat_map(|i| self.full_stress(i)).collect();
         let velocity: Vec<f64> = s.velocity.iter().flat_map(pad3).collect();
         let connectivity: Vec<usize> = (0..n).collect();
         let file = format!("{}_{frame}.vtu", self.method);
@@ -301,13 +357,29 @@ impl<const D: usize> FileWriter<'_, D> {
                         units: "m/s",
                     },
                     DataArray {
-                        name: "reference",
+                        name: "reference_position",
                         components: 3,
-                        values: &reference,
+                        values: &reference_position,
                         units: "m",
                     },
                 ]
                 .into_iter()
+                .chain(reference_solution.iter().flat_map(|(stress, velocity)| {
+                    [
+                        DataArray {
+                            name: &reference_stress_name,
+                            components: 1,
+                            values: stress,
+                            units: "Pa",
+                        },
+                        DataArray {
+                            name: &reference_velocity_name,
+                            components: 1,
+                            values: velocity,
+                            units: "m/s",
+                        },
+                    ]
+                }))
                 .chain((!s.plastic_strain.is_empty()).then_some(DataArray {
                     name: "equivalent_plastic_strain",
                     components: 1,
@@ -399,7 +471,7 @@ impl<const D: usize> FileWriter<'_, D> {
         let mut point_data = Vec::new();
         if !nodal_velocity.is_empty() {
             point_data.push(DataArray {
-                name: "velocity",
+                name: "nodal_velocity",
                 components: 3,
                 values: &nodal_velocity,
                 units: "m/s",

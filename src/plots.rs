@@ -9,13 +9,18 @@ use crate::output::{CellMaps, Profiles};
 use impact_core::line::MeasureLine;
 use impact_core::reference::Reference;
 use impact_core::{Grid, StressMeasure, Vector};
-use impact_io::plot::{robust_range, Axis, LineFigure, MapFigure, MapPanel, Panel, Series};
+use impact_io::plot::{
+    robust_range, Axis, LineFigure, MapFigure, MapPanel, Panel, PrintWidth, Series,
+};
 
 /// What one method's run kept for the figures.
 #[derive(Debug, Clone, Default)]
 pub struct Collected {
     /// Method name (`dgmpm`, `mpm`, `fem`, or a variant's label).
     pub name: String,
+    /// The legend's label: the method as the papers name it, its variant, Courant number
+    /// and points per cell ([`legend_label`]), e.g. `DGMPM (C 1.0, 1 ppc)`.
+    pub legend: String,
     /// Bottom-row profiles `(t, [(X, σ_xx)])` at each output time.
     pub profiles: Profiles,
     /// Current x of the same samples at each output time.
@@ -26,6 +31,41 @@ pub struct Collected {
 
 /// Pa to MPa.
 pub const MPA: f64 = 1e-6;
+
+/// A run's name as the figures print it: the method upper-case (DGMPM, MPM, FEM), a
+/// variant's words after it (`mpm gimp` → `MPM gimp`).
+pub fn display_name(name: &str) -> String {
+    let (method, rest) = name.split_once(' ').unwrap_or((name, ""));
+    let method = match method {
+        "dgmpm" | "mpm" | "fem" => method.to_uppercase(),
+        other => other.to_string(),
+    };
+    if rest.is_empty() {
+        method
+    } else {
+        format!("{method} {rest}")
+    }
+}
+
+/// The Courant number with its decimals (`1.0`, `0.5`, `0.95`).
+pub fn courant_text(courant: f64) -> String {
+    let tenths = courant * 10.0;
+    if (tenths - tenths.round()).abs() < 1e-9 {
+        format!("{courant:.1}")
+    } else {
+        format!("{courant}")
+    }
+}
+
+/// The legend label of run `name` with `config`: `DGMPM (C 1.0, 1 ppc)`.
+pub fn legend_label(name: &str, config: &impact_core::method::MethodConfig) -> String {
+    format!(
+        "{} (C {}, {} ppc)",
+        display_name(name),
+        courant_text(config.courant),
+        config.points_per_cell
+    )
+}
 
 /// The palette index of each run: DGMPM blue, MPM vermillion, FEM green wherever they
 /// appear; other labels (variants) the free colours after them, in order.
@@ -78,6 +118,7 @@ pub fn reference_series<const D: usize>(
         points,
         colour: 0,
         reference: true,
+        marker: None,
     }
 }
 
@@ -99,10 +140,11 @@ fn method_series(runs: &[Collected], t: f64) -> Vec<Series> {
                 .iter()
                 .find(|p| (p.0 - t).abs() <= 1e-12 * t.max(1e-30))
                 .map(|(_, pts)| Series {
-                    label: run.name.clone(),
+                    label: run.legend.clone(),
                     points: pts.iter().map(|&(x, s)| (x, s * MPA)).collect(),
                     colour: colours[m],
                     reference: false,
+                    marker: None,
                 })
         })
         .collect()
@@ -163,16 +205,13 @@ pub fn profile_figure<const D: usize>(
             }
         })
         .collect();
-    LineFigure {
-        panels,
-        columns: 1,
-        panel_size: (900, 320),
-    }
+    LineFigure::new(panels, 1, PrintWidth::Full, 0.3)
 }
 
 /// The large-strain bar (the paper's Fig. 6): the displacement `u = x − X` of DGMPM's
 /// points along the bar at each output time (top: the motion the positions alone would
-/// hide, 4 cm on 6 m) and Πₓₓ of every run against the exact solution at the last time.
+/// hide, 4 cm on 6 m) and Πₓₓ of every run against the exact solution at every output
+/// time, one panel each, as the paper's Fig. 6 shows several times.
 pub fn svk_figure<const D: usize>(
     scene: &str,
     runs: &[Collected],
@@ -192,36 +231,36 @@ pub fn svk_figure<const D: usize>(
                     .collect(),
                 colour: 4 + k,
                 reference: false,
+                marker: None,
             });
         }
     }
-    let last = runs
+    // Πₓₓ at every output time, one panel each, like the paper's Fig. 6
+    let times: Vec<f64> = runs
         .iter()
-        .flat_map(|r| r.profiles.last().map(|p| p.0))
-        .fold(0.0, f64::max);
-    let mut bottom: Vec<Series> = reference
-        .map(|r| reference_series(r, last, line, grid))
-        .into_iter()
-        .collect();
-    bottom.extend(method_series(runs, last));
-    LineFigure {
-        panels: vec![
-            Panel {
-                title: format!("{scene}: displacement of DGMPM's points"),
-                x: Axis::linear("X (m), reference position"),
-                y: Axis::linear("u = x − X (mm)"),
-                series: top,
-            },
-            Panel {
-                title: format!("{scene}: Πₓₓ at t = {:.3} ms", last * 1e3),
-                x: Axis::linear("X (m)"),
-                y: Axis::linear("Πₓₓ (MPa)"),
-                series: bottom,
-            },
-        ],
-        columns: 1,
-        panel_size: (900, 340),
+        .map(|r| r.profiles.iter().map(|p| p.0).collect::<Vec<f64>>())
+        .max_by_key(|t| t.len())
+        .unwrap_or_default();
+    let mut panels = vec![Panel {
+        title: format!("{scene}: displacement of DGMPM's points"),
+        x: Axis::linear("X (m), reference position"),
+        y: Axis::linear("u = x − X (mm)"),
+        series: top,
+    }];
+    for &t in &times {
+        let mut series: Vec<Series> = reference
+            .map(|r| reference_series(r, t, line, grid))
+            .into_iter()
+            .collect();
+        series.extend(method_series(runs, t));
+        panels.push(Panel {
+            title: format!("{scene}: Πₓₓ at t = {:.3} ms", t * 1e3),
+            x: Axis::linear("X (m)"),
+            y: Axis::linear("Πₓₓ (MPa)"),
+            series,
+        });
     }
+    LineFigure::new(panels, 1, PrintWidth::Full, 0.26)
 }
 
 /// The reference's average of σₓₓ over a map cell `[lo, hi]` at `t`, with its label.
@@ -249,7 +288,7 @@ pub fn map_figure(
         for run in runs {
             if let Some((_, values)) = run.maps.iter().find(|m| (m.0 - t).abs() <= 1e-12 * t) {
                 panels.push(MapPanel {
-                    title: format!("{}, t = {:.3} ms{place}", run.name, t * 1e3),
+                    title: format!("{}, t = {:.3} ms{place}", display_name(&run.name), t * 1e3),
                     cells: grid.cells,
                     extent,
                     values: values.iter().map(|v| v * MPA).collect(),
@@ -287,5 +326,6 @@ pub fn map_figure(
             "colour range ±{range:.0} MPa: the 99th percentile of |σₓₓ| over all maps; beyond it \
              saturates"
         ),
+        width: PrintWidth::Full,
     })
 }

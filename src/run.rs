@@ -288,6 +288,7 @@ pub fn run_study<const D: usize>(
         writer.finish()?;
         collected.push(Collected {
             name: kind.name().to_string(),
+            legend: crate::plots::legend_label(kind.name(), &config),
             profiles: std::mem::take(&mut writer.profiles),
             positions: std::mem::take(&mut writer.positions),
             maps: std::mem::take(&mut writer.maps),

@@ -380,27 +380,44 @@ pub fn chart(path: &std::path::Path, rows: &[StabilityRow]) -> anyhow::Result<()
     Ok(())
 }
 
-/// The bar figure of [`chart`].
+/// The bar figure of [`chart`]. A limit of zero has no bar and says `0` at its place; a
+/// limit not computed for that configuration (von Neumann and monotonicity: DGMPM only)
+/// says `n/c`, so the two never look alike.
 pub fn figure(rows: &[StabilityRow]) -> impact_io::plot::BarFigure {
     use impact_io::plot::{BarFigure, BarGroup};
+    let columns: [(&str, Vec<Option<f64>>); 3] = [
+        (
+            "empirical",
+            rows.iter().map(|r| Some(r.empirical)).collect(),
+        ),
+        ("von Neumann", rows.iter().map(|r| r.von_neumann).collect()),
+        ("monotone up to", rows.iter().map(|r| r.monotone).collect()),
+    ];
+    let mark = |v: &Option<f64>| match v {
+        None => Some("n/c".to_string()),
+        Some(x) if *x <= 0.0 => Some("0".to_string()),
+        Some(_) => None,
+    };
     BarFigure {
         title: "critical Courant number per configuration".into(),
         axis: "critical Courant number c·Δt/Δx".into(),
         categories: rows.iter().map(StabilityRow::label).collect(),
-        groups: vec![
-            BarGroup {
-                label: "empirical".into(),
-                values: rows.iter().map(|r| Some(r.empirical)).collect(),
-            },
-            BarGroup {
-                label: "von Neumann".into(),
-                values: rows.iter().map(|r| r.von_neumann).collect(),
-            },
-            BarGroup {
-                label: "monotone up to".into(),
-                values: rows.iter().map(|r| r.monotone).collect(),
-            },
-        ],
+        missing: columns
+            .iter()
+            .map(|(_, values)| values.iter().map(mark).collect())
+            .collect(),
+        groups: columns
+            .into_iter()
+            .map(|(label, values)| BarGroup {
+                label: label.into(),
+                values: values.into_iter().map(|v| v.filter(|x| *x > 0.0)).collect(),
+            })
+            .collect(),
+        note: Some(
+            "0: the limit is zero (no Courant number is stable, or monotone). n/c: not \
+             computed for this configuration (von Neumann and monotonicity: DGMPM only)."
+                .into(),
+        ),
     }
 }
 

@@ -410,9 +410,11 @@ fn write(out: &Path, scene: &str, points: &[Point]) -> Result<()> {
     Ok(())
 }
 
-/// Error against wall time on log-log axes, one series per configuration.
+/// Error against wall time on log-log axes, one series per configuration: one colour per
+/// method (DGMPM blue, MPM vermillion, FEM green, as in every figure), one marker shape per
+/// variant of a method, in order.
 pub fn figure(scene: &str, points: &[Point]) -> impact_io::plot::LineFigure {
-    use impact_io::plot::{Axis, LineFigure, Panel, Series};
+    use impact_io::plot::{Axis, LineFigure, Panel, PrintWidth, Series};
     let mut labels: Vec<&str> = points.iter().map(|p| p.config.as_str()).collect();
     labels.dedup();
     // configurations exact to round-off everywhere would squeeze the others into a band
@@ -425,14 +427,29 @@ pub fn figure(scene: &str, points: &[Point]) -> impact_io::plot::LineFigure {
             !mine.is_empty() && mine.iter().all(|p| p.error.is_none() && p.l1_rel <= EXACT)
         })
         .collect();
+    let method_colour = |label: &str| match label.split(' ').next() {
+        Some("dgmpm") => 1,
+        Some("mpm") => 2,
+        Some("fem") => 3,
+        _ => 4,
+    };
+    let mut variants_seen = [0usize; 5];
     let series = labels
         .iter()
-        .enumerate()
-        .map(|(k, l)| Series {
-            label: if exact.contains(l) {
-                format!("{l}: exact, not drawn")
-            } else {
-                l.to_string()
+        .map(|l| {
+            let colour = method_colour(l);
+            let marker = variants_seen[colour];
+            variants_seen[colour] += 1;
+            (l, colour, marker)
+        })
+        .map(|(l, colour, marker)| Series {
+            label: {
+                let shown = legend_text(l);
+                if exact.contains(l) {
+                    format!("{shown}: exact, not drawn")
+                } else {
+                    shown
+                }
             },
             points: points
                 .iter()
@@ -441,20 +458,40 @@ pub fn figure(scene: &str, points: &[Point]) -> impact_io::plot::LineFigure {
                 })
                 .map(|p| (p.wall_s, p.l1_rel))
                 .collect(),
-            colour: k + 1,
+            colour,
             reference: false,
+            marker: Some(marker),
         })
         .collect();
-    LineFigure {
-        panels: vec![Panel {
+    LineFigure::new(
+        vec![Panel {
             title: format!("{scene}: work-precision"),
             x: Axis::log("wall time of the stepping (s)"),
             y: Axis::log("relative L1 error of σₓₓ"),
             series,
         }],
-        columns: 1,
-        panel_size: (900, 560),
-    }
+        1,
+        PrintWidth::Full,
+        0.5,
+    )
+}
+
+/// A configuration's label as a legend prints it: the method upper-case, the points per
+/// cell and the Courant number spaced (`dgmpm euler 1ppc C1.0` → `DGMPM euler 1 ppc C 1.0`).
+pub fn legend_text(label: &str) -> String {
+    let words: Vec<String> = label
+        .split(' ')
+        .map(|w| {
+            if let Some(n) = w.strip_suffix("ppc").filter(|n| n.parse::<usize>().is_ok()) {
+                format!("{n} ppc")
+            } else if let Some(c) = w.strip_prefix('C').filter(|c| c.parse::<f64>().is_ok()) {
+                format!("C {c}")
+            } else {
+                w.to_string()
+            }
+        })
+        .collect();
+    crate::plots::display_name(&words.join(" "))
 }
 
 /// The default output folder.

@@ -267,6 +267,46 @@ fn run_plate_writes_the_2d_outputs() {
             34,
             "33 cells along the bottom row + header"
         );
+        // the measured line with its coordinates and every component
+        let mut lines = csv.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        assert_eq!(
+            header,
+            [
+                "x",
+                "y",
+                "x_current",
+                "y_current",
+                "cauchy_stress_xx",
+                "cauchy_stress_yy",
+                "cauchy_stress_zz",
+                "cauchy_stress_xy",
+                "velocity_x",
+                "velocity_y",
+                "reference_cauchy_stress_xx",
+                "reference_velocity_x"
+            ]
+        );
+        let (nu, dy) = (0.3, 3.0 / 25.0);
+        for row in lines {
+            let v: Vec<f64> = row.split(',').map(|c| c.parse().unwrap()).collect();
+            // the bottom row's centres
+            assert!((v[1] - 0.5 * dy).abs() < 1e-12, "{m}: y = {}", v[1]);
+            // plane strain: σ_zz = ν (σ_xx + σ_yy)
+            let scale = v[4].abs().max(v[5].abs()).max(1.0);
+            assert!(
+                (v[6] - nu * (v[4] + v[5])).abs() <= 1e-9 * scale,
+                "{m}: {row}"
+            );
+        }
+        let samples = vtu_text(out.join(format!("{m}_t2.vtu")));
+        for name in [
+            "reference_position",
+            "reference_cauchy_stress_xx",
+            "reference_velocity_x",
+        ] {
+            assert!(samples.contains(&format!("Name=\"{name}\"")), "{m}: {name}");
+        }
         let grid = vtu_text(out.join(format!("{m}_grid_t2.vtu")));
         assert!(grid.contains("NumberOfPoints=\"884\"") && grid.contains("NumberOfCells=\"825\""));
         let times = s["runs"]
@@ -282,9 +322,12 @@ fn run_plate_writes_the_2d_outputs() {
                 < 0.25
         );
     }
-    // the FEM mesh carries nodal velocities
+    // the FEM mesh carries nodal velocities, named apart from the cell averages
     let fem = vtu_text(out.join("fem_grid_t2.vtu"));
-    assert!(fem.contains("<PointData>\n        <DataArray type=\"Float64\" Name=\"velocity\""));
+    assert!(
+        fem.contains("<PointData>\n        <DataArray type=\"Float64\" Name=\"nodal_velocity\"")
+    );
+    assert!(fem.contains("<CellData>") && fem.matches("Name=\"velocity\"").count() == 1);
     for png in ["stress.png", "stress_map.png"] {
         let bytes = std::fs::read(out.join(png)).unwrap();
         assert_eq!(&bytes[..4], b"\x89PNG");

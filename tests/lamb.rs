@@ -4,7 +4,7 @@
 //! refinement, the P onset arrives within two cells of the exact one and the Rayleigh
 //! pulse within two (MPM with linear hats at one point per cell: 2.5; it lags by 1.0-2.2
 //! cells: its own phase error, growing with the distance and independent of the time step
-//! and of the stress update, `mpm_rayleigh_lag_is_its_phase_error`; README).
+//! and of the stress update, `mpm_rayleigh_lag_is_its_phase_error`; docs/methods.md).
 use impact::lamb::{lamb_load, onset, p_level, receivers, relative_l2, steepest, traces};
 use impact_core::method::MethodKind;
 use impact_core::{Problem, Scene};
@@ -75,7 +75,7 @@ fn surface_traces_converge_and_arrive_on_time() {
 /// and it stays within 0.3 cells when the Courant number is halved (so it is not USL's
 /// O(Δt) velocity lag) or the stress is updated after the grid update (MUSL). DGMPM and FEM
 /// read their traces at the same depth (half a cell below the surface: a point, an element
-/// centre) with the same pick and arrive within 0.73 cells (README).
+/// centre) with the same pick and arrive within 0.73 cells (docs/methods.md).
 #[test]
 fn mpm_rayleigh_lag_is_its_phase_error() {
     use impact_core::method::StressUpdate;

@@ -160,7 +160,11 @@ fn fig3_plots_the_run_s_profiles() {
             let run_columns = csv_columns(file, &["x", "cauchy_stress_xx"]);
             let plotted: Vec<(f64, f64)> = rows
                 .iter()
-                .filter(|r| r.0 == panel && r.1 == method)
+                // legends name the method as the paper does, with its Courant number
+                // and points per cell: `DGMPM (C 1.0; 1 ppc)` (commas become `;`)
+                .filter(|r| {
+                    r.0 == panel && r.1.starts_with(&format!("{} (C ", method.to_uppercase()))
+                })
                 .map(|r| (r.2, r.3))
                 .collect();
             assert_eq!(

@@ -44,7 +44,7 @@ fn smooth_plate_orders() {
 
 /// DGMPM order 2 (the wave corrections) at one point per cell: Lax-Wendroff (no limiter)
 /// converges at order 2 in every norm on the standing wave (1.99-2.00 at 150-2400 cells,
-/// README); MC's limiter clips the smooth extrema but keeps order 2 in L2. At several points
+/// docs/methods.md); MC's limiter clips the smooth extrema but keeps order 2 in L2. At several points
 /// per cell (RK2) the corrections leave the order at about 1 (measured 1.07), the nodal
 /// scheme's own limit: checked so that a change is seen.
 #[test]
@@ -74,7 +74,7 @@ fn smooth_bar_order_two() {
 }
 
 /// DGMPM order 2 with CTU at one point per cell on the standing P mode of the plate
-/// (against the exact solution): Lax-Wendroff converges at about 2 (README), order 1 at 1.
+/// (against the exact solution): Lax-Wendroff converges at about 2 (docs/methods.md), order 1 at 1.
 #[test]
 fn smooth_plate_order_two() {
     let (lw, first) = (
@@ -89,7 +89,7 @@ fn smooth_plate_order_two() {
 /// DGMPM order 2 with CTU (Clawpack's `flux3` with `method = (2, 22)`: the corrections'
 /// transverse and transverse-transverse split) at one point per cell on the standing mode
 /// (1, 1, 1) of the cube (against the exact solution): Lax-Wendroff converges at about 2
-/// (README), order 1 at about 1.
+/// (docs/methods.md), order 1 at about 1.
 #[test]
 fn smooth_block_order_two() {
     let (lw, first) = (
@@ -104,7 +104,7 @@ fn smooth_block_order_two() {
 }
 
 /// DGMPM order 2 at 4 points per cell (RK2, CTU at Courant 0.7) on the standing P mode of
-/// the plate: as in 1D the corrections leave the nodal scheme's order about 1 (README),
+/// the plate: as in 1D the corrections leave the nodal scheme's order about 1 (docs/methods.md),
 /// against order 1 with the same integrator, flux and Courant number.
 #[test]
 fn smooth_plate_order_two_at_four_points_per_cell() {
@@ -122,7 +122,7 @@ fn smooth_plate_order_two_at_four_points_per_cell() {
 
 /// MPM transfers on the standing wave (issue 26). APIC with quadratic B-splines at 4 points
 /// per cell, and PIC with hats at 2 and 20 points per cell (the DGMPM author's set-up: his
-/// published PIC rates are 0.94/0.85 in stress and 1.12/0.93 in velocity; README compares).
+/// published PIC rates are 0.94/0.85 in stress and 1.12/0.93 in velocity; docs/methods.md compares).
 /// PIC's round trip filters the mode by `cos²(kh/2) = 1 − O(h²)` per step (hats at the cell
 /// centres) over `O(1/h)` steps: an `O(h)` amplitude error, order 1 in both fields
 /// (measured 1.00 at 150-1200 cells, both layouts). APIC with B-splines: stress at order 2

@@ -20,7 +20,11 @@
 //!
 //! The folder is replaced as a whole when complete ([`impact_io::folder::OutputFolder`]);
 //! making some figures keeps the others already there (their files and index entries).
-//! Each entry of `index.json` records the PNG's pixel size.
+//! Each entry of `index.json` records the PNG's pixel size and the printed width the
+//! figure is laid out for (full width 190 mm, or a single column 90 mm, at 300 dpi, with
+//! 7-9 pt text there); every figure is written as PNG, SVG (vector) and PDF (the page at
+//! the printed width holding the 300 dpi raster: plotters has no PDF backend without the
+//! system's cairo).
 mod paper;
 mod studies;
 mod three_d;
@@ -96,10 +100,14 @@ pub struct FiguresOptions {
 /// One image of an entry: file stem and pixel size of its PNG.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct Image {
-    /// File stem: `<stem>.png` and `<stem>.svg`.
+    /// File stem: `<stem>.png`, `<stem>.svg` and `<stem>.pdf`.
     pub stem: String,
-    /// PNG width and height in pixels.
+    /// PNG width and height in pixels (300 dpi at the printed width).
     pub size: [u32; 2],
+    /// The printed width the figure is laid out for, with 7-9 pt text at that width
+    /// (`full width, 190 mm` or `single column, 90 mm`).
+    #[serde(default)]
+    pub print_width: String,
     /// The plotted numbers beside the image (`<stem>.csv`: `panel,series,x,y`), for
     /// figures with curves.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -163,9 +171,9 @@ pub struct Target<'a> {
 }
 
 impl Target<'_> {
-    /// Save `figure` as `<stem>.png` and `<stem>.svg`; the image record.
+    /// Save `figure` as `<stem>.png`, `<stem>.svg` and `<stem>.pdf`; the image record.
     pub fn save(&self, stem: &str, figure: &impl impact_io::plot::Draw) -> Result<Image> {
-        for extension in ["png", "svg"] {
+        for extension in ["png", "svg", "pdf"] {
             let path = self.dir.join(format!("{stem}.{extension}"));
             impact_io::plot::save(&path, figure)
                 .with_context(|| format!("drawing {}", path.display()))?;
@@ -183,6 +191,7 @@ impl Target<'_> {
         Ok(Image {
             stem: stem.to_string(),
             size: [width, height],
+            print_width: figure.print_width().describe().to_string(),
             data,
         })
     }
@@ -270,8 +279,12 @@ fn read_index(dir: &Path) -> Option<Vec<Entry>> {
 /// Copy an entry's images from the folder being replaced into the staging folder.
 fn carry_over(from: &Path, to: &Path, entry: &Entry) -> Result<()> {
     for image in &entry.images {
-        for extension in ["png", "svg"] {
+        for extension in ["png", "svg", "pdf"] {
             let name = format!("{}.{extension}", image.stem);
+            // an index of an earlier version has no PDF
+            if extension == "pdf" && !from.join(&name).exists() {
+                continue;
+            }
             std::fs::copy(from.join(&name), to.join(&name))
                 .with_context(|| format!("keeping {}", from.join(&name).display()))?;
         }
@@ -321,10 +334,14 @@ pub fn index_html(index: &Index) -> String {
         ));
         for image in &e.images {
             html.push_str(&format!(
-                "<p><img src=\"{0}.png\" width=\"{1}\" alt=\"{0}\"><br>\
-                 <a href=\"{0}.svg\">{0}.svg</a> · <a href=\"{0}.png\">{0}.png</a> \
-                 ({1}×{2} px)</p>\n",
-                image.stem, image.size[0], image.size[1]
+                "<p><img src=\"{0}.png\" width=\"{3}\" alt=\"{0}\"><br>\
+                 <a href=\"{0}.svg\">{0}.svg</a> · <a href=\"{0}.pdf\">{0}.pdf</a> · \
+                 <a href=\"{0}.png\">{0}.png</a> ({1}×{2} px; {4})</p>\n",
+                image.stem,
+                image.size[0],
+                image.size[1],
+                image.size[0] / 2,
+                image.print_width
             ));
         }
         html.push_str("<ul>\n");

@@ -72,6 +72,7 @@ impl<const D: usize> Shipped<D> {
             let (record, _) = run_method(&problem, config, reference.as_ref(), &mut writer)?;
             writer.finish()?;
             collected.push(Collected {
+                legend: crate::plots::legend_label(&label, &config),
                 name: label,
                 profiles: std::mem::take(&mut writer.profiles),
                 positions: std::mem::take(&mut writer.positions),
@@ -191,7 +192,7 @@ pub fn fig5(target: &Target) -> Result<Entry> {
         .ok_or_else(|| anyhow::anyhow!("the plate runs kept no maps"))?;
     let mut profiles = plate.profile_figure();
     profiles.columns = times.len().max(1);
-    profiles.panel_size = (560, 340);
+    profiles.aspect = 0.62;
     let image = target.save("fig5_plate", &Stacked(maps, profiles))?;
     let mut lines = plate.numbers();
     if let Some(r) = &plate.reference {

@@ -102,7 +102,15 @@ pub fn mpm_variants(target: &Target) -> Result<Entry> {
         }
         configs
     })?;
-    let image = target.save("mpm_variants_bar", &bar.profile_figure())?;
+    let mut numbers = bar.numbers();
+    let mut merged = bar;
+    let notes = merge_coincident(&mut merged.collected);
+    let mut figure = merged.profile_figure();
+    if !notes.is_empty() {
+        figure.note = Some(notes.join(" "));
+    }
+    numbers.extend(notes);
+    let image = target.save("mpm_variants_bar", &figure)?;
     Ok(Entry {
         name: "mpm-variants".into(),
         title: "DGMPM against MPM with every shape function (bar)".into(),
@@ -111,9 +119,74 @@ pub fn mpm_variants(target: &Target) -> Result<Entry> {
             "{}   # the gate: impact check bar --against all-mpm",
             target.command
         ),
-        numbers: bar.numbers(),
+        numbers,
         seconds: 0.0,
     })
+}
+
+/// Runs whose profiles coincide at every output time (to 1e-12 of the largest stress) are
+/// drawn once: the first keeps its colour, its legend names them all
+/// (`MPM linear = gimp = cpdi (C 0.5, 1 ppc)`), and the others are removed. Returns one
+/// sentence per merged group, with the largest difference found.
+fn merge_coincident(runs: &mut Vec<crate::plots::Collected>) -> Vec<String> {
+    let scale = runs
+        .iter()
+        .flat_map(|r| {
+            r.profiles
+                .iter()
+                .flat_map(|(_, p)| p.iter().map(|q| q.1.abs()))
+        })
+        .fold(0.0f64, f64::max);
+    let distance = |a: &crate::plots::Collected, b: &crate::plots::Collected| -> Option<f64> {
+        if a.profiles.len() != b.profiles.len() {
+            return None;
+        }
+        let mut largest = 0.0f64;
+        for ((ta, pa), (tb, pb)) in a.profiles.iter().zip(&b.profiles) {
+            if ta != tb || pa.len() != pb.len() {
+                return None;
+            }
+            for (p, q) in pa.iter().zip(pb) {
+                largest = largest.max((p.1 - q.1).abs()).max((p.0 - q.0).abs());
+            }
+        }
+        (largest <= 1e-12 * scale).then_some(largest)
+    };
+    let mut notes = Vec::new();
+    let mut k = 0;
+    while k < runs.len() {
+        let mut same = Vec::new();
+        let mut largest = 0.0f64;
+        for j in k + 1..runs.len() {
+            if let Some(d) = distance(&runs[k], &runs[j]) {
+                same.push(j);
+                largest = largest.max(d);
+            }
+        }
+        if !same.is_empty() {
+            let variant = |name: &str| name.split_once(' ').map_or(name, |s| s.1).to_string();
+            let mut names = vec![variant(&runs[k].name)];
+            names.extend(same.iter().map(|&j| variant(&runs[j].name)));
+            let method = crate::plots::display_name(runs[k].name.split(' ').next().unwrap_or(""));
+            let suffix = runs[k]
+                .legend
+                .find(" (C ")
+                .map_or(String::new(), |i| runs[k].legend[i..].to_string());
+            runs[k].legend = format!("{method} {}{suffix}", names.join(" = "));
+            let (last, rest) = names.split_last().expect("two or more names");
+            notes.push(format!(
+                "{method} {} and {last} coincide at every output time (largest difference \
+                 {:.1e} MPa): drawn once.",
+                rest.join(", "),
+                largest * 1e-6
+            ));
+            for &j in same.iter().rev() {
+                runs.remove(j);
+            }
+        }
+        k += 1;
+    }
+    notes
 }
 
 /// The plastic wave's width and overshoot of each run, one line each.
@@ -148,13 +221,13 @@ fn plastic_numbers<const D: usize>(runs: &Shipped<D>) -> Vec<String> {
 /// DCU at Courant 0.6, since CTU is refused with it), MPM and FEM on `scene`.
 fn elastoplastic_configs(scene: &Scene) -> Vec<(String, MethodConfig)> {
     let mut solver = scene.method_config(MethodKind::Dgmpm);
-    let mut label = "dgmpm ep-solver".to_string();
+    let mut label = "dgmpm elastoplastic solver".to_string();
     if let Some(o) = solver.dgmpm_mut() {
         o.riemann = RiemannSolver::Elastoplastic;
         if scene.dim == 2 {
             o.flux = TransverseFlux::DonorCell;
             solver.courant = 0.6;
-            label.push_str(" dcu C0.6");
+            label.push_str(", dcu");
         }
     }
     let mut configs = three_methods(scene);

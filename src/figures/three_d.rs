@@ -41,7 +41,7 @@ pub fn block(target: &Target) -> Result<Entry> {
     .ok_or_else(|| anyhow::anyhow!("the block runs kept no maps"))?;
     let mut profiles = block.profile_figure();
     profiles.columns = times.len().max(1);
-    profiles.panel_size = (560, 340);
+    profiles.aspect = 0.62;
     let image = target.save("block_impact", &Stacked(maps, profiles))?;
     let mut lines = block.numbers();
     lines.insert(

@@ -1,6 +1,6 @@
 //! Grouped horizontal bars over named categories (plotters' segmented coordinates), with
 //! the legend beside them (module doc of [`super`]).
-use super::{colour, linear_label, text, Draw};
+use super::{colour, font, linear_label, pt, text, type_size, Draw, PrintWidth};
 use crate::IoError;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -26,20 +26,37 @@ pub struct BarFigure {
     pub categories: Vec<String>,
     /// The bars of each category, one per group.
     pub groups: Vec<BarGroup>,
+    /// What a category without a bar of a group means, per group and category (drawn as
+    /// a short text at the bar's place, e.g. `0` for a limit of zero or `n/c` for not
+    /// computed); empty: nothing drawn.
+    pub missing: Vec<Vec<Option<String>>>,
+    /// A note printed under the legend (e.g. what the missing-bar marks mean).
+    pub note: Option<String>,
 }
 
-const LEFT: u32 = 330;
-const LEGEND: u32 = 200;
+/// The category labels' column, the legend column (pixels).
+fn columns() -> (u32, u32) {
+    (pt(105.0), pt(95.0))
+}
 
 impl Draw for BarFigure {
+    fn print_width(&self) -> PrintWidth {
+        PrintWidth::Full
+    }
+
     fn size(&self) -> (u32, u32) {
-        (1100, 120 + 34 * self.categories.len().max(1) as u32)
+        let row = (1.9 * pt(type_size::TICK) as f64) as u32;
+        (
+            PrintWidth::Full.pixels(),
+            pt(40.0) + row * self.categories.len().max(1) as u32,
+        )
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
         root.fill(&WHITE).map_err(text)?;
         let (width, _) = self.size();
-        let (plot, legend) = root.split_horizontally(width - LEGEND);
+        let (left, legend_width) = columns();
+        let (plot, legend) = root.split_horizontally(width - legend_width);
         let top = self
             .groups
             .iter()
@@ -47,11 +64,11 @@ impl Draw for BarFigure {
             .fold(0.0f64, |m, &v| m.max(v));
         let x_max = if top > 0.0 { 1.1 * top } else { 1.0 };
         let n = self.categories.len().max(1);
+        let plot = super::titled(&plot, &self.title, type_size::TITLE)?;
         let mut chart = ChartBuilder::on(&plot)
-            .caption(&self.title, ("sans-serif", 19))
-            .margin(12)
-            .x_label_area_size(46)
-            .y_label_area_size(LEFT)
+            .margin(pt(4.0))
+            .x_label_area_size(pt(3.2 * type_size::TICK))
+            .y_label_area_size(left)
             // n categories: the discrete values 0..=n-1, one segment each
             .build_cartesian_2d(0.0..x_max, (0..n - 1).into_segmented())
             .map_err(text)?;
@@ -67,8 +84,8 @@ impl Draw for BarFigure {
             .y_label_formatter(&y_format)
             .x_label_formatter(&x_format)
             .x_desc(self.axis.as_str())
-            .label_style(("sans-serif", 14))
-            .axis_desc_style(("sans-serif", 16))
+            .label_style(font(type_size::TICK))
+            .axis_desc_style(font(type_size::LABEL))
             .light_line_style(RGBColor(240, 240, 240))
             .draw()
             .map_err(text)?;
@@ -82,7 +99,35 @@ impl Draw for BarFigure {
             // a bar is a rectangle in the segment's pixel band: draw it on the plotting
             // area's pixels through the chart's coordinate mapping
             for (k, value) in group.values.iter().enumerate() {
-                let Some(v) = *value else { continue };
+                let Some(v) = *value else {
+                    // say why there is no bar, at its place
+                    let mark = self
+                        .missing
+                        .get(g)
+                        .and_then(|m| m.get(k))
+                        .cloned()
+                        .flatten();
+                    if let Some(mark) = mark {
+                        let (x0, y0) = chart.backend_coord(&(0.0, SegmentValue::Exact(k)));
+                        let end = if k + 1 < n {
+                            SegmentValue::Exact(k + 1)
+                        } else {
+                            SegmentValue::Last
+                        };
+                        let (_, y1) = chart.backend_coord(&(0.0, end));
+                        let y = y0 + ((y1 - y0) as f64 * 0.5 * (lo + hi)) as i32;
+                        let size = pt(type_size::TICK * 0.85) as i32;
+                        // side by side along the bar, so the groups' marks never overlap
+                        let x = x0 + size / 3 + g as i32 * 2 * size;
+                        root.draw(&Text::new(
+                            mark,
+                            (x, y - size / 2),
+                            ("sans-serif", size as u32).into_font().color(&c),
+                        ))
+                        .map_err(text)?;
+                    }
+                    continue;
+                };
                 let (x0, y0) = chart.backend_coord(&(0.0, SegmentValue::Exact(k)));
                 let end = if k + 1 < n {
                     SegmentValue::Exact(k + 1)
@@ -98,17 +143,31 @@ impl Draw for BarFigure {
                     .map_err(text)?;
             }
         }
-        let font = ("sans-serif", 15).into_font();
+        let s = pt(type_size::LABEL) as i32;
+        let label_font = font(type_size::LABEL).into_font();
+        let mut y = 3 * s;
         for (g, group) in self.groups.iter().enumerate() {
-            let y = 60 + 26 * g as i32;
             legend
                 .draw(&Rectangle::new(
-                    [(10, y - 7), (40, y + 7)],
+                    [(s / 2, y - s / 3), (2 * s, y + s / 3)],
                     colour(g + 1).filled(),
                 ))
                 .map_err(text)?;
             legend
-                .draw(&Text::new(group.label.clone(), (48, y - 8), font.clone()))
+                .draw(&Text::new(
+                    group.label.clone(),
+                    (5 * s / 2, y - s / 2),
+                    label_font.clone(),
+                ))
+                .map_err(text)?;
+            y += (1.6 * s as f64) as i32;
+        }
+        let note_font = font(type_size::TICK).into_font();
+        let chars = (legend_width as f64 / (0.52 * pt(type_size::TICK) as f64)) as usize;
+        for line in super::lines::wrap(self.note.as_deref().unwrap_or(""), chars.max(10)) {
+            y += (1.3 * pt(type_size::TICK) as f64) as i32;
+            legend
+                .draw(&Text::new(line, (s / 2, y), note_font.clone()))
                 .map_err(text)?;
         }
         Ok(())
@@ -130,6 +189,8 @@ pub fn bar_chart(
             axis: axis.to_string(),
             categories,
             groups,
+            missing: Vec::new(),
+            note: None,
         },
     )
 }

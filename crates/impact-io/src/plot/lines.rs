@@ -1,5 +1,8 @@
 //! Line panels in a grid with one legend column beside them (module doc of [`super`]).
-use super::{colour, decade_label, decade_range, linear_label, text, Draw, MARKER_LIMIT};
+use super::{
+    colour, decade_label, decade_range, font, linear_label, pt, text, type_size, Draw, PrintWidth,
+    MARKER_LIMIT,
+};
 use crate::IoError;
 use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
 use plotters::coord::Shift;
@@ -43,8 +46,13 @@ pub struct Series {
     /// Colour index (0: black, the exact or reference curve; 1..: [`super::colour`]); also
     /// picks the marker shape.
     pub colour: usize,
-    /// The exact/reference curve: 3 px, no markers.
+    /// The exact/reference curve: a thin line drawn over the others, no markers.
     pub reference: bool,
+    /// Marker shape and line pattern, for series that share a colour: `k % 4` the marker
+    /// (0 circle, 1 triangle, 2 square, 3 cross), `k / 4 % 3` the line (solid, dashed,
+    /// dotted), so twelve variants of one colour stay apart; `None`: the marker from the
+    /// colour index, a solid line.
+    pub marker: Option<usize>,
 }
 
 /// One panel: a title, its axes and curves.
@@ -60,28 +68,97 @@ pub struct Panel {
     pub series: Vec<Series>,
 }
 
-/// Panels in `columns` columns (rows as needed) and a legend column at the right.
+/// Panels in `columns` columns (rows as needed), the legend in rows below them, and an
+/// optional note under the legend; laid out for a printed width ([`PrintWidth`]).
 #[derive(Debug, Clone)]
 pub struct LineFigure {
     /// The panels.
     pub panels: Vec<Panel>,
     /// Panels per row.
     pub columns: usize,
-    /// Panel size in pixels.
-    pub panel_size: (u32, u32),
+    /// The printed width the figure is made for.
+    pub width: PrintWidth,
+    /// Each panel's height over its width.
+    pub aspect: f64,
+    /// A note printed under the legend (e.g. which series coincide), if any.
+    pub note: Option<String>,
 }
 
+/// One legend entry: label, colour index, the reference's thin line, its marker shape
+/// (`None`: no marker), its line pattern (0 solid, 1 dashed, 2 dotted).
+type Entry<'a> = (&'a str, usize, bool, Option<usize>, usize);
+
 impl LineFigure {
-    /// Width of the legend column in pixels: room for the longest label.
-    fn legend_width(&self) -> u32 {
-        let longest = self
-            .panels
-            .iter()
-            .flat_map(|p| p.series.iter().map(|s| s.label.chars().count()))
-            .max()
-            .unwrap_or(0);
-        (70 + 8 * longest as u32).max(160)
+    /// A figure of `panels` in `columns` columns for `width`, panels `aspect` high.
+    pub fn new(panels: Vec<Panel>, columns: usize, width: PrintWidth, aspect: f64) -> Self {
+        Self {
+            panels,
+            columns,
+            width,
+            aspect,
+            note: None,
+        }
     }
+
+    /// One entry per distinct label, in order of first appearance.
+    fn entries(&self) -> Vec<Entry<'_>> {
+        let mut entries: Vec<Entry<'_>> = Vec::new();
+        for p in &self.panels {
+            for s in &p.series {
+                if !entries.iter().any(|e| e.0 == s.label) {
+                    let marker = (!s.reference && s.points.len() <= MARKER_LIMIT)
+                        .then(|| s.marker.unwrap_or_else(|| marker_shape(s.colour)));
+                    let pattern = s.marker.map_or(0, |k| k / 4 % 3);
+                    entries.push((&s.label, s.colour, s.reference, marker, pattern));
+                }
+            }
+        }
+        entries
+    }
+
+    /// Legend geometry: (entry width, entries per row, row height, rows).
+    fn legend_layout(&self) -> (u32, u32, u32, u32) {
+        let entries = self.entries();
+        let longest = entries
+            .iter()
+            .map(|e| e.0.chars().count())
+            .max()
+            .unwrap_or(0) as f64;
+        let size = pt(type_size::LABEL) as f64;
+        let entry = (3.2 * size + 0.56 * size * longest + size) as u32;
+        let per_row = (self.width.pixels() / entry.max(1)).max(1);
+        let rows = (entries.len() as u32).div_ceil(per_row);
+        (entry, per_row, (1.6 * size) as u32, rows)
+    }
+
+    /// The note's lines, wrapped to the figure's width.
+    fn note_lines(&self) -> Vec<String> {
+        let chars = (self.width.pixels() as f64 / (0.52 * pt(type_size::TICK) as f64)) as usize;
+        self.note
+            .as_deref()
+            .map(|n| wrap(n, chars.max(20)))
+            .unwrap_or_default()
+    }
+
+    fn panel_height(&self) -> u32 {
+        let columns = self.columns.max(1) as u32;
+        ((self.width.pixels() / columns) as f64 * self.aspect) as u32
+    }
+}
+
+/// Split `text` into lines of at most about `width` characters at spaces.
+pub(super) fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split_whitespace() {
+        match lines.last_mut() {
+            Some(line) if line.chars().count() + 1 + word.chars().count() <= width => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines
 }
 
 impl Draw for LineFigure {
@@ -100,26 +177,31 @@ impl Draw for LineFigure {
         Some(csv)
     }
 
+    fn print_width(&self) -> PrintWidth {
+        self.width
+    }
+
     fn size(&self) -> (u32, u32) {
         let columns = self.columns.max(1);
-        let rows = self.panels.len().div_ceil(columns).max(1);
+        let rows = self.panels.len().div_ceil(columns).max(1) as u32;
+        let (_, _, row_height, legend_rows) = self.legend_layout();
+        let note = self.note_lines().len() as u32 * (1.5 * pt(type_size::TICK) as f64) as u32;
         (
-            self.panel_size.0 * columns as u32 + self.legend_width(),
-            self.panel_size.1 * rows as u32,
+            self.width.pixels(),
+            self.panel_height() * rows + legend_rows * row_height + note + pt(6.0),
         )
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
         root.fill(&WHITE).map_err(text)?;
-        let (width, _) = self.size();
-        let (plots, legend) = root.split_horizontally(width - self.legend_width());
         let columns = self.columns.max(1);
         let rows = self.panels.len().div_ceil(columns).max(1);
+        let (plots, legend) = root.split_vertically(self.panel_height() * rows as u32);
         let areas = plots.split_evenly((rows, columns));
         for (panel, area) in self.panels.iter().zip(areas.iter()) {
             draw_panel(area, panel)?;
         }
-        draw_legend(&legend, &self.panels)
+        self.draw_legend(&legend)
     }
 }
 
@@ -210,11 +292,12 @@ where
     X::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
+    let area = &super::titled(area, &panel.title, type_size::TITLE)?;
     let mut chart = ChartBuilder::on(area)
-        .caption(&panel.title, ("sans-serif", 19))
-        .margin(12)
-        .x_label_area_size(48)
-        .y_label_area_size(72)
+        .margin(pt(4.0))
+        .margin_right(pt(8.0))
+        .x_label_area_size(pt(3.2 * type_size::TICK))
+        .y_label_area_size(pt(5.0 * type_size::TICK))
         .build_cartesian_2d(x, y)
         .map_err(text)?;
     let (x_log, y_log) = (panel.x.log, panel.y.log);
@@ -224,17 +307,22 @@ where
         .configure_mesh()
         .x_desc(panel.x.label.as_str())
         .y_desc(panel.y.label.as_str())
-        .x_labels(8)
-        .y_labels(8)
+        .x_labels(6)
+        .y_labels(6)
         .x_label_formatter(&x_format)
         .y_label_formatter(&y_format)
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 16))
-        .light_line_style(RGBColor(235, 235, 235))
-        .bold_line_style(RGBColor(215, 215, 215))
+        .label_style(font(type_size::TICK))
+        .axis_desc_style(font(type_size::LABEL))
+        .axis_style(BLACK.stroke_width(pt(0.5).max(1)))
+        .light_line_style(RGBColor(240, 240, 240))
+        .bold_line_style(RGBColor(220, 220, 220).stroke_width(pt(0.3).max(1)))
         .draw()
         .map_err(text)?;
-    for s in &panel.series {
+    // the methods first, the exact/reference curve last: a thin line over them, so a
+    // method lying on it hides neither
+    let (methods, exact): (Vec<&Series>, Vec<&Series>) =
+        panel.series.iter().partition(|s| !s.reference);
+    for s in methods.into_iter().chain(exact) {
         let c = colour(s.colour);
         let points: Vec<(f64, f64)> = s
             .points
@@ -244,15 +332,31 @@ where
                 x.is_finite() && y.is_finite() && (!x_log || x > 0.0) && (!y_log || y > 0.0)
             })
             .collect();
-        let width = if s.reference { 3 } else { 2 };
-        chart
-            .draw_series(LineSeries::new(
-                points.iter().copied(),
-                c.stroke_width(width),
-            ))
-            .map_err(text)?;
+        let style = c.stroke_width(line_width(s.reference));
+        match s.marker.map_or(0, |k| k / 4 % 3) {
+            0 => chart
+                .draw_series(LineSeries::new(points.iter().copied(), style))
+                .map(|_| ()),
+            pattern => {
+                let (dash, gap) = if pattern == 1 {
+                    (pt(4.0), pt(2.0))
+                } else {
+                    (pt(1.0), pt(1.5))
+                };
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        points.iter().copied(),
+                        dash,
+                        gap,
+                        style,
+                    ))
+                    .map(|_| ())
+            }
+        }
+        .map_err(text)?;
         if !s.reference && points.len() <= MARKER_LIMIT {
-            draw_markers(&mut chart, &points, s.colour)?;
+            let shape = s.marker.unwrap_or_else(|| marker_shape(s.colour));
+            draw_markers(&mut chart, &points, s.colour, shape)?;
         }
     }
     Ok(())
@@ -264,6 +368,7 @@ fn draw_markers<DB, X, Y>(
     chart: &mut ChartContext<DB, Cartesian2d<X, Y>>,
     points: &[(f64, f64)],
     index: usize,
+    shape: usize,
 ) -> Result<(), String>
 where
     DB: DrawingBackend,
@@ -272,15 +377,20 @@ where
 {
     let c = colour(index);
     let style = c.filled();
-    let drawn = match marker_shape(index) {
-        0 => chart.draw_series(points.iter().map(|&p| Circle::new(p, 4, style))),
-        1 => chart.draw_series(points.iter().map(|&p| TriangleMarker::new(p, 5, style))),
+    let r = pt(1.6) as i32;
+    let drawn = match shape % 4 {
+        0 => chart.draw_series(points.iter().map(|&p| Circle::new(p, r, style))),
+        1 => chart.draw_series(points.iter().map(|&p| TriangleMarker::new(p, r + 2, style))),
         2 => chart.draw_series(
             points
                 .iter()
-                .map(|&p| EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], style)),
+                .map(|&p| EmptyElement::at(p) + Rectangle::new([(-r, -r), (r, r)], style)),
         ),
-        _ => chart.draw_series(points.iter().map(|&p| Cross::new(p, 5, c.stroke_width(2)))),
+        _ => chart.draw_series(
+            points
+                .iter()
+                .map(|&p| Cross::new(p, r + 1, c.stroke_width(pt(0.6)))),
+        ),
     };
     drawn.map(|_| ()).map_err(text)
 }
@@ -290,55 +400,80 @@ fn marker_shape(index: usize) -> usize {
     (index.max(1) - 1) / 7 % 4
 }
 
-/// One entry per distinct label, in order of first appearance.
-fn draw_legend<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    panels: &[Panel],
-) -> Result<(), String> {
-    let mut entries: Vec<(&str, usize, bool, bool)> = Vec::new();
-    for p in panels {
-        for s in &p.series {
-            if !entries.iter().any(|e| e.0 == s.label) {
-                let marker = !s.reference && s.points.len() <= MARKER_LIMIT;
-                entries.push((&s.label, s.colour, s.reference, marker));
-            }
-        }
+/// A method's line width (1 pt) or the exact/reference curve's (0.5 pt, drawn over them).
+fn line_width(reference: bool) -> u32 {
+    if reference {
+        pt(0.5).max(1)
+    } else {
+        pt(1.0)
     }
-    let font = ("sans-serif", 15).into_font();
-    for (k, (label, index, reference, marker)) in entries.into_iter().enumerate() {
-        let y = 50 + 26 * k as i32;
-        let c = colour(index);
-        let width = if reference { 3 } else { 2 };
-        area.draw(&PathElement::new(
-            vec![(10, y), (50, y)],
-            c.stroke_width(width),
-        ))
-        .map_err(text)?;
-        if marker {
-            let style = c.filled();
-            let point = (30, y);
-            match marker_shape(index) {
-                0 => area.draw(&Circle::new(point, 4, style)),
-                1 => area.draw(&TriangleMarker::new(point, 5, style)),
-                2 => area.draw(&Rectangle::new([(26, y - 4), (34, y + 4)], style)),
-                _ => area.draw(&Cross::new(point, 5, c.stroke_width(2))),
+}
+
+impl LineFigure {
+    /// The legend in rows under the panels, then the note.
+    fn draw_legend<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        let (entry, per_row, row_height, rows) = self.legend_layout();
+        let size = pt(type_size::LABEL) as i32;
+        let label_font = font(type_size::LABEL).into_font();
+        for (k, (label, index, reference, marker, pattern)) in
+            self.entries().into_iter().enumerate()
+        {
+            let (row, column) = (k as u32 / per_row, k as u32 % per_row);
+            let x = (column * entry) as i32 + size / 2;
+            let y = (row * row_height) as i32 + row_height as i32 / 2 + size / 3;
+            let c = colour(index);
+            let style = c.stroke_width(line_width(reference));
+            match pattern {
+                0 => area.draw(&PathElement::new(vec![(x, y), (x + 2 * size, y)], style)),
+                p => {
+                    let (dash, gap) = if p == 1 {
+                        (pt(4.0), pt(2.0))
+                    } else {
+                        (pt(1.0), pt(1.5))
+                    };
+                    area.draw(&plotters::element::DashedPathElement::new(
+                        vec![(x, y), (x + 2 * size, y)],
+                        dash,
+                        gap,
+                        style,
+                    ))
+                }
             }
             .map_err(text)?;
-        }
-        area.draw(&Text::new(label.to_string(), (58, y - 8), font.clone()))
+            if let Some(shape) = marker {
+                let style = c.filled();
+                let (point, r) = ((x + size, y), pt(1.6) as i32);
+                match shape % 4 {
+                    0 => area.draw(&Circle::new(point, r, style)),
+                    1 => area.draw(&TriangleMarker::new(point, r + 2, style)),
+                    2 => area.draw(&Rectangle::new(
+                        [(point.0 - r, y - r), (point.0 + r, y + r)],
+                        style,
+                    )),
+                    _ => area.draw(&Cross::new(point, r + 1, c.stroke_width(pt(0.6)))),
+                }
+                .map_err(text)?;
+            }
+            area.draw(&Text::new(
+                label.to_string(),
+                (x + 2 * size + size / 2, y - size / 2),
+                label_font.clone(),
+            ))
             .map_err(text)?;
+        }
+        let note_font = font(type_size::TICK).into_font();
+        let step = (1.5 * pt(type_size::TICK) as f64) as i32;
+        let mut y = (rows * row_height) as i32 + pt(2.0) as i32;
+        for line in self.note_lines() {
+            area.draw(&Text::new(line, (size / 2, y), note_font.clone()))
+                .map_err(text)?;
+            y += step;
+        }
+        Ok(())
     }
-    Ok(())
 }
 
 /// Draw `panels` (one column) into `path` (PNG or SVG by extension).
 pub fn line_panels(path: &Path, panels: Vec<Panel>) -> Result<(), IoError> {
-    super::save(
-        path,
-        &LineFigure {
-            panels,
-            columns: 1,
-            panel_size: (900, 340),
-        },
-    )
+    super::save(path, &LineFigure::new(panels, 1, PrintWidth::Full, 0.36))
 }

@@ -1,5 +1,6 @@
 //! Colour maps of cell values with one shared colour bar (module doc of [`super`]).
-use super::{linear_label, text, Draw};
+use super::lines::wrap;
+use super::{font, linear_label, pt, text, type_size, Draw, PrintWidth};
 use crate::IoError;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -31,6 +32,8 @@ pub struct MapFigure {
     pub label: String,
     /// How the range was chosen, printed under the bar.
     pub range_note: String,
+    /// The printed width the figure is made for.
+    pub width: PrintWidth,
 }
 
 /// The robust half-range of a diverging map: the 99th percentile of `|v|` over the finite
@@ -60,25 +63,35 @@ fn diverging(value: f64, range: f64) -> RGBColor {
 
 /// Grey for cells without data.
 const NO_DATA: RGBColor = RGBColor(160, 160, 160);
-/// Width of the colour-bar column in pixels.
-const BAR_WIDTH: u32 = 190;
-/// Map size in pixels.
-const MAP_SIZE: (u32, u32) = (440, 370);
+/// Width of the colour-bar column in pixels (about 24 mm at print size).
+fn bar_width() -> u32 {
+    pt(68.0)
+}
+
+impl MapFigure {
+    /// One map's width and height in pixels.
+    fn map_size(&self) -> (u32, u32) {
+        let columns = self.columns.max(1) as u32;
+        let w = (self.width.pixels() - bar_width()) / columns;
+        (w, (w as f64 * 0.84) as u32)
+    }
+}
 
 impl Draw for MapFigure {
+    fn print_width(&self) -> PrintWidth {
+        self.width
+    }
+
     fn size(&self) -> (u32, u32) {
         let columns = self.columns.max(1);
         let rows = self.panels.len().div_ceil(columns).max(1);
-        (
-            MAP_SIZE.0 * columns as u32 + BAR_WIDTH,
-            MAP_SIZE.1 * rows as u32,
-        )
+        (self.width.pixels(), self.map_size().1 * rows as u32)
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
         root.fill(&WHITE).map_err(text)?;
         let (width, height) = self.size();
-        let (maps, bar) = root.split_horizontally(width - BAR_WIDTH);
+        let (maps, bar) = root.split_horizontally(width - bar_width());
         let columns = self.columns.max(1);
         let rows = self.panels.len().div_ceil(columns).max(1);
         for (panel, area) in self
@@ -99,11 +112,12 @@ impl MapFigure {
         panel: &MapPanel,
     ) -> Result<(), String> {
         let [x0, x1, y0, y1] = panel.extent;
+        let area = &super::titled(area, &panel.title, type_size::LABEL)?;
         let mut chart = ChartBuilder::on(area)
-            .caption(&panel.title, ("sans-serif", 17))
-            .margin(10)
-            .x_label_area_size(40)
-            .y_label_area_size(48)
+            .margin(pt(3.0))
+            .margin_right(pt(7.0))
+            .x_label_area_size(pt(3.0 * type_size::TICK))
+            .y_label_area_size(pt(3.6 * type_size::TICK))
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(text)?;
         let (x_step, y_step) = ((x1 - x0) / 5.0, (y1 - y0) / 5.0);
@@ -118,11 +132,11 @@ impl MapFigure {
             .y_labels(5)
             .x_label_formatter(&x_format)
             .y_label_formatter(&y_format)
-            .label_style(("sans-serif", 13))
-            .axis_desc_style(("sans-serif", 14))
+            .label_style(font(type_size::TICK))
+            .axis_desc_style(font(type_size::TICK))
             .draw()
             .map_err(text)?;
-        let ([nx, ny], values) = coarsened(panel, MAP_SIZE.0 as usize);
+        let ([nx, ny], values) = coarsened(panel, self.map_size().0 as usize);
         let (dx, dy) = ((x1 - x0) / nx as f64, (y1 - y0) / ny as f64);
         let range = self.range;
         chart
@@ -151,8 +165,12 @@ impl MapFigure {
         area: &DrawingArea<DB, Shift>,
         height: u32,
     ) -> Result<(), String> {
-        let (top, bottom) = (50i32, (height as i32 - 150).max(120));
-        let (left, right) = (20i32, 50i32);
+        let s = pt(type_size::TICK) as i32;
+        let chars = ((bar_width() as f64) / (0.52 * s as f64)) as usize;
+        let note = wrap(&self.range_note, chars.max(10));
+        let below = (1.3 * s as f64) as i32 * (note.len() as i32 + 1) + 2 * s;
+        let (top, bottom) = (3 * s, (height as i32 - below).max(7 * s));
+        let (left, right) = (s, 3 * s);
         let steps = (bottom - top).max(1);
         for k in 0..steps {
             let value = self.range * (1.0 - 2.0 * k as f64 / steps as f64);
@@ -164,34 +182,37 @@ impl MapFigure {
         }
         area.draw(&Rectangle::new([(left, top), (right, bottom)], BLACK))
             .map_err(text)?;
-        let font = ("sans-serif", 14).into_font();
+        let tick_font = font(type_size::TICK).into_font();
         for k in 0..=4 {
             let value = self.range * (1.0 - 0.5 * k as f64);
             let y = top + (bottom - top) * k / 4;
-            area.draw(&PathElement::new(vec![(right, y), (right + 6, y)], BLACK))
-                .map_err(text)?;
+            area.draw(&PathElement::new(
+                vec![(right, y), (right + s / 2, y)],
+                BLACK,
+            ))
+            .map_err(text)?;
             let label = linear_label(value, self.range / 4.0);
-            area.draw(&Text::new(label, (right + 10, y - 7), font.clone()))
+            area.draw(&Text::new(label, (right + s, y - s / 2), tick_font.clone()))
                 .map_err(text)?;
         }
         area.draw(&Text::new(
             self.label.clone(),
-            (left, top - 30),
-            ("sans-serif", 16),
+            (left, top - 2 * s),
+            font(type_size::LABEL),
         ))
         .map_err(text)?;
-        let mut y = bottom + 16;
-        for line in wrap(&self.range_note, 26) {
-            area.draw(&Text::new(line, (left - 10, y), font.clone()))
+        let mut y = bottom + s;
+        for line in note {
+            area.draw(&Text::new(line, (left / 2, y), tick_font.clone()))
                 .map_err(text)?;
-            y += 17;
+            y += (1.3 * s as f64) as i32;
         }
         area.draw(&Rectangle::new(
-            [(left - 10, y + 4), (left + 10, y + 18)],
+            [(left / 2, y + s / 4), (left / 2 + s, y + s)],
             NO_DATA.filled(),
         ))
         .map_err(text)?;
-        area.draw(&Text::new("no data", (left + 16, y + 4), font))
+        area.draw(&Text::new("no data", (left / 2 + 3 * s / 2, y), tick_font))
             .map_err(text)?;
         Ok(())
     }
@@ -228,21 +249,6 @@ fn coarsened(panel: &MapPanel, most: usize) -> ([usize; 2], Vec<f64>) {
     ([cx, cy], values)
 }
 
-/// Split `text` into lines of at most about `width` characters at spaces.
-fn wrap(text: &str, width: usize) -> Vec<String> {
-    let mut lines: Vec<String> = Vec::new();
-    for word in text.split_whitespace() {
-        match lines.last_mut() {
-            Some(line) if line.chars().count() + 1 + word.chars().count() <= width => {
-                line.push(' ');
-                line.push_str(word);
-            }
-            _ => lines.push(word.to_string()),
-        }
-    }
-    lines
-}
-
 /// Draw maps side by side (one row) into `path` with a robust shared range.
 pub fn colour_maps(path: &Path, panels: Vec<MapPanel>, label: &str) -> Result<(), IoError> {
     let range = robust_range(panels.iter().flat_map(|p| p.values.iter()));
@@ -258,6 +264,7 @@ pub fn colour_maps(path: &Path, panels: Vec<MapPanel>, label: &str) -> Result<()
                 "range ±{} = 99th percentile of |value|; beyond it saturates",
                 linear_label(range, range / 100.0)
             ),
+            width: PrintWidth::Full,
         },
     )
 }

@@ -45,6 +45,66 @@ fn register_font() {
 /// Series with at most this many points get markers; denser ones are lines only.
 pub const MARKER_LIMIT: usize = 40;
 
+/// Print resolution every figure is laid out for (PNG pixels per inch; an SVG's user
+/// units are the same pixels, so it prints at the same proportions when scaled to its
+/// stated width).
+pub const DPI: f64 = 300.0;
+
+/// Type sizes at print size (pt): panel titles, axis labels, tick labels and the legend
+/// all within the 7-9 pt journals ask for.
+pub mod type_size {
+    /// Panel titles.
+    pub const TITLE: f64 = 9.0;
+    /// Axis labels and the legend.
+    pub const LABEL: f64 = 8.0;
+    /// Tick labels and notes.
+    pub const TICK: f64 = 7.0;
+}
+
+/// The width a figure is made for: a journal's single column (90 mm) or full text width
+/// (190 mm). Its pixel width is that at [`DPI`], so `pt` sizes print at their size.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PrintWidth {
+    /// One column, 90 mm.
+    Single,
+    /// The full text width, 190 mm.
+    #[default]
+    Full,
+}
+
+impl PrintWidth {
+    /// The width in millimetres.
+    pub fn mm(self) -> f64 {
+        match self {
+            PrintWidth::Single => 90.0,
+            PrintWidth::Full => 190.0,
+        }
+    }
+
+    /// The width in pixels at [`DPI`].
+    pub fn pixels(self) -> u32 {
+        (self.mm() / 25.4 * DPI).round() as u32
+    }
+
+    /// Its name in `index.json` (`single column, 90 mm`).
+    pub fn describe(self) -> &'static str {
+        match self {
+            PrintWidth::Single => "single column, 90 mm",
+            PrintWidth::Full => "full width, 190 mm",
+        }
+    }
+}
+
+/// `points` (typographic, 1/72 in) in pixels at [`DPI`].
+pub fn pt(points: f64) -> u32 {
+    (points * DPI / 72.0).round() as u32
+}
+
+/// The font of `points` pt at print size.
+pub fn font(points: f64) -> (&'static str, u32) {
+    ("sans-serif", pt(points))
+}
+
 /// Okabe & Ito (2008) colour-blind-safe palette: 0 is black (exact/reference), then blue,
 /// vermillion, bluish green, reddish purple, orange, sky blue, yellow; cycles beyond.
 pub fn colour(index: usize) -> RGBColor {
@@ -125,6 +185,10 @@ pub fn linear_label(value: f64, step: f64) -> String {
 
 /// A figure that draws itself on any plotters backend.
 pub trait Draw {
+    /// The printed width the figure is laid out for (its pixel width is that at [`DPI`]).
+    fn print_width(&self) -> PrintWidth {
+        PrintWidth::Full
+    }
     /// Size in pixels (PNG) or user units (SVG).
     fn size(&self) -> (u32, u32);
     /// Draw onto `root`.
@@ -142,6 +206,10 @@ pub trait Draw {
 pub struct Stacked<A, B>(pub A, pub B);
 
 impl<A: Draw, B: Draw> Draw for Stacked<A, B> {
+    fn print_width(&self) -> PrintWidth {
+        self.0.print_width()
+    }
+
     fn size(&self) -> (u32, u32) {
         let (a, b) = (self.0.size(), self.1.size());
         (a.0.max(b.0), a.1 + b.1)
@@ -162,17 +230,33 @@ impl<A: Draw, B: Draw> Draw for Stacked<A, B> {
     }
 }
 
-/// Draw `figure` into `path`: SVG when the extension is `svg`, PNG otherwise; written to a
-/// temporary name and renamed.
+/// Draw `figure` into `path`: SVG when the extension is `svg`, PDF when it is `pdf` (the
+/// [`DPI`] raster at the figure's printed width, [`pdf_of_pixels`]), PNG otherwise;
+/// written to a temporary name and renamed.
 pub fn save(path: &Path, figure: &impl Draw) -> Result<(), IoError> {
     register_font();
     let err = |message: String| IoError::Plot {
         path: path.to_path_buf(),
         message,
     };
-    let svg = path.extension().is_some_and(|e| e == "svg");
-    let tmp = crate::temporary_path(path).with_extension(if svg { "tmp.svg" } else { "tmp.png" });
-    let result = if svg {
+    let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("png");
+    let svg = extension == "svg";
+    let tmp = crate::temporary_path(path).with_extension(format!("tmp.{extension}"));
+    let result = if extension == "pdf" {
+        let (w, h) = figure.size();
+        let mut pixels = vec![255u8; 3 * w as usize * h as usize];
+        {
+            let root = BitMapBackend::with_buffer(&mut pixels, (w, h)).into_drawing_area();
+            figure
+                .draw(&root)
+                .and_then(|_| root.present().map_err(|e| e.to_string()))
+        }
+        .and_then(|_| {
+            let mm = figure.print_width().mm();
+            let pdf = pdf_of_pixels(&pixels, (w, h), mm)?;
+            std::fs::write(&tmp, pdf).map_err(|e| e.to_string())
+        })
+    } else if svg {
         let root = SVGBackend::new(&tmp, figure.size()).into_drawing_area();
         figure
             .draw(&root)
@@ -191,6 +275,100 @@ pub fn save(path: &Path, figure: &impl Draw) -> Result<(), IoError> {
         path: path.to_path_buf(),
         source,
     })
+}
+
+/// A one-page PDF (1.4) holding an RGB image of `size` pixels, printed `width_mm` wide
+/// (the height in proportion): the page is the image, the pixels Flate-compressed. Plotters
+/// has no PDF backend (plotters-cairo needs the system's cairo), so the PDF carries the
+/// raster at [`DPI`]; the SVG is the vector form.
+pub fn pdf_of_pixels(rgb: &[u8], size: (u32, u32), width_mm: f64) -> Result<Vec<u8>, String> {
+    use std::io::Write as _;
+    let (w, h) = size;
+    if rgb.len() != 3 * w as usize * h as usize || w == 0 || h == 0 {
+        return Err(format!("{} bytes for a {w}×{h} RGB image", rgb.len()));
+    }
+    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+    z.write_all(rgb).map_err(|e| e.to_string())?;
+    let image = z.finish().map_err(|e| e.to_string())?;
+    // page size in points (1/72 in)
+    let page_w = width_mm / 25.4 * 72.0;
+    let page_h = page_w * h as f64 / w as f64;
+    let content = format!("q {page_w:.3} 0 0 {page_h:.3} 0 0 cm /Im0 Do Q\n");
+    let mut out: Vec<u8> = b"%PDF-1.4\n%\xe2\xe3\xcf\xd3\n".to_vec();
+    let mut offsets = Vec::new();
+    let mut object = |out: &mut Vec<u8>, body: &[u8]| {
+        offsets.push(out.len());
+        out.extend_from_slice(format!("{} 0 obj\n", offsets.len()).as_bytes());
+        out.extend_from_slice(body);
+        out.extend_from_slice(b"\nendobj\n");
+    };
+    object(&mut out, b"<< /Type /Catalog /Pages 2 0 R >>");
+    object(&mut out, b"<< /Type /Pages /Kids [3 0 R] /Count 1 >>");
+    object(
+        &mut out,
+        format!(
+            "<< /Type /Page /Parent 2 0 R /MediaBox [0 0 {page_w:.3} {page_h:.3}] \
+             /Resources << /XObject << /Im0 5 0 R >> >> /Contents 4 0 R >>"
+        )
+        .as_bytes(),
+    );
+    object(
+        &mut out,
+        format!(
+            "<< /Length {} >>\nstream\n{content}endstream",
+            content.len()
+        )
+        .as_bytes(),
+    );
+    let mut body = format!(
+        "<< /Type /XObject /Subtype /Image /Width {w} /Height {h} /ColorSpace /DeviceRGB \
+         /BitsPerComponent 8 /Filter /FlateDecode /Length {} >>\nstream\n",
+        image.len()
+    )
+    .into_bytes();
+    body.extend_from_slice(&image);
+    body.extend_from_slice(b"\nendstream");
+    object(&mut out, &body);
+    let xref = out.len();
+    out.extend_from_slice(
+        format!("xref\n0 {}\n0000000000 65535 f \n", offsets.len() + 1).as_bytes(),
+    );
+    for o in &offsets {
+        out.extend_from_slice(format!("{o:010} 00000 n \n").as_bytes());
+    }
+    out.extend_from_slice(
+        format!(
+            "trailer\n<< /Size {} /Root 1 0 R >>\nstartxref\n{xref}\n%%EOF\n",
+            offsets.len() + 1
+        )
+        .as_bytes(),
+    );
+    Ok(out)
+}
+
+/// Draw `title` centred in a strip at the top of `area` (`points` pt) and return the area
+/// under it, so tick labels at the top of a chart never run into its title.
+pub fn titled<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    points: f64,
+) -> Result<DrawingArea<DB, Shift>, String> {
+    let height = (1.9 * pt(points) as f64) as u32;
+    let (strip, rest) = area.split_vertically(height);
+    let style =
+        TextStyle::from(font(points).into_font()).pos(plotters::style::text_anchor::Pos::new(
+            plotters::style::text_anchor::HPos::Center,
+            plotters::style::text_anchor::VPos::Center,
+        ));
+    let (w, h) = strip.dim_in_pixel();
+    strip
+        .draw(&Text::new(
+            title.to_string(),
+            (w as i32 / 2, h as i32 / 2),
+            style,
+        ))
+        .map_err(text)?;
+    Ok(rest)
 }
 
 /// A plotters error as text.
@@ -229,6 +407,41 @@ mod tests {
         assert_eq!(decade_label(1e-3), "10⁻³");
         assert_eq!(decade_label(100.0), "10²");
         assert_eq!(decade_label(1.0), "10⁰");
+    }
+
+    #[test]
+    fn the_pdf_page_is_the_printed_width_and_its_xref_points_at_every_object() {
+        let (w, h) = (PrintWidth::Single.pixels(), 200);
+        let pdf = pdf_of_pixels(&vec![200u8; 3 * w as usize * h as usize], (w, h), 90.0).unwrap();
+        let text = String::from_utf8_lossy(&pdf);
+        // 90 mm = 255.118 pt wide, the height in the image's proportion
+        let page_h = 90.0 / 25.4 * 72.0 * h as f64 / w as f64;
+        assert!(
+            text.contains(&format!("/MediaBox [0 0 255.118 {page_h:.3}]")),
+            "{text}"
+        );
+        assert!(text.starts_with("%PDF-1.4") && text.trim_end().ends_with("%%EOF"));
+        // every xref entry is the byte offset of "k 0 obj"
+        let tail = std::str::from_utf8(&pdf[pdf.len() - 40..]).unwrap();
+        let xref_at: usize = tail
+            .rsplit("startxref\n")
+            .next()
+            .and_then(|s| s.lines().next())
+            .and_then(|s| s.parse().ok())
+            .unwrap();
+        let table = std::str::from_utf8(&pdf[xref_at..]).unwrap();
+        assert!(table.starts_with("xref\n0 6\n"), "{table}");
+        for (k, line) in table.lines().skip(3).take(5).enumerate() {
+            let offset: usize = line[..10].parse().unwrap();
+            assert!(
+                pdf[offset..].starts_with(format!("{} 0 obj", k + 1).as_bytes()),
+                "{k}"
+            );
+        }
+        assert!(pdf_of_pixels(&[0u8; 5], (2, 2), 90.0).is_err());
+        // 7-9 pt at print size: 29-38 px at 300 dpi
+        assert_eq!((pt(7.0), pt(9.0)), (29, 38));
+        assert_eq!(PrintWidth::Full.pixels(), 2244);
     }
 
     #[test]
