@@ -38,12 +38,45 @@ pub(crate) fn point_from_nodes<const D: usize>(
     (q, v)
 }
 
+/// One cell's phase-1 sums over its points `α` (weights `s`, `2^D` per point, states `q`,
+/// `v`, masses `m`): `(Σ_α S_iα m_α, Σ_α S_iα m_α q_α, Σ_α S_iα m_α v_α)` per local node
+/// `i`, each sum in point order from zero. The point loop is outside the node loop, so
+/// each point is read once.
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn cell_sums<const D: usize>(
+    s: &[f64],
+    q: &[Tensor<D>],
+    v: &[Vector<D>],
+    m: &[f64],
+) -> (
+    [f64; MAX_NODES],
+    [Tensor<D>; MAX_NODES],
+    [Vector<D>; MAX_NODES],
+) {
+    let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
+    let mut mass = [0.0; MAX_NODES];
+    let mut tensor = [Tensor::<D>::zeros(); MAX_NODES];
+    let mut velocity = [Vector::<D>::zeros(); MAX_NODES];
+    for (((s, q), v), m) in s.chunks_exact(nodes_per_cell).zip(q).zip(v).zip(m) {
+        for a in 0..nodes_per_cell {
+            let w = s[a] * m;
+            mass[a] += w;
+            tensor[a] += q * w;
+            velocity[a] += v * w;
+        }
+    }
+    (mass, tensor, velocity)
+}
+
 impl<const D: usize> DgmpmSolver<D> {
     /// Phase 1: lumped nodal mass `M_i = Σ_α S_iα m_α` and mass-weighted nodal fields
     /// `M_i q_i = Σ_α S_iα m_α q_α` (paper eq. 17), `q` being `σ` (small strain) or `F`
     /// (Saint-Venant–Kirchhoff). On [`StepPath::SinglePoint`] (and [`StepPath::FusedNodal`]
     /// with one point per cell) the map is the identity
-    /// (`q_i = q_p`) and only the masses are weighed.
+    /// (`q_i = q_p`) and only the masses are weighed. With several points per cell the
+    /// cell's points are walked once, each added to its cell's node sums (`cell_sums`),
+    /// each node's sum in point order: the per-node formula bit for bit (tested).
     pub fn particles_to_nodes(&mut self, points: &MaterialPoints<D>) {
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
         let points_per_cell = self.points_per_cell;
@@ -80,26 +113,36 @@ impl<const D: usize> DgmpmSolver<D> {
                 }
                 return;
             }
+            // point by point: each point's state, mass and weights are read once and added
+            // to its cell's node sums, each node's in point order (the order of the
+            // per-node formula, so the sums are the same bit for bit; tested)
+            let points_range = first * points_per_cell..(first + cells) * points_per_cell;
+            let (q, v, m) = (
+                &source[points_range.clone()],
+                &points.velocity[points_range.clone()],
+                &points.mass[points_range.clone()],
+            );
+            let s = &shape[points_range.start * nodes_per_cell..points_range.end * nodes_per_cell];
             for j in 0..cells {
-                let c = first + j;
-                for a in 0..nodes_per_cell {
-                    let mut m = 0.0;
-                    let mut q = Tensor::<D>::zeros();
-                    let mut v = Vector::<D>::zeros();
-                    for p in c * points_per_cell..(c + 1) * points_per_cell {
-                        let w = shape[p * nodes_per_cell + a] * points.mass[p];
-                        m += w;
-                        q += source[p] * w;
-                        v += points.velocity[p] * w;
-                    }
-                    let i = j * nodes_per_cell + a;
-                    mass[i] = m;
+                let cell = j * points_per_cell..(j + 1) * points_per_cell;
+                let (q, v, m) = (&q[cell.clone()], &v[cell.clone()], &m[cell]);
+                let s =
+                    &s[j * points_per_cell * nodes_per_cell..][..points_per_cell * nodes_per_cell];
+                let sums = cell_sums::<D>(s, q, v, m);
+                let out = j * nodes_per_cell..(j + 1) * nodes_per_cell;
+                let nodes = mass[out.clone()]
+                    .iter_mut()
+                    .zip(&mut tensor[out.clone()])
+                    .zip(&mut vel[out]);
+                for (a, ((mass, tensor), vel)) in nodes.enumerate() {
+                    let (m, q, v) = (sums.0[a], sums.1[a], sums.2[a]);
+                    *mass = m;
                     if m > 0.0 {
-                        tensor[i] = q / m;
-                        vel[i] = v / m;
+                        *tensor = q / m;
+                        *vel = v / m;
                     } else {
-                        tensor[i] = Tensor::<D>::zeros();
-                        vel[i] = Vector::<D>::zeros();
+                        *tensor = Tensor::<D>::zeros();
+                        *vel = Vector::<D>::zeros();
                     }
                 }
             }
@@ -237,3 +280,6 @@ pub(crate) fn shapes<const D: usize>(
     }
     Ok((shape, shape_gradient))
 }
+
+#[cfg(test)]
+mod tests;
