@@ -96,6 +96,8 @@ pub struct FileWriter<'a, const D: usize> {
     /// The `.h5` time series (feature `hdf5`), opened at the first output.
     #[cfg(feature = "hdf5")]
     h5: Option<impact_io::h5::TimeSeries>,
+    /// The fields of every output time, kept in memory when `Some` ([`crate::fields`]).
+    pub keep: Option<Vec<crate::fields::Frame>>,
 }
 
 impl<'a, const D: usize> FileWriter<'a, D> {
@@ -129,6 +131,7 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             line: impact_core::line::MeasureLine::bottom_row(grid),
             #[cfg(feature = "hdf5")]
             h5: None,
+            keep: None,
         }
     }
 
@@ -250,6 +253,16 @@ impl<const D: usize> FileWriter<'_, D> {
             let refs: Vec<&[f64]> = columns.iter().map(|c| c.as_slice()).collect();
             impact_io::write_csv(&path, &header, &refs)?;
         }
+        if let Some(frames) = self.keep.as_mut() {
+            let names = header.iter().map(|h| h.to_string()).collect();
+            let profile = (names, columns.clone());
+            frames.push(crate::fields::Frame::of(
+                s,
+                (index, t),
+                profile,
+                self.reference,
+            ));
+        }
         if self.collect {
             self.positions.push((t, columns[1].clone()));
             self.profiles.push((t, x.into_iter().zip(sxx).collect()));
@@ -366,6 +379,11 @@ impl<const D: usize> FileWriter<'_, D> {
             }
         }
         // maps are drawn in 2D and 3D (the plane through the measuring line)
+        if let (Some(kept), true) = (self.keep.as_mut(), frame != INITIAL) {
+            if let Some(last) = kept.last_mut() {
+                last.map.clone_from(&map);
+            }
+        }
         if self.collect && D > 1 && frame != INITIAL {
             self.maps.push((t, map));
         }
@@ -463,7 +481,7 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         t: f64,
         _metrics: &TimeMetrics,
     ) -> anyhow::Result<()> {
-        if !self.files && !self.collect {
+        if !self.files && !self.collect && self.keep.is_none() {
             return Ok(());
         }
         method.sample_into(&mut self.samples);
