@@ -72,6 +72,15 @@ def _flags(overrides: Mapping[str, Any]) -> List[str]:
     return flags
 
 
+def _no_none(value: Any) -> Any:
+    """A dict without its ``None`` entries (``None`` is an absent key, as in TOML)."""
+    if isinstance(value, Mapping):
+        return {k: _no_none(v) for k, v in value.items() if v is not None}
+    if isinstance(value, (list, tuple)):
+        return [_no_none(v) for v in value]
+    return value
+
+
 class Scene:
     """A validated scene: a shipped one (``Scene.load("bar")``), a scene file
     (``Scene.load("my.toml")``) or a dict (``Scene.from_dict(d)``) with the same keys as
@@ -95,7 +104,7 @@ class Scene:
     def from_dict(cls, data: Mapping[str, Any], origin: str = "<dict>") -> "Scene":
         """A scene from a dict shaped like the TOML file; validated as a file is (errors
         name the field, the value and what is allowed)."""
-        toml, name = _impact.scene_from_json(json.dumps(data), origin)
+        toml, name = _impact.scene_from_json(json.dumps(_no_none(data)), origin)
         return cls(toml, name, origin)
 
     def to_dict(self) -> Dict[str, Any]:
