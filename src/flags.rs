@@ -5,7 +5,8 @@
 use crate::Overrides;
 use impact_core::method::MethodKind;
 
-/// A flag the CLI would refuse, with clap's message (its first line, without `error: `).
+/// A flag the CLI would refuse, with clap's message up to its first blank line (the
+/// error and the allowed values), without `error: `.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
 pub struct FlagError(pub String);
@@ -116,8 +117,10 @@ pub fn check_flags(flags: &[String]) -> Result<(Overrides, CheckFlags), FlagErro
         .map_err(message)
 }
 
+/// clap's message up to its first blank line (the error and the allowed values), without
+/// `error: `: the tips and usage after it are the CLI's.
 fn message(e: clap::Error) -> FlagError {
     let text = e.render().to_string();
-    let first = text.lines().next().unwrap_or_default();
-    FlagError(first.trim_start_matches("error: ").to_string())
+    let lines: Vec<&str> = text.lines().take_while(|l| !l.trim().is_empty()).collect();
+    FlagError(lines.join("\n").trim_start_matches("error: ").to_string())
 }

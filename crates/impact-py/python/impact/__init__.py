@@ -171,7 +171,7 @@ def run(
     with the CLI's message."""
     if vtu not in ("binary", "ascii"):
         raise SceneError(
-            f"invalid value '{vtu}' for '--vtu <VTU>' [possible values: binary, ascii]"
+            f"invalid value '{vtu}' for '--vtu <VTU>'\n  [possible values: binary, ascii]"
         )
     the_scene = _scene(scene)
     flags = _flags(overrides)
