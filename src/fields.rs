@@ -46,12 +46,12 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// The frame of `samples` at output `index`, time `t`, with the profile's columns and
-    /// the reference's averages over each sample's region.
+    /// The frame of `samples` at output `index`, time `t`, with the profile's header and
+    /// columns and the reference's averages over each sample's region.
     pub fn of<const D: usize>(
         samples: &Samples<D>,
         (index, t): (usize, f64),
-        profile: (Vec<String>, Vec<Vec<f64>>),
+        (header, columns): (&[&str], &[Vec<f64>]),
         reference: Option<&Reference>,
     ) -> Self {
         let vectors = |v: &[Vector<D>]| v.iter().flat_map(|x| x.iter().copied()).collect();
@@ -81,7 +81,10 @@ impl Frame {
             plastic_strain: samples.plastic_strain.clone(),
             reference_stress_xx: exact.iter().map(|e| e.0).collect(),
             reference_velocity_x: exact.iter().map(|e| e.1).collect(),
-            profile,
+            profile: (
+                header.iter().map(|h| h.to_string()).collect(),
+                columns.to_vec(),
+            ),
             map: Vec::new(),
         }
     }

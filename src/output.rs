@@ -253,10 +253,9 @@ impl<const D: usize> FileWriter<'_, D> {
             let refs: Vec<&[f64]> = columns.iter().map(|c| c.as_slice()).collect();
             impact_io::write_csv(&path, &header, &refs)?;
         }
-        if let Some(frames) = self.keep.as_mut() {
-            let names = header.iter().map(|h| h.to_string()).collect();
-            let profile = (names, columns.clone());
-            frames.push(crate::fields::Frame::of(
+        if let Some(kept) = self.keep.as_mut() {
+            let profile = (header.as_slice(), columns.as_slice());
+            kept.push(crate::fields::Frame::of(
                 s,
                 (index, t),
                 profile,
@@ -379,10 +378,9 @@ impl<const D: usize> FileWriter<'_, D> {
             }
         }
         // maps are drawn in 2D and 3D (the plane through the measuring line)
-        if let (Some(kept), true) = (self.keep.as_mut(), frame != INITIAL) {
-            if let Some(last) = kept.last_mut() {
-                last.map.clone_from(&map);
-            }
+        // the kept frame of this output time (none yet at the initial frame)
+        if let Some(last) = self.keep.as_mut().and_then(|k| k.last_mut()) {
+            last.map.clone_from(&map);
         }
         if self.collect && D > 1 && frame != INITIAL {
             self.maps.push((t, map));
@@ -481,7 +479,7 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         t: f64,
         _metrics: &TimeMetrics,
     ) -> anyhow::Result<()> {
-        if !self.files && !self.collect && self.keep.is_none() {
+        if !self.files && !self.collect {
             return Ok(());
         }
         method.sample_into(&mut self.samples);

@@ -288,6 +288,7 @@ pub fn run_study_keeping<const D: usize>(
             problem.t_end,
         );
         writer.files = !options.no_files;
+        // kept fields go through the writer's output hook, which `collect` opens
         writer.collect = !options.no_files || keep;
         writer.keep = keep.then(Vec::new);
         writer.encoding = options.vtu;

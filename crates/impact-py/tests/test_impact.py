@@ -71,6 +71,11 @@ def assert_same_as_cli(res, folder):
             if frame.plastic_strain is not None:
                 cli_eps = mesh.point_data["equivalent_plastic_strain"]
                 assert np.array_equal(cli_eps.ravel(), frame.plastic_strain)
+            if frame.map is not None:  # 2D: the map is the grid file's cell σ_xx where filled
+                grid = meshio.read(folder / f"{m.method}_grid_t{frame.index}.vtu")
+                cell_sxx = grid.cell_data[m.stress_name][0][:, 0]
+                filled = ~np.isnan(frame.map)
+                assert filled.any() and np.array_equal(frame.map[filled], cell_sxx[filled])
             table = np.genfromtxt(
                 folder / f"{m.method}_t{frame.index}.csv", delimiter=",", names=True
             )
