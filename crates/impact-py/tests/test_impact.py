@@ -261,3 +261,32 @@ def test_example_runs(tmp_path, example):
     assert done.returncode == 0, done.stderr
     assert list(tmp_path.glob("*.png")), "the example wrote no figure"
     assert time.time() - started < 60
+
+
+def test_work_precision_returns_the_cli_json(tmp_path):
+    py = impact.work_precision("bar", levels=1, exe=BIN)
+    cli("bench", "work-precision", "--scene", "bar", "--levels", "1", "--out", str(tmp_path / "w"))
+    with open(tmp_path / "w" / "work_precision.json") as f:
+        doc = json.load(f)
+    keep = ("config", "cells", "steps", "l1_rel")
+    assert [{k: p[k] for k in keep} for p in py["points"]] == [{k: p[k] for k in keep} for p in doc]
+    assert py["summary"].startswith("bar: L1 error")
+
+
+def test_the_stepping_releases_the_gil():
+    ticks, stop = [0], threading.Event()
+
+    def count():
+        while not stop.is_set():
+            ticks[0] += 1
+            time.sleep(0.001)
+
+    counter = threading.Thread(target=count)
+    counter.start()
+    started = time.time()
+    impact.run("plate", cells=400, reference=False, files=False, methods=["dgmpm"])
+    elapsed = time.time() - started
+    stop.set()
+    counter.join()
+    # a thread that waited on the GIL for the whole run would have counted ~once
+    assert ticks[0] > max(3, elapsed / 0.01), (ticks[0], elapsed)
