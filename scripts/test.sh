@@ -62,4 +62,21 @@ if [ ${#python_tests[@]} -gt 0 ]; then
   fi
   IMPACT_BIN="$PWD/target/release/impact" IMPACT_HAS_HDF5=1 \
     "$venv/bin/python" -m pytest -q -rs -p no:cacheprovider "${python_tests[@]}"
+
+  # The Python package (crates/impact-py): maturin and pandas into the test venv, the
+  # package built from this tree and installed (editable), its tests (the CLI's files
+  # compared bit for bit, the examples run); an install that fails stops the run with why
+  if ! "$venv/bin/python" -c "import maturin, pandas" 2>/dev/null; then
+    "$venv/bin/python" -m pip install --quiet -r scripts/requirements-py.txt || {
+      echo "impact-py: pip install -r scripts/requirements-py.txt failed; the package's tests cannot run" >&2
+      exit 1
+    }
+  fi
+  VIRTUAL_ENV="$PWD/$venv" "$venv/bin/python" -m maturin develop --release --quiet \
+    -m crates/impact-py/Cargo.toml || {
+    echo "impact-py: maturin develop failed; the package's tests cannot run" >&2
+    exit 1
+  }
+  IMPACT_BIN="$PWD/target/release/impact" \
+    "$venv/bin/python" -m pytest -q -rs -p no:cacheprovider crates/impact-py/tests
 fi

@@ -217,3 +217,33 @@ pub fn write_junit(path: &Path, scene: &str, reports: &[CheckReport]) -> anyhow:
     impact_io::write_atomic(path, |w| w.write_all(xml.as_bytes()))?;
     Ok(())
 }
+
+/// `impact check --json <path>`: the provenance of the check of `study` (`source`: the
+/// scene as given) with the verdicts of `reports`, as [`write_json`] writes them.
+pub fn write_outcome(
+    path: &Path,
+    (study, source): (&crate::Study, &str),
+    options: &crate::check::CheckOptions,
+    reports: &[CheckReport],
+    clock: &crate::provenance::Clock,
+) -> anyhow::Result<()> {
+    use impact_core::MethodKind;
+    let kinds = [MethodKind::Dgmpm, MethodKind::Mpm];
+    let mut record =
+        crate::provenance::Provenance::new("check", clock).with_study_inline(study, source, &kinds);
+    record.reference = study
+        .reference_for_errors(&kinds)
+        .unwrap_or_else(|e| e.to_string());
+    record.runs = reports
+        .iter()
+        .flat_map(|r| [&r.dgmpm_record, &r.mpm_record])
+        .map(|r| crate::provenance::RunEntry {
+            options: r.options.clone(),
+            steps: r.steps,
+            wall_s: r.wall_s,
+            error: r.error.clone(),
+        })
+        .collect();
+    record.finish(clock);
+    write_json(path, (study.name(), &record), options.thresholds, reports)
+}

@@ -126,18 +126,7 @@ pub(crate) fn run_scene<const D: usize>(plan: &RunPlan) -> Result<()> {
 
 pub(crate) fn check_command(args: &CheckArgs) -> Result<bool> {
     let clock = impact::provenance::Clock::start();
-    let options = CheckOptions {
-        against: args.against.as_deref().map(Against::parse).transpose()?,
-        dgmpm_courant: args.dgmpm_courant,
-        mpm_courant: args.mpm_courant,
-        dgmpm_points_per_cell: args.dgmpm_points_per_cell,
-        mpm_points_per_cell: args.mpm_points_per_cell,
-        thresholds: Thresholds {
-            min_width_ratio: args.min_width_ratio,
-            max_overshoot: args.max_overshoot,
-        },
-        progress: !args.quiet,
-    };
+    let options = args.gate.options(!args.quiet)?;
     let study = args.scene.study()?;
     let reports = match study.dim() {
         1 => check_study::<1>(&study, &options)?,
@@ -149,32 +138,9 @@ pub(crate) fn check_command(args: &CheckArgs) -> Result<bool> {
         print_check(study.name(), report);
     }
     if let Some(path) = &args.json {
-        let mut record = impact::provenance::Provenance::new("check", &clock).with_study_inline(
-            &study,
-            &args.scene.scene,
-            &[MethodKind::Dgmpm, MethodKind::Mpm],
-        );
-        record.reference = study
-            .reference_for_errors(&[MethodKind::Dgmpm, MethodKind::Mpm])
-            .unwrap_or_else(|e| e.to_string());
-        record.runs = reports
-            .iter()
-            .flat_map(|r| [&r.dgmpm_record, &r.mpm_record])
-            .map(|r| impact::provenance::RunEntry {
-                options: r.options.clone(),
-                steps: r.steps,
-                wall_s: r.wall_s,
-                error: r.error.clone(),
-            })
-            .collect();
-        record.finish(&clock);
-        impact::check_report::write_json(
-            path,
-            (study.name(), &record),
-            options.thresholds,
-            &reports,
-        )
-        .with_context(|| format!("writing {}", path.display()))?;
+        let source = &args.scene.scene;
+        impact::check_report::write_outcome(path, (&study, source), &options, &reports, &clock)
+            .with_context(|| format!("writing {}", path.display()))?;
     }
     if let Some(path) = &args.junit {
         impact::check_report::write_junit(path, study.name(), &reports)
@@ -303,107 +269,18 @@ pub(crate) fn figures_command(args: &FiguresArgs) -> Result<()> {
 }
 
 pub(crate) fn stability_command(args: &StabilityArgs) -> Result<()> {
-    use impact::stability::{sweep, StabilityRow};
-    let clock = impact::provenance::Clock::start();
-    for (flag, steps, most) in [
-        ("--steps-1d", args.steps_1d, 1_000_000),
-        ("--steps-2d", args.steps_2d, 100_000),
-    ] {
-        if steps == 0 || steps > most {
-            bail!("invalid value for `{flag}`: {steps} (allowed: 1 to {most} steps per perturbed run)");
-        }
-    }
-    let mut scenes =
-        impact::ladder::sweep_scenes(args.scene.as_deref(), args.dim.as_deref(), &args.overrides)?;
-    for scene in scenes.iter_mut() {
-        if args.positions.is_some() && scene.dim != 1 && args.scene.is_none() {
-            continue;
-        }
-        args.layout_onto(scene)?;
-    }
-    let folder = impact_io::folder::OutputFolder::open(&args.out)?;
-    say!(
-        "{:>3} {:<6} {:>4} {:>8} {:>5} {:>9} {:>10} {:>12} {:>9}",
-        "dim",
-        "method",
-        "ppc",
-        "integr.",
-        "flux",
-        "update",
-        "empirical",
-        "von_neumann",
-        "monotone"
-    );
-    let print = |r: &StabilityRow| {
-        say!(
-            "{:>3} {:<6} {:>4} {:>8} {:>5} {:>9} {:>10.4} {:>12} {:>9}",
-            r.dim,
-            r.method,
-            r.points_per_cell,
-            r.integrator,
-            r.flux,
-            r.update,
-            r.empirical,
-            r.von_neumann.map_or("-".to_string(), |v| format!("{v:.4}")),
-            r.monotone.map_or("-".to_string(), |v| format!("{v:.4}"))
-        )
+    let options = impact::stability_run::StabilityOptions {
+        scene: args.scene.clone(),
+        dim: args.dim.clone(),
+        overrides: args.overrides.clone(),
+        steps_1d: args.steps_1d,
+        steps_2d: args.steps_2d,
+        out: args.out.clone(),
+        layout: args.layout,
+        shift: args.shift,
+        positions: args.positions.clone(),
     };
-    let mut rows = Vec::new();
-    let mut record = impact::provenance::Provenance::new("stability", &clock);
-    record.reference = "none: the sweep measures stability limits, not errors".into();
-    for scene in &scenes {
-        let study = Study::new(scene.clone(), Overrides::default())?;
-        let skipped = match scene.dim {
-            1 => impact::stability::refused::<1>(&study.problem::<1>()?, scene),
-            2 => impact::stability::refused::<2>(&study.problem::<2>()?, scene),
-            _ => impact::stability::refused::<3>(&study.problem::<3>()?, scene),
-        };
-        for note in &skipped {
-            say!("skipped: {note}");
-        }
-        record.notes.extend(skipped);
-        match scene.dim {
-            1 => rows.extend(sweep(&study.problem::<1>()?, scene, args.steps_1d, print)),
-            2 => rows.extend(sweep(&study.problem::<2>()?, scene, args.steps_2d, print)),
-            _ => rows.extend(sweep(&study.problem::<3>()?, scene, args.steps_2d, print)),
-        }
-    }
-    impact::interrupt::check()?;
-    impact::stability::write(folder.path(), &rows)?;
-    // the swept scenes: scene.toml (one scene) or scene-<d>d.toml (the default sweep)
-    for scene in &scenes {
-        let file = match scenes.len() {
-            1 => impact::provenance::SCENE_FILE.to_string(),
-            _ => format!("scene-{}d.toml", scene.dim),
-        };
-        impact::provenance::write_scene(&folder.path().join(&file), scene)?;
-        record.scene = Some(scene.name.clone());
-        record.scene_file = Some(file);
-    }
-    if scenes.len() > 1 {
-        record.scene = None;
-        record.scene_file = None;
-        record
-            .notes
-            .push("swept scenes: scene-1d.toml and scene-2d.toml".into());
-    }
-    record.scene_source = args.scene.clone();
-    record.overrides = args.overrides.given();
-    record.configurations = scenes
-        .iter()
-        .flat_map(|scene| {
-            match scene.dim {
-                1 => impact::stability::configurations::<1>(scene),
-                2 => impact::stability::configurations::<2>(scene),
-                _ => impact::stability::configurations::<3>(scene),
-            }
-            .into_iter()
-            .map(|c| impact::provenance::MethodOptionsRecord::of(&c, scene.dim))
-        })
-        .collect();
-    record.write(folder.path(), &clock)?;
-    impact::interrupt::check()?;
-    folder.commit(concat!("impact ", env!("CARGO_PKG_VERSION")))?;
+    impact::stability_run::run(&options, |line| say!("{line}"))?;
     say!("wrote {}", args.out.display());
     Ok(())
 }

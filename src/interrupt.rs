@@ -25,6 +25,13 @@ pub fn install() -> std::io::Result<()> {
     Ok(())
 }
 
+/// The stop flag, made without signal handlers where [`install`] did not run: a host
+/// that handles the signals itself (the Python package: `KeyboardInterrupt`) sets it to
+/// stop the run between two steps, and clears it once the run has returned.
+pub fn stop_flag() -> &'static AtomicBool {
+    FLAG.get_or_init(|| Arc::new(AtomicBool::new(false)))
+}
+
 /// The stop flag, once [`install`] ran.
 pub fn flag() -> Option<&'static AtomicBool> {
     FLAG.get().map(|f| &**f)

@@ -9,7 +9,9 @@
 pub mod check;
 pub mod check_report;
 pub mod convergence;
+pub mod fields;
 pub mod figures;
+pub mod flags;
 pub mod guard;
 pub mod interrupt;
 pub mod ladder;
@@ -26,6 +28,7 @@ pub mod reference_cache;
 pub mod reference_setup;
 pub mod run;
 pub mod stability;
+pub mod stability_run;
 pub mod study;
 pub mod von_neumann;
 pub mod work_precision;

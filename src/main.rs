@@ -2,12 +2,11 @@
 //! that DGMPM captures the wave front more sharply than MPM.
 use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand};
-use impact::check::{check_study, Against, CheckOptions, Thresholds, Verdict};
+use impact::check::{check_study, Verdict};
 use impact::run::{run_study, RunOptions, RunRecord};
 use impact::{Overrides, Study};
 use impact_core::method::MethodKind;
 use impact_core::metrics::{ErrorBasis, FrontStatus};
-use impact_core::Scene;
 use std::path::PathBuf;
 
 /// Print a line to stdout; a closed pipe (`impact run bar | head`) ends the program
@@ -127,32 +126,8 @@ struct RunArgs {
 struct CheckArgs {
     #[command(flatten)]
     scene: SceneArgs,
-    /// The MPM to compare with: the scene's (default), the scene's with one shape function
-    /// (linear, gimp, bspline2, bspline3, cpdi), or `all-mpm` (every shape function, then
-    /// every shape with PIC and with APIC, one verdict each; the gate passes only if DGMPM
-    /// beats them all).
-    #[arg(long)]
-    against: Option<String>,
-    /// DGMPM's Courant number only (`--courant` sets both methods).
-    #[arg(long, allow_negative_numbers = true)]
-    dgmpm_courant: Option<f64>,
-    /// MPM's Courant number only.
-    #[arg(long, allow_negative_numbers = true)]
-    mpm_courant: Option<f64>,
-    /// DGMPM's points per cell only (`--points-per-cell` sets both methods).
-    #[arg(long)]
-    dgmpm_points_per_cell: Option<usize>,
-    /// MPM's points per cell only.
-    #[arg(long)]
-    mpm_points_per_cell: Option<usize>,
-    /// MPM's front width over DGMPM's must exceed this at every output time (1: strictly
-    /// narrower).
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
-    min_width_ratio: f64,
-    /// DGMPM's overshoot passes when at most this many % of the jump, whatever MPM's is
-    /// (default: it must be below MPM's).
-    #[arg(long, allow_negative_numbers = true)]
-    max_overshoot: Option<f64>,
+    #[command(flatten)]
+    gate: impact::flags::CheckFlags,
     /// Write the outcome as JSON (keys documented in the README).
     #[arg(long, value_name = "FILE")]
     json: Option<PathBuf>,
@@ -278,31 +253,6 @@ struct StabilityArgs {
     /// given`, 1D; only that number of points per cell is swept).
     #[arg(long, value_delimiter = ',')]
     positions: Option<Vec<f64>>,
-}
-
-impl StabilityArgs {
-    /// Put the layout flags on a scene (checked with the scene's validation).
-    fn layout_onto(&self, scene: &mut Scene) -> Result<()> {
-        use impact_core::method::LayoutKind;
-        // no layout flag: the scene's layout (centred for the default sweep scenes)
-        if self.layout.is_some() || self.shift.is_some() || self.positions.is_some() {
-            scene.domain.layout = Some(self.layout.unwrap_or(LayoutKind::Centred));
-            scene.domain.shift = self.shift;
-            scene.domain.positions = None;
-        }
-        if let Some(list) = &self.positions {
-            if scene.dim != 1 {
-                bail!("--positions: 1D only (one local coordinate per point); run with --dim 1");
-            }
-            scene.domain.points_per_cell = list.len();
-            scene.domain.positions = Some(list.iter().map(|u| vec![*u]).collect());
-        } else if self.layout == Some(LayoutKind::Given) {
-            bail!("--layout given needs --positions (e.g. --positions 0.2,0.7)");
-        }
-        scene
-            .validate()
-            .map_err(|e| anyhow::anyhow!("{e} (from --layout, --shift or --positions)"))
-    }
 }
 
 impl SceneArgs {

@@ -99,6 +99,8 @@ pub struct FileWriter<'a, const D: usize> {
     /// The `.h5` time series (feature `hdf5`), opened at the first output.
     #[cfg(feature = "hdf5")]
     h5: Option<impact_io::h5::TimeSeries>,
+    /// The fields of every output time, kept in memory when `Some` ([`crate::fields`]).
+    pub keep: Option<Vec<crate::fields::Frame>>,
 }
 
 impl<'a, const D: usize> FileWriter<'a, D> {
@@ -132,6 +134,7 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             line: impact_core::line::MeasureLine::bottom_row(grid),
             #[cfg(feature = "hdf5")]
             h5: None,
+            keep: None,
         }
     }
 
@@ -218,6 +221,15 @@ impl<const D: usize> FileWriter<'_, D> {
             let names: Vec<&str> = header.iter().map(String::as_str).collect();
             let refs: Vec<&[f64]> = columns.iter().map(|c| c.as_slice()).collect();
             impact_io::write_csv(&path, &names, &refs)?;
+        }
+        if let Some(kept) = self.keep.as_mut() {
+            let profile = (header.as_slice(), columns.as_slice());
+            kept.push(crate::fields::Frame::of(
+                s,
+                (index, t),
+                profile,
+                self.reference,
+            ));
         }
         if self.collect {
             self.positions.push((t, xc));
@@ -369,6 +381,10 @@ impl<const D: usize> FileWriter<'_, D> {
             }
         }
         // maps are drawn in 2D and 3D (the plane through the measuring line)
+        // the kept frame of this output time (none yet at the initial frame)
+        if let Some(last) = self.keep.as_mut().and_then(|k| k.last_mut()) {
+            last.map.clone_from(&map);
+        }
         if self.collect && D > 1 && frame != INITIAL {
             self.maps.push((t, map));
         }

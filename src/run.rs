@@ -226,6 +226,17 @@ pub fn run_study<const D: usize>(
     kinds: &[impact_core::MethodKind],
     options: &RunOptions,
 ) -> anyhow::Result<RunReport> {
+    run_study_keeping::<D>(study, kinds, options, false).map(|(report, _)| report)
+}
+
+/// [`run_study`], keeping every method's fields at every output time in memory when
+/// `keep` (the Python package's `impact.run`; [`crate::fields`]).
+pub fn run_study_keeping<const D: usize>(
+    study: &crate::Study,
+    kinds: &[impact_core::MethodKind],
+    options: &RunOptions,
+    keep: bool,
+) -> anyhow::Result<(RunReport, Vec<crate::fields::MethodFields>)> {
     use crate::output::{FileWriter, Summary};
     use crate::plots::Collected;
     use impact_core::method::{MethodKind, Model};
@@ -260,6 +271,7 @@ pub fn run_study<const D: usize>(
         stability,
     };
     let (mut collected, mut failures) = (Vec::<Collected>::new(), Vec::new());
+    let mut fields = Vec::new();
     let mut done: Vec<MethodKind> = Vec::new();
     for &kind in kinds {
         if done.contains(&kind) {
@@ -276,7 +288,9 @@ pub fn run_study<const D: usize>(
             problem.t_end,
         );
         writer.files = !options.no_files;
-        writer.collect = !options.no_files;
+        // kept fields go through the writer's output hook, which `collect` opens
+        writer.collect = !options.no_files || keep;
+        writer.keep = keep.then(Vec::new);
         writer.encoding = options.vtu;
         writer.measure = problem.model.stress_measure();
         writer.line = impact_core::line::MeasureLine::of(&problem);
@@ -286,6 +300,13 @@ pub fn run_study<const D: usize>(
         let config = study.config(kind);
         let (mut record, blowup) = run_method(&problem, config, reference.as_ref(), &mut writer)?;
         writer.finish()?;
+        if let Some(frames) = writer.keep.take() {
+            fields.push(crate::fields::MethodFields {
+                method: kind.name().to_string(),
+                stress_name: writer.measure.array_name().to_string(),
+                frames,
+            });
+        }
         collected.push(Collected {
             name: kind.name().to_string(),
             legend: crate::plots::legend_label(kind.name(), &config),
@@ -310,11 +331,12 @@ pub fn run_study<const D: usize>(
     write_provenance(study, options, &done, &summary, dir, &clock)?;
     crate::interrupt::check()?;
     folder.commit(concat!("impact ", env!("CARGO_PKG_VERSION")))?;
-    Ok(RunReport {
+    let report = RunReport {
         reference: summary.reference,
         records: summary.runs,
         failures,
-    })
+    };
+    Ok((report, fields))
 }
 
 /// The stability guard before any work (module [`crate::guard`]): every configuration of
