@@ -51,7 +51,7 @@ impl Frame {
     pub fn of<const D: usize>(
         samples: &Samples<D>,
         (index, t): (usize, f64),
-        (header, columns): (&[&str], &[Vec<f64>]),
+        (header, columns): (&[String], &[Vec<f64>]),
         reference: Option<&Reference>,
     ) -> Self {
         let vectors = |v: &[Vector<D>]| v.iter().flat_map(|x| x.iter().copied()).collect();
@@ -81,10 +81,7 @@ impl Frame {
             plastic_strain: samples.plastic_strain.clone(),
             reference_stress_xx: exact.iter().map(|e| e.0).collect(),
             reference_velocity_x: exact.iter().map(|e| e.1).collect(),
-            profile: (
-                header.iter().map(|h| h.to_string()).collect(),
-                columns.to_vec(),
-            ),
+            profile: (header.to_vec(), columns.to_vec()),
             map: Vec::new(),
         }
     }
