@@ -283,3 +283,29 @@ fn block_on_slabs_equals_one_rank() {
         true,
     );
 }
+
+/// The halo message per step: one layer of points each way per neighbour, 8 values per
+/// point in 2D (position, velocity, σ), so 33 × 8 × 8 B per neighbour on the plate.
+#[test]
+fn halo_bytes_per_step_are_one_layer_per_neighbour() {
+    let plate = scene("plate");
+    let problem = Problem::<2>::from_scene(&plate).unwrap();
+    let config = plate.method_config(MethodKind::Dgmpm);
+    let bytes: Vec<usize> = std::thread::scope(|s| {
+        let handles: Vec<_> = ThreadComm::group(3)
+            .into_iter()
+            .map(|c| {
+                let problem = &problem;
+                s.spawn(move || {
+                    let comm: Arc<dyn Comm> = Arc::new(c);
+                    SlabDgmpm::<2>::new(problem, config, comm)
+                        .unwrap()
+                        .bytes_per_step()
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    let layer = 33 * 8 * 8;
+    assert_eq!(bytes, vec![layer, 2 * layer, layer]);
+}
