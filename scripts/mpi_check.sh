@@ -67,3 +67,30 @@ expect_failure 2 "courant.*7" run plate --method dgmpm --courant 7
 expect_failure 2 "only DGMPM is decomposed" run plate --method mpm
 expect_failure 3 "blew up" run plate --method dgmpm --courant 1.5 --allow-unstable
 echo "mpi: a bad input, an undecomposed method and a blow-up stop all 3 ranks with one message"
+
+# kill -9 of one rank: mpirun ends the others, and the output folder is never presented as
+# complete (rank 0 writes into a staging folder that replaces the target only when done)
+"${mpi[@]}" -np 2 "$bin" run plate --cells 600 --method dgmpm --no-reference --quiet \
+  --out "$work/killed" >/dev/null 2>&1 &
+launcher=$!
+victim=""
+ranks=""
+for _ in $(seq 200); do
+  runner=$(pgrep -P "$launcher" -x mpirun || true)
+  [ -n "$runner" ] && ranks=$(pgrep -P "$runner" -x impact || true) && victim=$(echo "$ranks" | tail -n 1)
+  [ -n "$victim" ] && break
+  sleep 0.05
+done
+[ -n "$victim" ] || fail "kill -9: no rank of the run was found"
+sleep 1
+kill -9 "$victim"
+set +e
+wait "$launcher"
+rc=$?
+set -e
+[ "$rc" -ne 124 ] || fail "kill -9 of one rank: the other rank hung"
+[ "$rc" -ne 0 ] || fail "kill -9 of one rank: the run still reported success"
+# (the ranks' scratch folders, named by their process ids, `src/ranks.rs`)
+for pid in $ranks; do rm -rf "${TMPDIR:-/tmp}/impact-rank"*"-$pid"; done
+[ ! -e "$work/killed/manifest.json" ] || fail "kill -9 of one rank: a folder was presented as complete"
+echo "mpi: kill -9 of one of 2 ranks ends the run (exit $rc) with no folder presented as complete"

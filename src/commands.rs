@@ -74,8 +74,8 @@ pub(crate) fn run_command(args: &RunArgs) -> Result<()> {
     let mut plan = args.plan()?;
     // ranks other than 0 run the same code silently into a scratch folder (`ranks`)
     let scratch = (!impact::ranks::is_root()).then(impact::ranks::scratch_folder);
-    if let Some(folder) = &scratch {
-        plan.options.out = folder.clone();
+    if scratch.is_some() {
+        plan.options.out = impact::ranks::scratch_output();
         plan.options.quiet = true;
     }
     let result = match plan.study.dim() {

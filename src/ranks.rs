@@ -96,11 +96,17 @@ pub fn decomposition<const D: usize>(
         .map(|o| impact_dgmpm::slab::describe(&problem.grid, o, ranks))
 }
 
-/// The folder a rank other than 0 writes into instead of `out` (removed at the end).
+/// The private folder of a rank other than 0 (its output folder, staging folder and lock
+/// inside; removed at the end, [`scratch_output`]).
 pub fn scratch_folder() -> std::path::PathBuf {
     std::env::temp_dir().join(format!(
         "impact-rank{}-{}",
         comm().rank(),
         std::process::id()
     ))
+}
+
+/// The folder a rank other than 0 writes into instead of `out`.
+pub fn scratch_output() -> std::path::PathBuf {
+    scratch_folder().join("out")
 }
