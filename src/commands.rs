@@ -71,13 +71,23 @@ impl RunArgs {
 }
 
 pub(crate) fn run_command(args: &RunArgs) -> Result<()> {
-    let plan = args.plan()?;
-    match plan.study.dim() {
+    let mut plan = args.plan()?;
+    // ranks other than 0 run the same code silently into a scratch folder (`ranks`)
+    let scratch = (!impact::ranks::is_root()).then(impact::ranks::scratch_folder);
+    if scratch.is_some() {
+        plan.options.out = impact::ranks::scratch_output();
+        plan.options.quiet = true;
+    }
+    let result = match plan.study.dim() {
         1 => run_scene::<1>(&plan),
         2 => run_scene::<2>(&plan),
         3 => run_scene::<3>(&plan),
         d => bail!("dim = {d} is not supported (allowed: 1, 2 or 3)"),
+    };
+    if let Some(folder) = scratch {
+        let _ = std::fs::remove_dir_all(folder);
     }
+    result
 }
 
 pub(crate) fn run_scene<const D: usize>(plan: &RunPlan) -> Result<()> {

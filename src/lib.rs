@@ -18,11 +18,14 @@ pub mod ladder;
 pub mod lamb;
 pub mod lamb_study;
 pub mod memory;
+#[cfg(feature = "mpi")]
+mod mpi_comm;
 pub mod output;
 pub mod output_bench;
 pub mod plane;
 pub mod plots;
 pub mod provenance;
+pub mod ranks;
 pub mod reference;
 pub mod reference_cache;
 pub mod reference_setup;

@@ -14,7 +14,9 @@ use std::path::PathBuf;
 macro_rules! say {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+        // (on several ranks, rank 0 speaks for all)
+        if !impact::ranks::is_root() {
+        } else if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
             if e.kind() == std::io::ErrorKind::BrokenPipe {
                 std::process::exit(0);
             }
@@ -264,6 +266,11 @@ impl SceneArgs {
 
 fn main() {
     let cli = Cli::parse();
+    // MPI when launched by mpirun/srun with the `mpi` feature (finalised before exiting)
+    let ranks = impact::ranks::init().unwrap_or_else(|e| {
+        eprintln!("error: {e}");
+        std::process::exit(2);
+    });
     if let Err(e) = impact::interrupt::install() {
         eprintln!("error: cannot install the SIGINT/SIGTERM handlers: {e}");
         std::process::exit(2);
@@ -344,9 +351,15 @@ fn main() {
     };
     match result {
         Ok(true) => {}
-        Ok(false) => std::process::exit(1),
+        Ok(false) => {
+            drop(ranks);
+            std::process::exit(1)
+        }
         Err(e) => {
-            eprintln!("error: {e:#}");
+            // every rank fails alike (inputs and blow-ups are seen by all): one message
+            if impact::ranks::is_root() {
+                eprintln!("error: {e:#}");
+            }
             // exit codes: 0 done or the gate passes, 1 the gate fails, 2 bad input,
             // 3 a run blew up (its frames kept), 130 interrupted
             let code = if e.downcast_ref::<impact::interrupt::Interrupted>().is_some() {
@@ -356,6 +369,7 @@ fn main() {
             } else {
                 2
             };
+            drop(ranks);
             std::process::exit(code);
         }
     }

@@ -202,7 +202,9 @@ impl Entry {
         }
         let computed = compute()?;
         if let Err(e) = self.store(&computed) {
-            eprintln!("note: the converged reference is not cached: {e}");
+            if crate::ranks::is_root() {
+                eprintln!("note: the converged reference is not cached: {e}");
+            }
         }
         Ok((computed, false))
     }

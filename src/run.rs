@@ -32,6 +32,12 @@ pub struct RunRecord {
     /// The blow-up that stopped the run, if any (absent when the run completed).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
+    /// Ranks the run was split over (absent on one rank; [`crate::ranks`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ranks: Option<usize>,
+    /// How it was split (absent on one rank).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub decomposition: Option<String>,
 }
 
 /// Hooks for progress and output during [`run_method`] (called on the rayon worker that
@@ -119,7 +125,7 @@ pub fn run_method<const D: usize>(
     reference: Option<&Reference>,
     observer: &mut dyn Observer<D>,
 ) -> anyhow::Result<(RunRecord, Option<Blowup>)> {
-    let mut method = crate::build(problem, config)?;
+    let mut method = crate::ranks::build_ranked(problem, config)?;
     observer.start(method.as_ref())?;
     let line = impact_core::line::MeasureLine::of(problem);
     let dx = problem.grid.spacing[line.axis];
@@ -170,6 +176,8 @@ pub fn run_method<const D: usize>(
         wall_s: 0.0,
         times,
         error: None,
+        ranks: (crate::ranks::size() > 1).then(crate::ranks::size),
+        decomposition: crate::ranks::decomposition(problem, &config),
     };
     match result {
         Ok(stats) => {
@@ -353,11 +361,15 @@ pub fn check_all_stable<const D: usize>(
         match crate::guard::check_stable(problem, config, study.overrides.allow_unstable)? {
             Stability::Stable => {}
             Stability::Unchecked(note) => {
-                eprintln!("note: {note}");
+                if crate::ranks::is_root() {
+                    eprintln!("note: {note}");
+                }
                 notes.push(note);
             }
             Stability::AllowedUnstable(warning) => {
-                eprintln!("warning: {warning}");
+                if crate::ranks::is_root() {
+                    eprintln!("warning: {warning}");
+                }
                 notes.push(warning);
             }
         }

@@ -56,6 +56,9 @@ pub enum CoreError {
         /// Cause.
         source: std::io::Error,
     },
+    /// A run split across ranks could not be set up or failed on a rank.
+    #[error(transparent)]
+    Comm(#[from] crate::comm::CommError),
     /// A run was stopped by the stability guard.
     #[error(transparent)]
     Blowup(#[from] crate::method::Blowup),

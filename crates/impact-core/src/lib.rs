@@ -17,6 +17,8 @@
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
 
+pub mod comm;
+mod comm_thread;
 pub mod config_check;
 pub mod controller;
 pub mod converged;

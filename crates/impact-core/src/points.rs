@@ -130,6 +130,33 @@ impl<const D: usize> MaterialPoints<D> {
         self
     }
 
+    /// The points `range` (every per-point array cut to it; empty arrays stay empty): a
+    /// rank's stored points.
+    pub fn select(&self, range: std::ops::Range<usize>) -> Self {
+        fn cut<T: Clone>(v: &[T], r: &std::ops::Range<usize>) -> Vec<T> {
+            if v.is_empty() {
+                Vec::new()
+            } else {
+                v[r.clone()].to_vec()
+            }
+        }
+        Self {
+            reference: cut(&self.reference, &range),
+            position: cut(&self.position, &range),
+            mass: cut(&self.mass, &range),
+            volume: cut(&self.volume, &range),
+            velocity: cut(&self.velocity, &range),
+            stress: cut(&self.stress, &range),
+            half_size: cut(&self.half_size, &range),
+            uniform_half_size: self.uniform_half_size,
+            deformation: cut(&self.deformation, &range),
+            domain: cut(&self.domain, &range),
+            equivalent_plastic_strain: cut(&self.equivalent_plastic_strain, &range),
+            plastic_strain_zz: cut(&self.plastic_strain_zz, &range),
+            plastic_work: cut(&self.plastic_work, &range),
+        }
+    }
+
     /// Drop the per-point half-sizes when all are equal (a method that never reads them per
     /// point, DGMPM: 16 B per point in 2D), keeping the shared value for the sampling.
     pub fn compact_half_sizes(&mut self) {
@@ -161,31 +188,58 @@ impl<const D: usize> MaterialPoints<D> {
 
     /// Copy the points' fields into `out` (the sampling of the point methods).
     pub fn sample_into(&self, out: &mut Samples<D>) {
+        self.sample_range_into(0..self.len(), out);
+    }
+
+    /// [`Self::sample_into`] for the points `range` only (a rank's own points).
+    pub fn sample_range_into(&self, range: std::ops::Range<usize>, out: &mut Samples<D>) {
         out.clear();
-        out.reference.extend_from_slice(&self.reference);
-        out.position.extend_from_slice(&self.position);
+        out.reference
+            .extend_from_slice(&self.reference[range.clone()]);
+        out.position
+            .extend_from_slice(&self.position[range.clone()]);
         match self.uniform_half_size {
-            Some(h) => out.half_size.resize(self.len(), h),
-            None => out.half_size.extend_from_slice(&self.half_size),
+            Some(h) => out.half_size.resize(range.len(), h),
+            None => out
+                .half_size
+                .extend_from_slice(&self.half_size[range.clone()]),
         }
-        out.stress.extend_from_slice(&self.stress);
-        out.velocity.extend_from_slice(&self.velocity);
-        out.plastic_strain
-            .extend_from_slice(&self.equivalent_plastic_strain);
+        out.stress.extend_from_slice(&self.stress[range.clone()]);
+        out.velocity
+            .extend_from_slice(&self.velocity[range.clone()]);
+        if !self.equivalent_plastic_strain.is_empty() {
+            out.plastic_strain
+                .extend_from_slice(&self.equivalent_plastic_strain[range]);
+        }
     }
 
     /// Total momentum `Σ m_α v_α`.
     pub fn momentum(&self) -> Vector<D> {
-        self.velocity
+        self.momentum_in(0..self.len())
+    }
+
+    /// `Σ m_α v_α` over the points `range`, in order.
+    pub fn momentum_in(&self, range: std::ops::Range<usize>) -> Vector<D> {
+        self.velocity[range.clone()]
             .iter()
-            .zip(&self.mass)
+            .zip(&self.mass[range])
             .fold(Vector::<D>::zeros(), |sum, (v, m)| sum + v * *m)
     }
 
     /// Kinetic plus strain energy, `Σ ½ m_α |v_α|² + V_α ψ_α`, with the strain energy
     /// density `ψ_α = energy_density(α)`.
     pub fn energy(&self, energy_density: impl Fn(usize) -> f64 + Sync) -> f64 {
-        crate::parallel::sum_over(self.len(), |i| {
+        self.energy_in(0..self.len(), energy_density)
+    }
+
+    /// [`Self::energy`] over the points `range` (`energy_density` takes the point's index).
+    pub fn energy_in(
+        &self,
+        range: std::ops::Range<usize>,
+        energy_density: impl Fn(usize) -> f64 + Sync,
+    ) -> f64 {
+        crate::parallel::sum_over(range.len(), |j| {
+            let i = range.start + j;
             0.5 * self.mass[i] * self.velocity[i].norm_squared()
                 + self.volume[i] * energy_density(i)
         })
@@ -215,9 +269,13 @@ impl<const D: usize> MaterialPoints<D> {
 
     /// Reference position of the fastest point (where a blow-up is growing).
     pub fn hottest_place(&self) -> Vector<D> {
-        (0..self.len())
-            .max_by(|&a, &b| self.velocity[a].norm().total_cmp(&self.velocity[b].norm()))
+        self.hottest_in(0..self.len())
             .map_or_else(Vector::<D>::zeros, |i| self.reference[i])
+    }
+
+    /// The point of largest `|v|` among `range` (the last of equals), if any.
+    pub fn hottest_in(&self, range: std::ops::Range<usize>) -> Option<usize> {
+        range.max_by(|&a, &b| self.velocity[a].norm().total_cmp(&self.velocity[b].norm()))
     }
 
     /// Add `kick(α, X_α)` to every point's velocity.

@@ -181,7 +181,8 @@ impl<const D: usize> DgmpmSolver<D> {
     pub(crate) fn edge_coordinate(&self, l: usize, idx: &[usize; D]) -> [f64; 2] {
         let mut s = [0.0; 2];
         for (slot, k) in Grid::<D>::tangent_axes(l).enumerate() {
-            s[slot] = self.grid.origin[k] + (idx[k] as f64 + 0.5) * self.grid.spacing[k];
+            let global = idx[k] + self.place.offset[k];
+            s[slot] = self.place.origin[k] + (global as f64 + 0.5) * self.grid.spacing[k];
         }
         s
     }

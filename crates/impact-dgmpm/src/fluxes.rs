@@ -99,11 +99,16 @@ impl<const D: usize> DgmpmSolver<D> {
         star: &riemann::FaceState<D>,
     ) -> f64 {
         let area = self.grid.cell_volume() / self.grid.spacing[l];
-        let side = match cells {
-            (None, _) => 0,
-            (_, None) => 1,
+        let (side, cell) = match cells {
+            (None, Some(c)) => (0, c),
+            (Some(c), None) => (1, c),
             _ => return 0.0,
         };
+        // a halo layer's edge faces are its owner's (a rank's slab, `GridPlace`)
+        let layer = cell / (self.grid.cell_count() / self.grid.cells[D - 1]);
+        if !self.place.owned_layers.contains(&layer) {
+            return 0.0;
+        }
         if self.ghost_condition(l, side, s) == GhostCondition::free() {
             return 0.0;
         }
@@ -332,6 +337,9 @@ impl<const D: usize> DgmpmSolver<D> {
         flux: &Conserved<D>,
     ) -> Vector<D> {
         let side = usize::from(idx[l] != 0);
+        if !self.owns_edge_face(&idx) {
+            return Vector::<D>::zeros();
+        }
         let s = self.edge_coordinate(l, &idx);
         if self.ghost_condition(l, side, s) == GhostCondition::free() {
             return Vector::<D>::zeros();
@@ -339,5 +347,13 @@ impl<const D: usize> DgmpmSolver<D> {
         let sign = if side == 0 { -1.0 } else { 1.0 };
         let area = self.grid.cell_volume() / self.grid.spacing[l];
         -flux.momentum * (sign * area)
+    }
+
+    /// Whether the boundary face at `idx` (of any axis) counts on this grid: a slab's halo
+    /// layers' edge faces are their owner's (`GridPlace`); always on one rank.
+    #[inline]
+    pub(crate) fn owns_edge_face(&self, idx: &[usize; D]) -> bool {
+        let layer = idx[D - 1].min(self.grid.cells[D - 1] - 1);
+        self.place.owned_layers.contains(&layer)
     }
 }

@@ -110,6 +110,7 @@ pub mod limiter;
 pub mod mapping;
 pub mod method;
 pub mod riemann;
+pub mod slab;
 mod step_path;
 pub mod wave_correction;
 pub use step_path::{Fusable, StepPath};
@@ -263,6 +264,31 @@ pub struct DgmpmSolver<const D: usize> {
     /// Largest wave speed the loads can produce (time step, guard).
     pub(crate) wave_speed: f64,
     pub(crate) path: StepPath,
+    /// Where this grid sits in the whole body (a rank's slab, [`slab`]; the whole grid on
+    /// one rank).
+    pub(crate) place: GridPlace<D>,
+}
+
+/// Where a solver's grid sits in the whole body: the global origin and the global index
+/// of its first cell (face coordinates are formed from global indices, so a slab's loads
+/// see the same bits as the whole grid's), and the layers along the last axis whose
+/// boundary work and force it owns (a slab's halo layers are owned by a neighbour).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct GridPlace<const D: usize> {
+    pub origin: Vector<D>,
+    pub offset: [usize; D],
+    pub owned_layers: std::ops::Range<usize>,
+}
+
+impl<const D: usize> GridPlace<D> {
+    /// The whole grid.
+    fn whole(grid: &Grid<D>) -> Self {
+        Self {
+            origin: grid.origin,
+            offset: [0; D],
+            owned_layers: 0..grid.cells[D - 1],
+        }
+    }
 }
 
 /// DGMPM as a [`Method`](impact_core::Method): solver plus state.
@@ -295,7 +321,17 @@ impl<const D: usize> Dgmpm<D> {
             .ok_or_else(|| unsupported("not a DGMPM configuration"))?;
         // every option against the model and the dimension (impact_core::config_check)
         problem.check_config(&config)?;
-        let mut points = problem.material_points(&problem.grid, &config)?;
+        let points = problem.material_points(&problem.grid, &config)?;
+        Self::with_points(problem, config, options, points)
+    }
+
+    /// Build on `problem`'s grid with `points` (stored cell by cell).
+    fn with_points(
+        problem: &Problem<D>,
+        config: MethodConfig,
+        options: DgmpmOptions,
+        mut points: MaterialPoints<D>,
+    ) -> Result<Self, CoreError> {
         // DGMPM reads the half-sizes only to sample (before the solver's buffers exist, so
         // the peak holds one copy)
         points.compact_half_sizes();
@@ -406,6 +442,7 @@ impl<const D: usize> DgmpmSolver<D> {
                 },
             },
             wave_speed: problem.max_wave_speed(),
+            place: GridPlace::whole(&grid),
             grid,
         };
         solver.allocate_buffers();

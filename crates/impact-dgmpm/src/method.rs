@@ -16,21 +16,23 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
         self.solver.step(&mut self.state, t, dt);
     }
     fn sample_into(&self, out: &mut Samples<D>) {
-        self.state.points.sample_into(out);
+        let own = self.owned_points();
+        self.state.points.sample_range_into(own.clone(), out);
         if let Some(j2) = &self.solver.plastic {
-            j2.samples_zz(out, &self.state.points.plastic_strain_zz);
+            j2.samples_zz(out, &self.state.points.plastic_strain_zz[own]);
         }
     }
     fn energy(&self) -> f64 {
         let p = &self.state.points;
         let m = &self.solver.material;
+        let own = self.owned_points();
         if let Some(j2) = &self.solver.plastic {
             // elastic energy and the plastic work (dissipated and stored in hardening)
-            return p.energy(|i| {
+            return p.energy_in(own, |i| {
                 j2.elastic_energy_density(&p.stress[i], p.plastic_strain_zz[i]) + p.plastic_work[i]
             });
         }
-        p.energy(|i| match self.solver.physics {
+        p.energy_in(own, |i| match self.solver.physics {
             Physics::Linear => m.energy_density(&p.stress[i]),
             Physics::Svk { svk, .. } => svk.energy_density(&p.deformation[i]),
         })
@@ -42,7 +44,7 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
         self.state.initial_energy
     }
     fn momentum(&self) -> Vector<D> {
-        self.state.points.momentum()
+        self.state.points.momentum_in(self.owned_points())
     }
     fn external_impulse(&self) -> Vector<D> {
         self.state.impulse
@@ -56,7 +58,11 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
             Physics::Svk { svk, .. } => svk.admissible(&p.deformation[i], self.solver.wave_speed),
             Physics::Linear => true,
         };
-        let Some(i) = first_failing(p.len(), |i| finite(i) && admissible(i)) else {
+        let own = self.owned_points();
+        let Some(i) = first_failing(own.len(), |j| {
+            finite(own.start + j) && admissible(own.start + j)
+        })
+        .map(|j| own.start + j) else {
             return Ok(());
         };
         let reason = match self.solver.physics {
@@ -72,7 +78,9 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
         })
     }
     fn hottest_place(&self) -> Vector<D> {
-        self.state.points.hottest_place()
+        let p = &self.state.points;
+        p.hottest_in(self.owned_points())
+            .map_or_else(Vector::<D>::zeros, |i| p.reference[i])
     }
     fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
         self.state.points.perturb_velocity(kick);

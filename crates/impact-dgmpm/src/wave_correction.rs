@@ -170,7 +170,8 @@ impl<const D: usize> DgmpmSolver<D> {
     fn end_power(&self, l: usize, idx: [usize; D], flux: &Conserved<D>) -> f64 {
         let side = usize::from(idx[l] != 0);
         let s = self.edge_coordinate(l, &idx);
-        if self.ghost_condition(l, side, s) == GhostCondition::free() {
+        if !self.owns_edge_face(&idx) || self.ghost_condition(l, side, s) == GhostCondition::free()
+        {
             return 0.0;
         }
         let sign = if side == 0 { -1.0 } else { 1.0 };

@@ -1,0 +1,191 @@
+//! [`ThreadComm`]: the ranks of a run as threads of one process, talking over channels.
+//! It runs the decomposed path of a method in the default build (no MPI library), so the
+//! tests compare 1 to N "ranks" against the serial run everywhere.
+use crate::comm::Comm;
+use std::sync::mpsc::{channel, Receiver, Sender};
+use std::sync::Mutex;
+
+/// A message: sender rank and payload.
+type Message = (usize, Payload);
+
+#[derive(Debug)]
+enum Payload {
+    Floats(Vec<f64>),
+    Bytes(Vec<u8>),
+}
+
+/// One rank of a group of threads (see [`ThreadComm::group`]).
+#[derive(Debug)]
+pub struct ThreadComm {
+    rank: usize,
+    size: usize,
+    to: Vec<Sender<Message>>,
+    inbox: Mutex<(Receiver<Message>, Vec<Message>)>,
+}
+
+impl ThreadComm {
+    /// `size` connected ranks; hand one to each thread.
+    pub fn group(size: usize) -> Vec<ThreadComm> {
+        let (senders, receivers): (Vec<_>, Vec<_>) = (0..size).map(|_| channel()).unzip();
+        receivers
+            .into_iter()
+            .enumerate()
+            .map(|(rank, rx)| ThreadComm {
+                rank,
+                size,
+                to: senders.clone(),
+                inbox: Mutex::new((rx, Vec::new())),
+            })
+            .collect()
+    }
+
+    fn send(&self, to: usize, payload: Payload) {
+        // a receiver gone means its thread ended (panicked): the test fails there
+        let _ = self.to[to].send((self.rank, payload));
+    }
+
+    /// The next message from `from` (messages of one sender arrive in order; others are
+    /// kept until asked for).
+    fn receive(&self, from: usize) -> Payload {
+        let mut guard = self.inbox.lock().unwrap_or_else(|e| e.into_inner());
+        let (rx, pending) = &mut *guard;
+        if let Some(i) = pending.iter().position(|m| m.0 == from) {
+            return pending.remove(i).1;
+        }
+        loop {
+            let message = rx
+                .recv()
+                .expect("ThreadComm: every other rank has ended (a rank panicked)");
+            if message.0 == from {
+                return message.1;
+            }
+            pending.push(message);
+        }
+    }
+
+    fn floats(&self, from: usize) -> Vec<f64> {
+        match self.receive(from) {
+            Payload::Floats(v) => v,
+            Payload::Bytes(_) => panic!("ThreadComm: ranks called different collectives"),
+        }
+    }
+}
+
+impl Comm for ThreadComm {
+    fn rank(&self) -> usize {
+        self.rank
+    }
+    fn size(&self) -> usize {
+        self.size
+    }
+    fn all_gather_into(&self, local: &[f64], out: &mut Vec<f64>, counts: &mut Vec<usize>) {
+        for r in (0..self.size).filter(|&r| r != self.rank) {
+            self.send(r, Payload::Floats(local.to_vec()));
+        }
+        out.clear();
+        counts.clear();
+        for r in 0..self.size {
+            let part = if r == self.rank {
+                local.to_vec()
+            } else {
+                self.floats(r)
+            };
+            counts.push(part.len());
+            out.extend_from_slice(&part);
+        }
+    }
+    fn all_gather_bytes(&self, local: &[u8], out: &mut Vec<u8>, counts: &mut Vec<usize>) {
+        for r in (0..self.size).filter(|&r| r != self.rank) {
+            self.send(r, Payload::Bytes(local.to_vec()));
+        }
+        out.clear();
+        counts.clear();
+        for r in 0..self.size {
+            let part = if r == self.rank {
+                local.to_vec()
+            } else {
+                match self.receive(r) {
+                    Payload::Bytes(b) => b,
+                    Payload::Floats(_) => panic!("ThreadComm: ranks called different collectives"),
+                }
+            };
+            counts.push(part.len());
+            out.extend_from_slice(&part);
+        }
+    }
+    fn exchange(
+        &self,
+        to_lower: &[f64],
+        to_upper: &[f64],
+        from_lower: &mut [f64],
+        from_upper: &mut [f64],
+    ) {
+        if self.rank > 0 {
+            self.send(self.rank - 1, Payload::Floats(to_lower.to_vec()));
+        }
+        if self.rank + 1 < self.size {
+            self.send(self.rank + 1, Payload::Floats(to_upper.to_vec()));
+        }
+        if self.rank > 0 {
+            from_lower.copy_from_slice(&self.floats(self.rank - 1));
+        }
+        if self.rank + 1 < self.size {
+            from_upper.copy_from_slice(&self.floats(self.rank + 1));
+        }
+    }
+    fn barrier(&self) {
+        self.all_gather(&[]);
+    }
+    fn abort(&self, code: i32) -> ! {
+        std::process::exit(code)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Four threads: sums in rank order, min/max, the halo exchange and the first error
+    /// agree on every rank.
+    #[test]
+    fn thread_ranks_reduce_and_exchange() {
+        let results: Vec<_> = std::thread::scope(|s| {
+            let handles: Vec<_> = ThreadComm::group(4)
+                .into_iter()
+                .map(|c| {
+                    s.spawn(move || {
+                        let r = c.rank() as f64;
+                        let sum = c.all_reduce_sum(0.1 * (r + 1.0));
+                        let (lo, hi) = (c.all_reduce_min(r), c.all_reduce_max(r));
+                        let (mut below, mut above) = (vec![f64::NAN], vec![f64::NAN]);
+                        if c.rank() == 0 {
+                            below.clear();
+                        }
+                        if c.rank() + 1 == c.size() {
+                            above.clear();
+                        }
+                        c.exchange(&[r], &[r], &mut below, &mut above);
+                        let (below, above) = (
+                            below.first().copied().unwrap_or(f64::NAN),
+                            above.first().copied().unwrap_or(f64::NAN),
+                        );
+                        let err = c.first_error((c.rank() >= 2).then_some("boom"));
+                        (sum, lo, hi, below, above, err)
+                    })
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        for (rank, (sum, lo, hi, below, above, err)) in results.into_iter().enumerate() {
+            assert_eq!(sum, ((0.1 + 0.2) + 0.30000000000000004) + 0.4);
+            assert_eq!((lo, hi), (0.0, 3.0));
+            if rank > 0 {
+                assert_eq!(below, rank as f64 - 1.0);
+            }
+            if rank < 3 {
+                assert_eq!(above, rank as f64 + 1.0);
+            }
+            assert_eq!(err.unwrap().to_string(), "rank 2: boom");
+        }
+    }
+}

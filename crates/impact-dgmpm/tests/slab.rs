@@ -1,0 +1,311 @@
+//! DGMPM split in slabs over 1 to 4 ranks ([`SlabDgmpm`], ranks as threads through
+//! [`ThreadComm`]) equals the one-rank run: the sampled fields bit for bit on the cell and
+//! fused paths (the same operations on the same bits, `slab.rs`), to round-off on the
+//! nodal paths (shape functions formed from the slab's origin); energy, work, momentum and
+//! impulse to round-off (summed per rank, then in rank order). A non-finite state on one
+//! rank is reported identically by every rank at its global place; more ranks than layers
+//! are refused on every rank with the most that fit.
+use impact_core::comm::{Comm, ThreadComm};
+use impact_core::method::{Integrator, MethodConfig, MethodKind, SchemeOrder, TransverseFlux};
+use impact_core::{Method, Problem, Samples, Scene, Vector};
+use impact_dgmpm::slab::SlabDgmpm;
+use impact_dgmpm::Dgmpm;
+use std::sync::Arc;
+
+fn scene(name: &str) -> Scene {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(format!("{name}.toml"));
+    Scene::parse_file(&path).unwrap()
+}
+
+/// What a run ends with: samples and the global sums.
+struct End<const D: usize> {
+    samples: Samples<D>,
+    energy: f64,
+    work: f64,
+    momentum: Vector<D>,
+    impulse: Vector<D>,
+}
+
+fn finish<const D: usize>(m: &dyn Method<D>) -> End<D> {
+    let mut samples = Samples::default();
+    m.sample_into(&mut samples);
+    End {
+        samples,
+        energy: m.energy(),
+        work: m.external_work(),
+        momentum: m.momentum(),
+        impulse: m.external_impulse(),
+    }
+}
+
+fn steps<const D: usize>(m: &mut dyn Method<D>, n: usize) {
+    let dt = m.stable_dt();
+    for k in 0..n {
+        m.step(k as f64 * dt, dt);
+    }
+}
+
+/// The serial run and the run on `ranks` thread ranks (every rank's end, which must agree).
+fn runs<const D: usize>(
+    problem: &Problem<D>,
+    config: MethodConfig,
+    ranks: usize,
+    n: usize,
+) -> (End<D>, Vec<End<D>>) {
+    let mut serial = Dgmpm::<D>::new(problem, config).unwrap();
+    steps(&mut serial, n);
+    let serial = finish(&serial);
+    let ends = std::thread::scope(|s| {
+        let handles: Vec<_> = ThreadComm::group(ranks)
+            .into_iter()
+            .map(|c| {
+                s.spawn(move || {
+                    let comm: Arc<dyn Comm> = Arc::new(c);
+                    let mut m = SlabDgmpm::<D>::new(problem, config, comm).unwrap();
+                    steps(&mut m, n);
+                    finish(&m)
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    (serial, ends)
+}
+
+fn relative(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(1e-300)
+}
+
+/// Compare `ranks` = 1..=4 with the serial run: fields exactly (`exact`) or to 1e-13 of
+/// their peaks; sums to 1e-12.
+fn check<const D: usize>(
+    label: &str,
+    scene: &Scene,
+    edit: impl Fn(&mut MethodConfig),
+    exact: bool,
+) {
+    let problem = Problem::<D>::from_scene(scene).unwrap();
+    let mut config = scene.method_config(MethodKind::Dgmpm);
+    edit(&mut config);
+    for ranks in 1..=4 {
+        let (serial, ends) = runs::<D>(&problem, config, ranks, 40);
+        let s = &serial.samples;
+        let peak_s = s.stress.iter().fold(0.0f64, |m, x| m.max(x.amax()));
+        let peak_v = s.velocity.iter().fold(0.0f64, |m, x| m.max(x.amax()));
+        assert!(
+            peak_s > 1e5 && peak_v > 1e-3,
+            "{label}: the wave must be there"
+        );
+        for (rank, end) in ends.iter().enumerate() {
+            let e = &end.samples;
+            assert_eq!(e.len(), s.len(), "{label}, {ranks} ranks, rank {rank}");
+            assert_eq!(e.reference, s.reference, "{label}: reference positions");
+            if exact {
+                assert_eq!(
+                    e.stress, s.stress,
+                    "{label}, {ranks} ranks: stress bit for bit"
+                );
+                assert_eq!(e.velocity, s.velocity, "{label}, {ranks} ranks: velocity");
+                assert_eq!(
+                    e.plastic_strain, s.plastic_strain,
+                    "{label}: plastic strain"
+                );
+            } else {
+                for i in 0..s.len() {
+                    assert!(
+                        (e.stress[i] - s.stress[i]).amax() <= 1e-13 * peak_s,
+                        "{label}"
+                    );
+                    assert!(
+                        (e.velocity[i] - s.velocity[i]).amax() <= 1e-13 * peak_v,
+                        "{label}"
+                    );
+                }
+            }
+            let tol = 1e-12;
+            assert!(relative(end.energy, serial.energy) < tol, "{label}: energy");
+            assert!(
+                relative(end.work, serial.work) < tol,
+                "{label}: work {} {}",
+                end.work,
+                serial.work
+            );
+            let p = serial.momentum.norm().max(serial.impulse.norm());
+            assert!(
+                (end.momentum - serial.momentum).norm() <= tol * p,
+                "{label}: momentum"
+            );
+            assert!(
+                (end.impulse - serial.impulse).norm() <= tol * p,
+                "{label}: impulse"
+            );
+        }
+    }
+}
+
+#[test]
+fn bar_on_slabs_equals_one_rank() {
+    let bar = scene("bar");
+    check::<1>("bar", &bar, |_| {}, true);
+    check::<1>("bar, Courant 0.6", &bar, |c| c.courant = 0.6, true);
+}
+
+#[test]
+fn plate_on_slabs_equals_one_rank() {
+    let plate = scene("plate");
+    check::<2>("plate, CTU", &plate, |_| {}, true);
+    check::<2>(
+        "plate, donor-cell",
+        &plate,
+        |c| {
+            c.dgmpm_mut().unwrap().flux = TransverseFlux::DonorCell;
+            c.courant = 0.6;
+        },
+        true,
+    );
+    check::<2>(
+        "plate, order 2",
+        &plate,
+        |c| {
+            c.dgmpm_mut().unwrap().order = SchemeOrder::Second;
+            c.courant = 0.9;
+        },
+        true,
+    );
+    // the nodal paths: shape functions from the slab's origin (round-off)
+    check::<2>(
+        "plate, RK2, 4 points per cell",
+        &plate,
+        |c| {
+            c.dgmpm_mut().unwrap().integrator = Integrator::Rk2;
+            (c.points_per_cell, c.courant) = (4, 0.5);
+        },
+        false,
+    );
+}
+
+#[test]
+fn plastic_and_large_strain_plates_on_slabs_equal_one_rank() {
+    check::<2>("ep-plate", &scene("ep-plate"), |_| {}, true);
+    // RK2 on the nodal path: shape functions from the slab's origin (round-off)
+    check::<2>("svk-plate", &scene("svk-plate"), |_| {}, false);
+    check::<2>(
+        "svk-plate, Euler",
+        &scene("svk-plate"),
+        |c| {
+            c.dgmpm_mut().unwrap().integrator = Integrator::Euler;
+            c.courant = 0.5;
+        },
+        true,
+    );
+}
+
+/// A NaN planted in one rank's slab is reported by every rank, once, at its global place.
+#[test]
+fn a_blowup_on_one_rank_is_seen_by_every_rank() {
+    let plate = scene("plate");
+    let problem = Problem::<2>::from_scene(&plate).unwrap();
+    let config = plate.method_config(MethodKind::Dgmpm);
+    let mut serial = Dgmpm::<2>::new(&problem, config).unwrap();
+    let bad = serial.state.points.len() - 40; // in the last rank's slab
+    serial.state.points.velocity[bad][1] = f64::NAN;
+    let expected = serial.check_finite().unwrap_err();
+    let reports: Vec<_> = std::thread::scope(|s| {
+        let handles: Vec<_> = ThreadComm::group(3)
+            .into_iter()
+            .map(|c| {
+                let problem = &problem;
+                s.spawn(move || {
+                    let comm: Arc<dyn Comm> = Arc::new(c);
+                    let mut m = SlabDgmpm::<2>::new(problem, config, comm).unwrap();
+                    m.perturb_velocity(&mut |i, _| {
+                        Vector::<2>::new(0.0, if i == bad { f64::NAN } else { 0.0 })
+                    });
+                    (m.check_finite().unwrap_err(), m.hottest_place())
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    for (bad_state, _) in &reports {
+        assert_eq!(bad_state.place, expected.place);
+        assert_eq!(bad_state.reason, expected.reason);
+    }
+}
+
+/// More ranks than the layers allow: every rank refuses with the same message.
+#[test]
+fn too_many_ranks_are_refused_on_every_rank() {
+    let bar = scene("bar");
+    let mut short = bar.clone();
+    short.domain.cells = vec![3];
+    let problem = Problem::<1>::from_scene(&short).unwrap();
+    let config = short.method_config(MethodKind::Dgmpm);
+    let messages: Vec<String> = std::thread::scope(|s| {
+        let handles: Vec<_> = ThreadComm::group(4)
+            .into_iter()
+            .map(|c| {
+                let problem = &problem;
+                s.spawn(move || {
+                    let comm: Arc<dyn Comm> = Arc::new(c);
+                    SlabDgmpm::<1>::new(problem, config, comm)
+                        .unwrap_err()
+                        .to_string()
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    assert!(messages.iter().all(|m| m == &messages[0]));
+    assert!(
+        messages[0].contains("4 ranks cannot share the 3 layers"),
+        "{}",
+        messages[0]
+    );
+    assert!(messages[0].contains("at most 3 ranks"), "{}", messages[0]);
+}
+
+/// 3D: the block (CTU, transverse-transverse corrections) on slabs along z.
+#[test]
+fn block_on_slabs_equals_one_rank() {
+    let mut block = scene("block");
+    block.domain.cells = vec![10, 8, 12];
+    check::<3>("block, CTU", &block, |_| {}, true);
+    check::<3>(
+        "block, donor-cell",
+        &block,
+        |c| {
+            c.dgmpm_mut().unwrap().flux = TransverseFlux::DonorCell;
+            c.courant = 0.45;
+        },
+        true,
+    );
+}
+
+/// The halo message per step: one layer of points each way per neighbour, 8 values per
+/// point in 2D (position, velocity, σ), so 33 × 8 × 8 B per neighbour on the plate.
+#[test]
+fn halo_bytes_per_step_are_one_layer_per_neighbour() {
+    let plate = scene("plate");
+    let problem = Problem::<2>::from_scene(&plate).unwrap();
+    let config = plate.method_config(MethodKind::Dgmpm);
+    let bytes: Vec<usize> = std::thread::scope(|s| {
+        let handles: Vec<_> = ThreadComm::group(3)
+            .into_iter()
+            .map(|c| {
+                let problem = &problem;
+                s.spawn(move || {
+                    let comm: Arc<dyn Comm> = Arc::new(c);
+                    SlabDgmpm::<2>::new(problem, config, comm)
+                        .unwrap()
+                        .bytes_per_step()
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    let layer = 33 * 8 * 8;
+    assert_eq!(bytes, vec![layer, 2 * layer, layer]);
+}

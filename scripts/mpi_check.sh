@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# The MPI checks (issue 27), run by scripts/test.sh after `cargo build --release --features mpi`:
+# DGMPM on bar and plate under `mpirun -np N`, N = 1..4, writes the same fields as the
+# serial run (profiles, VTK pieces and the metrics of summary.json byte for byte; the
+# relative energy error, of sums per rank then in rank order, to 1e-12); a bad input, a method that is
+# not decomposed and a blow-up stop every rank with one message and a non-zero exit.
+# Usage: scripts/mpi_check.sh [path/to/impact]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bin="${1:-target/release/impact}"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+mpi=(timeout 300 mpirun --oversubscribe --allow-run-as-root)
+fail() {
+  echo "mpi: $*" >&2
+  exit 1
+}
+
+for scene in bar plate; do
+  RAYON_NUM_THREADS=1 "$bin" run "$scene" --method dgmpm --quiet --out "$work/$scene-serial" >/dev/null
+  for n in 1 2 3 4; do
+    out="$work/$scene-np$n"
+    RAYON_NUM_THREADS=1 "${mpi[@]}" -np "$n" "$bin" run "$scene" --method dgmpm --quiet --out "$out" \
+      >"$out.log" 2>&1 || fail "$scene on $n ranks failed: $(tail -5 "$out.log")"
+    count=0
+    for f in "$work/$scene-serial"/*.csv "$work/$scene-serial"/dgmpm_t*.vtu "$work/$scene-serial"/dgmpm_grid_t*.vtu; do
+      [ -f "$f" ] || continue
+      cmp -s "$f" "$out/$(basename "$f")" || fail "$scene on $n ranks: $(basename "$f") differs from the serial run"
+      count=$((count + 1))
+    done
+    [ "$count" -gt 2 ] || fail "$scene: only $count field files compared"
+    python3 - "$work/$scene-serial/summary.json" "$out/summary.json" "$n" <<'PY' || fail "$scene on $n ranks: summary.json"
+import json, sys
+a, b, n = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), int(sys.argv[3])
+ra, rb = a["runs"][0], b["runs"][0]
+assert rb.get("ranks", 1) == n and (n == 1 or "slabs" in rb["decomposition"]), rb.get("decomposition")
+assert ra["steps"] == rb["steps"] and ra["cells"] == rb["cells"]
+for ta, tb in zip(ra["times"], rb["times"], strict=True):
+    for k, va in ta.items():
+        vb = tb[k]
+        if k.startswith("energy"):  # (a relative error) of sums in rank order: round-off
+            assert abs(va - vb) <= 1e-12, (k, va, vb)
+        else:
+            assert va == vb, (k, va, vb)
+PY
+  done
+  echo "mpi: $scene (DGMPM) on 1-4 ranks: fields equal to the serial run bit for bit"
+done
+
+# failures stop every rank with one message and a non-zero exit (no hang: `timeout`)
+expect_failure() { # code pattern args...
+  local code="$1" pattern="$2"
+  shift 2
+  set +e
+  "${mpi[@]}" -np 3 "$bin" "$@" --quiet --out "$work/failing" >"$work/fail.out" 2>"$work/fail.err"
+  local rc=$?
+  set -e
+  [ "$rc" -ne 124 ] || fail "$* hung on 3 ranks"
+  [ "$rc" -ne 0 ] || fail "$* succeeded on 3 ranks"
+  local lines
+  lines=$(grep -c "^error: " "$work/fail.err" || true)
+  [ "$lines" = 1 ] || fail "$*: $lines error lines (one expected): $(cat "$work/fail.err")"
+  grep -q "^error: .*$pattern" "$work/fail.err" || fail "$*: message lacks '$pattern': $(cat "$work/fail.err")"
+  [ "$rc" = "$code" ] || fail "$*: exit code $rc, not $code: $(cat "$work/fail.err")"
+}
+expect_failure 2 "courant.*7" run plate --method dgmpm --courant 7
+expect_failure 2 "only DGMPM is decomposed" run plate --method mpm
+expect_failure 3 "blew up" run plate --method dgmpm --courant 1.5 --allow-unstable
+echo "mpi: a bad input, an undecomposed method and a blow-up stop all 3 ranks with one message"
+
+# kill -9 of one rank: mpirun ends the others, and the output folder is never presented as
+# complete (rank 0 writes into a staging folder that replaces the target only when done)
+"${mpi[@]}" -np 2 "$bin" run plate --cells 600 --method dgmpm --no-reference --quiet \
+  --out "$work/killed" >/dev/null 2>&1 &
+launcher=$!
+victim=""
+ranks=""
+for _ in $(seq 200); do
+  runner=$(pgrep -P "$launcher" -x mpirun || true)
+  [ -n "$runner" ] && ranks=$(pgrep -P "$runner" -x impact || true) && victim=$(echo "$ranks" | tail -n 1)
+  [ -n "$victim" ] && break
+  sleep 0.05
+done
+[ -n "$victim" ] || fail "kill -9: no rank of the run was found"
+sleep 1
+kill -9 "$victim"
+set +e
+wait "$launcher"
+rc=$?
+set -e
+[ "$rc" -ne 124 ] || fail "kill -9 of one rank: the other rank hung"
+[ "$rc" -ne 0 ] || fail "kill -9 of one rank: the run still reported success"
+# (the ranks' scratch folders, named by their process ids, `src/ranks.rs`)
+for pid in $ranks; do rm -rf "${TMPDIR:-/tmp}/impact-rank"*"-$pid"; done
+[ ! -e "$work/killed/manifest.json" ] || fail "kill -9 of one rank: a folder was presented as complete"
+echo "mpi: kill -9 of one of 2 ranks ends the run (exit $rc) with no folder presented as complete"

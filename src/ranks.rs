@@ -1,0 +1,112 @@
+//! The ranks of a run (issue 27): which [`Comm`] this process uses. One rank
+//! ([`SerialComm`]) unless the binary was built with the `mpi` feature and started by an
+//! MPI launcher (`mpirun`, `srun`), which [`init`] detects from the launcher's environment.
+//!
+//! Every rank runs the same command on the same code path; rank 0 prints and writes the
+//! output folder, the others run silently into a private scratch folder that is removed at
+//! the end (so every rank makes the same collective calls in the same order). Only
+//! [`crate::run::run_method`]'s runs are decomposed ([`build_ranked`]): DGMPM in slabs along
+//! the last axis ([`impact_dgmpm::slab`]); MPM and FEM are refused on more than one rank.
+//! The converged references are computed whole on every rank (no collective calls, so a
+//! cache hit on one rank and a miss on another cannot desynchronise them).
+use impact_core::comm::{Comm, CommError, SerialComm};
+use impact_core::method::{MethodConfig, MethodKind};
+use impact_core::{CoreError, Method, Problem};
+use std::sync::{Arc, OnceLock};
+
+static COMM: OnceLock<Arc<dyn Comm>> = OnceLock::new();
+
+/// This process's communicator (one rank unless [`init`] found an MPI launcher).
+pub fn comm() -> Arc<dyn Comm> {
+    COMM.get_or_init(|| Arc::new(SerialComm)).clone()
+}
+
+/// Whether this process prints and writes (rank 0, or the only rank).
+pub fn is_root() -> bool {
+    COMM.get().is_none_or(|c| c.is_root())
+}
+
+/// Number of ranks.
+pub fn size() -> usize {
+    COMM.get().map_or(1, |c| c.size())
+}
+
+/// Use `comm` for this process (first call only; later calls are ignored).
+pub fn set(comm: Arc<dyn Comm>) {
+    let _ = COMM.set(comm);
+}
+
+/// What must live until the end of `main`: MPI's universe (finalised when dropped).
+pub type Guard = Option<Box<dyn std::any::Any>>;
+
+/// Start MPI when built with the `mpi` feature and launched by `mpirun`/`srun`
+/// (`OMPI_COMM_WORLD_SIZE`, `PMI_SIZE` or `PMIX_RANK` set); otherwise one rank.
+pub fn init() -> Result<Guard, CommError> {
+    #[cfg(feature = "mpi")]
+    {
+        let launched = ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"]
+            .iter()
+            .any(|v| std::env::var_os(v).is_some());
+        if launched {
+            let (comm, universe) = crate::mpi_comm::MpiComm::start()?;
+            set(Arc::new(comm));
+            return Ok(Some(universe));
+        }
+    }
+    Ok(None)
+}
+
+/// Build `config` on `problem` for this process's rank: the whole problem on one rank,
+/// this rank's DGMPM slab on several (MPM and FEM refused there, on every rank alike).
+pub fn build_ranked<const D: usize>(
+    problem: &Problem<D>,
+    config: MethodConfig,
+) -> Result<Box<dyn Method<D>>, CoreError> {
+    let comm = comm();
+    if comm.size() == 1 {
+        return crate::build(problem, config);
+    }
+    match config.kind() {
+        MethodKind::Dgmpm => Ok(Box::new(impact_dgmpm::slab::SlabDgmpm::<D>::new(
+            problem, config, comm,
+        )?)),
+        other => Err(CommError::Unsupported {
+            what: format!("method {}", other.name()),
+            ranks: comm.size(),
+            allowed: "only DGMPM is decomposed so far (issue 27); run it with --method dgmpm, \
+                      or MPM and FEM on one rank"
+                .into(),
+        }
+        .into()),
+    }
+}
+
+/// The decomposition of a run of `config` on `problem`, for summary.json (`None` on one
+/// rank).
+pub fn decomposition<const D: usize>(
+    problem: &Problem<D>,
+    config: &MethodConfig,
+) -> Option<String> {
+    let ranks = size();
+    if ranks == 1 {
+        return None;
+    }
+    config
+        .dgmpm()
+        .map(|o| impact_dgmpm::slab::describe(&problem.grid, o, ranks))
+}
+
+/// The private folder of a rank other than 0 (its output folder, staging folder and lock
+/// inside; removed at the end, [`scratch_output`]).
+pub fn scratch_folder() -> std::path::PathBuf {
+    std::env::temp_dir().join(format!(
+        "impact-rank{}-{}",
+        comm().rank(),
+        std::process::id()
+    ))
+}
+
+/// The folder a rank other than 0 writes into instead of `out`.
+pub fn scratch_output() -> std::path::PathBuf {
+    scratch_folder().join("out")
+}
