@@ -4,8 +4,8 @@
 //! [`study::Study`] (scene + command-line overrides), building a method from its
 //! configuration ([`build`]), running methods with metrics and outputs ([`run`]), the
 //! `check` gate and its pass/fail rule ([`check`]), the references ([`reference`](mod@reference)),
-//! stability sweeps and work-precision ladders. `src/main.rs` only parses arguments and
-//! prints.
+//! stability sweeps and work-precision ladders. The binary (`src/main.rs`,
+//! `src/cli/`) only parses arguments and prints.
 pub mod check;
 pub mod check_report;
 pub mod convergence;
