@@ -48,6 +48,20 @@ fn steps<const D: usize>(m: &mut dyn Method<D>, n: usize) {
 }
 
 /// The serial run and the run on `ranks` thread ranks (every rank's end, which must agree).
+/// `body` on `ranks` thread ranks (one `ThreadComm` each), its results in rank order.
+fn on_ranks<T: Send>(ranks: usize, body: impl Fn(Arc<dyn Comm>) -> T + Sync) -> Vec<T> {
+    std::thread::scope(|s| {
+        let handles: Vec<_> = ThreadComm::group(ranks)
+            .into_iter()
+            .map(|c| {
+                let body = &body;
+                s.spawn(move || body(Arc::new(c)))
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    })
+}
+
 fn runs<const D: usize>(
     problem: &Problem<D>,
     config: MethodConfig,
@@ -57,19 +71,10 @@ fn runs<const D: usize>(
     let mut serial = Dgmpm::<D>::new(problem, config).unwrap();
     steps(&mut serial, n);
     let serial = finish(&serial);
-    let ends = std::thread::scope(|s| {
-        let handles: Vec<_> = ThreadComm::group(ranks)
-            .into_iter()
-            .map(|c| {
-                s.spawn(move || {
-                    let comm: Arc<dyn Comm> = Arc::new(c);
-                    let mut m = SlabDgmpm::<D>::new(problem, config, comm).unwrap();
-                    steps(&mut m, n);
-                    finish(&m)
-                })
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    let ends = on_ranks(ranks, |comm| {
+        let mut m = SlabDgmpm::<D>::new(problem, config, comm).unwrap();
+        steps(&mut m, n);
+        finish(&m)
     });
     (serial, ends)
 }
@@ -212,22 +217,12 @@ fn a_blowup_on_one_rank_is_seen_by_every_rank() {
     let bad = serial.state.points.len() - 40; // in the last rank's slab
     serial.state.points.velocity[bad][1] = f64::NAN;
     let expected = serial.check_finite().unwrap_err();
-    let reports: Vec<_> = std::thread::scope(|s| {
-        let handles: Vec<_> = ThreadComm::group(3)
-            .into_iter()
-            .map(|c| {
-                let problem = &problem;
-                s.spawn(move || {
-                    let comm: Arc<dyn Comm> = Arc::new(c);
-                    let mut m = SlabDgmpm::<2>::new(problem, config, comm).unwrap();
-                    m.perturb_velocity(&mut |i, _| {
-                        Vector::<2>::new(0.0, if i == bad { f64::NAN } else { 0.0 })
-                    });
-                    (m.check_finite().unwrap_err(), m.hottest_place())
-                })
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    let reports = on_ranks(3, |comm| {
+        let mut m = SlabDgmpm::<2>::new(&problem, config, comm).unwrap();
+        m.perturb_velocity(&mut |i, _| {
+            Vector::<2>::new(0.0, if i == bad { f64::NAN } else { 0.0 })
+        });
+        (m.check_finite().unwrap_err(), m.hottest_place())
     });
     for (bad_state, _) in &reports {
         assert_eq!(bad_state.place, expected.place);
@@ -243,20 +238,10 @@ fn too_many_ranks_are_refused_on_every_rank() {
     short.domain.cells = vec![3];
     let problem = Problem::<1>::from_scene(&short).unwrap();
     let config = short.method_config(MethodKind::Dgmpm);
-    let messages: Vec<String> = std::thread::scope(|s| {
-        let handles: Vec<_> = ThreadComm::group(4)
-            .into_iter()
-            .map(|c| {
-                let problem = &problem;
-                s.spawn(move || {
-                    let comm: Arc<dyn Comm> = Arc::new(c);
-                    SlabDgmpm::<1>::new(problem, config, comm)
-                        .unwrap_err()
-                        .to_string()
-                })
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    let messages = on_ranks(4, |comm| {
+        SlabDgmpm::<1>::new(&problem, config, comm)
+            .unwrap_err()
+            .to_string()
     });
     assert!(messages.iter().all(|m| m == &messages[0]));
     assert!(
@@ -291,20 +276,10 @@ fn halo_bytes_per_step_are_one_layer_per_neighbour() {
     let plate = scene("plate");
     let problem = Problem::<2>::from_scene(&plate).unwrap();
     let config = plate.method_config(MethodKind::Dgmpm);
-    let bytes: Vec<usize> = std::thread::scope(|s| {
-        let handles: Vec<_> = ThreadComm::group(3)
-            .into_iter()
-            .map(|c| {
-                let problem = &problem;
-                s.spawn(move || {
-                    let comm: Arc<dyn Comm> = Arc::new(c);
-                    SlabDgmpm::<2>::new(problem, config, comm)
-                        .unwrap()
-                        .bytes_per_step()
-                })
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    let bytes = on_ranks(3, |comm| {
+        SlabDgmpm::<2>::new(&problem, config, comm)
+            .unwrap()
+            .bytes_per_step()
     });
     let layer = 33 * 8 * 8;
     assert_eq!(bytes, vec![layer, 2 * layer, layer]);
