@@ -123,7 +123,10 @@ mod tests {
             "order = \"second\"",
             "order = -1",
         ] {
-            let e = o(bad).err().expect("refused").to_string();
+            let Err(e) = o(bad) else {
+                panic!("{bad}: accepted")
+            };
+            let e = e.to_string();
             assert!(e.contains("1 or 2"), "{bad}: {e}");
         }
     }

@@ -94,7 +94,7 @@ mod tests {
             for k in -200..=400 {
                 let theta = k as f64 * 0.05;
                 let phi = limiter_phi(limiter, theta);
-                assert!(phi >= 0.0 && phi <= (2.0 * theta).max(0.0).min(2.0) + 1e-15);
+                assert!(phi >= 0.0 && phi <= (2.0 * theta).clamp(0.0, 2.0) + 1e-15);
             }
             assert_eq!(limiter_phi(limiter, 1.0), 1.0);
         }
