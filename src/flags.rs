@@ -77,19 +77,28 @@ impl CheckFlags {
     }
 }
 
-/// The run's own flags besides the overrides: `--method`, as `impact run` takes it.
-#[derive(clap::Parser)]
-#[command(name = "impact", no_binary_name = true)]
-struct RunFlags {
-    #[command(flatten)]
-    overrides: Overrides,
+/// `impact run`'s `--method` (the CLI flattens it into its run flags, and
+/// [`run_flags`] parses it the same way).
+#[derive(clap::Args, Debug, Clone)]
+pub struct MethodFlag {
+    /// Methods to run, comma-separated.
     #[arg(
         long,
         value_enum,
         value_delimiter = ',',
         default_value = "dgmpm,mpm,fem"
     )]
-    method: Vec<MethodKind>,
+    pub method: Vec<MethodKind>,
+}
+
+/// The run's own flags besides the overrides: `--method`, as `impact run` takes it.
+#[derive(clap::Parser)]
+#[command(name = "impact", no_binary_name = true)]
+struct RunFlags {
+    #[command(flatten)]
+    overrides: Overrides,
+    #[command(flatten)]
+    methods: MethodFlag,
 }
 
 #[derive(clap::Parser)]
@@ -105,7 +114,7 @@ struct CheckArgs {
 pub fn run_flags(flags: &[String]) -> Result<(Overrides, Vec<MethodKind>), FlagError> {
     use clap::Parser as _;
     RunFlags::try_parse_from(flags)
-        .map(|f| (f.overrides, f.method))
+        .map(|f| (f.overrides, f.methods.method))
         .map_err(message)
 }
 

@@ -21,14 +21,8 @@ pub(crate) struct RunArgs {
     /// (default: out/<scene>-rerun). Takes no scene, method or option flags.
     #[arg(long, value_name = "DIR", conflicts_with_all = ["scene", "method", "no_files", "no_reference", "vtu"])]
     from: Option<PathBuf>,
-    /// Methods to run, comma-separated.
-    #[arg(
-        long,
-        value_enum,
-        value_delimiter = ',',
-        default_value = "dgmpm,mpm,fem"
-    )]
-    method: Vec<MethodKind>,
+    #[command(flatten)]
+    methods: impact::flags::MethodFlag,
     /// Output folder (default: out/<scene name>).
     #[arg(long)]
     out: Option<PathBuf>,
@@ -109,7 +103,7 @@ impl RunArgs {
                 source: scene,
                 allow_unstable: study.overrides.allow_unstable,
             },
-            methods: self.method.clone(),
+            methods: self.methods.method.clone(),
             study,
         })
     }

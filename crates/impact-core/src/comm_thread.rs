@@ -8,6 +8,9 @@ use std::sync::Mutex;
 /// A message: sender rank and payload.
 type Message = (usize, Payload);
 
+/// How a part of an all-gather travels: wrapped into a payload, read back from one.
+type Codec<T> = (fn(Vec<T>) -> Payload, fn(Payload) -> Vec<T>);
+
 #[derive(Debug)]
 enum Payload {
     Floats(Vec<f64>),
@@ -64,9 +67,47 @@ impl ThreadComm {
     }
 
     fn floats(&self, from: usize) -> Vec<f64> {
-        match self.receive(from) {
+        Payload::floats(self.receive(from))
+    }
+
+    /// Every rank's `local` concatenated in rank order into `out`, the lengths in `counts`
+    /// (both all-gathers: `pack` wraps a part for sending, `unpack` reads one received).
+    fn all_gather_parts<T: Copy>(
+        &self,
+        local: &[T],
+        (pack, unpack): Codec<T>,
+        out: &mut Vec<T>,
+        counts: &mut Vec<usize>,
+    ) {
+        for r in (0..self.size).filter(|&r| r != self.rank) {
+            self.send(r, pack(local.to_vec()));
+        }
+        out.clear();
+        counts.clear();
+        for r in 0..self.size {
+            if r == self.rank {
+                counts.push(local.len());
+                out.extend_from_slice(local);
+            } else {
+                let part = unpack(self.receive(r));
+                counts.push(part.len());
+                out.extend_from_slice(&part);
+            }
+        }
+    }
+}
+
+impl Payload {
+    fn floats(self) -> Vec<f64> {
+        match self {
             Payload::Floats(v) => v,
             Payload::Bytes(_) => panic!("ThreadComm: ranks called different collectives"),
+        }
+    }
+    fn bytes(self) -> Vec<u8> {
+        match self {
+            Payload::Bytes(b) => b,
+            Payload::Floats(_) => panic!("ThreadComm: ranks called different collectives"),
         }
     }
 }
@@ -79,39 +120,10 @@ impl Comm for ThreadComm {
         self.size
     }
     fn all_gather_into(&self, local: &[f64], out: &mut Vec<f64>, counts: &mut Vec<usize>) {
-        for r in (0..self.size).filter(|&r| r != self.rank) {
-            self.send(r, Payload::Floats(local.to_vec()));
-        }
-        out.clear();
-        counts.clear();
-        for r in 0..self.size {
-            let part = if r == self.rank {
-                local.to_vec()
-            } else {
-                self.floats(r)
-            };
-            counts.push(part.len());
-            out.extend_from_slice(&part);
-        }
+        self.all_gather_parts(local, (Payload::Floats, Payload::floats), out, counts);
     }
     fn all_gather_bytes(&self, local: &[u8], out: &mut Vec<u8>, counts: &mut Vec<usize>) {
-        for r in (0..self.size).filter(|&r| r != self.rank) {
-            self.send(r, Payload::Bytes(local.to_vec()));
-        }
-        out.clear();
-        counts.clear();
-        for r in 0..self.size {
-            let part = if r == self.rank {
-                local.to_vec()
-            } else {
-                match self.receive(r) {
-                    Payload::Bytes(b) => b,
-                    Payload::Floats(_) => panic!("ThreadComm: ranks called different collectives"),
-                }
-            };
-            counts.push(part.len());
-            out.extend_from_slice(&part);
-        }
+        self.all_gather_parts(local, (Payload::Bytes, Payload::bytes), out, counts);
     }
     fn exchange(
         &self,
