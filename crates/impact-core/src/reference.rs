@@ -195,11 +195,10 @@ impl Reference {
             Reference::Standing(w) => w.averages(pad(lo, 0.0), pad(hi, 1.0), t),
             Reference::Plane(w) => w.averages(pad(lo, 0.0), pad(hi, 0.0), t),
             Reference::Converged(c) => {
-                let lo2 = std::array::from_fn(|l| if l < D { lo[l] } else { 0.0 });
-                let hi2 = std::array::from_fn(|l| if l < D { hi[l] } else { c.spacing[l] });
+                let (lo, hi) = fine_box(c, lo, hi);
                 (
-                    c.average(&c.stress, lo2, hi2, t),
-                    c.average(&c.velocity, lo2, hi2, t),
+                    c.average(&c.stress, lo, hi, t),
+                    c.average(&c.velocity, lo, hi, t),
                 )
             }
         }
@@ -216,9 +215,8 @@ impl Reference {
     ) -> Option<(f64, f64)> {
         match self {
             Reference::Converged(c) => {
-                let lo2 = std::array::from_fn(|l| if l < D { lo[l] } else { 0.0 });
-                let hi2 = std::array::from_fn(|l| if l < D { hi[l] } else { c.spacing[l] });
-                c.spread_averages(lo2, hi2, t)
+                let (lo, hi) = fine_box(c, lo, hi);
+                c.spread_averages(lo, hi, t)
             }
             _ => None,
         }
@@ -325,8 +323,7 @@ impl Reference {
             p.value.push(samples.stress[i][(a, a)]);
             p.exact.push(self.averages(&(x - h), &(x + h), t).0);
             if let Reference::Converged(c) = self {
-                let (lo, hi) = (pad(&(x - h), 0.0), pad(&(x + h), 0.0));
-                let hi = std::array::from_fn(|l| if l < D { hi[l] } else { c.spacing[l] });
+                let (lo, hi) = fine_box(c, &(x - h), &(x + h));
                 if let Some(second) = c.spread_average(lo, hi, t) {
                     p.second.push(second);
                 }
@@ -435,6 +432,17 @@ impl Reference {
             energy_relative,
         }
     }
+}
+
+/// The box `[lo, hi]` in the converged reference's three axes: beyond dimension `D` it
+/// spans the reference's one cell (`[0, h]`).
+fn fine_box<const D: usize>(
+    c: &crate::converged::Converged,
+    lo: &Vector<D>,
+    hi: &Vector<D>,
+) -> ([f64; 3], [f64; 3]) {
+    let hi = std::array::from_fn(|l| if l < D { hi[l] } else { c.spacing[l] });
+    (pad(lo, 0.0), hi)
 }
 
 /// `v` with `default` beyond dimension `D`.
