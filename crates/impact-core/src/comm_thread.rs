@@ -3,7 +3,7 @@
 //! tests compare 1 to N "ranks" against the serial run everywhere.
 use crate::comm::Comm;
 use std::sync::mpsc::{channel, Receiver, Sender};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 /// A message: sender rank and payload.
 type Message = (usize, Payload);
@@ -40,6 +40,21 @@ impl ThreadComm {
                 inbox: Mutex::new((rx, Vec::new())),
             })
             .collect()
+    }
+
+    /// `body` on `ranks` thread ranks (one [`ThreadComm`] each, in scoped threads), its
+    /// results in rank order: how the tests run a decomposed method without MPI.
+    pub fn run<T: Send>(ranks: usize, body: impl Fn(Arc<dyn Comm>) -> T + Sync) -> Vec<T> {
+        std::thread::scope(|s| {
+            let handles: Vec<_> = Self::group(ranks)
+                .into_iter()
+                .map(|c| {
+                    let body = &body;
+                    s.spawn(move || body(Arc::new(c)))
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        })
     }
 
     fn send(&self, to: usize, payload: Payload) {

@@ -5,12 +5,11 @@
 //! impulse to round-off (summed per rank, then in rank order). A non-finite state on one
 //! rank is reported identically by every rank at its global place; more ranks than layers
 //! are refused on every rank with the most that fit.
-use impact_core::comm::{Comm, ThreadComm};
+use impact_core::comm::ThreadComm;
 use impact_core::method::{Integrator, MethodConfig, MethodKind, SchemeOrder, TransverseFlux};
 use impact_core::{Method, Problem, Samples, Scene, Vector};
 use impact_dgmpm::slab::SlabDgmpm;
 use impact_dgmpm::Dgmpm;
-use std::sync::Arc;
 
 fn scene(name: &str) -> Scene {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -48,20 +47,6 @@ fn steps<const D: usize>(m: &mut dyn Method<D>, n: usize) {
 }
 
 /// The serial run and the run on `ranks` thread ranks (every rank's end, which must agree).
-/// `body` on `ranks` thread ranks (one `ThreadComm` each), its results in rank order.
-fn on_ranks<T: Send>(ranks: usize, body: impl Fn(Arc<dyn Comm>) -> T + Sync) -> Vec<T> {
-    std::thread::scope(|s| {
-        let handles: Vec<_> = ThreadComm::group(ranks)
-            .into_iter()
-            .map(|c| {
-                let body = &body;
-                s.spawn(move || body(Arc::new(c)))
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
-    })
-}
-
 fn runs<const D: usize>(
     problem: &Problem<D>,
     config: MethodConfig,
@@ -71,7 +56,7 @@ fn runs<const D: usize>(
     let mut serial = Dgmpm::<D>::new(problem, config).unwrap();
     steps(&mut serial, n);
     let serial = finish(&serial);
-    let ends = on_ranks(ranks, |comm| {
+    let ends = ThreadComm::run(ranks, |comm| {
         let mut m = SlabDgmpm::<D>::new(problem, config, comm).unwrap();
         steps(&mut m, n);
         finish(&m)
@@ -217,7 +202,7 @@ fn a_blowup_on_one_rank_is_seen_by_every_rank() {
     let bad = serial.state.points.len() - 40; // in the last rank's slab
     serial.state.points.velocity[bad][1] = f64::NAN;
     let expected = serial.check_finite().unwrap_err();
-    let reports = on_ranks(3, |comm| {
+    let reports = ThreadComm::run(3, |comm| {
         let mut m = SlabDgmpm::<2>::new(&problem, config, comm).unwrap();
         m.perturb_velocity(&mut |i, _| {
             Vector::<2>::new(0.0, if i == bad { f64::NAN } else { 0.0 })
@@ -238,7 +223,7 @@ fn too_many_ranks_are_refused_on_every_rank() {
     short.domain.cells = vec![3];
     let problem = Problem::<1>::from_scene(&short).unwrap();
     let config = short.method_config(MethodKind::Dgmpm);
-    let messages = on_ranks(4, |comm| {
+    let messages = ThreadComm::run(4, |comm| {
         SlabDgmpm::<1>::new(&problem, config, comm)
             .unwrap_err()
             .to_string()
@@ -276,7 +261,7 @@ fn halo_bytes_per_step_are_one_layer_per_neighbour() {
     let plate = scene("plate");
     let problem = Problem::<2>::from_scene(&plate).unwrap();
     let config = plate.method_config(MethodKind::Dgmpm);
-    let bytes = on_ranks(3, |comm| {
+    let bytes = ThreadComm::run(3, |comm| {
         SlabDgmpm::<2>::new(&problem, config, comm)
             .unwrap()
             .bytes_per_step()

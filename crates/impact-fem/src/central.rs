@@ -59,10 +59,13 @@ impl<const D: usize> FemSolver<D> {
     /// step load the two are both 1 and nothing changes). The prescribed velocity
     /// components of `v^{n+1/2}` take their mean over `[t, t + Δt]`, and their
     /// acceleration is zeroed (so the update keeps them); returns the work of the
-    /// reactions, `Δt r · v_d`, and adds their impulse and the loads' to the state.
+    /// reactions, `Δt r · v_d`, and adds their impulse and the loads' to the state. On a
+    /// slab every stored node is held, but only the owned ones count in the work and the
+    /// impulse (each node once over the ranks).
     fn hold_velocities(&self, state: &mut FemState<D>, dt: f64, t: f64) -> f64 {
         let dt_avg = 0.5 * (state.last_dt + dt);
-        for &n in &self.loaded_nodes {
+        let owns = |n: usize| self.place.owns_node(n);
+        for &n in self.loaded_nodes.iter().filter(|&&n| owns(n)) {
             state.impulse += self.external[n] * dt_avg;
         }
         let trailing = (t - 0.5 * state.last_dt, t);
@@ -71,7 +74,9 @@ impl<const D: usize> FemSolver<D> {
             let change = history.mean(window.0, window.1) - history.mean(trailing.0, trailing.1);
             if change != 0.0 {
                 state.acceleration[node] += force * (change * self.inv_mass[node]);
-                state.impulse += force * (change * dt_avg);
+                if owns(node) {
+                    state.impulse += force * (change * dt_avg);
+                }
             }
         }
         let mut work = 0.0;
@@ -82,17 +87,20 @@ impl<const D: usize> FemSolver<D> {
             let reaction = self.mass[node] * (value - free) / dt_avg;
             state.velocity_half[node][axis] = value;
             state.acceleration[node][axis] = 0.0;
-            work += dt * reaction * value;
-            state.impulse[axis] += reaction * dt_avg;
+            if owns(node) {
+                work += dt * reaction * value;
+                state.impulse[axis] += reaction * dt_avg;
+            }
         }
         work
     }
 
     /// Work of the external forces over the step, `Δt f_ext · v^{n+1/2}` (`f_ext` is zero
-    /// but at the loaded nodes).
+    /// but at the loaded nodes), over the owned nodes.
     fn external_work(&self, state: &FemState<D>, dt: f64) -> f64 {
         let velocity = &state.velocity_half;
         (self.loaded_nodes.iter())
+            .filter(|&&n| self.place.owns_node(n))
             .map(|&n| dt * self.external[n].dot(&velocity[n]))
             .sum()
     }

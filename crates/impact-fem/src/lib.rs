@@ -33,24 +33,27 @@
 //! velocity takes its mean over `[t^n, t^{n+1}]`, the step `u^{n+1} - u^n = Δt v^{n+1/2}`
 //! it sets.
 //!
-//! Layout: this file holds the solver and its assembly (lumped mass, the coloured internal
-//! force); `loads.rs` the boundary loads and prescribed velocities; `central.rs` the
-//! central-difference phases and the step; `method.rs` the `Method` impl; `stencil.rs` the
-//! internal force of linear elasticity as a node stencil (the default there; the
-//! Gauss-point path stays the reference it is tested against).
+//! Layout: this file holds the solver and its coloured internal force; `build.rs` its
+//! construction (lumped mass, shape gradients, initial state); `loads.rs` the boundary
+//! loads and prescribed velocities; `central.rs` the central-difference phases and the
+//! step; `method.rs` the `Method` impl; `stencil.rs` the internal force of linear
+//! elasticity as a node stencil (the default there; the Gauss-point path stays the
+//! reference it is tested against); `place.rs` where the stored mesh lies in the whole
+//! one, and `slab.rs` the FEM on one rank's slab of element layers (issue 27).
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
 use impact_core::method::{MethodConfig, Model};
-use impact_core::parallel::{chunks, for_each_chunk, threads, worth_parallel};
-use impact_core::{
-    Constraint, CoreError, Grid, LinearElastic, LoadHistory, Problem, Tensor, Vector,
-};
+use impact_core::parallel::{chunks, for_each_chunk};
+use impact_core::{Constraint, Grid, LinearElastic, LoadHistory, Tensor, Vector};
 
+mod build;
 mod central;
 mod loads;
 mod method;
+mod place;
 mod plastic;
+pub mod slab;
 mod stencil;
 pub use plastic::GaussPlasticity;
 
@@ -82,6 +85,8 @@ pub struct FemState<const D: usize> {
 pub struct FemSolver<const D: usize> {
     config: MethodConfig,
     grid: Grid<D>,
+    /// Where `grid` lies in the whole mesh and what of it this solver owns (`place.rs`).
+    place: place::Place<D>,
     material: LinearElastic,
     model: Model,
     wave_speed: f64,
@@ -126,128 +131,6 @@ pub struct Fem<const D: usize> {
     pub solver: FemSolver<D>,
     /// Nodal state.
     pub state: FemState<D>,
-}
-
-impl<const D: usize> Fem<D> {
-    /// Build the FEM for `problem`.
-    pub fn new(problem: &Problem<D>, config: MethodConfig) -> Result<Self, CoreError> {
-        problem.check_config(&config)?;
-        let grid = problem.grid.clone();
-        let nodes = grid.vertex_count();
-        let mass = lumped_mass(&grid, problem.material.density);
-        let (gauss_gradient, centre_gradient) = shape_gradients(&grid);
-        let gauss_count = Grid::<D>::NODES_PER_CELL;
-        let grid_cells = grid.cell_count();
-        let (loaded, constraints) = loads::boundary_loads(problem);
-        let mut free_mask = vec![Vector::<D>::from_element(1.0); nodes];
-        for c in &constraints {
-            free_mask[c.carrier][c.axis] = 0.0;
-        }
-        let parallel = worth_parallel(grid.cell_count());
-        let mut loaded_nodes: Vec<usize> = loaded.iter().map(|l| l.0).collect();
-        loaded_nodes.sort_unstable();
-        loaded_nodes.dedup();
-        let mut solver = FemSolver {
-            loaded_nodes,
-            free_mask,
-            config,
-            grid,
-            material: problem.material,
-            model: problem.model,
-            wave_speed: problem.max_wave_speed(),
-            inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
-            mass,
-            external: vec![Vector::<D>::zeros(); nodes],
-            loaded,
-            constraints,
-            force: vec![Vector::<D>::zeros(); nodes],
-            parallel,
-            gauss_gradient,
-            gauss_weight: 1.0 / gauss_count as f64,
-            centre_gradient,
-            plastic: match problem.model {
-                Model::J2(j2) => Some(GaussPlasticity::new(j2, grid_cells * gauss_count)),
-                _ => None,
-            },
-            stencil: None,
-            fuse_step: true,
-            band_layers: 0,
-            halo: Vec::new(),
-        };
-        if problem.model == Model::LinearElastic {
-            let stencil = stencil::Stencil::new(&solver.grid, &solver.element_stiffness());
-            let band_layers = stencil.band_layers(threads(), parallel);
-            let bands = stencil.layers().div_ceil(band_layers);
-            solver.halo = vec![Vector::<D>::zeros(); 2 * bands * stencil.layer_nodes()];
-            solver.band_layers = band_layers;
-            solver.stencil = Some(stencil);
-            // the stencil writes the acceleration only: no force array
-            solver.force = Vec::new();
-        }
-        // v^{-1/2} holds v(0): the first step's half step Δt/2 then gives v^{1/2}
-        let velocity_half = (0..nodes)
-            .map(|v| problem.initial.velocity(&solver.grid.vertex_position(v)))
-            .collect();
-        // u(0): zero but for a plane wave, whose stress FEM takes as its displacement
-        let displacement = (0..nodes)
-            .map(|v| {
-                problem
-                    .initial
-                    .displacement(&solver.grid.vertex_position(v))
-            })
-            .collect();
-        let mut state = FemState {
-            displacement,
-            velocity_half,
-            acceleration: vec![Vector::<D>::zeros(); nodes],
-            last_dt: 0.0,
-            work: 0.0,
-            impulse: Vector::<D>::zeros(),
-            initial_energy: 0.0,
-        };
-        solver.set_load_window((0.0, 0.0));
-        solver.internal_forces_into(&state.displacement, &mut state.acceleration);
-        let mut fem = Self { solver, state };
-        fem.state.initial_energy = impact_core::Method::energy(&fem);
-        Ok(fem)
-    }
-}
-
-/// Row-sum lumped mass: each element's `ρ V_e` shared equally among its nodes.
-fn lumped_mass<const D: usize>(grid: &Grid<D>, density: f64) -> Vec<f64> {
-    let npc = Grid::<D>::NODES_PER_CELL;
-    let mut mass = vec![0.0; grid.vertex_count()];
-    let element_mass = density * grid.cell_volume();
-    for c in 0..grid.cell_count() {
-        for a in 0..npc {
-            mass[grid.vertex_of(c, a)] += element_mass / npc as f64;
-        }
-    }
-    mass
-}
-
-/// Shape-function gradients at the `2^D` Gauss points `ξ = ½ ± 1/(2√3)` per axis (node
-/// `a` of point `q` at `[q·npc + a]`) and at the element centre.
-fn shape_gradients<const D: usize>(grid: &Grid<D>) -> (Vec<Vector<D>>, [Vector<D>; MAX_NODES]) {
-    let npc = Grid::<D>::NODES_PER_CELL;
-    let g = 0.5 / 3f64.sqrt();
-    let mut gauss_gradient = vec![Vector::<D>::zeros(); npc * npc];
-    let mut values = [0.0; MAX_NODES];
-    for q in 0..npc {
-        let xi = Vector::<D>::from_fn(|l, _| if (q >> l) & 1 == 1 { 0.5 + g } else { 0.5 - g });
-        grid.shape(
-            &xi,
-            &mut values[..npc],
-            &mut gauss_gradient[q * npc..(q + 1) * npc],
-        );
-    }
-    let mut centre_gradient = [Vector::<D>::zeros(); MAX_NODES];
-    grid.shape(
-        &Vector::<D>::from_element(0.5),
-        &mut values[..npc],
-        &mut centre_gradient[..npc],
-    );
-    (gauss_gradient, centre_gradient)
 }
 
 impl<const D: usize> FemSolver<D> {
@@ -295,7 +178,10 @@ impl<const D: usize> FemSolver<D> {
         for_each_chunk(self.parallel, 1, chunks(&mut force, CHUNK), |_, f| {
             f.iter_mut().for_each(|x| *x = Vector::<D>::zeros());
         });
-        for colour in 0..2 {
+        // the layers of even global index first, as on one rank (a slab may start on an
+        // odd one): each node adds its elements' forces in the same order
+        for pass in 0..2 {
+            let colour = (pass + self.place.first_layer) % 2;
             let band = &mut force[colour * layer_nodes..];
             for_each_chunk(
                 self.parallel,

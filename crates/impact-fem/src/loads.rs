@@ -10,17 +10,20 @@ use impact_core::{Constraint, Grid, LoadHistory, Problem, Vector};
 /// Nodal external forces (a pressure's consistent force: `p` times the node's tributary
 /// length along the edge, or under `cover = "fraction"` the part of it inside the segment)
 /// at full magnitude with their histories, and the prescribed velocity components of the
-/// edges (by the node's position).
+/// edges (by the node's position), of the whole mesh's nodes `nodes` (global indices,
+/// recognised on the whole mesh, so a slab's cut face is never an edge), numbered from
+/// `nodes.start`.
 #[allow(clippy::type_complexity)]
 pub(crate) fn boundary_loads<const D: usize>(
     problem: &Problem<D>,
+    nodes: std::ops::Range<usize>,
 ) -> (Vec<(usize, Vector<D>, LoadHistory)>, Vec<Constraint>) {
     let grid = &problem.grid;
-    let nodes = grid.vertex_count();
+    let first = nodes.start;
     let mut loaded = Vec::new();
     let mut constraints = Vec::new();
     let counts = grid.vertex_counts();
-    for v in 0..nodes {
+    for v in nodes {
         let x = grid.vertex_position(v);
         let mut rest = v;
         let mut idx = [0usize; D];
@@ -67,13 +70,13 @@ pub(crate) fn boundary_loads<const D: usize>(
                         if share > 0.0 {
                             let mut force = Vector::<D>::zeros();
                             force[l] = -sign * load.value * tributary * share;
-                            loaded.push((v, force, load.history));
+                            loaded.push((v - first, force, load.history));
                         }
                     }
                     Boundary::Velocity { load, bonded } => {
                         if load.acts_on(l, &x) {
                             let prescribe = |axis, value| Constraint {
-                                carrier: v,
+                                carrier: v - first,
                                 axis,
                                 value,
                                 history: load.history,
@@ -87,7 +90,7 @@ pub(crate) fn boundary_loads<const D: usize>(
                         }
                     }
                     Boundary::Symmetry => constraints.push(Constraint {
-                        carrier: v,
+                        carrier: v - first,
                         axis: l,
                         value: 0.0,
                         history: LoadHistory::Step,

@@ -1,5 +1,7 @@
 //! The [`Method`] impl of FEM: stepping, sampling at element centres, energy, momentum,
-//! the stability guard's checks.
+//! the stability guard's checks. Every sum, sample and check covers the owned nodes and
+//! elements only (all of them on one rank; a slab's own layers, `slab.rs`), at their
+//! places in the whole mesh.
 use crate::{Fem, FemSolver};
 use impact_core::method::{BadState, Method, MethodConfig, Model, Samples};
 use impact_core::parallel::{first_failing, sum_over};
@@ -19,8 +21,8 @@ impl<const D: usize> Method<D> for Fem<D> {
         out.clear();
         let grid = &self.solver.grid;
         let npc = Grid::<D>::NODES_PER_CELL;
-        for c in 0..grid.cell_count() {
-            let centre = grid.cell_centre(c);
+        for c in self.solver.place.owned_elements.clone() {
+            let centre = self.solver.place.element_centre(c);
             let mut u = Vector::<D>::zeros();
             let mut v = Vector::<D>::zeros();
             for a in 0..npc {
@@ -50,14 +52,17 @@ impl<const D: usize> Method<D> for Fem<D> {
     fn energy(&self) -> f64 {
         let s = &self.solver;
         let npc = Grid::<D>::NODES_PER_CELL;
-        let kinetic = sum_over(s.mass.len(), |i| {
+        let nodes = s.place.owned_nodes.clone();
+        let kinetic = sum_over(nodes.len(), |k| {
+            let i = nodes.start + k;
             0.5 * s.mass[i] * s.full_velocity(&self.state, i).norm_squared()
         });
+        let elements = s.place.owned_elements.clone();
         let volume = s.grid.cell_volume() * s.gauss_weight;
         if let Some(p) = &s.plastic {
             // elastic energy of the stored Gauss stresses plus the plastic work
             let g = &p.points;
-            let stored: f64 = (0..g.len())
+            let stored: f64 = (elements.start * npc..elements.end * npc)
                 .map(|i| {
                     p.j2.elastic_energy_density(&g.stress[i], g.plastic_strain_zz[i])
                         + g.plastic_work[i]
@@ -70,11 +75,14 @@ impl<const D: usize> Method<D> for Fem<D> {
             // the same quadrature, with f_int of the current displacement (every step ends
             // computing it)
             let (u, a) = (&self.state.displacement, &self.state.acceleration);
-            let strain_energy = sum_over(u.len(), |i| 0.5 * u[i].dot(&s.internal_force_at(a, i)));
+            let strain_energy = sum_over(nodes.len(), |k| {
+                let i = nodes.start + k;
+                0.5 * u[i].dot(&s.internal_force_at(a, i))
+            });
             return kinetic + strain_energy;
         }
         let mut strain_energy = 0.0;
-        for c in 0..s.grid.cell_count() {
+        for c in elements {
             let nodes = s.element_nodes(c);
             for q in 0..npc {
                 let g = &s.gauss_gradient[q * npc..(q + 1) * npc];
@@ -93,9 +101,12 @@ impl<const D: usize> Method<D> for Fem<D> {
     /// `Σ m_i v_i^{n-1/2}`: central differences conserve the mid-step momentum exactly.
     fn momentum(&self) -> Vector<D> {
         let s = &self.solver;
-        (0..s.mass.len()).fold(Vector::<D>::zeros(), |m, i| {
-            m + self.state.velocity_half[i] * s.mass[i]
-        })
+        s.place
+            .owned_nodes
+            .clone()
+            .fold(Vector::<D>::zeros(), |m, i| {
+                m + self.state.velocity_half[i] * s.mass[i]
+            })
     }
     fn external_impulse(&self) -> Vector<D> {
         self.state.impulse
@@ -106,16 +117,17 @@ impl<const D: usize> Method<D> for Fem<D> {
             state.displacement[i].iter().all(|x| x.is_finite())
                 && state.velocity_half[i].iter().all(|x| x.is_finite())
         };
-        if let Some(i) = first_failing(state.displacement.len(), finite) {
+        let place = &self.solver.place;
+        let nodes = place.owned_nodes.clone();
+        if let Some(k) = first_failing(nodes.len(), |k| finite(nodes.start + k)) {
             return Err(BadState {
-                place: self.solver.grid.vertex_position(i),
+                place: place.node_position(nodes.start + k),
                 reason: "non-finite displacement or velocity at a node".into(),
             });
         }
         if let Model::Svk(svk) = self.solver.model {
             let npc = Grid::<D>::NODES_PER_CELL;
-            let g = &self.solver.grid;
-            for c in 0..g.cell_count() {
+            for c in place.owned_elements.clone() {
                 let grad = FemSolver::displacement_gradient(
                     &self.state.displacement,
                     &self.solver.element_nodes(c),
@@ -124,7 +136,7 @@ impl<const D: usize> Method<D> for Fem<D> {
                 let f = Tensor::<D>::identity() + grad;
                 if !svk.admissible(&f, self.solver.wave_speed) {
                     return Err(BadState {
-                        place: g.cell_centre(c),
+                        place: place.element_centre(c),
                         reason: impact_core::material::Svk::inadmissible_reason(&f),
                     });
                 }
@@ -133,16 +145,15 @@ impl<const D: usize> Method<D> for Fem<D> {
         Ok(())
     }
     fn hottest_place(&self) -> Vector<D> {
-        let v = &self.state.velocity_half;
-        let i = (0..v.len())
-            .max_by(|&a, &b| v[a].norm().total_cmp(&v[b].norm()))
-            .unwrap_or(0);
-        self.solver.grid.vertex_position(i)
+        self.hottest_owned()
+            .map_or_else(|| self.solver.place.node_position(0), |(_, x)| x)
     }
+    /// Every stored node, by its global index and place.
     fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
+        let place = &self.solver.place;
         for i in 0..self.state.velocity_half.len() {
-            let x = self.solver.grid().vertex_position(i);
-            self.state.velocity_half[i] += kick(i, &x);
+            let x = place.node_position(i);
+            self.state.velocity_half[i] += kick(place.global_node(i), &x);
         }
     }
     fn cells(&self) -> usize {
@@ -151,7 +162,23 @@ impl<const D: usize> Method<D> for Fem<D> {
     fn updates_per_step(&self) -> usize {
         self.solver.grid.cell_count()
     }
+    /// The owned nodes' (every node on one rank).
     fn mesh_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {
-        Some((self.nodal_velocities(), self.state.displacement.clone()))
+        let nodes = self.solver.place.owned_nodes.clone();
+        let velocity = nodes.clone();
+        let velocity = velocity.map(|i| self.solver.full_velocity(&self.state, i));
+        Some((velocity.collect(), self.state.displacement[nodes].to_vec()))
+    }
+}
+
+impl<const D: usize> Fem<D> {
+    /// The owned node of the largest `|v^{n-1/2}|` (the last of equals), its speed and
+    /// its place; `None` without owned nodes.
+    pub fn hottest_owned(&self) -> Option<(f64, Vector<D>)> {
+        let v = &self.state.velocity_half;
+        let place = &self.solver.place;
+        (place.owned_nodes.clone())
+            .max_by(|&a, &b| v[a].norm().total_cmp(&v[b].norm()))
+            .map(|i| (v[i].norm(), place.node_position(i)))
     }
 }
