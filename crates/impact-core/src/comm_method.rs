@@ -140,3 +140,43 @@ impl HaloBuffers {
         8 * (self.send_low.len() + self.send_high.len())
     }
 }
+
+/// The [`Method`](crate::Method) functions of a slab solver that are its local method's
+/// values reduced over the ranks, written once for every method crate: the time step
+/// (minimum), energy and work (sums in rank order), momentum and impulse (the same per
+/// component), the first failure ([`first_bad`]), the initial energy and the cell counts
+/// of the whole grid. Expands inside `impl Method<D> for …` of a struct with the fields
+/// `local` (the rank's own method), `comm: Arc<dyn Comm>`, `initial_energy: f64` (reduced
+/// when built) and `global_cells: usize`.
+#[macro_export]
+macro_rules! reduced_over_ranks {
+    () => {
+        fn stable_dt(&self) -> f64 {
+            self.comm.all_reduce_min(self.local.stable_dt())
+        }
+        fn energy(&self) -> f64 {
+            self.comm.all_reduce_sum(self.local.energy())
+        }
+        fn external_work(&self) -> f64 {
+            self.comm.all_reduce_sum(self.local.external_work())
+        }
+        fn initial_energy(&self) -> f64 {
+            self.initial_energy
+        }
+        fn momentum(&self) -> $crate::Vector<D> {
+            $crate::comm::sum_vector(self.comm.as_ref(), self.local.momentum())
+        }
+        fn external_impulse(&self) -> $crate::Vector<D> {
+            $crate::comm::sum_vector(self.comm.as_ref(), self.local.external_impulse())
+        }
+        fn check_finite(&self) -> Result<(), $crate::method::BadState<D>> {
+            $crate::comm_method::first_bad(self.comm.as_ref(), self.local.check_finite())
+        }
+        fn cells(&self) -> usize {
+            self.global_cells
+        }
+        fn updates_per_step(&self) -> usize {
+            self.global_cells
+        }
+    };
+}

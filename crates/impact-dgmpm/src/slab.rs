@@ -26,9 +26,9 @@
 //! faces count on its owner only. Samples are gathered to every rank in rank order (the
 //! global point order), so outputs and error metrics equal the serial ones.
 use crate::{Dgmpm, GridPlace};
-use impact_core::comm::{sum_vector, Comm, Slab};
-use impact_core::comm_method::{first_bad, gather_samples, hottest_of_ranks, HaloBuffers};
-use impact_core::method::{BadState, DgmpmOptions, Integrator, Method, MethodConfig, Samples};
+use impact_core::comm::{Comm, Slab};
+use impact_core::comm_method::{gather_samples, hottest_of_ranks, HaloBuffers};
+use impact_core::method::{DgmpmOptions, Integrator, Method, MethodConfig, Samples};
 use impact_core::points::MaterialPoints;
 use impact_core::problem::Boundary;
 use impact_core::{CoreError, Grid, Problem, Vector};
@@ -212,11 +212,9 @@ impl<const D: usize> Dgmpm<D> {
 }
 
 impl<const D: usize> Method<D> for SlabDgmpm<D> {
+    impact_core::reduced_over_ranks!();
     fn config(&self) -> &MethodConfig {
         self.local.config()
-    }
-    fn stable_dt(&self) -> f64 {
-        self.comm.all_reduce_min(self.local.stable_dt())
     }
     fn step(&mut self, t: f64, dt: f64) {
         self.exchange_halo();
@@ -228,35 +226,11 @@ impl<const D: usize> Method<D> for SlabDgmpm<D> {
         self.local.sample_into(&mut mine);
         gather_samples(self.comm.as_ref(), &mine, out);
     }
-    fn energy(&self) -> f64 {
-        self.comm.all_reduce_sum(self.local.energy())
-    }
-    fn external_work(&self) -> f64 {
-        self.comm.all_reduce_sum(self.local.external_work())
-    }
-    fn initial_energy(&self) -> f64 {
-        self.initial_energy
-    }
-    fn momentum(&self) -> Vector<D> {
-        sum_vector(self.comm.as_ref(), self.local.momentum())
-    }
-    fn external_impulse(&self) -> Vector<D> {
-        sum_vector(self.comm.as_ref(), self.local.external_impulse())
-    }
-    fn check_finite(&self) -> Result<(), BadState<D>> {
-        first_bad(self.comm.as_ref(), self.local.check_finite())
-    }
     fn hottest_place(&self) -> Vector<D> {
         let p = &self.local.state.points;
         let mine = (p.hottest_in(self.local.owned_points()))
             .map(|i| (p.velocity[i].norm(), p.reference[i]));
         hottest_of_ranks(self.comm.as_ref(), mine)
-    }
-    fn cells(&self) -> usize {
-        self.global_cells
-    }
-    fn updates_per_step(&self) -> usize {
-        self.global_cells
     }
     fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
         let first = self.slab.stored.start * self.per_layer;

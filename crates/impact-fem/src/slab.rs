@@ -43,10 +43,10 @@
 //! fields of the mesh are gathered to every rank in rank order (the owned elements and
 //! nodes are consecutive runs of the global order), so outputs equal the serial ones.
 use crate::Fem;
-use impact_core::comm::{sum_vector, Comm, Slab};
+use impact_core::comm::{Comm, Slab};
 use impact_core::comm_method::HaloBuffers;
-use impact_core::comm_method::{first_bad, gather_samples, gather_vectors, hottest_of_ranks};
-use impact_core::method::{BadState, Method, MethodConfig, Samples};
+use impact_core::comm_method::{gather_samples, gather_vectors, hottest_of_ranks};
+use impact_core::method::{Method, MethodConfig, Samples};
 use impact_core::{CoreError, Grid, Problem, Vector};
 use std::sync::Arc;
 
@@ -167,11 +167,9 @@ impl<const D: usize> SlabFem<D> {
 }
 
 impl<const D: usize> Method<D> for SlabFem<D> {
+    impact_core::reduced_over_ranks!();
     fn config(&self) -> &MethodConfig {
         self.local.config()
-    }
-    fn stable_dt(&self) -> f64 {
-        self.comm.all_reduce_min(self.local.stable_dt())
     }
     fn step(&mut self, t: f64, dt: f64) {
         self.local.step(t, dt);
@@ -182,32 +180,8 @@ impl<const D: usize> Method<D> for SlabFem<D> {
         self.local.sample_into(&mut mine);
         gather_samples(self.comm.as_ref(), &mine, out);
     }
-    fn energy(&self) -> f64 {
-        self.comm.all_reduce_sum(self.local.energy())
-    }
-    fn external_work(&self) -> f64 {
-        self.comm.all_reduce_sum(self.local.external_work())
-    }
-    fn initial_energy(&self) -> f64 {
-        self.initial_energy
-    }
-    fn momentum(&self) -> Vector<D> {
-        sum_vector(self.comm.as_ref(), self.local.momentum())
-    }
-    fn external_impulse(&self) -> Vector<D> {
-        sum_vector(self.comm.as_ref(), self.local.external_impulse())
-    }
-    fn check_finite(&self) -> Result<(), BadState<D>> {
-        first_bad(self.comm.as_ref(), self.local.check_finite())
-    }
     fn hottest_place(&self) -> Vector<D> {
         hottest_of_ranks(self.comm.as_ref(), self.local.hottest_owned())
-    }
-    fn cells(&self) -> usize {
-        self.global_cells
-    }
-    fn updates_per_step(&self) -> usize {
-        self.global_cells
     }
     fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
         self.local.perturb_velocity(kick);
