@@ -5,8 +5,9 @@
 //! Every rank runs the same command on the same code path; rank 0 prints and writes the
 //! output folder, the others run silently into a private scratch folder that is removed at
 //! the end (so every rank makes the same collective calls in the same order). Only
-//! [`crate::run::run_method`]'s runs are decomposed ([`build_ranked`]): DGMPM in slabs along
-//! the last axis ([`impact_dgmpm::slab`]); MPM and FEM are refused on more than one rank.
+//! [`crate::run::run_method`]'s runs are decomposed ([`build_ranked`]): DGMPM and MPM (total
+//! Lagrangian frame) in slabs along the last axis ([`impact_dgmpm::slab`],
+//! [`impact_mpm::slab`]); FEM is refused on more than one rank.
 //! The converged references are computed whole on every rank (no collective calls, so a
 //! cache hit on one rank and a miss on another cannot desynchronise them).
 use impact_core::comm::{Comm, CommError, SerialComm};
@@ -57,7 +58,7 @@ pub fn init() -> Result<Guard, CommError> {
 }
 
 /// Build `config` on `problem` for this process's rank: the whole problem on one rank,
-/// this rank's DGMPM slab on several (MPM and FEM refused there, on every rank alike).
+/// this rank's DGMPM or MPM slab on several (FEM refused there, on every rank alike).
 pub fn build_ranked<const D: usize>(
     problem: &Problem<D>,
     config: MethodConfig,
@@ -70,11 +71,14 @@ pub fn build_ranked<const D: usize>(
         MethodKind::Dgmpm => Ok(Box::new(impact_dgmpm::slab::SlabDgmpm::<D>::new(
             problem, config, comm,
         )?)),
+        MethodKind::Mpm => Ok(Box::new(impact_mpm::slab::SlabMpm::<D>::new(
+            problem, config, comm,
+        )?)),
         other => Err(CommError::Unsupported {
             what: format!("method {}", other.name()),
             ranks: comm.size(),
-            allowed: "only DGMPM is decomposed so far (issue 27); run it with --method dgmpm, \
-                      or MPM and FEM on one rank"
+            allowed: "only DGMPM and MPM are decomposed so far (issue 27); run them with \
+                      --method dgmpm or mpm, or FEM on one rank"
                 .into(),
         }
         .into()),
@@ -91,9 +95,11 @@ pub fn decomposition<const D: usize>(
     if ranks == 1 {
         return None;
     }
-    config
-        .dgmpm()
-        .map(|o| impact_dgmpm::slab::describe(&problem.grid, o, ranks))
+    match (config.dgmpm(), config.mpm()) {
+        (Some(o), _) => Some(impact_dgmpm::slab::describe(&problem.grid, o, ranks)),
+        (_, Some(o)) => Some(impact_mpm::slab::describe(&problem.grid, o, ranks)),
+        _ => None,
+    }
 }
 
 /// The private folder of a rank other than 0 (its output folder, staging folder and lock

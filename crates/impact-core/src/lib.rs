@@ -18,6 +18,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod comm;
+pub mod comm_gather;
 mod comm_thread;
 pub mod config_check;
 pub mod controller;

@@ -26,7 +26,8 @@
 //! faces count on its owner only. Samples are gathered to every rank in rank order (the
 //! global point order), so outputs and error metrics equal the serial ones.
 use crate::{Dgmpm, GridPlace};
-use impact_core::comm::{sum_vector, Comm, CommError, Slab};
+use impact_core::comm::{sum_vector, Comm, Slab};
+use impact_core::comm_gather;
 use impact_core::method::{BadState, DgmpmOptions, Integrator, Method, MethodConfig, Samples};
 use impact_core::points::MaterialPoints;
 use impact_core::problem::Boundary;
@@ -216,21 +217,6 @@ impl<const D: usize> SlabDgmpm<D> {
         Self::unpack(p, 0..below * n, &b.receive_low);
         Self::unpack(p, (stored - above) * n..stored * n, &b.receive_high);
     }
-
-    /// The first failure over the ranks, as a [`BadState`] at its global place.
-    fn first_bad(&self, local: Result<(), BadState<D>>) -> Result<(), BadState<D>> {
-        let reason = local.as_ref().err().map(|b| b.reason.clone());
-        let Some(CommError::Rank { rank, message }) = self.comm.first_error(reason.as_deref())
-        else {
-            return Ok(());
-        };
-        let place = local.err().map_or_else(Vector::<D>::zeros, |b| b.place);
-        let all = self.comm.all_gather(place.as_slice());
-        Err(BadState {
-            place: Vector::<D>::from_fn(|k, _| all[rank * D + k]),
-            reason: message,
-        })
-    }
 }
 
 impl<const D: usize> Dgmpm<D> {
@@ -258,44 +244,7 @@ impl<const D: usize> Method<D> for SlabDgmpm<D> {
         // (outputs and the guard's max-norm test only: the buffers are the caller's)
         let mut mine = Samples::<D>::default();
         self.local.sample_into(&mut mine);
-        let (plastic, zz) = (!mine.plastic_strain.is_empty(), !mine.stress_zz.is_empty());
-        let width = 4 * D + D * D + usize::from(plastic) + usize::from(zz);
-        let mut packed = Vec::with_capacity(mine.len() * width);
-        for i in 0..mine.len() {
-            packed.extend_from_slice(mine.reference[i].as_slice());
-            packed.extend_from_slice(mine.position[i].as_slice());
-            packed.extend_from_slice(mine.half_size[i].as_slice());
-            packed.extend_from_slice(mine.stress[i].as_slice());
-            packed.extend_from_slice(mine.velocity[i].as_slice());
-            if plastic {
-                packed.push(mine.plastic_strain[i]);
-            }
-            if zz {
-                packed.push(mine.stress_zz[i]);
-            }
-        }
-        let all = self.comm.all_gather(&packed);
-        out.clear();
-        for s in all.chunks_exact(width) {
-            let v = |k: usize| Vector::<D>::from_column_slice(&s[k * D..(k + 1) * D]);
-            out.reference.push(v(0));
-            out.position.push(v(1));
-            out.half_size.push(v(2));
-            out.stress.push(impact_core::Tensor::<D>::from_column_slice(
-                &s[3 * D..3 * D + D * D],
-            ));
-            out.velocity.push(Vector::<D>::from_column_slice(
-                &s[3 * D + D * D..4 * D + D * D],
-            ));
-            let mut k = 4 * D + D * D;
-            if plastic {
-                out.plastic_strain.push(s[k]);
-                k += 1;
-            }
-            if zz {
-                out.stress_zz.push(s[k]);
-            }
-        }
+        comm_gather::gather_samples(self.comm.as_ref(), &mine, out);
     }
     fn energy(&self) -> f64 {
         self.comm.all_reduce_sum(self.local.energy())
@@ -313,23 +262,14 @@ impl<const D: usize> Method<D> for SlabDgmpm<D> {
         sum_vector(self.comm.as_ref(), self.local.external_impulse())
     }
     fn check_finite(&self) -> Result<(), BadState<D>> {
-        self.first_bad(self.local.check_finite())
+        comm_gather::first_bad(self.comm.as_ref(), self.local.check_finite())
     }
     fn hottest_place(&self) -> Vector<D> {
         let p = &self.local.state.points;
         let mine = p
             .hottest_in(self.local.owned_points())
-            .map_or((f64::NEG_INFINITY, Vector::<D>::zeros()), |i| {
-                (p.velocity[i].norm(), p.reference[i])
-            });
-        let mut entry = vec![mine.0];
-        entry.extend_from_slice(mine.1.as_slice());
-        let all = self.comm.all_gather(&entry);
-        // the last rank of the largest speed (one rank's `max_by` keeps the last of equals)
-        let best = (0..self.comm.size())
-            .max_by(|&a, &b| all[a * (D + 1)].total_cmp(&all[b * (D + 1)]))
-            .unwrap_or(0);
-        Vector::<D>::from_column_slice(&all[best * (D + 1) + 1..(best + 1) * (D + 1)])
+            .map(|i| (p.velocity[i].norm(), p.reference[i]));
+        comm_gather::hottest_place(self.comm.as_ref(), mine)
     }
     fn cells(&self) -> usize {
         self.global_cells
