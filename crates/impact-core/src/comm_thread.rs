@@ -42,6 +42,27 @@ impl ThreadComm {
             .collect()
     }
 
+    /// `body` run on `ranks` thread ranks (one `ThreadComm` each, on scoped threads), its
+    /// results in rank order: the decomposed path of a method in tests.
+    pub fn on_ranks<T: Send>(
+        ranks: usize,
+        body: impl Fn(std::sync::Arc<dyn Comm>) -> T + Sync,
+    ) -> Vec<T> {
+        std::thread::scope(|s| {
+            let handles: Vec<_> = Self::group(ranks)
+                .into_iter()
+                .map(|c| {
+                    let body = &body;
+                    s.spawn(move || body(std::sync::Arc::new(c)))
+                })
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+                .collect()
+        })
+    }
+
     fn send(&self, to: usize, payload: Payload) {
         // a receiver gone means its thread ended (panicked): the test fails there
         let _ = self.to[to].send((self.rank, payload));

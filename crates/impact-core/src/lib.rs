@@ -19,6 +19,7 @@
 
 pub mod comm;
 pub mod comm_gather;
+pub mod comm_halo;
 mod comm_thread;
 pub mod config_check;
 pub mod controller;
@@ -42,6 +43,7 @@ pub mod problem;
 pub mod reference;
 pub mod scene;
 pub mod scheme_order;
+pub mod slab_method;
 
 pub use error::{CoreError, SceneError};
 pub use grid::Grid;

@@ -7,59 +7,19 @@
 //! are refused on every rank with the most that fit.
 use impact_core::comm::{Comm, ThreadComm};
 use impact_core::method::{Integrator, MethodConfig, MethodKind, SchemeOrder, TransverseFlux};
-use impact_core::{Method, Problem, Samples, Scene, Vector};
+use impact_core::slab_method::RunEnd;
+use impact_core::{Method, Problem, Scene, Vector};
 use impact_dgmpm::slab::SlabDgmpm;
 use impact_dgmpm::Dgmpm;
 use std::sync::Arc;
 
 fn scene(name: &str) -> Scene {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes")
-        .join(format!("{name}.toml"));
-    Scene::parse_file(&path).unwrap()
+    Scene::builtin(name).unwrap()
 }
 
-/// What a run ends with: samples and the global sums.
-struct End<const D: usize> {
-    samples: Samples<D>,
-    energy: f64,
-    work: f64,
-    momentum: Vector<D>,
-    impulse: Vector<D>,
-}
-
-fn finish<const D: usize>(m: &dyn Method<D>) -> End<D> {
-    let mut samples = Samples::default();
-    m.sample_into(&mut samples);
-    End {
-        samples,
-        energy: m.energy(),
-        work: m.external_work(),
-        momentum: m.momentum(),
-        impulse: m.external_impulse(),
-    }
-}
-
-fn steps<const D: usize>(m: &mut dyn Method<D>, n: usize) {
-    let dt = m.stable_dt();
-    for k in 0..n {
-        m.step(k as f64 * dt, dt);
-    }
-}
-
-/// The serial run and the run on `ranks` thread ranks (every rank's end, which must agree).
-/// `body` on `ranks` thread ranks (one `ThreadComm` each), its results in rank order.
+/// `body` on `ranks` thread ranks, its results in rank order.
 fn on_ranks<T: Send>(ranks: usize, body: impl Fn(Arc<dyn Comm>) -> T + Sync) -> Vec<T> {
-    std::thread::scope(|s| {
-        let handles: Vec<_> = ThreadComm::group(ranks)
-            .into_iter()
-            .map(|c| {
-                let body = &body;
-                s.spawn(move || body(Arc::new(c)))
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
-    })
+    ThreadComm::on_ranks(ranks, body)
 }
 
 fn runs<const D: usize>(
@@ -67,14 +27,10 @@ fn runs<const D: usize>(
     config: MethodConfig,
     ranks: usize,
     n: usize,
-) -> (End<D>, Vec<End<D>>) {
-    let mut serial = Dgmpm::<D>::new(problem, config).unwrap();
-    steps(&mut serial, n);
-    let serial = finish(&serial);
+) -> (RunEnd<D>, Vec<RunEnd<D>>) {
+    let serial = RunEnd::after_steps(&mut Dgmpm::<D>::new(problem, config).unwrap(), n);
     let ends = on_ranks(ranks, |comm| {
-        let mut m = SlabDgmpm::<D>::new(problem, config, comm).unwrap();
-        steps(&mut m, n);
-        finish(&m)
+        RunEnd::after_steps(&mut SlabDgmpm::<D>::new(problem, config, comm).unwrap(), n)
     });
     (serial, ends)
 }

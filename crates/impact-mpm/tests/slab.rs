@@ -8,58 +8,19 @@ use impact_core::comm::{Comm, ThreadComm};
 use impact_core::method::{
     MethodConfig, MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate,
 };
-use impact_core::{Boundary, Load, Method, Problem, Samples, Scene, Vector};
+use impact_core::slab_method::RunEnd;
+use impact_core::{Boundary, Load, Method, Problem, Scene, Vector};
 use impact_mpm::slab::SlabMpm;
 use impact_mpm::Mpm;
 use std::sync::Arc;
 
 fn scene(name: &str) -> Scene {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes")
-        .join(format!("{name}.toml"));
-    Scene::parse_file(&path).unwrap()
+    Scene::builtin(name).unwrap()
 }
 
-/// What a run ends with: samples and the global sums.
-struct End<const D: usize> {
-    samples: Samples<D>,
-    energy: f64,
-    work: f64,
-    momentum: Vector<D>,
-    impulse: Vector<D>,
-}
-
-fn finish<const D: usize>(m: &dyn Method<D>) -> End<D> {
-    let mut samples = Samples::default();
-    m.sample_into(&mut samples);
-    End {
-        samples,
-        energy: m.energy(),
-        work: m.external_work(),
-        momentum: m.momentum(),
-        impulse: m.external_impulse(),
-    }
-}
-
-fn steps<const D: usize>(m: &mut dyn Method<D>, n: usize) {
-    let dt = m.stable_dt();
-    for k in 0..n {
-        m.step(k as f64 * dt, dt);
-    }
-}
-
-/// `body` on `ranks` thread ranks (one `ThreadComm` each), its results in rank order.
+/// `body` on `ranks` thread ranks, its results in rank order.
 fn on_ranks<T: Send>(ranks: usize, body: impl Fn(Arc<dyn Comm>) -> T + Sync) -> Vec<T> {
-    std::thread::scope(|s| {
-        let handles: Vec<_> = ThreadComm::group(ranks)
-            .into_iter()
-            .map(|c| {
-                let body = &body;
-                s.spawn(move || body(Arc::new(c)))
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
-    })
+    ThreadComm::on_ranks(ranks, body)
 }
 
 fn relative(a: f64, b: f64) -> f64 {
@@ -69,9 +30,7 @@ fn relative(a: f64, b: f64) -> f64 {
 /// Compare `ranks` = 1..=4 with the serial run after `n` steps: the sampled fields bit for
 /// bit; the global sums to 1e-12 (rank-order sums).
 fn check<const D: usize>(label: &str, problem: &Problem<D>, config: MethodConfig, n: usize) {
-    let mut serial = Mpm::<D>::new(problem, config).unwrap();
-    steps(&mut serial, n);
-    let serial = finish(&serial);
+    let serial = RunEnd::after_steps(&mut Mpm::<D>::new(problem, config).unwrap(), n);
     let s = &serial.samples;
     let peak_s = s.stress.iter().fold(0.0f64, |m, x| m.max(x.amax()));
     let peak_v = s.velocity.iter().fold(0.0f64, |m, x| m.max(x.amax()));
@@ -81,9 +40,7 @@ fn check<const D: usize>(label: &str, problem: &Problem<D>, config: MethodConfig
     );
     for ranks in 1..=4 {
         let ends = on_ranks(ranks, |comm| {
-            let mut m = SlabMpm::<D>::new(problem, config, comm).unwrap();
-            steps(&mut m, n);
-            finish(&m)
+            RunEnd::after_steps(&mut SlabMpm::<D>::new(problem, config, comm).unwrap(), n)
         });
         for (rank, end) in ends.iter().enumerate() {
             let e = &end.samples;
