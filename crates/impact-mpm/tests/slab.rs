@@ -243,3 +243,15 @@ fn halo_bytes_per_step_follow_the_stencil() {
     });
     assert_eq!(bytes, vec![3 * 33 * 11 * 8; 2]);
 }
+
+/// 3D: the block on slabs along z, hats and quadratic B-splines under MUSL.
+#[test]
+fn block_on_slabs_equals_one_rank() {
+    let mut block = scene("block");
+    block.domain.cells = vec![8, 6, 24];
+    check_scene::<3>("block", &block, |_| {});
+    check_scene::<3>("block, quadratic B-splines, MUSL", &block, |c| {
+        options(c).shape = MpmShape::Bspline2;
+        options(c).stress_update = StressUpdate::Musl;
+    });
+}
