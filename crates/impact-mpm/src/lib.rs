@@ -55,7 +55,8 @@
 //! `transfer.rs` (phases 1, 3, 4, 5: the scatters, coloured by node layer, and the gathers),
 //! `affine.rs` (APIC's gather), `loads.rs` (the loads' nodal forces and the prescribed point
 //! velocities), `grid_update.rs`
-//! (phase 2), `method.rs` (the `Method` impl); this file holds the solver and its buffers.
+//! (phase 2), `method.rs` (the `Method` impl), `slab.rs` (a rank's slab of a run split over
+//! several: issue 27); this file holds the solver and its buffers.
 //!
 //! Every piece is dimension-generic (`const D`): in 3D the stencils have 8, 27 or 64 nodes
 //! (tensor products of the 1D weights) and CPDI domains are parallelepipeds with 8 corners

@@ -10,7 +10,10 @@
 //! writes through `split_at_mut`, no partial sums, no lock, no unsafe). Blocks of
 //! `BLOCK_LAYERS` (8) layers, fixed by the grid: a block's nodes stay in cache while its
 //! points add to them (colouring single layers sent every node layer through memory once
-//! per colour), and sums do not depend on the thread count. A serial run takes one pass,
+//! per colour), and sums do not depend on the thread count. The blocks follow the whole
+//! grid's layers, so a rank's slab (`slab.rs`) adds each node's points in the order of one
+//! rank's run (the colour passes change that order for nodes where two blocks meet). A
+//! serial run takes one pass,
 //! layer by layer, zeroing each node layer just before its first point. The points are
 //! counting-sorted by layer when their cells change (once in the total Lagrangian frame,
 //! where they are in layer order from the start and the scatters read them directly).
