@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The MPI checks (issue 27), run by scripts/test.sh after `cargo build --release --features mpi`:
-# DGMPM and FEM on bar and plate under `mpirun -np N`, N = 1..4, write the same fields as the
+# DGMPM, MPM and FEM on bar and plate under `mpirun -np N`, N = 1..4, write the same fields as the
 # serial run (profiles, VTK pieces and the metrics of summary.json byte for byte; the
-# relative energy error, of sums per rank then in rank order, to 1e-12); a bad input, a method that is
-# not decomposed and a blow-up stop every rank with one message and a non-zero exit.
+# relative energy error, of sums per rank then in rank order, to 1e-12); a bad input, a method
+# or option that is not decomposed (MPM's updated frame) and a blow-up stop every rank with one
+# message and a non-zero exit.
 # Usage: scripts/mpi_check.sh [path/to/impact]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,21 +17,21 @@ fail() {
   exit 1
 }
 
-for method in dgmpm fem; do
-for scene in bar plate; do
-  RAYON_NUM_THREADS=1 "$bin" run "$scene" --method "$method" --quiet --out "$work/$scene-serial" >/dev/null
+for method in dgmpm mpm fem; do for scene in bar plate; do
+  serial="$work/$method-$scene-serial"
+  RAYON_NUM_THREADS=1 "$bin" run "$scene" --method "$method" --quiet --out "$serial" >/dev/null
   for n in 1 2 3 4; do
-    out="$work/$scene-np$n"
+    out="$work/$method-$scene-np$n"
     RAYON_NUM_THREADS=1 "${mpi[@]}" -np "$n" "$bin" run "$scene" --method "$method" --quiet --out "$out" \
-      >"$out.log" 2>&1 || fail "$scene ($method) on $n ranks failed: $(tail -5 "$out.log")"
+      >"$out.log" 2>&1 || fail "$method $scene on $n ranks failed: $(tail -5 "$out.log")"
     count=0
-    for f in "$work/$scene-serial"/*.csv "$work/$scene-serial"/"$method"_t*.vtu "$work/$scene-serial"/"$method"_grid_t*.vtu; do
+    for f in "$serial"/*.csv "$serial/${method}"_t*.vtu "$serial/${method}"_grid_t*.vtu; do
       [ -f "$f" ] || continue
-      cmp -s "$f" "$out/$(basename "$f")" || fail "$scene ($method) on $n ranks: $(basename "$f") differs from the serial run"
+      cmp -s "$f" "$out/$(basename "$f")" || fail "$method $scene on $n ranks: $(basename "$f") differs from the serial run"
       count=$((count + 1))
     done
-    [ "$count" -gt 2 ] || fail "$scene ($method): only $count field files compared"
-    python3 - "$work/$scene-serial/summary.json" "$out/summary.json" "$n" <<'PY' || fail "$scene ($method) on $n ranks: summary.json"
+    [ "$count" -gt 2 ] || fail "$method $scene: only $count field files compared"
+    python3 - "$serial/summary.json" "$out/summary.json" "$n" <<'PY' || fail "$method $scene on $n ranks: summary.json"
 import json, sys
 a, b, n = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), int(sys.argv[3])
 ra, rb = a["runs"][0], b["runs"][0]
@@ -46,9 +47,7 @@ for ta, tb in zip(ra["times"], rb["times"], strict=True):
 PY
   done
   echo "mpi: $scene ($method) on 1-4 ranks: fields equal to the serial run bit for bit"
-  rm -rf "$work/$scene"-*
-done
-done
+done; done
 
 # failures stop every rank with one message and a non-zero exit (no hang: `timeout`)
 expect_failure() { # code pattern args...
@@ -67,9 +66,9 @@ expect_failure() { # code pattern args...
   [ "$rc" = "$code" ] || fail "$*: exit code $rc, not $code: $(cat "$work/fail.err")"
 }
 expect_failure 2 "courant.*7" run plate --method dgmpm --courant 7
-expect_failure 2 "only DGMPM and FEM are decomposed" run plate --method mpm
+expect_failure 2 "updated Lagrangian frame.*does not run on 3 ranks" run plate --method mpm --frame updated-lagrangian
 expect_failure 3 "blew up" run plate --method dgmpm --courant 1.5 --allow-unstable
-echo "mpi: a bad input, an undecomposed method and a blow-up stop all 3 ranks with one message"
+echo "mpi: a bad input, an undecomposed option and a blow-up stop all 3 ranks with one message"
 
 # kill -9 of one rank: mpirun ends the others, and the output folder is never presented as
 # complete (rank 0 writes into a staging folder that replaces the target only when done)

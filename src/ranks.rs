@@ -5,9 +5,9 @@
 //! Every rank runs the same command on the same code path; rank 0 prints and writes the
 //! output folder, the others run silently into a private scratch folder that is removed at
 //! the end (so every rank makes the same collective calls in the same order). Only
-//! [`crate::run::run_method`]'s runs are decomposed ([`build_ranked`]): DGMPM and FEM in
-//! slabs along the last axis ([`impact_dgmpm::slab`], [`impact_fem::slab`]); MPM is refused
-//! on more than one rank.
+//! [`crate::run::run_method`]'s runs are decomposed ([`build_ranked`]): DGMPM, MPM (total
+//! Lagrangian frame; the updated frame is refused on more than one rank) and FEM in slabs
+//! along the last axis ([`impact_dgmpm::slab`], [`impact_mpm::slab`], [`impact_fem::slab`]).
 //! The converged references are computed whole on every rank (no collective calls, so a
 //! cache hit on one rank and a miss on another cannot desynchronise them).
 use impact_core::comm::{Comm, CommError, SerialComm};
@@ -58,7 +58,7 @@ pub fn init() -> Result<Guard, CommError> {
 }
 
 /// Build `config` on `problem` for this process's rank: the whole problem on one rank,
-/// this rank's DGMPM or FEM slab on several (MPM refused there, on every rank alike).
+/// this rank's DGMPM, MPM or FEM slab on several.
 pub fn build_ranked<const D: usize>(
     problem: &Problem<D>,
     config: MethodConfig,
@@ -71,17 +71,12 @@ pub fn build_ranked<const D: usize>(
         MethodKind::Dgmpm => Ok(Box::new(impact_dgmpm::slab::SlabDgmpm::<D>::new(
             problem, config, comm,
         )?)),
+        MethodKind::Mpm => Ok(Box::new(impact_mpm::slab::SlabMpm::<D>::new(
+            problem, config, comm,
+        )?)),
         MethodKind::Fem => Ok(Box::new(impact_fem::slab::SlabFem::<D>::new(
             problem, config, comm,
         )?)),
-        other => Err(CommError::Unsupported {
-            what: format!("method {}", other.name()),
-            ranks: comm.size(),
-            allowed: "only DGMPM and FEM are decomposed so far (issue 27); run them with \
-                      --method dgmpm or fem, or MPM on one rank"
-                .into(),
-        }
-        .into()),
     }
 }
 
@@ -95,11 +90,11 @@ pub fn decomposition<const D: usize>(
     if ranks == 1 {
         return None;
     }
-    match config.kind() {
-        MethodKind::Fem => Some(impact_fem::slab::describe(&problem.grid, ranks)),
-        _ => config
-            .dgmpm()
-            .map(|o| impact_dgmpm::slab::describe(&problem.grid, o, ranks)),
+    match (config.kind(), config.dgmpm(), config.mpm()) {
+        (MethodKind::Fem, _, _) => Some(impact_fem::slab::describe(&problem.grid, ranks)),
+        (_, Some(o), _) => Some(impact_dgmpm::slab::describe(&problem.grid, o, ranks)),
+        (_, _, Some(o)) => Some(impact_mpm::slab::describe(&problem.grid, o, ranks)),
+        _ => None,
     }
 }
 

@@ -3,7 +3,7 @@
 //! tests compare 1 to N "ranks" against the serial run everywhere.
 use crate::comm::Comm;
 use std::sync::mpsc::{channel, Receiver, Sender};
-use std::sync::{Arc, Mutex};
+use std::sync::Mutex;
 
 /// A message: sender rank and payload.
 type Message = (usize, Payload);
@@ -42,18 +42,24 @@ impl ThreadComm {
             .collect()
     }
 
-    /// `body` on `ranks` thread ranks (one [`ThreadComm`] each, in scoped threads), its
-    /// results in rank order: how the tests run a decomposed method without MPI.
-    pub fn run<T: Send>(ranks: usize, body: impl Fn(Arc<dyn Comm>) -> T + Sync) -> Vec<T> {
+    /// `body` run on `ranks` thread ranks (one `ThreadComm` each, on scoped threads), its
+    /// results in rank order: the decomposed path of a method in tests.
+    pub fn on_ranks<T: Send>(
+        ranks: usize,
+        body: impl Fn(std::sync::Arc<dyn Comm>) -> T + Sync,
+    ) -> Vec<T> {
         std::thread::scope(|s| {
             let handles: Vec<_> = Self::group(ranks)
                 .into_iter()
                 .map(|c| {
                     let body = &body;
-                    s.spawn(move || body(Arc::new(c)))
+                    s.spawn(move || body(std::sync::Arc::new(c)))
                 })
                 .collect();
-            handles.into_iter().map(|h| h.join().unwrap()).collect()
+            handles
+                .into_iter()
+                .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+                .collect()
         })
     }
 

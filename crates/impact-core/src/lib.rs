@@ -18,6 +18,8 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod comm;
+pub mod comm_gather;
+pub mod comm_halo;
 pub mod comm_method;
 mod comm_thread;
 pub mod config_check;
@@ -42,6 +44,7 @@ pub mod problem;
 pub mod reference;
 pub mod scene;
 pub mod scheme_order;
+pub mod slab_method;
 
 pub use error::{CoreError, SceneError};
 pub use grid::Grid;

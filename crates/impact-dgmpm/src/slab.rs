@@ -17,7 +17,8 @@
 //! differently from the whole grid's: equal to round-off there.
 //!
 //! The exchange per step is one message each way per neighbour of `halo` layers of points
-//! ([`SlabDgmpm::bytes_per_step`]); the halo trades extra cells (`2 × halo` layers per
+//! ([`OnSlab::bytes_per_step`]; the wrapper is shared with MPM, `impact_core::slab_method`);
+//! the halo trades extra cells (`2 × halo` layers per
 //! rank) for one message per step instead of one per stage.
 //!
 //! Diagnostics are reduced over the owned points only: the energy and momentum in rank
@@ -27,12 +28,11 @@
 //! global point order), so outputs and error metrics equal the serial ones.
 use crate::{Dgmpm, GridPlace};
 use impact_core::comm::{Comm, Slab};
-use impact_core::comm_method::{gather_samples, hottest_of_ranks, HaloBuffers};
-use impact_core::method::{DgmpmOptions, Integrator, Method, MethodConfig, Samples};
+use impact_core::method::{DgmpmOptions, Integrator, Method, MethodConfig};
 use impact_core::points::MaterialPoints;
 use impact_core::problem::Boundary;
-use impact_core::{CoreError, Grid, Problem, Vector};
-use std::sync::Arc;
+use impact_core::slab_method::{OnSlab, SlabBuild, SlabLocal, SlabParts};
+use impact_core::{CoreError, Grid, Problem, Tensor};
 
 /// Halo width (layers) for `options`: stages per step × layers a stage reaches.
 pub fn halo_layers(options: &DgmpmOptions) -> usize {
@@ -49,28 +49,14 @@ pub fn halo_layers(options: &DgmpmOptions) -> usize {
 }
 
 /// DGMPM on one rank's slab, a [`Method`] whose values are global (module doc).
-#[derive(Debug)]
-pub struct SlabDgmpm<const D: usize> {
-    /// The slab's DGMPM (owned layers and halo).
-    pub local: Dgmpm<D>,
-    comm: Arc<dyn Comm>,
-    slab: Slab,
-    /// Points per layer of cells.
-    per_layer: usize,
-    /// Cells of the whole grid.
-    global_cells: usize,
-    initial_energy: f64,
-    buffers: HaloBuffers,
-}
+pub type SlabDgmpm<const D: usize> = OnSlab<D, Dgmpm<D>>;
 
-impl<const D: usize> SlabDgmpm<D> {
-    /// This rank's slab of DGMPM on `problem` (every rank builds its own; a bad input is
-    /// refused on every rank alike, before any communication).
-    pub fn new(
+impl<const D: usize> SlabBuild<D> for Dgmpm<D> {
+    fn on_slab(
         problem: &Problem<D>,
         config: MethodConfig,
-        comm: Arc<dyn Comm>,
-    ) -> Result<Self, CoreError> {
+        comm: &dyn Comm,
+    ) -> Result<SlabParts<Self>, CoreError> {
         let options = *config.dgmpm().ok_or_else(|| CoreError::Unsupported {
             method: "dgmpm".into(),
             message: "not a DGMPM configuration".into(),
@@ -104,100 +90,25 @@ impl<const D: usize> SlabDgmpm<D> {
         // the whole body's wave speed (a slab without the loaded edge has a lower one)
         local.solver.wave_speed = problem.max_wave_speed();
         local.state.initial_energy = local.energy();
-        let initial_energy = comm.all_reduce_sum(local.state.initial_energy);
-        let size = |layers: usize| layers * per_layer * Self::packed_len(&local.state.points);
-        let buffers = HaloBuffers::new(size(slab.halo_below()), size(slab.halo_above()));
-        Ok(Self {
+        Ok(SlabParts {
             local,
-            comm,
             slab,
             per_layer,
-            global_cells: global.cell_count(),
-            initial_energy,
-            buffers,
+            cells: global.cell_count(),
+            updates_per_step: global.cell_count(),
         })
     }
+}
 
-    /// The slab this rank stores.
-    pub fn slab(&self) -> &Slab {
-        &self.slab
+impl<const D: usize> SlabLocal<D> for Dgmpm<D> {
+    fn points(&self) -> &MaterialPoints<D> {
+        &self.state.points
     }
-
-    /// Bytes this rank sends per step (the halo's point state, both neighbours).
-    pub fn bytes_per_step(&self) -> usize {
-        self.buffers.bytes_sent()
+    fn halo_state(&mut self) -> (&mut MaterialPoints<D>, &mut [Tensor<D>]) {
+        (&mut self.state.points, &mut [])
     }
-
-    /// Values per point in the halo messages: position, velocity, the stress, and the
-    /// deformation gradient and plastic history where the model has them.
-    fn packed_len(p: &MaterialPoints<D>) -> usize {
-        let present = |n: usize, v: bool| if v { n } else { 0 };
-        2 * D
-            + D * D
-            + present(D * D, !p.deformation.is_empty())
-            + present(3, !p.equivalent_plastic_strain.is_empty())
-    }
-
-    /// Copy the state of the local layers `layers` into `out`.
-    fn pack(p: &MaterialPoints<D>, points: std::ops::Range<usize>, out: &mut [f64]) {
-        let mut k = 0;
-        let mut put = |x: &[f64]| {
-            out[k..k + x.len()].copy_from_slice(x);
-            k += x.len();
-        };
-        for i in points {
-            put(p.position[i].as_slice());
-            put(p.velocity[i].as_slice());
-            put(p.stress[i].as_slice());
-            if !p.deformation.is_empty() {
-                put(p.deformation[i].as_slice());
-            }
-            if !p.equivalent_plastic_strain.is_empty() {
-                put(&[
-                    p.equivalent_plastic_strain[i],
-                    p.plastic_strain_zz[i],
-                    p.plastic_work[i],
-                ]);
-            }
-        }
-    }
-
-    /// The inverse of [`Self::pack`].
-    fn unpack(p: &mut MaterialPoints<D>, points: std::ops::Range<usize>, data: &[f64]) {
-        let mut k = 0;
-        let mut take = |n: usize| {
-            k += n;
-            &data[k - n..k]
-        };
-        for i in points {
-            p.position[i].copy_from_slice(take(D));
-            p.velocity[i].copy_from_slice(take(D));
-            p.stress[i].copy_from_slice(take(D * D));
-            if !p.deformation.is_empty() {
-                p.deformation[i].copy_from_slice(take(D * D));
-            }
-            if !p.equivalent_plastic_strain.is_empty() {
-                let h = take(3);
-                p.equivalent_plastic_strain[i] = h[0];
-                p.plastic_strain_zz[i] = h[1];
-                p.plastic_work[i] = h[2];
-            }
-        }
-    }
-
-    /// Send the owned edge layers to the neighbours and take theirs into the halo.
-    fn exchange_halo(&mut self) {
-        let (below, above) = (self.slab.halo_below(), self.slab.halo_above());
-        let stored = self.slab.stored.len();
-        let own = self.slab.owned_local();
-        let n = self.per_layer;
-        let b = &mut self.buffers;
-        let p = &mut self.local.state.points;
-        Self::pack(p, own.start * n..(own.start + below) * n, &mut b.send_low);
-        Self::pack(p, (own.end - above) * n..own.end * n, &mut b.send_high);
-        b.exchange(self.comm.as_ref());
-        Self::unpack(p, 0..below * n, &b.receive_low);
-        Self::unpack(p, (stored - above) * n..stored * n, &b.receive_high);
+    fn owned_points(&self) -> std::ops::Range<usize> {
+        Dgmpm::owned_points(self)
     }
 }
 
@@ -208,36 +119,6 @@ impl<const D: usize> Dgmpm<D> {
         let grid = &self.solver.grid;
         let per_layer = grid.cell_count() / grid.cells[D - 1] * self.solver.points_per_cell;
         layers.start * per_layer..layers.end * per_layer
-    }
-}
-
-impl<const D: usize> Method<D> for SlabDgmpm<D> {
-    impact_core::reduced_over_ranks!();
-    fn config(&self) -> &MethodConfig {
-        self.local.config()
-    }
-    fn step(&mut self, t: f64, dt: f64) {
-        self.exchange_halo();
-        self.local.step(t, dt);
-    }
-    fn sample_into(&self, out: &mut Samples<D>) {
-        // (outputs and the guard's max-norm test only: the buffers are the caller's)
-        let mut mine = Samples::<D>::default();
-        self.local.sample_into(&mut mine);
-        gather_samples(self.comm.as_ref(), &mine, out);
-    }
-    fn hottest_place(&self) -> Vector<D> {
-        let p = &self.local.state.points;
-        let mine = (p.hottest_in(self.local.owned_points()))
-            .map(|i| (p.velocity[i].norm(), p.reference[i]));
-        hottest_of_ranks(self.comm.as_ref(), mine)
-    }
-    fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
-        let first = self.slab.stored.start * self.per_layer;
-        self.local
-            .state
-            .points
-            .perturb_velocity(&mut |i, x| kick(first + i, x));
     }
 }
 

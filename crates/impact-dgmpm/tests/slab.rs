@@ -5,61 +5,32 @@
 //! impulse to round-off (summed per rank, then in rank order). A non-finite state on one
 //! rank is reported identically by every rank at its global place; more ranks than layers
 //! are refused on every rank with the most that fit.
-use impact_core::comm::ThreadComm;
+use impact_core::comm::{Comm, ThreadComm};
 use impact_core::method::{Integrator, MethodConfig, MethodKind, SchemeOrder, TransverseFlux};
-use impact_core::{Method, Problem, Samples, Scene, Vector};
+use impact_core::slab_method::RunEnd;
+use impact_core::{Method, Problem, Scene, Vector};
 use impact_dgmpm::slab::SlabDgmpm;
 use impact_dgmpm::Dgmpm;
+use std::sync::Arc;
 
 fn scene(name: &str) -> Scene {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes")
-        .join(format!("{name}.toml"));
-    Scene::parse_file(&path).unwrap()
+    Scene::builtin(name).unwrap()
 }
 
-/// What a run ends with: samples and the global sums.
-struct End<const D: usize> {
-    samples: Samples<D>,
-    energy: f64,
-    work: f64,
-    momentum: Vector<D>,
-    impulse: Vector<D>,
+/// `body` on `ranks` thread ranks, its results in rank order.
+fn on_ranks<T: Send>(ranks: usize, body: impl Fn(Arc<dyn Comm>) -> T + Sync) -> Vec<T> {
+    ThreadComm::on_ranks(ranks, body)
 }
 
-fn finish<const D: usize>(m: &dyn Method<D>) -> End<D> {
-    let mut samples = Samples::default();
-    m.sample_into(&mut samples);
-    End {
-        samples,
-        energy: m.energy(),
-        work: m.external_work(),
-        momentum: m.momentum(),
-        impulse: m.external_impulse(),
-    }
-}
-
-fn steps<const D: usize>(m: &mut dyn Method<D>, n: usize) {
-    let dt = m.stable_dt();
-    for k in 0..n {
-        m.step(k as f64 * dt, dt);
-    }
-}
-
-/// The serial run and the run on `ranks` thread ranks (every rank's end, which must agree).
 fn runs<const D: usize>(
     problem: &Problem<D>,
     config: MethodConfig,
     ranks: usize,
     n: usize,
-) -> (End<D>, Vec<End<D>>) {
-    let mut serial = Dgmpm::<D>::new(problem, config).unwrap();
-    steps(&mut serial, n);
-    let serial = finish(&serial);
-    let ends = ThreadComm::run(ranks, |comm| {
-        let mut m = SlabDgmpm::<D>::new(problem, config, comm).unwrap();
-        steps(&mut m, n);
-        finish(&m)
+) -> (RunEnd<D>, Vec<RunEnd<D>>) {
+    let serial = RunEnd::after_steps(&mut Dgmpm::<D>::new(problem, config).unwrap(), n);
+    let ends = on_ranks(ranks, |comm| {
+        RunEnd::after_steps(&mut SlabDgmpm::<D>::new(problem, config, comm).unwrap(), n)
     });
     (serial, ends)
 }
@@ -202,7 +173,7 @@ fn a_blowup_on_one_rank_is_seen_by_every_rank() {
     let bad = serial.state.points.len() - 40; // in the last rank's slab
     serial.state.points.velocity[bad][1] = f64::NAN;
     let expected = serial.check_finite().unwrap_err();
-    let reports = ThreadComm::run(3, |comm| {
+    let reports = on_ranks(3, |comm| {
         let mut m = SlabDgmpm::<2>::new(&problem, config, comm).unwrap();
         m.perturb_velocity(&mut |i, _| {
             Vector::<2>::new(0.0, if i == bad { f64::NAN } else { 0.0 })
@@ -223,7 +194,7 @@ fn too_many_ranks_are_refused_on_every_rank() {
     short.domain.cells = vec![3];
     let problem = Problem::<1>::from_scene(&short).unwrap();
     let config = short.method_config(MethodKind::Dgmpm);
-    let messages = ThreadComm::run(4, |comm| {
+    let messages = on_ranks(4, |comm| {
         SlabDgmpm::<1>::new(&problem, config, comm)
             .unwrap_err()
             .to_string()
@@ -261,7 +232,7 @@ fn halo_bytes_per_step_are_one_layer_per_neighbour() {
     let plate = scene("plate");
     let problem = Problem::<2>::from_scene(&plate).unwrap();
     let config = plate.method_config(MethodKind::Dgmpm);
-    let bytes = ThreadComm::run(3, |comm| {
+    let bytes = on_ranks(3, |comm| {
         SlabDgmpm::<2>::new(&problem, config, comm)
             .unwrap()
             .bytes_per_step()

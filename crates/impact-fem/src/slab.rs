@@ -44,8 +44,9 @@
 //! nodes are consecutive runs of the global order), so outputs equal the serial ones.
 use crate::Fem;
 use impact_core::comm::{Comm, Slab};
+use impact_core::comm_gather::{gather_samples, hottest_place};
+use impact_core::comm_method::gather_vectors;
 use impact_core::comm_method::HaloBuffers;
-use impact_core::comm_method::{gather_samples, gather_vectors, hottest_of_ranks};
 use impact_core::method::{Method, MethodConfig, Samples};
 use impact_core::{CoreError, Grid, Problem, Vector};
 use std::sync::Arc;
@@ -168,6 +169,12 @@ impl<const D: usize> SlabFem<D> {
 
 impl<const D: usize> Method<D> for SlabFem<D> {
     impact_core::reduced_over_ranks!();
+    fn cells(&self) -> usize {
+        self.global_cells
+    }
+    fn updates_per_step(&self) -> usize {
+        self.global_cells
+    }
     fn config(&self) -> &MethodConfig {
         self.local.config()
     }
@@ -181,7 +188,7 @@ impl<const D: usize> Method<D> for SlabFem<D> {
         gather_samples(self.comm.as_ref(), &mine, out);
     }
     fn hottest_place(&self) -> Vector<D> {
-        hottest_of_ranks(self.comm.as_ref(), self.local.hottest_owned())
+        hottest_place(self.comm.as_ref(), self.local.hottest_owned())
     }
     fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
         self.local.perturb_velocity(kick);

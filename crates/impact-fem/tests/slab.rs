@@ -116,7 +116,7 @@ fn check<const D: usize>(label: &str, scene: &Scene, path: Path, n: usize) {
         "{label}: serial momentum balance {balance}"
     );
     for ranks in 1..=4 {
-        let ends = ThreadComm::run(ranks, |comm| {
+        let ends = ThreadComm::on_ranks(ranks, |comm| {
             let mut m = SlabFem::<D>::new(&problem, config, comm).unwrap();
             take_path(&mut m.local, path);
             steps(&mut m, n);
@@ -213,7 +213,7 @@ fn a_blowup_on_one_rank_is_seen_by_every_rank() {
     let bad = serial.state.velocity_half.len() - 40; // in the last rank's slab
     serial.state.velocity_half[bad][1] = f64::NAN;
     let expected = serial.check_finite().unwrap_err();
-    let reports = ThreadComm::run(3, |comm| {
+    let reports = ThreadComm::on_ranks(3, |comm| {
         let mut m = SlabFem::<2>::new(&problem, config, comm).unwrap();
         m.perturb_velocity(&mut |i, _| {
             Vector::<2>::new(0.0, if i == bad { f64::NAN } else { 0.0 })
@@ -233,7 +233,7 @@ fn too_many_ranks_are_refused_on_every_rank() {
     short.domain.cells = vec![3];
     let problem = Problem::<1>::from_scene(&short).unwrap();
     let config = short.method_config(MethodKind::Fem);
-    let messages = ThreadComm::run(4, |comm| {
+    let messages = ThreadComm::on_ranks(4, |comm| {
         SlabFem::<1>::new(&problem, config, comm)
             .unwrap_err()
             .to_string()
@@ -253,7 +253,7 @@ fn halo_bytes_per_step_are_one_node_layer_per_neighbour() {
     let plate = scene("plate");
     let problem = Problem::<2>::from_scene(&plate).unwrap();
     let config = plate.method_config(MethodKind::Fem);
-    let bytes = ThreadComm::run(3, |comm| {
+    let bytes = ThreadComm::on_ranks(3, |comm| {
         SlabFem::<2>::new(&problem, config, comm)
             .unwrap()
             .bytes_per_step()

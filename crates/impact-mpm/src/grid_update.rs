@@ -11,7 +11,7 @@ impl<const D: usize> MpmSolver<D> {
     /// prescribed nodal velocities, their averages over the step `window` (the velocity
     /// that moves the points over it: the displacement of the loaded face is exact).
     /// Returns the work done in the step by the velocity constraints, `Δt Σ r · v_d`, and
-    /// the impulse of the reaction forces, `Δt Σ r`.
+    /// the impulse of the reaction forces, `Δt Σ r` (over the own nodes).
     pub fn grid_update(&mut self, dt: f64, window: (f64, f64)) -> (f64, Vector<D>) {
         self.fold_padding(window, true);
         let nodes = &mut self.nodes;
@@ -34,6 +34,8 @@ impl<const D: usize> MpmSolver<D> {
         });
         let mut work = 0.0;
         let mut impulse = Vector::<D>::zeros();
+        // a slab counts its own nodes' reactions (`crate::Place`)
+        let owned = &self.place.owned_nodes;
         let mut hold = |nodes: &mut crate::NodeSums<D>, v: usize, axis: usize, value: f64| {
             let m = nodes.mass[v];
             if empty.holds(v, m) {
@@ -42,8 +44,10 @@ impl<const D: usize> MpmSolver<D> {
                 // reaction force of the constraint, kept in the force for the FLIP update
                 let reaction = (value * m - old) / dt;
                 nodes.force[v][axis] += reaction;
-                work += dt * reaction * value;
-                impulse[axis] += dt * reaction;
+                if owned.contains(&v) {
+                    work += dt * reaction * value;
+                    impulse[axis] += dt * reaction;
+                }
             }
         };
         for c in &self.node_constraints {

@@ -19,21 +19,21 @@ impl<const D: usize> MpmSolver<D> {
                 MpmFrame::TotalLagrangian => points.reference[load.point],
                 MpmFrame::UpdatedLagrangian => points.position[load.point],
             } + load.offset;
-            let Some((c, xi)) = self.grid.locate(&x) else {
+            // on the whole grid, shifted to this one's nodes (`crate::Place`)
+            let whole = &self.place.whole;
+            let Some((c, xi)) = whole.locate(&x) else {
                 continue;
             };
-            self.grid.shape(&xi, &mut s[..npc], &mut g[..npc]);
-            let with_mass = |a: usize| {
-                let i = self.grid.vertex_of(c, a);
-                self.empty.holds(i, self.nodes.mass[i])
-            };
+            whole.shape(&xi, &mut s[..npc], &mut g[..npc]);
+            let node = |a: usize| whole.vertex_of(c, a) - self.place.node_offset;
+            let with_mass = |a: usize| self.empty.holds(node(a), self.nodes.mass[node(a)]);
             let total: f64 = (0..npc).filter(|&a| with_mass(a)).map(|a| s[a]).sum();
             if total <= 0.0 {
                 continue;
             }
             let force = load.force * load.history.mean(window.0, window.1);
             for a in 0..npc {
-                let i = self.grid.vertex_of(c, a);
+                let i = node(a);
                 if self.empty.holds(i, self.nodes.mass[i]) {
                     self.nodes.force[i] += force * (s[a] / total);
                 }
@@ -42,17 +42,19 @@ impl<const D: usize> MpmSolver<D> {
     }
 
     /// Power of the surface loads over the step `window`, `Σ F ḡ · v_p` with `ḡ` the step
-    /// average of `g` and `v_p` the velocity of the loaded point.
+    /// average of `g` and `v_p` the velocity of the loaded point (own points only).
     pub(crate) fn load_power(&self, points: &MaterialPoints<D>, window: (f64, f64)) -> f64 {
         self.loads
             .iter()
+            .filter(|l| self.place.owns(l.point))
             .map(|l| l.history.mean(window.0, window.1) * l.force.dot(&points.velocity[l.point]))
             .sum()
     }
 
     /// Points on a velocity edge take the prescribed velocity (as the paper does), its
     /// average over the step `window` (its value at `t0` for an empty window, the state at
-    /// `t = 0`). Returns the impulse this gives them, `Σ m_p Δv_p`.
+    /// `t = 0`). Returns the impulse this gives them, `Σ m_p Δv_p` (over the own points:
+    /// a slab's halo points are its neighbours').
     pub(crate) fn impose_point_velocities(
         &self,
         points: &mut MaterialPoints<D>,
@@ -61,7 +63,9 @@ impl<const D: usize> MpmSolver<D> {
         let mut kick = Vector::<D>::zeros();
         for c in &self.point_constraints {
             let (p, axis, value) = (c.carrier, c.axis, c.mean(window));
-            kick[axis] += points.mass[p] * (value - points.velocity[p][axis]);
+            if self.place.owns(p) {
+                kick[axis] += points.mass[p] * (value - points.velocity[p][axis]);
+            }
             points.velocity[p][axis] = value;
         }
         kick

@@ -15,15 +15,16 @@ impl<const D: usize> Method<D> for Mpm<D> {
         self.solver.step(&mut self.state, t, dt);
     }
     fn sample_into(&self, out: &mut Samples<D>) {
-        self.state.points.sample_into(out);
+        let own = self.owned_points();
+        self.state.points.sample_range_into(own.clone(), out);
         if let Model::J2(j2) = &self.solver.model {
-            j2.samples_zz(out, &self.state.points.plastic_strain_zz);
+            j2.samples_zz(out, &self.state.points.plastic_strain_zz[own]);
         }
     }
     fn energy(&self) -> f64 {
         let p = &self.state.points;
         let m = &self.solver.material;
-        p.energy(|i| match self.solver.model {
+        p.energy_in(self.owned_points(), |i| match self.solver.model {
             Model::LinearElastic => m.energy_density(&p.stress[i]),
             Model::Svk(svk) => svk.energy_density(&p.deformation[i]),
             Model::J2(j2) => {
@@ -38,7 +39,7 @@ impl<const D: usize> Method<D> for Mpm<D> {
         self.state.work
     }
     fn momentum(&self) -> Vector<D> {
-        self.state.points.momentum()
+        self.state.points.momentum_in(self.owned_points())
     }
     fn external_impulse(&self) -> Vector<D> {
         self.state.impulse
@@ -67,7 +68,9 @@ impl<const D: usize> Method<D> for Mpm<D> {
                     None => self.solver.stencil.fits(&self.solver.grid, &p.position[i]),
                 }
         };
-        let Some(i) = first_failing(p.len(), |i| finite(i) && admissible(i) && fits(i)) else {
+        let own = self.owned_points();
+        let ok = |i: usize| finite(i) && admissible(i) && fits(i);
+        let Some(i) = first_failing(own.len(), |j| ok(own.start + j)).map(|j| own.start + j) else {
             return Ok(());
         };
         let reason = if !finite(i) {
@@ -86,7 +89,9 @@ impl<const D: usize> Method<D> for Mpm<D> {
         })
     }
     fn hottest_place(&self) -> Vector<D> {
-        self.state.points.hottest_place()
+        let p = &self.state.points;
+        p.hottest_in(self.owned_points())
+            .map_or_else(Vector::<D>::zeros, |i| p.reference[i])
     }
     fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
         self.state.points.perturb_velocity(kick);
@@ -95,6 +100,14 @@ impl<const D: usize> Method<D> for Mpm<D> {
         self.solver.body.cell_count()
     }
     fn updates_per_step(&self) -> usize {
-        self.state.points.len()
+        self.owned_points().len()
+    }
+}
+
+impl<const D: usize> Mpm<D> {
+    /// The points this solver owns: all of them on one rank, a slab's own layers' points
+    /// (`crate::slab`); the diagnostics and samples cover these.
+    pub fn owned_points(&self) -> std::ops::Range<usize> {
+        self.solver.place.owned_points.clone()
     }
 }

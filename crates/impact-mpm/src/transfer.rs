@@ -10,7 +10,10 @@
 //! writes through `split_at_mut`, no partial sums, no lock, no unsafe). Blocks of
 //! `BLOCK_LAYERS` (8) layers, fixed by the grid: a block's nodes stay in cache while its
 //! points add to them (colouring single layers sent every node layer through memory once
-//! per colour), and sums do not depend on the thread count. A serial run takes one pass,
+//! per colour), and sums do not depend on the thread count. The blocks follow the whole
+//! grid's layers, so a rank's slab (`slab.rs`) adds each node's points in the order of one
+//! rank's run (the colour passes change that order for nodes where two blocks meet). A
+//! serial run takes one pass,
 //! layer by layer, zeroing each node layer just before its first point. The points are
 //! counting-sorted by layer when their cells change (once in the total Lagrangian frame,
 //! where they are in layer order from the start and the scatters read them directly).
@@ -180,36 +183,58 @@ impl<const D: usize> MpmSolver<D> {
             return;
         }
         // blocks of `block` point layers write `block + w - 1` node layers, within the
-        // `2 block` layers up to the next block of the same colour
+        // `2 block` layers up to the next block of the same colour; the blocks follow the
+        // whole grid's layers (a slab's local layer `k` is `k + lead` of a grid whose blocks
+        // start at 0), so every node adds its points in one rank's order
         let block = BLOCK_LAYERS.max(width - 1);
-        let band = 2 * block * layer_nodes;
+        let period = 2 * block;
+        let lead = self.place.first_layer % period;
+        let run_block = |first: isize, sums: &mut Band<'_, D>| {
+            let clamp = |k: isize| k.clamp(0, layers as isize) as usize;
+            for k in starts[clamp(first)]..starts[clamp(first + block as isize)] {
+                contribution(point_at(k), sums);
+            }
+        };
         for colour in 0..2 {
-            let from = (colour * block * layer_nodes).min(nodes.mass.len());
+            // this colour's first band at or above local layer 0, and below it the tail of
+            // the band before (whose block starts below this grid: a slab's)
+            let from_layer = (colour * block + period - lead) % period;
+            let from = (from_layer * layer_nodes).min(nodes.mass.len());
+            let (head_mass, mass) = nodes.mass.split_at_mut(from);
+            let (head_momentum, momentum) = nodes.momentum.split_at_mut(from);
+            let (head_force, force) = nodes.force.split_at_mut(from);
+            if colour == 0 {
+                zero(head_mass, head_momentum, head_force);
+            }
+            let mut head = Band {
+                mass: head_mass,
+                momentum: head_momentum,
+                force: head_force,
+                offset: 0,
+            };
+            run_block(from_layer as isize - period as isize, &mut head);
             let bands = (
-                chunks(&mut nodes.mass[from..], band),
-                chunks(&mut nodes.momentum[from..], band),
-                chunks(&mut nodes.force[from..], band),
+                chunks(mass, period * layer_nodes),
+                chunks(momentum, period * layer_nodes),
+                chunks(force, period * layer_nodes),
             );
             for_each_chunk(self.parallel, 1, bands, |r, (mass, momentum, force)| {
-                // colour 0's bands cover every node once, each written first by its own
-                // task: zeroed there, while in cache (no pass of its own)
+                // colour 0's bands (and head) cover every node once, each written first by
+                // its own task: zeroed there, while in cache (no pass of its own)
                 if colour == 0 {
                     zero(mass, momentum, force);
                 }
-                let first = (colour + 2 * r) * block;
+                let first = from_layer + r * period;
                 if first >= layers {
                     return;
                 }
-                let last = (first + block).min(layers);
                 let mut sums = Band {
                     mass,
                     momentum,
                     force,
                     offset: first * layer_nodes,
                 };
-                for k in starts[first]..starts[last] {
-                    contribution(point_at(k), &mut sums);
-                }
+                run_block(first as isize, &mut sums);
             });
         }
     }

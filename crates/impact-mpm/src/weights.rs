@@ -6,7 +6,7 @@ use crate::MpmSolver;
 use impact_core::method::MpmFrame;
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
-use impact_core::Vector;
+use impact_core::{Tensor, Vector};
 
 /// Points per chunk of the point loops.
 const CHUNK: usize = 2048;
@@ -20,7 +20,8 @@ impl<const D: usize> MpmSolver<D> {
             return;
         }
         let nodes = self.stencil.nodes;
-        let (grid, stencil) = (&self.grid, &self.stencil);
+        // on the whole grid, shifted to this one's nodes (`crate::Place`)
+        let (grid, stencil, offset) = (&self.place.whole, &self.stencil, self.place.node_offset);
         let parts = (
             chunks(&mut self.point_base, CHUNK),
             chunks(&mut self.shape, CHUNK * nodes),
@@ -43,7 +44,7 @@ impl<const D: usize> MpmSolver<D> {
                     None => stencil.evaluate(grid, x, values, gradients),
                 };
                 if let Some((b, _)) = evaluated {
-                    *base = b;
+                    *base = b - offset;
                 }
             }
         });
@@ -53,30 +54,37 @@ impl<const D: usize> MpmSolver<D> {
     /// The weights' storage, at construction: in the total Lagrangian frame, if every
     /// point's weights equal the first point's (to 1e-12 of their size: the same local
     /// position in every cell), one row shared by all (`weight_stride` 0) and the shapes
-    /// are ready; otherwise a row per point, filled by [`Self::update_shapes`].
-    pub(crate) fn allocate_weights(&mut self, points: &MaterialPoints<D>) {
+    /// are ready; otherwise a row per point, filled by [`Self::update_shapes`]. The shared
+    /// row is evaluated at `share_from`, the reference position and CPDI domain of the
+    /// body's first point (a slab's first point is another one: its row would differ from
+    /// one rank's in the last bits).
+    pub(crate) fn allocate_weights(
+        &mut self,
+        points: &MaterialPoints<D>,
+        share_from: (Option<Vector<D>>, Option<Tensor<D>>),
+    ) {
         let nodes = self.stencil.nodes;
         let count = points.len();
-        if self.options.frame == MpmFrame::TotalLagrangian && count > 0 {
+        if let (MpmFrame::TotalLagrangian, Some(first_x)) = (self.options.frame, share_from.0) {
             let mut first = (vec![0.0; nodes], vec![Vector::<D>::zeros(); nodes]);
             let mut other = first.clone();
-            let (grid, stencil) = (&self.grid, &self.stencil);
-            let evaluate = |p: usize, (values, gradients): &mut (Vec<f64>, Vec<Vector<D>>)| {
-                let x = &points.reference[p];
-                match points.domain.get(p) {
-                    Some(domain) => stencil.evaluate_domain(grid, x, domain, values, gradients),
-                    None => stencil.evaluate(grid, x, values, gradients),
-                }
-            };
-            let base = evaluate(0, &mut first);
+            let (grid, stencil) = (&self.place.whole, &self.stencil);
+            let offset = self.place.node_offset;
+            let evaluate =
+                |x: &Vector<D>,
+                 domain: Option<&Tensor<D>>,
+                 (values, gradients): &mut (Vec<f64>, Vec<Vector<D>>)| {
+                    match domain {
+                        Some(domain) => stencil.evaluate_domain(grid, x, domain, values, gradients),
+                        None => stencil.evaluate(grid, x, values, gradients),
+                    }
+                };
+            let base = evaluate(&first_x, share_from.1.as_ref(), &mut first);
             let scale = first.1.iter().map(|g| g.amax()).fold(0.0, f64::max);
             let mut shared = base.is_some();
-            if let Some((b, _)) = base {
-                self.point_base[0] = b;
-            }
-            for p in 1..count {
-                match evaluate(p, &mut other) {
-                    Some((b, _)) => self.point_base[p] = b,
+            for p in 0..count {
+                match evaluate(&points.reference[p], points.domain.get(p), &mut other) {
+                    Some((b, _)) => self.point_base[p] = b - offset,
                     None => shared = false,
                 }
                 shared &= other

@@ -1,0 +1,82 @@
+//! The global values of a method split in slabs ([`crate::comm`]), formed from each rank's
+//! own points: the samples gathered in rank order (the global point order, so outputs equal
+//! one rank's), the first failure over the ranks at its global place, and the fastest
+//! point's place. Shared by the point methods' slab wrappers (DGMPM, MPM).
+use crate::comm::{Comm, CommError};
+use crate::method::{BadState, Samples};
+use crate::{Tensor, Vector};
+
+/// Every rank's samples `mine` (its own points, in order) concatenated in rank order into
+/// `out` on every rank. The plastic strain and the out-of-plane stress are carried where
+/// `mine` has them (every rank alike: one model).
+pub fn gather_samples<const D: usize>(comm: &dyn Comm, mine: &Samples<D>, out: &mut Samples<D>) {
+    let (plastic, zz) = (!mine.plastic_strain.is_empty(), !mine.stress_zz.is_empty());
+    let width = 4 * D + D * D + usize::from(plastic) + usize::from(zz);
+    let mut packed = Vec::with_capacity(mine.len() * width);
+    for i in 0..mine.len() {
+        packed.extend_from_slice(mine.reference[i].as_slice());
+        packed.extend_from_slice(mine.position[i].as_slice());
+        packed.extend_from_slice(mine.half_size[i].as_slice());
+        packed.extend_from_slice(mine.stress[i].as_slice());
+        packed.extend_from_slice(mine.velocity[i].as_slice());
+        if plastic {
+            packed.push(mine.plastic_strain[i]);
+        }
+        if zz {
+            packed.push(mine.stress_zz[i]);
+        }
+    }
+    let all = comm.all_gather(&packed);
+    out.clear();
+    for s in all.chunks_exact(width) {
+        let v = |k: usize| Vector::<D>::from_column_slice(&s[k * D..(k + 1) * D]);
+        out.reference.push(v(0));
+        out.position.push(v(1));
+        out.half_size.push(v(2));
+        out.stress
+            .push(Tensor::<D>::from_column_slice(&s[3 * D..3 * D + D * D]));
+        out.velocity.push(Vector::<D>::from_column_slice(
+            &s[3 * D + D * D..4 * D + D * D],
+        ));
+        let mut k = 4 * D + D * D;
+        if plastic {
+            out.plastic_strain.push(s[k]);
+            k += 1;
+        }
+        if zz {
+            out.stress_zz.push(s[k]);
+        }
+    }
+}
+
+/// The first failure over the ranks (the lowest failing rank's), the same [`BadState`] on
+/// every rank: its reason and its global place.
+pub fn first_bad<const D: usize>(
+    comm: &dyn Comm,
+    local: Result<(), BadState<D>>,
+) -> Result<(), BadState<D>> {
+    let reason = local.as_ref().err().map(|b| b.reason.clone());
+    let Some(CommError::Rank { rank, message }) = comm.first_error(reason.as_deref()) else {
+        return Ok(());
+    };
+    let place = local.err().map_or_else(Vector::<D>::zeros, |b| b.place);
+    let all = comm.all_gather(place.as_slice());
+    Err(BadState {
+        place: Vector::<D>::from_fn(|k, _| all[rank * D + k]),
+        reason: message,
+    })
+}
+
+/// The place of the fastest point over the ranks, from each rank's `(speed, place)` of its
+/// fastest own point (`None` where it owns none): the last rank of the largest speed, as one
+/// rank's `max_by` keeps the last of equals.
+pub fn hottest_place<const D: usize>(comm: &dyn Comm, mine: Option<(f64, Vector<D>)>) -> Vector<D> {
+    let (speed, place) = mine.unwrap_or((f64::NEG_INFINITY, Vector::<D>::zeros()));
+    let mut entry = vec![speed];
+    entry.extend_from_slice(place.as_slice());
+    let all = comm.all_gather(&entry);
+    let best = (0..comm.size())
+        .max_by(|&a, &b| all[a * (D + 1)].total_cmp(&all[b * (D + 1)]))
+        .unwrap_or(0);
+    Vector::<D>::from_column_slice(&all[best * (D + 1) + 1..(best + 1) * (D + 1)])
+}

@@ -1,0 +1,176 @@
+//! A point method on one rank's slab as a [`Method`] whose values are global (issue 27):
+//! [`OnSlab`] wraps the method's solver built on the slab's stored layers (its own layers
+//! plus the halo, [`Slab`]), exchanges the halo's point state once per step before the
+//! step ([`PointHalo`]), and reduces what the controller reads over the ranks. Shared by
+//! the point methods (DGMPM's `SlabDgmpm`, MPM's `SlabMpm`), which say how to build their
+//! solver on a slab ([`SlabBuild`]) and which points it owns ([`SlabLocal`]).
+//!
+//! Reductions: the time step is the minimum over the ranks; the energy, work, momentum and
+//! impulse are each rank's own sums added in rank order ([`crate::comm`]: equal to one
+//! rank's to round-off); samples are gathered in rank order (the global point order), the
+//! first failure and the fastest point found over the ranks ([`crate::comm_gather`]).
+use crate::comm::{Comm, Slab};
+use crate::comm_gather;
+use crate::comm_halo::PointHalo;
+use crate::method::{Method, MethodConfig, Samples};
+use crate::points::MaterialPoints;
+use crate::{CoreError, Problem, Tensor, Vector};
+use std::sync::Arc;
+
+/// A point method's solver on a slab's stored layers, as [`OnSlab`] reads it: its values
+/// (energy, momentum, samples, checks) cover its own points only.
+pub trait SlabLocal<const D: usize>: Method<D> {
+    /// The stored points (layer by layer).
+    fn points(&self) -> &MaterialPoints<D>;
+    /// The stored points and the extra tensor per point the halo carries (empty if none).
+    fn halo_state(&mut self) -> (&mut MaterialPoints<D>, &mut [Tensor<D>]);
+    /// The points this solver owns (local indices: its own layers').
+    fn owned_points(&self) -> std::ops::Range<usize>;
+}
+
+/// What [`SlabBuild::on_slab`] returns: the local solver and where it lies.
+#[derive(Debug)]
+pub struct SlabParts<M> {
+    /// The solver on the stored layers.
+    pub local: M,
+    /// The slab.
+    pub slab: Slab,
+    /// Points per layer of cells.
+    pub per_layer: usize,
+    /// The whole run's [`Method::cells`] and [`Method::updates_per_step`].
+    pub cells: usize,
+    /// See `cells`.
+    pub updates_per_step: usize,
+}
+
+/// How a point method builds its solver on one rank's slab.
+pub trait SlabBuild<const D: usize>: SlabLocal<D> + Sized {
+    /// This rank's solver of `problem` on its slab (every rank builds its own; a bad
+    /// input is refused on every rank alike, before any communication).
+    fn on_slab(
+        problem: &Problem<D>,
+        config: MethodConfig,
+        comm: &dyn Comm,
+    ) -> Result<SlabParts<Self>, CoreError>;
+}
+
+/// A point method on one rank's slab, a [`Method`] whose values are global (module doc).
+#[derive(Debug)]
+pub struct OnSlab<const D: usize, M> {
+    /// The slab's solver (own layers and halo).
+    pub local: M,
+    comm: Arc<dyn Comm>,
+    slab: Slab,
+    per_layer: usize,
+    cells: usize,
+    updates_per_step: usize,
+    initial_energy: f64,
+    halo: PointHalo,
+}
+
+impl<const D: usize, M: SlabBuild<D>> OnSlab<D, M> {
+    /// This rank's slab of `problem` ([`SlabBuild::on_slab`]).
+    pub fn new(
+        problem: &Problem<D>,
+        config: MethodConfig,
+        comm: Arc<dyn Comm>,
+    ) -> Result<Self, CoreError> {
+        let mut parts = M::on_slab(problem, config, comm.as_ref())?;
+        let initial_energy = comm.all_reduce_sum(parts.local.initial_energy());
+        let (points, extra) = parts.local.halo_state();
+        let halo = PointHalo::new(&parts.slab, parts.per_layer, points, extra);
+        Ok(Self {
+            local: parts.local,
+            comm,
+            slab: parts.slab,
+            per_layer: parts.per_layer,
+            cells: parts.cells,
+            updates_per_step: parts.updates_per_step,
+            initial_energy,
+            halo,
+        })
+    }
+}
+
+impl<const D: usize, M> OnSlab<D, M> {
+    /// The slab this rank stores.
+    pub fn slab(&self) -> &Slab {
+        &self.slab
+    }
+
+    /// Bytes this rank sends per step (the halo's point state, both neighbours).
+    pub fn bytes_per_step(&self) -> usize {
+        self.halo.bytes_per_step()
+    }
+}
+
+impl<const D: usize, M: SlabLocal<D>> Method<D> for OnSlab<D, M> {
+    fn config(&self) -> &MethodConfig {
+        self.local.config()
+    }
+    fn step(&mut self, t: f64, dt: f64) {
+        let (points, extra) = self.local.halo_state();
+        self.halo
+            .exchange(self.comm.as_ref(), &self.slab, points, extra);
+        self.local.step(t, dt);
+    }
+    fn sample_into(&self, out: &mut Samples<D>) {
+        // (outputs and the guard's max-norm test only: the buffers are the caller's)
+        let mut mine = Samples::<D>::default();
+        self.local.sample_into(&mut mine);
+        comm_gather::gather_samples(self.comm.as_ref(), &mine, out);
+    }
+    crate::reduced_over_ranks!();
+    fn hottest_place(&self) -> Vector<D> {
+        let p = self.local.points();
+        let mine = p
+            .hottest_in(self.local.owned_points())
+            .map(|i| (p.velocity[i].norm(), p.reference[i]));
+        comm_gather::hottest_place(self.comm.as_ref(), mine)
+    }
+    fn cells(&self) -> usize {
+        self.cells
+    }
+    fn updates_per_step(&self) -> usize {
+        self.updates_per_step
+    }
+    fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
+        let first = self.slab.stored.start * self.per_layer;
+        self.local.perturb_velocity(&mut |i, x| kick(first + i, x));
+    }
+}
+
+/// The samples and global sums a run ends with: what a decomposed run is compared on
+/// against one rank (the point methods' slab tests).
+#[derive(Debug, Clone)]
+pub struct RunEnd<const D: usize> {
+    /// The sampled fields.
+    pub samples: Samples<D>,
+    /// [`Method::energy`].
+    pub energy: f64,
+    /// [`Method::external_work`].
+    pub work: f64,
+    /// [`Method::momentum`].
+    pub momentum: Vector<D>,
+    /// [`Method::external_impulse`].
+    pub impulse: Vector<D>,
+}
+
+impl<const D: usize> RunEnd<D> {
+    /// `m` after `steps` steps of its stable time step from `t = 0`.
+    pub fn after_steps(m: &mut dyn Method<D>, steps: usize) -> Self {
+        let dt = m.stable_dt();
+        for k in 0..steps {
+            m.step(k as f64 * dt, dt);
+        }
+        let mut samples = Samples::default();
+        m.sample_into(&mut samples);
+        Self {
+            samples,
+            energy: m.energy(),
+            work: m.external_work(),
+            momentum: m.momentum(),
+            impulse: m.external_impulse(),
+        }
+    }
+}
