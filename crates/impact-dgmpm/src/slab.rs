@@ -23,8 +23,15 @@
 //! Diagnostics are reduced over the owned points only: the energy and momentum in rank
 //! order ([`impact_core::comm`]), so they differ from one rank's sums by round-off
 //! (`Σ_r Σ_{i∈r}` against `Σ_i`); the boundary work and impulse of a halo layer's edge
-//! faces count on its owner only. Samples are gathered to every rank in rank order (the
-//! global point order), so outputs and error metrics equal the serial ones.
+//! faces count on its owner only. [`Method::sample_into`] gathers the samples to every
+//! rank in rank order (the global point order), so profiles and error metrics equal the
+//! serial ones; [`Method::owned_samples_into`] gives this rank's owned points only (the
+//! guard's max norms reduce over them, and each rank writes them as its output piece).
+//!
+//! **Memory.** Each rank seeds only its stored layers' points
+//! ([`Problem::material_points_of_layers`], from the whole grid's origin and global cell
+//! indices: the same bits as the whole body's), so a rank's points and solver buffers
+//! scale with `1/ranks` (plus the halo).
 use crate::{Dgmpm, GridPlace};
 use impact_core::comm::{sum_vector, Comm, CommError, Slab};
 use impact_core::method::{BadState, DgmpmOptions, Integrator, Method, MethodConfig, Samples};
@@ -91,10 +98,9 @@ impl<const D: usize> SlabDgmpm<D> {
             halo_layers(&options),
         )?;
         let per_layer = global.cell_count() / global.cells[D - 1] * config.points_per_cell;
-        // the whole body's points, cut to the stored layers: the same bits as one rank's
-        let points = problem
-            .material_points(global, &config)?
-            .select(slab.stored.start * per_layer..slab.stored.end * per_layer);
+        // only the stored layers' points, seeded from the whole grid's origin and global
+        // cell indices: the same bits as one rank's, in memory that shrinks with the ranks
+        let points = problem.material_points_of_layers(global, &config, slab.stored.clone())?;
         let mut part = problem.clone();
         part.grid = slab.grid(global);
         for side in 0..2 {
@@ -296,6 +302,12 @@ impl<const D: usize> Method<D> for SlabDgmpm<D> {
                 out.stress_zz.push(s[k]);
             }
         }
+    }
+    fn owned_samples_into(&self, out: &mut Samples<D>) {
+        self.local.sample_into(out);
+    }
+    fn comm(&self) -> &dyn Comm {
+        self.comm.as_ref()
     }
     fn energy(&self) -> f64 {
         self.comm.all_reduce_sum(self.local.energy())
