@@ -54,6 +54,13 @@ a, b, n = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), int(sys.ar
 ra, rb = a["runs"][0], b["runs"][0]
 assert rb.get("ranks", 1) == n and (n == 1 or "slabs" in rb["decomposition"]), rb.get("decomposition")
 assert ra["steps"] == rb["steps"] and ra["cells"] == rb["cells"]
+# the halo: one layer of points each way per neighbour pair, 8 B per value (x, v, sigma:
+# 2 + 2 + 4 values in 2D, 1 + 1 + 1 in 1D); the bar has 1 point per layer, the plate 33
+if n > 1:
+    per_layer, values = {1: (1, 3), 2: (33, 8)}[a["dim"]]
+    assert rb["bytes_per_step"] == 2 * (n - 1) * per_layer * values * 8, rb["bytes_per_step"]
+else:
+    assert "bytes_per_step" not in rb
 for ta, tb in zip(ra["times"], rb["times"], strict=True):
     for k, va in ta.items():
         vb = tb[k]

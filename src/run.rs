@@ -39,6 +39,10 @@ pub struct RunRecord {
     /// How it was split (absent on one rank).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub decomposition: Option<String>,
+    /// Bytes all ranks send each other per step, summed over the ranks (absent on one
+    /// rank; [`impact_core::Method::bytes_exchanged_per_step`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bytes_per_step: Option<usize>,
 }
 
 /// Hooks for progress and output during [`run_method`] (called on the rayon worker that
@@ -182,6 +186,10 @@ pub fn run_method<const D: usize>(
         error: None,
         ranks: (crate::ranks::size() > 1).then(crate::ranks::size),
         decomposition: crate::ranks::decomposition(problem, &config),
+        bytes_per_step: (crate::ranks::size() > 1).then(|| {
+            let mine = method.bytes_exchanged_per_step() as f64;
+            crate::ranks::comm().all_reduce_sum(mine) as usize
+        }),
     };
     match result {
         Ok(stats) => {

@@ -135,6 +135,11 @@ pub trait Method<const D: usize>: Send {
     fn comm(&self) -> &dyn Comm {
         &SerialComm
     }
+    /// Bytes this rank sends to the other ranks per step (the halo exchange): 0 on one
+    /// rank (the default).
+    fn bytes_exchanged_per_step(&self) -> usize {
+        0
+    }
     /// Nodal velocities and displacements of a conforming mesh on the body's grid, for the
     /// methods that have one (FEM); `None` for the point methods. Called at outputs only.
     fn mesh_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {

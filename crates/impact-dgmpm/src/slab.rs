@@ -309,6 +309,9 @@ impl<const D: usize> Method<D> for SlabDgmpm<D> {
     fn comm(&self) -> &dyn Comm {
         self.comm.as_ref()
     }
+    fn bytes_exchanged_per_step(&self) -> usize {
+        self.bytes_per_step()
+    }
     fn energy(&self) -> f64 {
         self.comm.all_reduce_sum(self.local.energy())
     }
