@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # The MPI checks (issue 27), run by scripts/test.sh after `cargo build --release --features mpi`:
-# DGMPM, MPM and FEM on bar and plate under `mpirun -np N`, N = 1..4, write the same fields as the
-# serial run (profiles, VTK pieces and the metrics of summary.json byte for byte; the
-# relative energy error, of sums per rank then in rank order, to 1e-12); a bad input, a method
-# or option that is not decomposed (MPM's updated frame) and a blow-up stop every rank with one
-# message and a non-zero exit.
+# DGMPM, MPM and FEM on bar and plate under `mpirun -np N`, N = 1..4, write the same fields
+# as the serial run (profiles, grid VTK files and the metrics of summary.json byte for byte,
+# and on one rank the samples' VTK files; on N > 1 ranks one piece per rank per frame, listed
+# by a .pvtu that the .pvd lists: their arrays are compared with the serial file's by
+# scripts/crosscheck_pvtu.py; the relative energy error, of sums per rank then in rank
+# order, to 1e-12); a bad input, an option that is not decomposed (MPM's updated frame), a
+# blow-up and a folder that one rank cannot write stop every rank with one message and a
+# non-zero exit.
 # Usage: scripts/mpi_check.sh [path/to/impact]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,18 +28,45 @@ for method in dgmpm mpm fem; do for scene in bar plate; do
     RAYON_NUM_THREADS=1 "${mpi[@]}" -np "$n" "$bin" run "$scene" --method "$method" --quiet --out "$out" \
       >"$out.log" 2>&1 || fail "$method $scene on $n ranks failed: $(tail -5 "$out.log")"
     count=0
-    for f in "$serial"/*.csv "$serial/${method}"_t*.vtu "$serial/${method}"_grid_t*.vtu; do
+    samples=("$serial/${method}"_t*.vtu)
+    [ "$n" = 1 ] || samples=()
+    for f in "$serial"/*.csv "${samples[@]}" "$serial/${method}"_grid_t*.vtu; do
       [ -f "$f" ] || continue
       cmp -s "$f" "$out/$(basename "$f")" || fail "$method $scene on $n ranks: $(basename "$f") differs from the serial run"
       count=$((count + 1))
     done
+    if [ "$n" -gt 1 ]; then
+      # one piece per rank per frame, a .pvtu per frame, listed by the .pvd
+      for f in "$serial"/${method}_t*.vtu "$serial"/${method}_initial.vtu; do
+        frame=$(basename "$f" .vtu)
+        [ ! -e "$out/$frame.vtu" ] || fail "$method $scene on $n ranks: $frame.vtu written whole"
+        grep -q "file=\"$frame.pvtu\"" "$out/${method}.pvd" || fail "$method $scene on $n ranks: ${method}.pvd lacks $frame.pvtu"
+        for ((r = 0; r < n; r++)); do
+          [ -s "$out/${frame}_r$r.vtu" ] || fail "$method $scene on $n ranks: no piece ${frame}_r$r.vtu"
+          grep -q "Source=\"${frame}_r$r.vtu\"" "$out/$frame.pvtu" || fail "$method $scene on $n ranks: $frame.pvtu lacks rank $r"
+        done
+        [ ! -e "$out/${frame}_r$n.vtu" ] || fail "$method $scene on $n ranks: a piece of a rank that does not exist"
+      done
+      grep -q "${frame}_r$((n - 1)).vtu" "$out/manifest.json" || fail "$method $scene on $n ranks: the manifest lacks the last rank's piece"
+    fi
     [ "$count" -gt 2 ] || fail "$method $scene: only $count field files compared"
-    python3 - "$serial/summary.json" "$out/summary.json" "$n" <<'PY' || fail "$method $scene on $n ranks: summary.json"
+    python3 - "$serial/summary.json" "$out/summary.json" "$n" "$method" <<'PY' || fail "$method $scene on $n ranks: summary.json"
 import json, sys
-a, b, n = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), int(sys.argv[3])
+a, b, n, method = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), int(sys.argv[3]), sys.argv[4]
 ra, rb = a["runs"][0], b["runs"][0]
 assert rb.get("ranks", 1) == n and (n == 1 or "slabs" in rb["decomposition"]), rb.get("decomposition")
 assert ra["steps"] == rb["steps"] and ra["cells"] == rb["cells"]
+# the halo: one layer each way per neighbour pair, 8 B per value; DGMPM and MPM (hats, USL):
+# points (x, v, sigma: 2 + 2 + 4 values in 2D, 1 + 1 + 1 in 1D), 1 per layer on the bar,
+# 33 on the plate; FEM: nodes (u, v, a: 3 x dim values), 1 per layer on the bar, 34 on the plate
+if n > 1:
+    if method == "fem":
+        per_layer, values = {1: (1, 3), 2: (34, 6)}[a["dim"]]
+    else:
+        per_layer, values = {1: (1, 3), 2: (33, 8)}[a["dim"]]
+    assert rb["bytes_per_step"] == 2 * (n - 1) * per_layer * values * 8, rb["bytes_per_step"]
+else:
+    assert "bytes_per_step" not in rb
 for ta, tb in zip(ra["times"], rb["times"], strict=True):
     for k, va in ta.items():
         vb = tb[k]
@@ -46,15 +76,18 @@ for ta, tb in zip(ra["times"], rb["times"], strict=True):
             assert va == vb, (k, va, vb)
 PY
   done
-  echo "mpi: $scene ($method) on 1-4 ranks: fields equal to the serial run bit for bit"
+  echo "mpi: $scene ($method) on 1-4 ranks: fields equal to the serial run bit for bit, one piece per rank"
 done; done
 
 # failures stop every rank with one message and a non-zero exit (no hang: `timeout`)
 expect_failure() { # code pattern args...
+  expect_failure_of "$1" "$2" -np 3 "$bin" "${@:3}" --quiet --out "$work/failing"
+}
+expect_failure_of() { # code pattern mpirun-args...
   local code="$1" pattern="$2"
   shift 2
   set +e
-  "${mpi[@]}" -np 3 "$bin" "$@" --quiet --out "$work/failing" >"$work/fail.out" 2>"$work/fail.err"
+  "${mpi[@]}" "$@" >"$work/fail.out" 2>"$work/fail.err"
   local rc=$?
   set -e
   [ "$rc" -ne 124 ] || fail "$* hung on 3 ranks"
@@ -69,6 +102,13 @@ expect_failure 2 "courant.*7" run plate --method dgmpm --courant 7
 expect_failure 2 "updated Lagrangian frame.*does not run on 3 ranks" run plate --method mpm --frame updated-lagrangian
 expect_failure 3 "blew up" run plate --method dgmpm --courant 1.5 --allow-unstable
 echo "mpi: a bad input, an undecomposed option and a blow-up stop all 3 ranks with one message"
+# a failure on some ranks only: rank 0 cannot make its output folder (under /proc); ranks 1
+# and 2 cannot make their scratch folders (TMPDIR under /proc, MPMD launch) while rank 0 can
+expect_failure_of 2 "rank 0: .*impact-out" -np 3 "$bin" run plate --method dgmpm --quiet --out /proc/impact-out
+expect_failure_of 2 "rank 1: " -np 1 "$bin" run plate --method dgmpm --quiet --out "$work/one-fails" \
+  : -np 2 env TMPDIR=/proc/impact-tmp "$bin" run plate --method dgmpm --quiet --out "$work/one-fails"
+[ ! -e "$work/one-fails/manifest.json" ] || fail "a failing rank: rank 0 published its folder"
+echo "mpi: a folder that rank 0 only, or ranks 1-2 only, cannot write stops all 3 ranks with one message"
 
 # kill -9 of one rank: mpirun ends the others, and the output folder is never presented as
 # complete (rank 0 writes into a staging folder that replaces the target only when done)

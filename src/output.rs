@@ -17,7 +17,7 @@ use anyhow::Context;
 use impact_core::method::Samples;
 use impact_core::reference::{line_samples, Reference, TimeMetrics};
 use impact_core::{Grid, Method, StressMeasure, Vector};
-use impact_io::vtu::{write_pvd, write_vtu, CellType, DataArray, UnstructuredGrid, VtuEncoding};
+use impact_io::vtu::{write_pvd, write_vtu, DataArray, UnstructuredGrid, VtuEncoding};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -44,6 +44,9 @@ pub struct Summary {
     /// Peak resident memory of the process (MiB, Linux `VmHWM`), if known.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub peak_rss_mib: Option<f64>,
+    /// On several ranks: each rank's peak resident memory (MiB, `VmHWM`), in rank order.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub peak_rss_mib_per_rank: Vec<f64>,
     /// The stability guard's notes: configurations run above their von Neumann limit
     /// under `--allow-unstable`, or not checked ([`crate::guard`]).
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -101,6 +104,11 @@ pub struct FileWriter<'a, const D: usize> {
     h5: Option<impact_io::h5::TimeSeries>,
     /// The fields of every output time, kept in memory when `Some` ([`crate::fields`]).
     pub keep: Option<Vec<crate::fields::Frame>>,
+    /// On several ranks: where this rank writes its piece of each samples frame
+    /// ([`pieces`]); `None` on one rank (one `.vtu` per frame).
+    pub pieces: Option<pieces::Pieces>,
+    /// This rank's owned samples (the pieces' content).
+    owned: Samples<D>,
 }
 
 impl<'a, const D: usize> FileWriter<'a, D> {
@@ -135,6 +143,8 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             #[cfg(feature = "hdf5")]
             h5: None,
             keep: None,
+            pieces: None,
+            owned: Samples::default(),
         }
     }
 
@@ -159,6 +169,8 @@ impl<'a, const D: usize> FileWriter<'a, D> {
 }
 
 mod fields;
+pub mod pieces;
+mod samples;
 use fields::{pad3, reference_names, stress_components, tensor9, vtk_order, with_zz, AXES};
 
 impl<const D: usize> FileWriter<'_, D> {
@@ -253,6 +265,13 @@ impl<const D: usize> FileWriter<'_, D> {
     /// averaged over the sample's region), at output times only and where every value is
     /// finite; `None` otherwise.
     fn reference_at_samples(&self, frame: &str, t: f64) -> Option<(Vec<f64>, Vec<f64>)> {
+        let (stress, velocity) = self.reference_values(frame, t)?;
+        let finite = stress.iter().chain(&velocity).all(|v| v.is_finite());
+        finite.then_some((stress, velocity))
+    }
+
+    /// [`Self::reference_at_samples`] before the test that every value is finite.
+    fn reference_values(&self, frame: &str, t: f64) -> Option<(Vec<f64>, Vec<f64>)> {
         let r = self.reference.filter(|_| frame != INITIAL)?;
         let s = &self.samples;
         let (stress, velocity): (Vec<f64>, Vec<f64>) = (0..s.len())
@@ -261,94 +280,7 @@ impl<const D: usize> FileWriter<'_, D> {
                 r.averages(&(c - h), &(c + h), t)
             })
             .unzip();
-        let finite = stress.iter().chain(&velocity).all(|v| v.is_finite());
-        finite.then_some((stress, velocity))
-    }
-
-    /// The samples as VTK vertices, in `<method>_<frame>.vtu` (and the `.h5` series at
-    /// output times).
-    fn write_samples(&mut self, frame: &str, t: f64) -> anyhow::Result<()> {
-        let s = &self.samples;
-        let n = s.len();
-        let points: Vec<f64> = s.position.iter().flat_map(pad3).collect();
-        let reference_position: Vec<f64> = s.reference.iter().flat_map(pad3).collect();
-        let reference_solution = self.reference_at_samples(frame, t);
-        let (reference_stress_name, reference_velocity_name) =
-            reference_names(self.measure.array_name(), self.line.axis);
-        let stress: Vec<f64> = (0..n).flat_map(|i| self.full_stress(i)).collect();
-        let velocity: Vec<f64> = s.velocity.iter().flat_map(pad3).collect();
-        let connectivity: Vec<usize> = (0..n).collect();
-        let file = format!("{}_{frame}.vtu", self.method);
-        write_vtu(
-            &self.dir.join(&file),
-            &UnstructuredGrid {
-                points: &points,
-                connectivity: &connectivity,
-                nodes_per_cell: 1,
-                cell_type: CellType::Vertex,
-                point_data: vec![
-                    DataArray {
-                        name: self.measure.array_name(),
-                        components: 9,
-                        values: &stress,
-                        units: "Pa",
-                    },
-                    DataArray {
-                        name: "velocity",
-                        components: 3,
-                        values: &velocity,
-                        units: "m/s",
-                    },
-                    DataArray {
-                        name: "reference_position",
-                        components: 3,
-                        values: &reference_position,
-                        units: "m",
-                    },
-                ]
-                .into_iter()
-                .chain(reference_solution.iter().flat_map(|(stress, velocity)| {
-                    [
-                        DataArray {
-                            name: &reference_stress_name,
-                            components: 1,
-                            values: stress,
-                            units: "Pa",
-                        },
-                        DataArray {
-                            name: &reference_velocity_name,
-                            components: 1,
-                            values: velocity,
-                            units: "m/s",
-                        },
-                    ]
-                }))
-                .chain((!s.plastic_strain.is_empty()).then_some(DataArray {
-                    name: "equivalent_plastic_strain",
-                    components: 1,
-                    values: &s.plastic_strain,
-                    units: "1",
-                }))
-                .collect(),
-                cell_data: vec![],
-                time: Some(t),
-            },
-            self.encoding,
-        )
-        .with_context(|| format!("writing {file}"))?;
-        self.pvd.push((t, file));
-        #[cfg(feature = "hdf5")]
-        if frame != INITIAL {
-            if self.h5.is_none() {
-                let path = self.dir.join(format!("{}.h5", self.method));
-                let name = self.measure.array_name();
-                self.h5 = Some(impact_io::h5::TimeSeries::create(&path, name)?);
-            }
-            if let Some(series) = self.h5.as_mut() {
-                series.write_step(t, &points, &stress, &velocity)?;
-            }
-        }
-        Ok(())
+        Some((stress, velocity))
     }
 
     /// The grid cells with the averages of their samples (DGMPM, MPM: the Eulerian grid),
@@ -485,11 +417,14 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         if !self.files && !self.collect {
             return Ok(());
         }
+        // the collective steps first (gathered samples, this rank's piece), then the
+        // writes, whose failure on one rank the caller makes every rank's (`pieces::agree`)
         method.sample_into(&mut self.samples);
-        self.profile(index, t)?;
         let frame = format!("t{index}");
+        let piece = self.owned_piece(method, &frame, t);
+        self.profile(index, t)?;
         if self.files {
-            self.write_samples(&frame, t)?;
+            self.write_frame(&frame, t, piece)?;
         }
         if self.files || (self.collect && D > 1) {
             self.grid(method, &frame, t)?;
@@ -504,7 +439,8 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
             return Ok(());
         }
         method.sample_into(&mut self.samples);
-        self.write_samples(INITIAL, 0.0)?;
+        let piece = self.owned_piece(method, INITIAL, 0.0);
+        self.write_frame(INITIAL, 0.0, piece)?;
         self.grid(method, INITIAL, 0.0)?;
         Ok(())
     }

@@ -1,5 +1,6 @@
 //! Running methods on a problem: the controller, metrics at every output time, and
 //! (optionally) the output files; [`run_study`] is `impact run`.
+use crate::output::pieces::agree;
 use impact_core::controller::{self, RunError};
 use impact_core::method::{MethodConfig, Samples};
 use impact_core::reference::{Reference, TimeMetrics};
@@ -38,6 +39,10 @@ pub struct RunRecord {
     /// How it was split (absent on one rank).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub decomposition: Option<String>,
+    /// Bytes all ranks send each other per step, summed over the ranks (absent on one
+    /// rank; [`impact_core::Method::bytes_exchanged_per_step`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bytes_per_step: Option<usize>,
 }
 
 /// Hooks for progress and output during [`run_method`] (called on the rayon worker that
@@ -126,7 +131,8 @@ pub fn run_method<const D: usize>(
     observer: &mut dyn Observer<D>,
 ) -> anyhow::Result<(RunRecord, Option<Blowup>)> {
     let mut method = crate::ranks::build_ranked(problem, config)?;
-    observer.start(method.as_ref())?;
+    // (a write that fails on one rank stops every rank: `output::pieces::agree`)
+    agree(observer.start(method.as_ref()))?;
     let line = impact_core::line::MeasureLine::of(problem);
     let dx = problem.grid.spacing[line.axis];
     let mut samples = Samples::<D>::default();
@@ -154,10 +160,12 @@ pub fn run_method<const D: usize>(
             };
             steps_at_output = steps;
             times.push(metrics);
-            observer
-                .lock()
-                .unwrap_or_else(lock)
-                .output(m, index, t, &metrics)
+            agree(
+                observer
+                    .lock()
+                    .unwrap_or_else(lock)
+                    .output(m, index, t, &metrics),
+            )
         },
         |t| observer.lock().unwrap_or_else(lock).progress(t),
     );
@@ -178,6 +186,10 @@ pub fn run_method<const D: usize>(
         error: None,
         ranks: (crate::ranks::size() > 1).then(crate::ranks::size),
         decomposition: crate::ranks::decomposition(problem, &config),
+        bytes_per_step: (crate::ranks::size() > 1).then(|| {
+            let mine = method.bytes_exchanged_per_step() as f64;
+            crate::ranks::comm().all_reduce_sum(mine) as usize
+        }),
     };
     match result {
         Ok(stats) => {
@@ -255,8 +267,11 @@ pub fn run_study_keeping<const D: usize>(
     }
     let problem = study.problem::<D>()?;
     let stability = check_all_stable(study, &problem, kinds.iter().map(|&k| study.config(k)))?;
-    let folder = impact_io::folder::OutputFolder::open(&options.out)?;
+    // every rank's folder opened (or every rank stops), and rank 0's staging folder, where
+    // every rank writes its pieces (`output::pieces`)
+    let folder = agree(impact_io::folder::OutputFolder::open(&options.out).map_err(Into::into))?;
     let dir = &folder.path().to_path_buf();
+    let shared = crate::output::pieces::shared_staging(dir)?;
     let reference = match options.no_reference {
         true => None,
         false => crate::reference_for(&problem, kinds, !options.quiet)?,
@@ -276,6 +291,7 @@ pub fn run_study_keeping<const D: usize>(
         metrics_line: impact_core::line::MeasureLine::of(&problem).describe::<D>(),
         runs: Vec::new(),
         peak_rss_mib: None,
+        peak_rss_mib_per_rank: Vec::new(),
         stability,
     };
     let (mut collected, mut failures) = (Vec::<Collected>::new(), Vec::new());
@@ -296,6 +312,7 @@ pub fn run_study_keeping<const D: usize>(
             problem.t_end,
         );
         writer.files = !options.no_files;
+        writer.pieces = crate::output::pieces::Pieces::of_ranks(shared.clone());
         // kept fields go through the writer's output hook, which `collect` opens
         writer.collect = !options.no_files || keep;
         writer.keep = keep.then(Vec::new);
@@ -307,7 +324,7 @@ pub fn run_study_keeping<const D: usize>(
         }
         let config = study.config(kind);
         let (mut record, blowup) = run_method(&problem, config, reference.as_ref(), &mut writer)?;
-        writer.finish()?;
+        agree(writer.finish())?;
         if let Some(frames) = writer.keep.take() {
             fields.push(crate::fields::MethodFields {
                 method: kind.name().to_string(),
@@ -332,13 +349,26 @@ pub fn run_study_keeping<const D: usize>(
         summary.runs.push(record);
     }
     summary.peak_rss_mib = crate::output::peak_rss_mib();
-    impact_io::write_json(&dir.join("summary.json"), &summary)?;
-    if !options.no_files {
-        write_figures(study.name(), &problem, reference.as_ref(), dir, &collected)?;
+    if crate::ranks::size() > 1 {
+        let mine = summary.peak_rss_mib.unwrap_or(f64::NAN);
+        summary.peak_rss_mib_per_rank = crate::ranks::comm().all_gather(&[mine]);
     }
-    write_provenance(study, options, &done, &summary, dir, &clock)?;
+    let written = || -> anyhow::Result<()> {
+        impact_io::write_json(&dir.join("summary.json"), &summary)?;
+        if !options.no_files {
+            write_figures(study.name(), &problem, reference.as_ref(), dir, &collected)?;
+        }
+        write_provenance(study, options, &done, &summary, dir, &clock)
+    };
+    // every rank's files and pieces written (the last collective step) before rank 0
+    // publishes the folder; a commit that fails on rank 0 fails every rank
+    agree(written())?;
     crate::interrupt::check()?;
-    folder.commit(concat!("impact ", env!("CARGO_PKG_VERSION")))?;
+    agree(
+        folder
+            .commit(concat!("impact ", env!("CARGO_PKG_VERSION")))
+            .map_err(Into::into),
+    )?;
     let report = RunReport {
         reference: summary.reference,
         records: summary.runs,

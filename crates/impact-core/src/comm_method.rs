@@ -61,7 +61,8 @@ impl HaloBuffers {
 /// The [`Method`](crate::Method) functions of a slab solver that are its local method's
 /// values reduced over the ranks, written once for every method crate: the time step
 /// (minimum), energy and work (sums in rank order), momentum and impulse (the same per
-/// component), the first failure ([`crate::comm_gather::first_bad`]) and the initial energy. Expands inside `impl Method<D> for …` of a struct with the fields
+/// component), the first failure ([`crate::comm_gather::first_bad`]), the initial energy,
+/// this rank's owned samples (the local method's samples: its own carriers) and the comm. Expands inside `impl Method<D> for …` of a struct with the fields
 /// `local` (the rank's own method), `comm: Arc<dyn Comm>` and `initial_energy: f64` (reduced
 /// when built).
 #[macro_export]
@@ -87,6 +88,12 @@ macro_rules! reduced_over_ranks {
         }
         fn check_finite(&self) -> Result<(), $crate::method::BadState<D>> {
             $crate::comm_gather::first_bad(self.comm.as_ref(), self.local.check_finite())
+        }
+        fn owned_samples_into(&self, out: &mut $crate::method::Samples<D>) {
+            self.local.sample_into(out);
+        }
+        fn comm(&self) -> &dyn $crate::comm::Comm {
+            self.comm.as_ref()
         }
     };
 }

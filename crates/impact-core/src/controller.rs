@@ -44,7 +44,9 @@
 //! output time that is a whole number of stable steps is still reached with exactly the
 //! stable step (the paper's numbers are unchanged). A remainder above the fraction is a
 //! real last step, taken as before.
+use crate::comm::Comm;
 use crate::method::{Blowup, Method, Samples};
+use crate::Vector;
 
 /// Stability guard settings.
 #[derive(Debug, Clone, Copy)]
@@ -98,6 +100,40 @@ fn peak_stress<const D: usize>(samples: &Samples<D>) -> (f64, usize) {
         }
     }
     peak
+}
+
+/// [`peak_stress`] over every rank's owned samples (`samples`, this rank's
+/// [`Method::owned_samples_into`]) and the reference place of its sample: each rank's own
+/// peak, gathered (one value and a place per rank, not the samples), then the same scan
+/// over the ranks' peaks in rank order. The owned samples are in global order, so the
+/// scan keeps what the one-rank scan keeps (the last NaN, else the first of equal maxima):
+/// the same peak and place on any rank count.
+fn peak_over_ranks<const D: usize>(comm: &dyn Comm, samples: &Samples<D>) -> (f64, Vector<D>) {
+    let (peak, at) = peak_stress(samples);
+    let place = samples
+        .reference
+        .get(at)
+        .copied()
+        .unwrap_or_else(Vector::<D>::zeros);
+    if comm.size() == 1 {
+        return (peak, place);
+    }
+    let mut entry = [0.0; 4];
+    entry[0] = peak;
+    entry[1..=D].copy_from_slice(place.as_slice());
+    let all = comm.all_gather(&entry[..=D]);
+    let mut best = 0;
+    for r in 1..comm.size() {
+        let m = all[r * (D + 1)];
+        if m > all[best * (D + 1)] || m.is_nan() {
+            best = r;
+        }
+    }
+    let at = best * (D + 1);
+    (
+        all[at],
+        Vector::<D>::from_column_slice(&all[at + 1..=at + D]),
+    )
 }
 
 /// What a run did.
@@ -240,16 +276,18 @@ where
     let mut history: Vec<(f64, f64)> = Vec::new();
     let mut stress_scale = guard.stress_scale;
     if guard.stress_scale > 0.0 {
-        method.sample_into(&mut samples);
+        // this rank's own samples, the maxima reduced over the ranks (no gather of samples)
+        method.owned_samples_into(&mut samples);
+        let comm = method.comm();
         let speed = samples.velocity.iter().fold(0.0f64, |m, v| m.max(v.amax()));
-        stress_scale = stress_scale
-            .max(peak_stress(&samples).0)
-            .max(guard.impedance * speed);
+        let speed = comm.all_reduce_max(speed);
+        let peak = peak_over_ranks(comm, &samples).0;
+        stress_scale = stress_scale.max(peak).max(guard.impedance * speed);
         let t_end = output_times.last().copied().unwrap_or(0.0);
         let checks = (t_end / dt_stable * 1.01).ceil() as usize
             / (guard.check_every.max(1) * guard.norm_every.max(1));
         history.reserve_exact(checks + output_times.len() + 2);
-        history.push((0.0, peak_stress(&samples).0));
+        history.push((0.0, peak));
     }
     let norm_every = guard.check_every.max(1) * guard.norm_every.max(1);
     let mut check = |m: &M, step: usize, t: f64, norm: bool| -> Result<(), Blowup> {
@@ -278,8 +316,8 @@ where
             ));
         }
         if guard.stress_scale > 0.0 && norm {
-            m.sample_into(&mut samples);
-            let (peak, at) = peak_stress(&samples);
+            m.owned_samples_into(&mut samples);
+            let (peak, place) = peak_over_ranks(m.comm(), &samples);
             // the largest stress up to half the time (a running maximum: a forced standing
             // mode passes through σ ≈ 0, so a single value at t/2 could be near zero)
             let half = history
@@ -290,9 +328,8 @@ where
                 && peak > STRESS_EXCESS * stress_scale
                 && peak > STRESS_GROWTH * at_half
             {
-                let place = samples.reference[at].iter().copied().collect();
                 return Err(blowup(
-                    place,
+                    place.iter().copied().collect(),
                     format!(
                         "the largest stress {peak:.3e} Pa is {:.1}× the loads' stress scale \
                          {stress_scale:.3e} Pa and {:.1}× its largest value up to t = {:.4e} s: \
@@ -386,5 +423,64 @@ mod tests {
         // a hair before a whole number: the last step is within a hair of Δt
         let before = Span::new(0.0, 10.0 * dt * (1.0 - 1e-10), dt);
         assert_eq!((before.steps, before.size), (10, dt));
+    }
+
+    /// The peak stress over ranks (each rank's owned samples, consecutive runs of the
+    /// global order) is the one-rank peak and place: ties keep the first, a NaN the last.
+    #[test]
+    fn peak_over_ranks_is_the_one_rank_peak() {
+        use crate::comm::{SerialComm, ThreadComm};
+        use crate::Tensor;
+        let peaks = |values: &[f64]| {
+            let mut all = Samples::<1>::default();
+            for (i, &v) in values.iter().enumerate() {
+                all.stress.push(Tensor::<1>::new(v));
+                all.reference.push(Vector::<1>::new(i as f64));
+            }
+            all
+        };
+        let cases: [&[f64]; 4] = [
+            &[1.0, -3.0, 2.0, 3.0, 0.5, -3.0, 1.0],
+            &[0.0; 7],
+            &[1.0, f64::NAN, 9.0, 2.0, f64::NAN, 1.0, 4.0],
+            &[5.0, 1.0, 1.0, 1.0, 1.0, 1.0, 5.0],
+        ];
+        for values in cases {
+            let all = peaks(values);
+            let (peak, place) = peak_over_ranks(&SerialComm, &all);
+            for ranks in 2..=4 {
+                let comms = ThreadComm::group(ranks);
+                let got: Vec<(f64, Vector<1>)> = std::thread::scope(|s| {
+                    let handles: Vec<_> = comms
+                        .into_iter()
+                        .map(|comm| {
+                            let part = peaks(values);
+                            s.spawn(move || {
+                                // rank r owns the r-th of `ranks` consecutive runs
+                                let r = comm.rank();
+                                let n = values.len();
+                                let own = r * n / ranks..(r + 1) * n / ranks;
+                                let mut mine = Samples::<1>::default();
+                                mine.stress.extend_from_slice(&part.stress[own.clone()]);
+                                mine.reference.extend_from_slice(&part.reference[own]);
+                                peak_over_ranks(&comm, &mine)
+                            })
+                        })
+                        .collect();
+                    handles.into_iter().map(|h| h.join().unwrap()).collect()
+                });
+                for (p, x) in got {
+                    assert_eq!(p.to_bits(), peak.to_bits(), "{values:?} on {ranks} ranks");
+                    assert_eq!(x, place, "{values:?} on {ranks} ranks");
+                }
+            }
+        }
+        // the one-rank answers themselves (largest |σ|): the first of equal maxima, zeros'
+        // first sample, the last NaN, the first of two equal ends
+        assert_eq!(peak_over_ranks(&SerialComm, &peaks(cases[0])).1[0], 1.0);
+        assert_eq!(peak_over_ranks(&SerialComm, &peaks(cases[1])).1[0], 0.0);
+        assert_eq!(peak_over_ranks(&SerialComm, &peaks(cases[2])).1[0], 4.0);
+        assert!(peak_over_ranks(&SerialComm, &peaks(cases[2])).0.is_nan());
+        assert_eq!(peak_over_ranks(&SerialComm, &peaks(cases[3])).1[0], 0.0);
     }
 }

@@ -1,4 +1,5 @@
 //! The [`Method`] trait shared by DGMPM, MPM and FEM, and the sampled fields they return.
+use crate::comm::{Comm, SerialComm};
 pub use crate::options::{
     DgmpmOptions, EdgeKind, EdgeTreatment, FemOptions, Integrator, LayoutKind, LoadDirection,
     LoadShape, MaterialModel, MethodConfig, MethodKind, MethodOptions, MpmFrame, MpmOptions,
@@ -120,6 +121,25 @@ pub trait Method<const D: usize>: Send {
     /// Add `kick(i, X_i)` to the velocity of every velocity carrier `i` (points, or FEM nodes)
     /// at reference position `X_i`: the perturbed start of the stability sweeps.
     fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>);
+    /// This rank's own samples, in global order: what the whole-body checks reduce over
+    /// ([`Self::comm`]) and what this rank writes as its piece of an output frame. The
+    /// default (one rank) is every sample, as [`Self::sample_into`]; a method split over
+    /// ranks gives the samples of what it owns (a DGMPM slab: its owned layers' points), so
+    /// that the rank's memory and messages do not grow with the whole body. Concatenated
+    /// in rank order, the ranks' owned samples are [`Self::sample_into`]'s.
+    fn owned_samples_into(&self, out: &mut Samples<D>) {
+        self.sample_into(out);
+    }
+    /// The ranks this method is split over, for the reductions of
+    /// [`Self::owned_samples_into`]'s values: one rank ([`SerialComm`]) by default.
+    fn comm(&self) -> &dyn Comm {
+        &SerialComm
+    }
+    /// Bytes this rank sends to the other ranks per step (the halo exchange): 0 on one
+    /// rank (the default).
+    fn bytes_exchanged_per_step(&self) -> usize {
+        0
+    }
     /// Nodal velocities and displacements of a conforming mesh on the body's grid, for the
     /// methods that have one (FEM); `None` for the point methods. Called at outputs only.
     fn mesh_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {

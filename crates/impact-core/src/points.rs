@@ -300,9 +300,26 @@ impl<const D: usize> MaterialPoints<D> {
     /// As [`Self::regular`] with the points of each cell placed by `layout` (equal masses
     /// and volumes; `half_size` stays half the sub-cell).
     pub fn seeded(grid: &Grid<D>, per_axis: usize, density: f64, layout: &PointLayout) -> Self {
+        Self::seeded_layers(grid, per_axis, density, layout, 0..grid.cells[D - 1])
+    }
+
+    /// [`Self::seeded`] for the layers of cells `layers` along the last axis only (one
+    /// rank's stored layers, issue 27): the points of those cells of the whole `grid`,
+    /// placed from the whole grid's origin and global cell indices, so each point has the
+    /// same bits as in the whole body's seeding (and the memory is the layers' only).
+    pub fn seeded_layers(
+        grid: &Grid<D>,
+        per_axis: usize,
+        density: f64,
+        layout: &PointLayout,
+        layers: std::ops::Range<usize>,
+    ) -> Self {
         let per_cell = per_axis.pow(D as u32);
         let local = layout.local_positions::<D>(per_axis);
-        let n = grid.cell_count() * per_cell;
+        // cells are numbered with the last axis slowest: a run of layers is a run of cells
+        let per_layer = grid.cell_count() / grid.cells[D - 1].max(1);
+        let cells = layers.start * per_layer..layers.end * per_layer;
+        let n = cells.len() * per_cell;
         let volume = grid.cell_volume() / per_cell as f64;
         let sub = grid.spacing / per_axis as f64;
         let mut points = Self {
@@ -320,7 +337,7 @@ impl<const D: usize> MaterialPoints<D> {
             plastic_strain_zz: Vec::new(),
             plastic_work: Vec::new(),
         };
-        for c in 0..grid.cell_count() {
+        for c in cells {
             let lower = grid.cell_lower(c);
             for u in &local {
                 let x = lower + grid.spacing.component_mul(u);

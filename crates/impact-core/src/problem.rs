@@ -402,6 +402,18 @@ impl<const D: usize> Problem<D> {
         grid: &Grid<D>,
         config: &crate::options::MethodConfig,
     ) -> Result<crate::points::MaterialPoints<D>, CoreError> {
+        self.material_points_of_layers(grid, config, 0..grid.cells[D - 1])
+    }
+
+    /// [`Self::material_points`] of the layers of cells `layers` along `grid`'s last axis
+    /// only (a rank's stored layers, [`crate::points::MaterialPoints::seeded_layers`]): the
+    /// same points, with the same bits, as the whole body's points of those layers.
+    pub fn material_points_of_layers(
+        &self,
+        grid: &Grid<D>,
+        config: &crate::options::MethodConfig,
+        layers: std::ops::Range<usize>,
+    ) -> Result<crate::points::MaterialPoints<D>, CoreError> {
         let per_axis = self.points_per_axis(config.points_per_cell)?;
         if !self.layout.fits(config.points_per_cell) {
             return Err(CoreError::Unsupported {
@@ -413,11 +425,12 @@ impl<const D: usize> Problem<D> {
                 ),
             });
         }
-        let mut points = crate::points::MaterialPoints::seeded(
+        let mut points = crate::points::MaterialPoints::seeded_layers(
             grid,
             per_axis,
             self.material.density,
             &self.layout,
+            layers,
         );
         points.apply_initial(&self.initial);
         Ok(match self.model {

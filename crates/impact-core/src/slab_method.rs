@@ -121,6 +121,9 @@ impl<const D: usize, M: SlabLocal<D>> Method<D> for OnSlab<D, M> {
         comm_gather::gather_samples(self.comm.as_ref(), &mine, out);
     }
     crate::reduced_over_ranks!();
+    fn bytes_exchanged_per_step(&self) -> usize {
+        self.bytes_per_step()
+    }
     fn hottest_place(&self) -> Vector<D> {
         let p = self.local.points();
         let mine = p
@@ -146,6 +149,8 @@ impl<const D: usize, M: SlabLocal<D>> Method<D> for OnSlab<D, M> {
 pub struct RunEnd<const D: usize> {
     /// The sampled fields.
     pub samples: Samples<D>,
+    /// This rank's own samples ([`Method::owned_samples_into`]).
+    pub owned: Samples<D>,
     /// [`Method::energy`].
     pub energy: f64,
     /// [`Method::external_work`].
@@ -163,14 +168,33 @@ impl<const D: usize> RunEnd<D> {
         for k in 0..steps {
             m.step(k as f64 * dt, dt);
         }
-        let mut samples = Samples::default();
+        let (mut samples, mut owned) = (Samples::default(), Samples::default());
         m.sample_into(&mut samples);
+        m.owned_samples_into(&mut owned);
         Self {
             samples,
+            owned,
             energy: m.energy(),
             work: m.external_work(),
             momentum: m.momentum(),
             impulse: m.external_impulse(),
         }
     }
+}
+
+/// Whether the ranks' own samples, concatenated in rank order, are the whole body's
+/// samples `whole` (reference positions, positions, stress, velocity, bit for bit): each
+/// rank's output piece and the guard's reductions cover every carrier once.
+pub fn owned_in_rank_order<const D: usize>(owned: &[&Samples<D>], whole: &Samples<D>) -> bool {
+    let joined = |field: fn(&Samples<D>) -> &[Vector<D>]| -> Vec<Vector<D>> {
+        owned
+            .iter()
+            .flat_map(|s| field(s).iter().copied())
+            .collect()
+    };
+    let stress: Vec<Tensor<D>> = owned.iter().flat_map(|s| s.stress.clone()).collect();
+    joined(|s| &s.reference) == whole.reference
+        && joined(|s| &s.position) == whole.position
+        && joined(|s| &s.velocity) == whole.velocity
+        && stress == whole.stress
 }

@@ -70,10 +70,9 @@ impl<const D: usize> SlabBuild<D> for Dgmpm<D> {
             halo_layers(&options),
         )?;
         let per_layer = global.cell_count() / global.cells[D - 1] * config.points_per_cell;
-        // the whole body's points, cut to the stored layers: the same bits as one rank's
-        let points = problem
-            .material_points(global, &config)?
-            .select(slab.stored.start * per_layer..slab.stored.end * per_layer);
+        // only the stored layers' points, seeded from the whole grid's origin and global
+        // cell indices: the same bits as one rank's, in memory that shrinks with the ranks
+        let points = problem.material_points_of_layers(global, &config, slab.stored.clone())?;
         let mut part = problem.clone();
         part.grid = slab.grid(global);
         for side in 0..2 {

@@ -7,7 +7,7 @@
 //! are refused on every rank with the most that fit.
 use impact_core::comm::{Comm, ThreadComm};
 use impact_core::method::{Integrator, MethodConfig, MethodKind, SchemeOrder, TransverseFlux};
-use impact_core::slab_method::RunEnd;
+use impact_core::slab_method::{owned_in_rank_order, RunEnd};
 use impact_core::{Method, Problem, Scene, Vector};
 use impact_dgmpm::slab::SlabDgmpm;
 use impact_dgmpm::Dgmpm;
@@ -239,4 +239,67 @@ fn halo_bytes_per_step_are_one_layer_per_neighbour() {
     });
     let layer = 33 * 8 * 8;
     assert_eq!(bytes, vec![layer, 2 * layer, layer]);
+}
+
+/// A rank seeds only its stored layers' points (`material_points_of_layers`): the same
+/// bits as the whole body's points cut to those layers, for every layout-relevant scene
+/// (initial states, J2 history, SVK's `F`, 3D) and 1 or 4 points per cell. (`Debug`
+/// prints each `f64` in its shortest round-trip form, so equal text is equal bits.)
+#[test]
+fn stored_layers_are_seeded_with_the_whole_bodys_bits() {
+    let cases: [(&str, usize); 5] = [
+        ("plate-wave", 1),
+        ("plate-wave", 4),
+        ("ep-plate", 1),
+        ("svk-plate", 4),
+        ("oblique-plate-wave", 1),
+    ];
+    for (name, ppc) in cases {
+        let scene = scene(name);
+        let problem = Problem::<2>::from_scene(&scene).unwrap();
+        let mut config = scene.method_config(MethodKind::Dgmpm);
+        config.points_per_cell = ppc;
+        let grid = &problem.grid;
+        let whole = problem.material_points(grid, &config).unwrap();
+        let per_layer = grid.cells[0] * ppc;
+        let layers = grid.cells[1];
+        for range in [0..1, 0..layers, 3..7, layers - 2..layers] {
+            let part = problem
+                .material_points_of_layers(grid, &config, range.clone())
+                .unwrap();
+            let cut = whole.select(range.start * per_layer..range.end * per_layer);
+            assert_eq!(part.len(), range.len() * per_layer, "{name}");
+            assert_eq!(format!("{part:?}"), format!("{cut:?}"), "{name}, {range:?}");
+        }
+    }
+    let mut block = scene("block-wave");
+    block.domain.cells = vec![6, 5, 9];
+    let problem = Problem::<3>::from_scene(&block).unwrap();
+    let config = block.method_config(MethodKind::Dgmpm);
+    let whole = problem.material_points(&problem.grid, &config).unwrap();
+    let part = problem
+        .material_points_of_layers(&problem.grid, &config, 2..5)
+        .unwrap();
+    let cut = whole.select(2 * 30..5 * 30);
+    assert_eq!(format!("{part:?}"), format!("{cut:?}"), "block-wave");
+}
+
+/// Each rank's owned samples (its output piece), concatenated in rank order, are the
+/// whole body's samples, on 1 to 3 ranks.
+#[test]
+fn owned_samples_in_rank_order_are_the_gathered_ones() {
+    let plate = scene("plate");
+    let problem = Problem::<2>::from_scene(&plate).unwrap();
+    let config = plate.method_config(MethodKind::Dgmpm);
+    for ranks in 1..=3 {
+        let (serial, ends) = runs(&problem, config, ranks, 20);
+        let owned: Vec<_> = ends.iter().map(|e| &e.owned).collect();
+        assert!(
+            owned_in_rank_order(&owned, &serial.samples),
+            "{ranks} ranks"
+        );
+        assert!(ends
+            .iter()
+            .all(|e| e.owned.len() < serial.samples.len() || ranks == 1));
+    }
 }

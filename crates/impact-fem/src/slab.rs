@@ -169,6 +169,9 @@ impl<const D: usize> SlabFem<D> {
 
 impl<const D: usize> Method<D> for SlabFem<D> {
     impact_core::reduced_over_ranks!();
+    fn bytes_exchanged_per_step(&self) -> usize {
+        self.bytes_per_step()
+    }
     fn cells(&self) -> usize {
         self.global_cells
     }

@@ -9,6 +9,7 @@
 //! rank at its global place; more ranks than layers are refused on every rank.
 use impact_core::comm::ThreadComm;
 use impact_core::method::{MethodConfig, MethodKind};
+use impact_core::slab_method::owned_in_rank_order;
 use impact_core::{Method, Problem, Samples, Scene, Vector};
 use impact_fem::slab::SlabFem;
 use impact_fem::Fem;
@@ -23,6 +24,7 @@ fn scene(name: &str) -> Scene {
 /// What a run ends with: samples, the mesh's nodal fields and the global sums.
 struct End<const D: usize> {
     samples: Samples<D>,
+    owned: Samples<D>,
     nodal: (Vec<Vector<D>>, Vec<Vector<D>>),
     energy: f64,
     work: f64,
@@ -31,10 +33,12 @@ struct End<const D: usize> {
 }
 
 fn finish<const D: usize>(m: &dyn Method<D>) -> End<D> {
-    let mut samples = Samples::default();
+    let (mut samples, mut owned) = (Samples::default(), Samples::default());
     m.sample_into(&mut samples);
+    m.owned_samples_into(&mut owned);
     End {
         samples,
+        owned,
         nodal: m.mesh_nodal_fields().unwrap(),
         energy: m.energy(),
         work: m.external_work(),
@@ -122,6 +126,11 @@ fn check<const D: usize>(label: &str, scene: &Scene, path: Path, n: usize) {
             steps(&mut m, n);
             finish(&m)
         });
+        let owned: Vec<_> = ends.iter().map(|e| &e.owned).collect();
+        assert!(
+            owned_in_rank_order(&owned, s),
+            "{label}, {ranks} ranks: the own samples in rank order are not the whole body's"
+        );
         for (rank, end) in ends.iter().enumerate() {
             let at = format!("{label}, {ranks} ranks, rank {rank}");
             let e = &end.samples;

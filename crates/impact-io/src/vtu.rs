@@ -271,6 +271,50 @@ pub fn write_pvd(path: &Path, entries: &[(f64, String)]) -> Result<(), IoError> 
     })
 }
 
+/// A parallel unstructured grid (`.pvtu`): the pieces `pieces` (file names relative to the
+/// `.pvtu`) that together form one frame, each a `.vtu` of [`write_vtu`] with the point
+/// arrays `point_arrays` (name, components; every array `Float64`) and no cell data. The
+/// pieces are listed in order, so a reader's concatenation of their points and arrays is
+/// in that order (pyvista's `read`, meshio's `read` of each piece, ParaView).
+pub fn write_pvtu(
+    path: &Path,
+    point_arrays: &[(&str, usize)],
+    pieces: &[String],
+    encoding: VtuEncoding,
+) -> Result<(), IoError> {
+    let compressor = match encoding {
+        VtuEncoding::Binary => " header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\"",
+        VtuEncoding::Ascii => "",
+    };
+    write_atomic(path, |w| {
+        writeln!(w, "<?xml version=\"1.0\"?>")?;
+        writeln!(
+            w,
+            "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\"{compressor}>"
+        )?;
+        writeln!(w, "  <PUnstructuredGrid GhostLevel=\"0\">")?;
+        writeln!(w, "    <PPointData>")?;
+        for (name, components) in point_arrays {
+            writeln!(
+                w,
+                "      <PDataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{components}\"/>"
+            )?;
+        }
+        writeln!(w, "    </PPointData>")?;
+        writeln!(w, "    <PPoints>")?;
+        writeln!(
+            w,
+            "      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>"
+        )?;
+        writeln!(w, "    </PPoints>")?;
+        for piece in pieces {
+            writeln!(w, "    <Piece Source=\"{piece}\"/>")?;
+        }
+        writeln!(w, "  </PUnstructuredGrid>")?;
+        writeln!(w, "</VTKFile>")
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -8,7 +8,7 @@ use impact_core::comm::{Comm, ThreadComm};
 use impact_core::method::{
     MethodConfig, MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate,
 };
-use impact_core::slab_method::RunEnd;
+use impact_core::slab_method::{owned_in_rank_order, RunEnd};
 use impact_core::{Boundary, Load, Method, Problem, Scene, Vector};
 use impact_mpm::slab::SlabMpm;
 use impact_mpm::Mpm;
@@ -42,6 +42,11 @@ fn check<const D: usize>(label: &str, problem: &Problem<D>, config: MethodConfig
         let ends = on_ranks(ranks, |comm| {
             RunEnd::after_steps(&mut SlabMpm::<D>::new(problem, config, comm).unwrap(), n)
         });
+        let owned: Vec<_> = ends.iter().map(|e| &e.owned).collect();
+        assert!(
+            owned_in_rank_order(&owned, s),
+            "{label}, {ranks} ranks: the own samples in rank order are not the whole body's"
+        );
         for (rank, end) in ends.iter().enumerate() {
             let e = &end.samples;
             let at = format!("{label}, {ranks} ranks, rank {rank}");
