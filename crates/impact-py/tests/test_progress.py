@@ -63,6 +63,12 @@ def test_with_tqdm_progress_draws_a_bar_per_method(capfd):
     assert [bar.n for bar in drawer.bars.values()] == [1000, 1000]
     err = capfd.readouterr().err
     assert "dgmpm" in err and "100%" in err, err
+    # a run stopped early: its open bars are closed
+    with pytest.raises(KeyboardInterrupt):
+        with _progress.reporting(True) as drawer:
+            drawer([(0, "dgmpm", 0.5, False)])
+            raise KeyboardInterrupt
+    assert drawer.closed == {0} and drawer.bars[0].n == 500
 
 
 def test_check_reports_its_runs():

@@ -24,7 +24,7 @@ from pathlib import Path
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 
 from . import _impact
-from ._progress import Reporter, reporter
+from ._progress import Reporter, reporting
 from ._impact import SceneError, __version__
 
 __all__ = [
@@ -188,16 +188,17 @@ def run(
     else:
         folder = Path(out)
     try:
-        raw = _impact.run(
-            the_scene._toml,
-            the_scene.source,
-            flags,
-            str(folder),
-            files,
-            reference,
-            vtu == "ascii",
-            reporter(progress),
-        )
+        with reporting(progress) as drawer:
+            raw = _impact.run(
+                the_scene._toml,
+                the_scene.source,
+                flags,
+                str(folder),
+                files,
+                reference,
+                vtu == "ascii",
+                drawer,
+            )
     except BaseException:
         if keep is not None:
             shutil.rmtree(keep, ignore_errors=True)
@@ -259,7 +260,8 @@ def check(
     with _Folder(None, "check") as folder:
         folder.path.mkdir()
         path = folder.path / "check.json"
-        _impact.check(the_scene._toml, the_scene.source, flags, str(path), reporter(progress))
+        with reporting(progress) as drawer:
+            _impact.check(the_scene._toml, the_scene.source, flags, str(path), drawer)
         return _json_in(folder.path, "check.json")
 
 

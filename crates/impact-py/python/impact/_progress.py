@@ -12,8 +12,9 @@ stderr is not a terminal, as in a notebook). ``progress=<callable>`` receives th
 itself."""
 from __future__ import annotations
 
+import contextlib
 import sys
-from typing import Any, Callable, Dict, List, Optional, Set, Tuple, Union
+from typing import Any, Callable, Dict, Iterator, List, Optional, Set, Tuple, Union
 
 Update = Tuple[int, str, float, bool]
 Reporter = Callable[[List[Update]], None]
@@ -42,6 +43,13 @@ class _Tqdm:
             if ticks > bar.n:
                 bar.update(ticks - bar.n)
             if finished:
+                bar.close()
+                self.closed.add(index)
+
+    def close(self) -> None:
+        """Close the bars of a run that stopped early (interrupted, failed)."""
+        for index, bar in self.bars.items():
+            if index not in self.closed:
                 bar.close()
                 self.closed.add(index)
 
@@ -74,3 +82,14 @@ def reporter(progress: Union[bool, Reporter, None]) -> Optional[Reporter]:
     except ImportError:
         return _Lines()
     return _Tqdm(tqdm)
+
+
+@contextlib.contextmanager
+def reporting(progress: Union[bool, Reporter, None]) -> Iterator[Optional[Reporter]]:
+    """:func:`reporter` for one call, its tqdm bars closed however the call ends."""
+    drawer = reporter(progress)
+    try:
+        yield drawer
+    finally:
+        if isinstance(drawer, _Tqdm):
+            drawer.close()
