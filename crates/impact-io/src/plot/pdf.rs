@@ -19,9 +19,9 @@
 //! superscript and subscript characters (`10⁻³`, `σₓₓ`) are set at 70 % size with a text
 //! rise of +0.33 em / −0.15 em. A character neither font has is drawn as `?`. Text
 //! extents, for plotters' layout and for anchoring, are the fonts' standard advance widths
-//! (Adobe's AFM metrics, below). The em is the style's size in pixels, so an 8 pt label
-//! (`pt(8.0)` px at [`DPI`]) prints 8 pt tall; plotters' bitmap and SVG backends set it at
-//! 0.86 and 0.81 of that (`size / 1.24` in SVG). Text is anchored as the SVG backend
+//! (Adobe's AFM metrics, `pdf_fonts.rs`). The em is the style's size in pixels, so an 8 pt
+//! label (`pt(8.0)` px at [`DPI`]) is set at 8 pt; plotters' bitmap and SVG backends set
+//! it at 0.86 and 0.81 of that (`size / 1.24` in SVG). Text is anchored as the SVG backend
 //! anchors it: the baseline 0.76 em under the top (`VPos::Top`), 0.36 em under the centre
 //! (about half Helvetica's cap height, 0.718 em) and 0.21 em over the bottom (its
 //! descender); rotations of 90°, 180° and 270° set the text matrix.
