@@ -80,7 +80,7 @@ if [ ${#python_tests[@]} -gt 0 ]; then
   # The Python package (crates/impact-py): maturin and pandas into the test venv, the
   # package built from this tree and installed (editable), its tests (the CLI's files
   # compared bit for bit, the examples run); an install that fails stops the run with why
-  if ! "$venv/bin/python" -c "import maturin, pandas" 2>/dev/null; then
+  if ! "$venv/bin/python" -c "import maturin, pandas, tqdm" 2>/dev/null; then
     "$venv/bin/python" -m pip install --quiet -r scripts/requirements-py.txt || {
       echo "impact-py: pip install -r scripts/requirements-py.txt failed; the package's tests cannot run" >&2
       exit 1

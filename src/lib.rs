@@ -24,6 +24,7 @@ pub mod output;
 pub mod output_bench;
 pub mod plane;
 pub mod plots;
+pub mod progress_feed;
 pub mod provenance;
 pub mod ranks;
 pub mod reference;

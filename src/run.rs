@@ -497,7 +497,8 @@ fn write_figures<const D: usize>(
     Ok(())
 }
 
-/// A progress bar on stderr over `[0, t_end]` (hidden when stderr is not a terminal).
+/// A progress bar on stderr over `[0, t_end]` (hidden when stderr is not a terminal), or
+/// in the [`crate::progress_feed::Feed`] installed on this thread (the Python package).
 pub fn progress_bar(prefix: &'static str) -> indicatif::ProgressBar {
     let bar = indicatif::ProgressBar::new(PROGRESS_STEPS);
     if let Ok(style) = indicatif::ProgressStyle::with_template(
@@ -506,6 +507,7 @@ pub fn progress_bar(prefix: &'static str) -> indicatif::ProgressBar {
         bar.set_style(style.progress_chars("=> "));
     }
     bar.set_prefix(prefix);
+    crate::progress_feed::register(&bar);
     bar
 }
 

@@ -418,6 +418,7 @@ pub fn figure(rows: &[StabilityRow]) -> impact_io::plot::BarFigure {
              computed for this configuration (von Neumann and monotonicity: DGMPM only)."
                 .into(),
         ),
+        width: impact_io::plot::PrintWidth::Full,
     }
 }
 

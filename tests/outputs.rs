@@ -82,6 +82,44 @@ fn figures_makes_every_figure_and_its_index() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// `--width single` lays every figure out for a 90 mm column: the PNG 1063 px wide (90 mm at
+/// 300 dpi), the PDF's page 255.118 pt, the index and the remaking command say so.
+#[test]
+fn figures_for_a_single_column() {
+    let out = tmp("figures-single");
+    let dir = out.to_str().unwrap();
+    let o = impact(&[
+        "figures",
+        "fig3",
+        "stability",
+        "--width",
+        "single",
+        "--quiet",
+        "--out",
+        dir,
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let index = json(&out.join("index.json"));
+    for e in index["entries"].as_array().unwrap() {
+        assert!(
+            e["command"].as_str().unwrap().contains(" --width single"),
+            "{e}"
+        );
+        for image in e["images"].as_array().unwrap() {
+            let stem = image["stem"].as_str().unwrap();
+            assert_eq!(image["print_width"], "single column, 90 mm");
+            assert_eq!(png_size(&out.join(format!("{stem}.png"))).0, 1063, "{stem}");
+            let pdf = std::fs::read(out.join(format!("{stem}.pdf"))).unwrap();
+            let pdf = String::from_utf8_lossy(&pdf);
+            assert!(pdf.contains("/MediaBox [0 0 255.12 "), "{stem}");
+            assert!(!pdf.contains("/Image"), "{stem}: a raster in the PDF");
+        }
+    }
+    let o = impact(&["figures", "fig3", "--width", "column", "--out", dir]);
+    assert!(!o.status.success() && text(&o).contains("possible values: single, full"));
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// The rows `(panel, series, x, y)` of a figure's `<stem>.csv`.
 fn read_figure_data(path: &Path) -> Vec<(usize, String, f64, f64)> {
     let text = std::fs::read_to_string(path).unwrap();

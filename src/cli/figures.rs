@@ -14,6 +14,10 @@ pub(crate) struct FiguresArgs {
     /// Paper-scale ladders and sweeps (minutes to an hour) instead of the reduced ones.
     #[arg(long)]
     full: bool,
+    /// The printed width the figures are laid out for, with 7-9 pt text at that size:
+    /// `full` (190 mm, a journal's text width) or `single` (a 90 mm column).
+    #[arg(long, value_enum, default_value = "full")]
+    width: impact_io::plot::PrintWidth,
     /// No progress bars or status lines on stderr.
     #[arg(long)]
     quiet: bool,
@@ -25,6 +29,7 @@ pub(crate) fn command(args: &FiguresArgs) -> Result<()> {
         full: args.full,
         only: args.figures.clone(),
         progress: !args.quiet,
+        width: args.width,
     })?;
     for e in &index.entries {
         let stems: Vec<&str> = e.images.iter().map(|i| i.stem.as_str()).collect();

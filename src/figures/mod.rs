@@ -20,11 +20,11 @@
 //!
 //! The folder is replaced as a whole when complete ([`impact_io::folder::OutputFolder`]);
 //! making some figures keeps the others already there (their files and index entries).
-//! Each entry of `index.json` records the PNG's pixel size and the printed width the
-//! figure is laid out for (full width 190 mm, or a single column 90 mm, at 300 dpi, with
-//! 7-9 pt text there); every figure is written as PNG, SVG (vector) and PDF (the page at
-//! the printed width holding the 300 dpi raster: plotters has no PDF backend without the
-//! system's cairo).
+//! Every figure is laid out for one printed width, `--width full` (190 mm, the default) or
+//! `--width single` (a 90 mm column), at 300 dpi, with 7-9 pt text at that width (the
+//! type sizes stay, the panels shrink); each entry of `index.json` records the PNG's pixel
+//! size and that width. Every figure is written as PNG, SVG and PDF, both vector (the PDF
+//! by [`impact_io::plot::PdfBackend`], its page the printed width).
 mod paper;
 mod studies;
 mod three_d;
@@ -95,6 +95,8 @@ pub struct FiguresOptions {
     pub only: Vec<FigureName>,
     /// Progress bars and status lines on stderr.
     pub progress: bool,
+    /// The printed width every figure is laid out for (`--width`).
+    pub width: impact_io::plot::PrintWidth,
 }
 
 /// One image of an entry: file stem and pixel size of its PNG.
@@ -168,14 +170,17 @@ pub struct Target<'a> {
     command: String,
     full: bool,
     progress: bool,
+    width: impact_io::plot::PrintWidth,
 }
 
 impl Target<'_> {
-    /// Save `figure` as `<stem>.png`, `<stem>.svg` and `<stem>.pdf`; the image record.
-    pub fn save(&self, stem: &str, figure: &impl impact_io::plot::Draw) -> Result<Image> {
+    /// Save `figure`, laid out for the asked printed width, as `<stem>.png`, `<stem>.svg`
+    /// and `<stem>.pdf`; the image record.
+    pub fn save(&self, stem: &str, mut figure: impl impact_io::plot::Draw) -> Result<Image> {
+        figure.set_print_width(self.width);
         for extension in ["png", "svg", "pdf"] {
             let path = self.dir.join(format!("{stem}.{extension}"));
-            impact_io::plot::save(&path, figure)
+            impact_io::plot::save(&path, &figure)
                 .with_context(|| format!("drawing {}", path.display()))?;
         }
         let data = match figure.data() {
@@ -219,15 +224,20 @@ pub fn run(options: &FiguresOptions) -> Result<Index> {
             continue;
         }
         let full = if options.full { " --full" } else { "" };
+        let width = match options.width {
+            impact_io::plot::PrintWidth::Full => "",
+            impact_io::plot::PrintWidth::Single => " --width single",
+        };
         let target = Target {
             dir: &dir,
             command: format!(
-                "impact figures {} --out {}{full}",
+                "impact figures {} --out {}{full}{width}",
                 name.name(),
                 options.out.display()
             ),
             full: options.full,
             progress: options.progress,
+            width: options.width,
         };
         if options.progress {
             eprintln!("figures: making {}", name.name());

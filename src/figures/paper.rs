@@ -154,7 +154,7 @@ fn opt(value: Option<f64>, digits: usize) -> String {
 /// Fig. 3: the elastic bar.
 pub fn fig3(target: &Target) -> Result<Entry> {
     let bar = Shipped::<1>::run("bar", target.progress, three_methods)?;
-    let image = target.save("fig3_bar", &bar.profile_figure())?;
+    let image = target.save("fig3_bar", bar.profile_figure())?;
     Ok(Entry {
         name: "fig3".into(),
         title: "Fig. 3: elastic bar, σₓₓ at three times (DGMPM, MPM, FEM, exact)".into(),
@@ -193,7 +193,7 @@ pub fn fig5(target: &Target) -> Result<Entry> {
     let mut profiles = plate.profile_figure();
     profiles.columns = times.len().max(1);
     profiles.aspect = 0.62;
-    let image = target.save("fig5_plate", &Stacked(maps, profiles))?;
+    let image = target.save("fig5_plate", Stacked(maps, profiles))?;
     let mut lines = plate.numbers();
     if let Some(r) = &plate.reference {
         lines.insert(0, format!("reference: {}", r.describe()));
@@ -214,7 +214,7 @@ pub fn fig6(target: &Target) -> Result<Entry> {
     let line = impact_core::line::MeasureLine::of(&bar.problem);
     let on = (&line, &bar.problem.grid);
     let figure = svk_figure("svk-bar", &bar.collected, bar.reference.as_ref(), on);
-    let image = target.save("fig6_svk_bar", &figure)?;
+    let image = target.save("fig6_svk_bar", figure)?;
     Ok(Entry {
         name: "fig6".into(),
         title: "Fig. 6: Saint-Venant–Kirchhoff bar, displacement and Πₓₓ".into(),

@@ -30,7 +30,7 @@ pub fn work_precision(target: &Target) -> Result<Entry> {
         let (points, sentence) =
             crate::work_precision::run(&exe, (&study, scene), levels, &out, |_| {}, |_| {})?;
         let stem = format!("work_precision_{}", scene.replace('-', "_"));
-        images.push(target.save(&stem, &crate::work_precision::figure(scene, &points))?);
+        images.push(target.save(&stem, crate::work_precision::figure(scene, &points))?);
         lines.push(sentence);
     }
     let _ = std::fs::remove_dir_all(&scratch);
@@ -66,7 +66,7 @@ pub fn stability(target: &Target) -> Result<Entry> {
         steps_2d,
         |_| {},
     ));
-    let image = target.save("stability", &crate::stability::figure(&rows))?;
+    let image = target.save("stability", crate::stability::figure(&rows))?;
     let mut lines = vec![format!(
         "perturbed runs of {steps_1d} steps (1D) and {steps_2d} (2D); the full sweep: impact stability"
     )];
@@ -110,7 +110,7 @@ pub fn mpm_variants(target: &Target) -> Result<Entry> {
         figure.note = Some(notes.join(" "));
     }
     numbers.extend(notes);
-    let image = target.save("mpm_variants_bar", &figure)?;
+    let image = target.save("mpm_variants_bar", figure)?;
     Ok(Entry {
         name: "mpm-variants".into(),
         title: "DGMPM against MPM with every shape function (bar)".into(),
@@ -246,7 +246,7 @@ fn elastoplastic_scene<const D: usize>(
     lines.push(format!("{name}:"));
     lines.extend(runs.numbers());
     lines.extend(plastic_numbers(&runs));
-    target.save(&stem, &runs.profile_figure())
+    target.save(&stem, runs.profile_figure())
 }
 
 /// The elastoplastic fronts of ep-bar and ep-plate-wave ([`elastoplastic_configs`] and

@@ -42,7 +42,7 @@ pub fn block(target: &Target) -> Result<Entry> {
     let mut profiles = block.profile_figure();
     profiles.columns = times.len().max(1);
     profiles.aspect = 0.62;
-    let image = target.save("block_impact", &Stacked(maps, profiles))?;
+    let image = target.save("block_impact", Stacked(maps, profiles))?;
     let mut lines = block.numbers();
     lines.insert(
         0,
@@ -93,7 +93,7 @@ pub fn lamb(target: &Target) -> Result<Entry> {
         }
         finest.push((kind.name().to_string(), recorded));
     }
-    let image = target.save("lamb_traces", &crate::lamb_study::figure(&finest))?;
+    let image = target.save("lamb_traces", crate::lamb_study::figure(&finest))?;
     Ok(Entry {
         name: "lamb".into(),
         title: "Lamb's problem: surface displacement traces against Pekeris' solution".into(),

@@ -8,6 +8,7 @@
 //! sets the library's stop flag ([`impact::interrupt::stop_flag`]) and the run ends
 //! between two steps, its staging folder removed.
 use impact::fields::{Frame, MethodFields};
+use impact::progress_feed::Feed;
 use impact::{Overrides, Study};
 use impact_core::Scene;
 use numpy::{PyArray1, PyArrayMethods};
@@ -39,25 +40,75 @@ fn detached<T: Send>(
     py: Python<'_>,
     work: impl FnOnce() -> anyhow::Result<T> + Send,
 ) -> PyResult<T> {
+    detached_reporting(py, None, work)
+}
+
+/// Seconds between two calls of a progress callback (a few updates per second: a
+/// notebook widget redraws on each).
+const PROGRESS_EVERY_S: f64 = 0.2;
+
+/// [`detached`], reporting progress to `on_progress` when given: the worker collects its
+/// bars in a [`Feed`] (module [`impact::progress_feed`]), and this thread, which wakes
+/// every 20 ms for the signals anyway and holds the GIL then, calls
+/// `on_progress([(index, label, fraction, finished), ...])` with every bar created so far
+/// when one changed, at most every [`PROGRESS_EVERY_S`], and once more at the end. The
+/// step loop never waits on the GIL. A callback that raises stops the run as Ctrl-C does
+/// and its exception propagates.
+fn detached_reporting<T: Send>(
+    py: Python<'_>,
+    on_progress: Option<&Bound<'_, PyAny>>,
+    work: impl FnOnce() -> anyhow::Result<T> + Send,
+) -> PyResult<T> {
     let flag = impact::interrupt::stop_flag();
     flag.store(false, Ordering::SeqCst);
+    let feed = Feed::default();
+    let mut reported = Vec::new();
+    let mut last_report = std::time::Instant::now();
+    let mut report = |final_call: bool| -> PyResult<()> {
+        let Some(callback) = on_progress else {
+            return Ok(());
+        };
+        let elapsed = last_report.elapsed().as_secs_f64();
+        if !final_call && elapsed < PROGRESS_EVERY_S {
+            return Ok(());
+        }
+        let states = feed.snapshot();
+        if states == reported {
+            return Ok(());
+        }
+        let updates: Vec<_> = states
+            .iter()
+            .enumerate()
+            .map(|(i, s)| (i, s.label.clone(), s.fraction, s.finished))
+            .collect();
+        callback.call1((updates,))?;
+        reported = states;
+        last_report = std::time::Instant::now();
+        Ok(())
+    };
     std::thread::scope(|scope| {
-        let handle = scope.spawn(work);
+        let worker_feed = feed.clone();
+        let handle = scope.spawn(move || {
+            let _installed = worker_feed.install();
+            work()
+        });
         while !handle.is_finished() {
             py.detach(|| std::thread::sleep(std::time::Duration::from_millis(20)));
-            if let Err(interrupt) = py.check_signals() {
+            if let Err(stop) = py.check_signals().and_then(|()| report(false)) {
                 flag.store(true, Ordering::SeqCst);
                 let _ = py.detach(|| handle.join());
                 flag.store(false, Ordering::SeqCst);
-                return Err(interrupt);
+                return Err(stop);
             }
         }
-        match handle.join() {
+        let result = match handle.join() {
             Ok(result) => result.map_err(to_py),
             Err(_) => Err(PyRuntimeError::new_err(
                 "internal error: the run panicked (please report it with its scene)",
             )),
-        }
+        };
+        report(true)?;
+        result
     })
 }
 
@@ -184,14 +235,14 @@ fn run<'py>(
     files: bool,
     reference: bool,
     ascii: bool,
-    progress: bool,
+    progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     use impact::run::{run_study_keeping, RunOptions};
     let (overrides, methods) = impact::flags::run_flags(&flags).map_err(|e| to_py(e.into()))?;
     let study = study(text, source, overrides).map_err(to_py)?;
     let options = RunOptions {
         out,
-        quiet: !progress,
+        quiet: progress.is_none(),
         no_files: !files,
         no_reference: !reference,
         vtu: match ascii {
@@ -201,7 +252,7 @@ fn run<'py>(
         source: source.to_string(),
         allow_unstable: study.overrides.allow_unstable,
     };
-    let (report, fields) = detached(py, || match study.dim() {
+    let (report, fields) = detached_reporting(py, progress.as_ref(), || match study.dim() {
         1 => run_study_keeping::<1>(&study, &methods, &options, true),
         2 => run_study_keeping::<2>(&study, &methods, &options, true),
         3 => run_study_keeping::<3>(&study, &methods, &options, true),
@@ -222,14 +273,14 @@ fn check(
     source: &str,
     flags: Vec<String>,
     json: PathBuf,
-    progress: bool,
+    progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<bool> {
     use impact::check::check_study;
     let clock = impact::provenance::Clock::start();
     let (overrides, gate) = impact::flags::check_flags(&flags).map_err(|e| to_py(e.into()))?;
-    let options = gate.options(progress).map_err(to_py)?;
+    let options = gate.options(progress.is_some()).map_err(to_py)?;
     let study = study(text, source, overrides).map_err(to_py)?;
-    detached(py, || {
+    detached_reporting(py, progress.as_ref(), || {
         let reports = match study.dim() {
             1 => check_study::<1>(&study, &options)?,
             2 => check_study::<2>(&study, &options)?,

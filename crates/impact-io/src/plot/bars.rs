@@ -32,6 +32,9 @@ pub struct BarFigure {
     pub missing: Vec<Vec<Option<String>>>,
     /// A note printed under the legend (e.g. what the missing-bar marks mean).
     pub note: Option<String>,
+    /// The printed width the figure is made for: at full width the legend is a column
+    /// beside the bars, in a single column it goes under them.
+    pub width: PrintWidth,
 }
 
 /// The category labels' column, the legend column (pixels).
@@ -39,24 +42,60 @@ fn columns() -> (u32, u32) {
     (pt(105.0), pt(95.0))
 }
 
+impl BarFigure {
+    /// The legend's width and, in a single column (legend under the bars), its height;
+    /// 0 at full width (legend beside the bars).
+    fn legend_box(&self) -> (u32, u32) {
+        match self.width {
+            PrintWidth::Full => (columns().1, 0),
+            PrintWidth::Single => {
+                let width = self.width.pixels();
+                let notes = super::lines::wrap(
+                    self.note.as_deref().unwrap_or(""),
+                    note_chars(width).max(10),
+                )
+                .len();
+                let s = pt(type_size::LABEL) as f64;
+                let height = 2.0 * s
+                    + 1.6 * s * self.groups.len() as f64
+                    + 1.3 * pt(type_size::TICK) as f64 * (notes as f64 + 1.0);
+                (width, height as u32)
+            }
+        }
+    }
+}
+
+/// Characters of the note per line in a legend `width` pixels wide.
+fn note_chars(width: u32) -> usize {
+    (width as f64 / (0.52 * pt(type_size::TICK) as f64)) as usize
+}
+
 impl Draw for BarFigure {
     fn print_width(&self) -> PrintWidth {
-        PrintWidth::Full
+        self.width
+    }
+
+    fn set_print_width(&mut self, width: PrintWidth) {
+        self.width = width;
     }
 
     fn size(&self) -> (u32, u32) {
         let row = (1.9 * pt(type_size::TICK) as f64) as u32;
         (
-            PrintWidth::Full.pixels(),
-            pt(40.0) + row * self.categories.len().max(1) as u32,
+            self.width.pixels(),
+            pt(40.0) + row * self.categories.len().max(1) as u32 + self.legend_box().1,
         )
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
         root.fill(&WHITE).map_err(text)?;
-        let (width, _) = self.size();
-        let (left, legend_width) = columns();
-        let (plot, legend) = root.split_horizontally(width - legend_width);
+        let (width, height) = self.size();
+        let (left, _) = columns();
+        let (legend_width, legend_height) = self.legend_box();
+        let (plot, legend) = match self.width {
+            PrintWidth::Full => root.split_horizontally(width - legend_width),
+            PrintWidth::Single => root.split_vertically(height - legend_height),
+        };
         let top = self
             .groups
             .iter()
@@ -145,7 +184,7 @@ impl Draw for BarFigure {
         }
         let s = pt(type_size::LABEL) as i32;
         let label_font = font(type_size::LABEL).into_font();
-        let mut y = 3 * s;
+        let mut y = if legend_height > 0 { s } else { 3 * s };
         for (g, group) in self.groups.iter().enumerate() {
             legend
                 .draw(&Rectangle::new(
@@ -163,7 +202,7 @@ impl Draw for BarFigure {
             y += (1.6 * s as f64) as i32;
         }
         let note_font = font(type_size::TICK).into_font();
-        let chars = (legend_width as f64 / (0.52 * pt(type_size::TICK) as f64)) as usize;
+        let chars = note_chars(legend_width);
         for line in super::lines::wrap(self.note.as_deref().unwrap_or(""), chars.max(10)) {
             y += (1.3 * pt(type_size::TICK) as f64) as i32;
             legend
@@ -191,6 +230,7 @@ pub fn bar_chart(
             groups,
             missing: Vec::new(),
             note: None,
+            width: PrintWidth::Full,
         },
     )
 }

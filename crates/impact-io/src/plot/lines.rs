@@ -181,6 +181,10 @@ impl Draw for LineFigure {
         self.width
     }
 
+    fn set_print_width(&mut self, width: PrintWidth) {
+        self.width = width;
+    }
+
     fn size(&self) -> (u32, u32) {
         let columns = self.columns.max(1);
         let rows = self.panels.len().div_ceil(columns).max(1) as u32;

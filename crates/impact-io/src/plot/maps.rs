@@ -82,6 +82,10 @@ impl Draw for MapFigure {
         self.width
     }
 
+    fn set_print_width(&mut self, width: PrintWidth) {
+        self.width = width;
+    }
+
     fn size(&self) -> (u32, u32) {
         let columns = self.columns.max(1);
         let rows = self.panels.len().div_ceil(columns).max(1);

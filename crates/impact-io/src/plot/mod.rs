@@ -1,6 +1,6 @@
 //! Figures drawn with plotters: PNG (bitmap backend, DejaVu Sans embedded: no system
-//! libraries or fonts needed) or SVG (plotters' SVG backend), chosen by the file's
-//! extension, each written atomically.
+//! libraries or fonts needed), SVG (plotters' SVG backend) or PDF (vector, [`PdfBackend`],
+//! the base-14 Helvetica), chosen by the file's extension, each written atomically.
 //!
 //! Conventions every figure follows (issue 13): axis labels with symbol and unit; tick
 //! labels without exponents on linear axes (the caller scales values to a readable unit,
@@ -18,10 +18,13 @@
 mod bars;
 mod lines;
 mod maps;
+mod pdf;
+mod pdf_fonts;
 
 pub use bars::{bar_chart, BarFigure, BarGroup};
 pub use lines::{line_panels, Axis, LineFigure, Panel, Series};
 pub use maps::{colour_maps, robust_range, MapFigure, MapPanel};
+pub use pdf::{PdfBackend, PdfError};
 
 use crate::IoError;
 use plotters::coord::Shift;
@@ -64,6 +67,7 @@ pub mod type_size {
 /// The width a figure is made for: a journal's single column (90 mm) or full text width
 /// (190 mm). Its pixel width is that at [`DPI`], so `pt` sizes print at their size.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum PrintWidth {
     /// One column, 90 mm.
     Single,
@@ -189,6 +193,9 @@ pub trait Draw {
     fn print_width(&self) -> PrintWidth {
         PrintWidth::Full
     }
+    /// Lay the figure out for `width` instead (its pixel width, the panels and legend
+    /// sized to it; the type sizes stay [`type_size`]'s at print size).
+    fn set_print_width(&mut self, width: PrintWidth);
     /// Size in pixels (PNG) or user units (SVG).
     fn size(&self) -> (u32, u32);
     /// Draw onto `root`.
@@ -208,6 +215,11 @@ pub struct Stacked<A, B>(pub A, pub B);
 impl<A: Draw, B: Draw> Draw for Stacked<A, B> {
     fn print_width(&self) -> PrintWidth {
         self.0.print_width()
+    }
+
+    fn set_print_width(&mut self, width: PrintWidth) {
+        self.0.set_print_width(width);
+        self.1.set_print_width(width);
     }
 
     fn size(&self) -> (u32, u32) {
@@ -230,9 +242,9 @@ impl<A: Draw, B: Draw> Draw for Stacked<A, B> {
     }
 }
 
-/// Draw `figure` into `path`: SVG when the extension is `svg`, PDF when it is `pdf` (the
-/// [`DPI`] raster at the figure's printed width, [`pdf_of_pixels`]), PNG otherwise;
-/// written to a temporary name and renamed.
+/// Draw `figure` into `path`: SVG when the extension is `svg`, PDF when it is `pdf` (vector,
+/// the page at the figure's printed width, [`PdfBackend`]), PNG otherwise; written to a
+/// temporary name and renamed.
 pub fn save(path: &Path, figure: &impl Draw) -> Result<(), IoError> {
     register_font();
     let err = |message: String| IoError::Plot {
@@ -243,19 +255,14 @@ pub fn save(path: &Path, figure: &impl Draw) -> Result<(), IoError> {
     let svg = extension == "svg";
     let tmp = crate::temporary_path(path).with_extension(format!("tmp.{extension}"));
     let result = if extension == "pdf" {
-        let (w, h) = figure.size();
-        let mut pixels = vec![255u8; 3 * w as usize * h as usize];
+        let mut pdf = Vec::new();
         {
-            let root = BitMapBackend::with_buffer(&mut pixels, (w, h)).into_drawing_area();
+            let root = PdfBackend::new(&mut pdf, figure.size()).into_drawing_area();
             figure
                 .draw(&root)
                 .and_then(|_| root.present().map_err(|e| e.to_string()))
         }
-        .and_then(|_| {
-            let mm = figure.print_width().mm();
-            let pdf = pdf_of_pixels(&pixels, (w, h), mm)?;
-            std::fs::write(&tmp, pdf).map_err(|e| e.to_string())
-        })
+        .and_then(|_| std::fs::write(&tmp, pdf).map_err(|e| e.to_string()))
     } else if svg {
         let root = SVGBackend::new(&tmp, figure.size()).into_drawing_area();
         figure
@@ -275,75 +282,6 @@ pub fn save(path: &Path, figure: &impl Draw) -> Result<(), IoError> {
         path: path.to_path_buf(),
         source,
     })
-}
-
-/// A one-page PDF (1.4) holding an RGB image of `size` pixels, printed `width_mm` wide
-/// (the height in proportion): the page is the image, the pixels Flate-compressed. Plotters
-/// has no PDF backend (plotters-cairo needs the system's cairo), so the PDF carries the
-/// raster at [`DPI`]; the SVG is the vector form.
-pub fn pdf_of_pixels(rgb: &[u8], size: (u32, u32), width_mm: f64) -> Result<Vec<u8>, String> {
-    use std::io::Write as _;
-    let (w, h) = size;
-    if rgb.len() != 3 * w as usize * h as usize || w == 0 || h == 0 {
-        return Err(format!("{} bytes for a {w}×{h} RGB image", rgb.len()));
-    }
-    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
-    z.write_all(rgb).map_err(|e| e.to_string())?;
-    let image = z.finish().map_err(|e| e.to_string())?;
-    // page size in points (1/72 in)
-    let page_w = width_mm / 25.4 * 72.0;
-    let page_h = page_w * h as f64 / w as f64;
-    let content = format!("q {page_w:.3} 0 0 {page_h:.3} 0 0 cm /Im0 Do Q\n");
-    let mut out: Vec<u8> = b"%PDF-1.4\n%\xe2\xe3\xcf\xd3\n".to_vec();
-    let mut offsets = Vec::new();
-    let mut object = |out: &mut Vec<u8>, body: &[u8]| {
-        offsets.push(out.len());
-        out.extend_from_slice(format!("{} 0 obj\n", offsets.len()).as_bytes());
-        out.extend_from_slice(body);
-        out.extend_from_slice(b"\nendobj\n");
-    };
-    object(&mut out, b"<< /Type /Catalog /Pages 2 0 R >>");
-    object(&mut out, b"<< /Type /Pages /Kids [3 0 R] /Count 1 >>");
-    object(
-        &mut out,
-        format!(
-            "<< /Type /Page /Parent 2 0 R /MediaBox [0 0 {page_w:.3} {page_h:.3}] \
-             /Resources << /XObject << /Im0 5 0 R >> >> /Contents 4 0 R >>"
-        )
-        .as_bytes(),
-    );
-    object(
-        &mut out,
-        format!(
-            "<< /Length {} >>\nstream\n{content}endstream",
-            content.len()
-        )
-        .as_bytes(),
-    );
-    let mut body = format!(
-        "<< /Type /XObject /Subtype /Image /Width {w} /Height {h} /ColorSpace /DeviceRGB \
-         /BitsPerComponent 8 /Filter /FlateDecode /Length {} >>\nstream\n",
-        image.len()
-    )
-    .into_bytes();
-    body.extend_from_slice(&image);
-    body.extend_from_slice(b"\nendstream");
-    object(&mut out, &body);
-    let xref = out.len();
-    out.extend_from_slice(
-        format!("xref\n0 {}\n0000000000 65535 f \n", offsets.len() + 1).as_bytes(),
-    );
-    for o in &offsets {
-        out.extend_from_slice(format!("{o:010} 00000 n \n").as_bytes());
-    }
-    out.extend_from_slice(
-        format!(
-            "trailer\n<< /Size {} /Root 1 0 R >>\nstartxref\n{xref}\n%%EOF\n",
-            offsets.len() + 1
-        )
-        .as_bytes(),
-    );
-    Ok(out)
 }
 
 /// Draw `title` centred in a strip at the top of `area` (`points` pt) and return the area
@@ -410,38 +348,11 @@ mod tests {
     }
 
     #[test]
-    fn the_pdf_page_is_the_printed_width_and_its_xref_points_at_every_object() {
-        let (w, h) = (PrintWidth::Single.pixels(), 200);
-        let pdf = pdf_of_pixels(&vec![200u8; 3 * w as usize * h as usize], (w, h), 90.0).unwrap();
-        let text = String::from_utf8_lossy(&pdf);
-        // 90 mm = 255.118 pt wide, the height in the image's proportion
-        let page_h = 90.0 / 25.4 * 72.0 * h as f64 / w as f64;
-        assert!(
-            text.contains(&format!("/MediaBox [0 0 255.118 {page_h:.3}]")),
-            "{text}"
-        );
-        assert!(text.starts_with("%PDF-1.4") && text.trim_end().ends_with("%%EOF"));
-        // every xref entry is the byte offset of "k 0 obj"
-        let tail = std::str::from_utf8(&pdf[pdf.len() - 40..]).unwrap();
-        let xref_at: usize = tail
-            .rsplit("startxref\n")
-            .next()
-            .and_then(|s| s.lines().next())
-            .and_then(|s| s.parse().ok())
-            .unwrap();
-        let table = std::str::from_utf8(&pdf[xref_at..]).unwrap();
-        assert!(table.starts_with("xref\n0 6\n"), "{table}");
-        for (k, line) in table.lines().skip(3).take(5).enumerate() {
-            let offset: usize = line[..10].parse().unwrap();
-            assert!(
-                pdf[offset..].starts_with(format!("{} 0 obj", k + 1).as_bytes()),
-                "{k}"
-            );
-        }
-        assert!(pdf_of_pixels(&[0u8; 5], (2, 2), 90.0).is_err());
+    fn type_sizes_in_pixels_at_print_width() {
         // 7-9 pt at print size: 29-38 px at 300 dpi
         assert_eq!((pt(7.0), pt(9.0)), (29, 38));
         assert_eq!(PrintWidth::Full.pixels(), 2244);
+        assert_eq!(PrintWidth::Single.pixels(), 1063);
     }
 
     #[test]

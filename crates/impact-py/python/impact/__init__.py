@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 
 from . import _impact
+from ._progress import Reporter, reporting
 from ._impact import SceneError, __version__
 
 __all__ = [
@@ -151,7 +152,7 @@ def run(
     files: bool = True,
     reference: bool = True,
     vtu: str = "binary",
-    progress: bool = False,
+    progress: Union[bool, Reporter] = False,
     **overrides: Any,
 ) -> Result:
     """Run ``scene`` with ``methods`` (``"dgmpm"``, ``"mpm"``, ``"fem"``), as
@@ -163,7 +164,10 @@ def run(
     (docs/cli.md). ``out``: the output folder (default: a temporary folder kept while the
     result lives; :meth:`Result.write` copies it). ``files=False`` is ``--no-files`` (only
     summary.json, provenance.json, scene.toml); ``reference=False`` is ``--no-reference``;
-    ``vtu`` is ``"binary"`` or ``"ascii"``; ``progress=True`` shows the CLI's bars on stderr.
+    ``vtu`` is ``"binary"`` or ``"ascii"``; ``progress=True`` shows a bar per method (and
+    the reference): tqdm's (a widget in a notebook) when tqdm is installed, else a line on
+    stderr per tenth; ``progress=<callable>`` receives the updates
+    ``[(index, label, fraction, finished), ...]`` a few times a second instead.
 
     The stepping runs with the GIL released; Ctrl-C (``KeyboardInterrupt``) stops it between
     two steps and leaves ``out`` as it was. A run the stability guard stopped returns its
@@ -184,16 +188,17 @@ def run(
     else:
         folder = Path(out)
     try:
-        raw = _impact.run(
-            the_scene._toml,
-            the_scene.source,
-            flags,
-            str(folder),
-            files,
-            reference,
-            vtu == "ascii",
-            progress,
-        )
+        with reporting(progress) as drawer:
+            raw = _impact.run(
+                the_scene._toml,
+                the_scene.source,
+                flags,
+                str(folder),
+                files,
+                reference,
+                vtu == "ascii",
+                drawer,
+            )
     except BaseException:
         if keep is not None:
             shutil.rmtree(keep, ignore_errors=True)
@@ -234,12 +239,13 @@ def check(
     mpm_points_per_cell: Optional[int] = None,
     min_width_ratio: float = 1.0,
     max_overshoot: Optional[float] = None,
-    progress: bool = False,
+    progress: Union[bool, Reporter] = False,
     **overrides: Any,
 ) -> Dict[str, Any]:
     """``impact check``: DGMPM against MPM at every output time. Returns the document the
     CLI writes with ``--json`` (``pass``, ``thresholds``, ``reports`` with each time's front
-    widths (m) and overshoots (% of the jump), ``provenance``)."""
+    widths (m) and overshoots (% of the jump), ``provenance``). ``progress`` as in
+    :func:`run`."""
     the_scene = _scene(scene)
     gate = dict(
         against=against,
@@ -254,7 +260,8 @@ def check(
     with _Folder(None, "check") as folder:
         folder.path.mkdir()
         path = folder.path / "check.json"
-        _impact.check(the_scene._toml, the_scene.source, flags, str(path), progress)
+        with reporting(progress) as drawer:
+            _impact.check(the_scene._toml, the_scene.source, flags, str(path), drawer)
         return _json_in(folder.path, "check.json")
 
 

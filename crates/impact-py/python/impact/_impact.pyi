@@ -1,6 +1,6 @@
 # Type stubs of the native module `impact._impact` (crates/impact-py/src/lib.rs). The
 # public API is `impact` (python/impact/__init__.py); these are its building blocks.
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Callable, Dict, List, Optional, Tuple
 
 __version__: str
 
@@ -20,9 +20,15 @@ def run(
     files: bool,
     reference: bool,
     ascii: bool,
-    progress: bool,
+    progress: Optional[Callable[[List[Tuple[int, str, float, bool]]], None]],
 ) -> Dict[str, Any]: ...
-def check(text: str, source: str, flags: List[str], json: str, progress: bool) -> bool: ...
+def check(
+    text: str,
+    source: str,
+    flags: List[str],
+    json: str,
+    progress: Optional[Callable[[List[Tuple[int, str, float, bool]]], None]],
+) -> bool: ...
 def convergence(text: str, source: str, flags: List[str], levels: int, out: str) -> str: ...
 def work_precision(
     exe: str, text: str, source: str, flags: List[str], levels: Optional[int], out: str
