@@ -187,11 +187,17 @@ def test_bad_scene_raises_the_cli_message(tmp_path):
 def test_interrupt_leaves_no_half_written_folder(tmp_path):
     out = tmp_path / "plate"
     main = threading.main_thread().ident
-    timer = threading.Timer(1.5, lambda: signal.pthread_kill(main, signal.SIGINT))
-    timer.start()
+    # SIGINT from another thread once the stepping has begun (the first progress update),
+    # not after a fixed delay: a fast machine could finish the run before the signal
+    timer = threading.Timer(0.05, lambda: signal.pthread_kill(main, signal.SIGINT))
+
+    def on_progress(updates):
+        if not timer.is_alive() and not timer.finished.is_set():
+            timer.start()
+
     started = time.time()
     with pytest.raises(KeyboardInterrupt):
-        impact.run("plate", out=out, cells=300, reference=False)
+        impact.run("plate", out=out, cells=300, reference=False, progress=on_progress)
     timer.join()
     assert time.time() - started < 20, "the run did not stop at the interrupt"
     assert not out.exists()
