@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
-# Strong scaling over MPI ranks × threads (issue 27): DGMPM on the plate at 600×450 cells
+# Strong scaling over MPI ranks × threads (issue 27): a method (METHOD=dgmpm, the default,
+# mpm or fem) on the plate at 600×450 cells
 # (`--cells 600`) run as 1 and 2 ranks × 1 and 2 threads, the four configurations
 # interleaved, REPS rounds; prints every run's stepping wall time (summary.json `wall_s`:
 # rank 0's clock, outputs excluded) and bytes exchanged per step, then the median per
 # configuration, its speed-up over 1 × 1 and its parallel efficiency (speed-up / cores
 # used). Needs a binary built with `--features mpi` and `mpirun`.
-# Usage: benchmarks/scaling_ranks.sh [reps] [cells] [t_end]
+# Usage: [METHOD=mpm] benchmarks/scaling_ranks.sh [reps] [cells] [t_end]
 set -euo pipefail
 reps=${1:-3}; cells=${2:-600}; t_end=${3:-}
 exe=${IMPACT_BIN:-target/release/impact}
+method=${METHOD:-dgmpm}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 mpi=(mpirun --oversubscribe --allow-run-as-root)
@@ -19,7 +21,7 @@ for r in $(seq "$reps"); do
     for threads in 1 2; do
       launch=()
       [ "$ranks" = 1 ] || launch=("${mpi[@]}" -np "$ranks")
-      RAYON_NUM_THREADS=$threads "${launch[@]}" "$exe" run plate --cells "$cells" --method dgmpm \
+      RAYON_NUM_THREADS=$threads "${launch[@]}" "$exe" run plate --cells "$cells" --method "$method" \
         --no-reference --no-files --quiet "${extra[@]}" --out "$out/run" >/dev/null
       python3 -c "import json; r=json.load(open('$out/run/summary.json'))['runs'][0]; \
 print($ranks, $threads, r['steps'], r['cells'], r['wall_s'], r.get('ranks', 1), r.get('bytes_per_step', 0))" \

@@ -2,7 +2,7 @@
 //! beyond [`crate::comm_gather`] (samples, first failure, hottest place) and
 //! [`crate::comm_halo`] (the point methods' halo): nodal vectors gathered in rank order,
 //! the buffers of a nodal halo exchange ([`HaloBuffers`]) and the [`Method`](crate::Method)
-//! values that are a local method's reduced over the ranks ([`reduced_over_ranks!`]).
+//! values that are a local method's reduced over the ranks ([`crate::reduced_over_ranks!`]).
 use crate::comm::Comm;
 use crate::Vector;
 

@@ -9,10 +9,10 @@
 //! impulse are each rank's own sums added in rank order ([`crate::comm`]: equal to one
 //! rank's to round-off); samples are gathered in rank order (the global point order), the
 //! first failure and the fastest point found over the ranks ([`crate::comm_gather`]).
-use crate::comm::{Comm, Slab};
+use crate::comm::{Comm, Slab, ThreadComm};
 use crate::comm_gather;
 use crate::comm_halo::PointHalo;
-use crate::method::{Method, MethodConfig, Samples};
+use crate::method::{BadState, Method, MethodConfig, Samples};
 use crate::points::MaterialPoints;
 use crate::{CoreError, Problem, Tensor, Vector};
 use std::sync::Arc;
@@ -197,4 +197,46 @@ pub fn owned_in_rank_order<const D: usize>(owned: &[&Samples<D>], whole: &Sample
         && joined(|s| &s.position) == whole.position
         && joined(|s| &s.velocity) == whole.velocity
         && stress == whole.stress
+}
+
+/// The failure each of `ranks` thread ranks reports when the velocity of carrier `bad` (a
+/// global index) of the method `build` makes on it is NaN ([`Method::perturb_velocity`],
+/// [`Method::check_finite`]): the slab tests assert that every rank's equals the one-rank
+/// method's (one message, one global place).
+pub fn blowup_on_ranks<const D: usize, M: Method<D>>(
+    ranks: usize,
+    bad: usize,
+    build: impl Fn(Arc<dyn Comm>) -> M + Sync,
+) -> Vec<BadState<D>> {
+    ThreadComm::on_ranks(ranks, |comm| {
+        let mut m = build(comm);
+        m.perturb_velocity(&mut |i, _| {
+            Vector::<D>::from_fn(|k, _| {
+                if i == bad && k == D - 1 {
+                    f64::NAN
+                } else {
+                    0.0
+                }
+            })
+        });
+        m.check_finite()
+            .expect_err("a NaN velocity must fail the check")
+    })
+}
+
+/// The message every one of `ranks` thread ranks refuses `build` with, which must be the
+/// same on every rank (a bad decomposition is refused identically, before any message).
+pub fn refusal_on_ranks<const D: usize, M: Method<D>, E: std::fmt::Display>(
+    ranks: usize,
+    build: impl Fn(Arc<dyn Comm>) -> Result<M, E> + Sync,
+) -> String {
+    let messages = ThreadComm::on_ranks(ranks, |comm| match build(comm) {
+        Ok(_) => "(built)".to_string(),
+        Err(e) => e.to_string(),
+    });
+    assert!(
+        messages.iter().all(|m| m == &messages[0]),
+        "the ranks refuse differently: {messages:?}"
+    );
+    messages[0].clone()
 }

@@ -7,8 +7,8 @@
 //! are refused on every rank with the most that fit.
 use impact_core::comm::{Comm, ThreadComm};
 use impact_core::method::{Integrator, MethodConfig, MethodKind, SchemeOrder, TransverseFlux};
-use impact_core::slab_method::{owned_in_rank_order, RunEnd};
-use impact_core::{Method, Problem, Scene, Vector};
+use impact_core::slab_method::{blowup_on_ranks, owned_in_rank_order, refusal_on_ranks, RunEnd};
+use impact_core::{Method, Problem, Scene};
 use impact_dgmpm::slab::SlabDgmpm;
 use impact_dgmpm::Dgmpm;
 use std::sync::Arc;
@@ -173,17 +173,13 @@ fn a_blowup_on_one_rank_is_seen_by_every_rank() {
     let bad = serial.state.points.len() - 40; // in the last rank's slab
     serial.state.points.velocity[bad][1] = f64::NAN;
     let expected = serial.check_finite().unwrap_err();
-    let reports = on_ranks(3, |comm| {
-        let mut m = SlabDgmpm::<2>::new(&problem, config, comm).unwrap();
-        m.perturb_velocity(&mut |i, _| {
-            Vector::<2>::new(0.0, if i == bad { f64::NAN } else { 0.0 })
-        });
-        (m.check_finite().unwrap_err(), m.hottest_place())
+    let reports = blowup_on_ranks(3, bad, |comm| {
+        SlabDgmpm::<2>::new(&problem, config, comm).unwrap()
     });
-    for (bad_state, _) in &reports {
-        assert_eq!(bad_state.place, expected.place);
-        assert_eq!(bad_state.reason, expected.reason);
-    }
+    assert!(
+        reports.iter().all(|state| state == &expected),
+        "{reports:?}"
+    );
 }
 
 /// More ranks than the layers allow: every rank refuses with the same message.
@@ -194,18 +190,13 @@ fn too_many_ranks_are_refused_on_every_rank() {
     short.domain.cells = vec![3];
     let problem = Problem::<1>::from_scene(&short).unwrap();
     let config = short.method_config(MethodKind::Dgmpm);
-    let messages = on_ranks(4, |comm| {
-        SlabDgmpm::<1>::new(&problem, config, comm)
-            .unwrap_err()
-            .to_string()
-    });
-    assert!(messages.iter().all(|m| m == &messages[0]));
+    let message = refusal_on_ranks(4, |comm| SlabDgmpm::<1>::new(&problem, config, comm));
     assert!(
-        messages[0].contains("4 ranks cannot share the 3 layers"),
+        message.contains("4 ranks cannot share the 3 layers"),
         "{}",
-        messages[0]
+        message
     );
-    assert!(messages[0].contains("at most 3 ranks"), "{}", messages[0]);
+    assert!(message.contains("at most 3 ranks"), "{}", message);
 }
 
 /// 3D: the block (CTU, transverse-transverse corrections) on slabs along z.

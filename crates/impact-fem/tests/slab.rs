@@ -9,7 +9,7 @@
 //! rank at its global place; more ranks than layers are refused on every rank.
 use impact_core::comm::ThreadComm;
 use impact_core::method::{MethodConfig, MethodKind};
-use impact_core::slab_method::owned_in_rank_order;
+use impact_core::slab_method::{blowup_on_ranks, owned_in_rank_order, refusal_on_ranks};
 use impact_core::{Method, Problem, Samples, Scene, Vector};
 use impact_fem::slab::SlabFem;
 use impact_fem::Fem;
@@ -222,17 +222,13 @@ fn a_blowup_on_one_rank_is_seen_by_every_rank() {
     let bad = serial.state.velocity_half.len() - 40; // in the last rank's slab
     serial.state.velocity_half[bad][1] = f64::NAN;
     let expected = serial.check_finite().unwrap_err();
-    let reports = ThreadComm::on_ranks(3, |comm| {
-        let mut m = SlabFem::<2>::new(&problem, config, comm).unwrap();
-        m.perturb_velocity(&mut |i, _| {
-            Vector::<2>::new(0.0, if i == bad { f64::NAN } else { 0.0 })
-        });
-        m.check_finite().unwrap_err()
+    let reports = blowup_on_ranks(3, bad, |comm| {
+        SlabFem::<2>::new(&problem, config, comm).unwrap()
     });
-    for bad_state in &reports {
-        assert_eq!(bad_state.place, expected.place);
-        assert_eq!(bad_state.reason, expected.reason);
-    }
+    assert!(
+        reports.iter().all(|state| state == &expected),
+        "{reports:?}"
+    );
 }
 
 /// More ranks than layers: every rank refuses with the same message.
@@ -242,16 +238,11 @@ fn too_many_ranks_are_refused_on_every_rank() {
     short.domain.cells = vec![3];
     let problem = Problem::<1>::from_scene(&short).unwrap();
     let config = short.method_config(MethodKind::Fem);
-    let messages = ThreadComm::on_ranks(4, |comm| {
-        SlabFem::<1>::new(&problem, config, comm)
-            .unwrap_err()
-            .to_string()
-    });
-    assert!(messages.iter().all(|m| m == &messages[0]));
+    let message = refusal_on_ranks(4, |comm| SlabFem::<1>::new(&problem, config, comm));
     assert!(
-        messages[0].contains("4 ranks cannot share the 3 layers"),
+        message.contains("4 ranks cannot share the 3 layers"),
         "{}",
-        messages[0]
+        message
     );
 }
 

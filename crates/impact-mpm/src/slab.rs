@@ -62,7 +62,7 @@ pub fn halo_layers(options: &MpmOptions) -> usize {
     rounds * reach
 }
 
-/// MPM on one rank's slab, a [`Method`] whose values are global (module doc).
+/// MPM on one rank's slab, a [`Method`](impact_core::Method) whose values are global (module doc).
 pub type SlabMpm<const D: usize> = OnSlab<D, Mpm<D>>;
 
 impl<const D: usize> SlabBuild<D> for Mpm<D> {

@@ -8,8 +8,8 @@ use impact_core::comm::{Comm, ThreadComm};
 use impact_core::method::{
     MethodConfig, MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate,
 };
-use impact_core::slab_method::{owned_in_rank_order, RunEnd};
-use impact_core::{Boundary, Load, Method, Problem, Scene, Vector};
+use impact_core::slab_method::{blowup_on_ranks, owned_in_rank_order, refusal_on_ranks, RunEnd};
+use impact_core::{Boundary, Load, Method, Problem, Scene};
 use impact_mpm::slab::SlabMpm;
 use impact_mpm::Mpm;
 use std::sync::Arc;
@@ -175,17 +175,13 @@ fn a_blowup_on_one_rank_is_seen_by_every_rank() {
     let bad = serial.state.points.len() - 40; // in the last rank's slab
     serial.state.points.velocity[bad][1] = f64::NAN;
     let expected = serial.check_finite().unwrap_err();
-    let reports = on_ranks(3, |comm| {
-        let mut m = SlabMpm::<2>::new(&problem, config, comm).unwrap();
-        m.perturb_velocity(&mut |i, _| {
-            Vector::<2>::new(0.0, if i == bad { f64::NAN } else { 0.0 })
-        });
-        m.check_finite().unwrap_err()
+    let reports = blowup_on_ranks(3, bad, |comm| {
+        SlabMpm::<2>::new(&problem, config, comm).unwrap()
     });
-    for bad_state in &reports {
-        assert_eq!(bad_state.place, expected.place);
-        assert_eq!(bad_state.reason, expected.reason);
-    }
+    assert!(
+        reports.iter().all(|state| state == &expected),
+        "{reports:?}"
+    );
 }
 
 /// The updated Lagrangian frame (points migrating between ranks) is refused on more than
@@ -196,16 +192,10 @@ fn updated_frame_and_too_many_ranks_are_refused_on_every_rank() {
     let problem = Problem::<2>::from_scene(&plate).unwrap();
     let mut config = plate.method_config(MethodKind::Mpm);
     options(&mut config).frame = MpmFrame::UpdatedLagrangian;
-    let messages = on_ranks(2, |comm| {
-        SlabMpm::<2>::new(&problem, config, comm)
-            .unwrap_err()
-            .to_string()
-    });
-    assert!(messages.iter().all(|m| m == &messages[0]));
+    let message = refusal_on_ranks(2, |comm| SlabMpm::<2>::new(&problem, config, comm));
     assert!(
-        messages[0].contains("updated Lagrangian") && messages[0].contains("2 ranks"),
-        "{}",
-        messages[0]
+        message.contains("updated Lagrangian") && message.contains("2 ranks"),
+        "{message}"
     );
     // and on one rank it runs
     on_ranks(1, |comm| SlabMpm::<2>::new(&problem, config, comm).unwrap());
@@ -213,13 +203,8 @@ fn updated_frame_and_too_many_ranks_are_refused_on_every_rank() {
     let mut config = plate.method_config(MethodKind::Mpm);
     options(&mut config).shape = MpmShape::Bspline2;
     options(&mut config).stress_update = StressUpdate::Musl;
-    let messages = on_ranks(5, |comm| {
-        SlabMpm::<2>::new(&problem, config, comm)
-            .unwrap_err()
-            .to_string()
-    });
-    assert!(messages.iter().all(|m| m == &messages[0]));
-    assert!(messages[0].contains("at most 4 ranks"), "{}", messages[0]);
+    let message = refusal_on_ranks(5, |comm| SlabMpm::<2>::new(&problem, config, comm));
+    assert!(message.contains("at most 4 ranks"), "{message}");
 }
 
 /// The halo message per step: `halo` layers of points each way per neighbour, 8 values per
