@@ -195,10 +195,17 @@ def test_interrupt_leaves_no_half_written_folder(tmp_path):
         if not timer.is_alive() and not timer.finished.is_set():
             timer.start()
 
+    # Python's own handler, as in a terminal or notebook (a process started in the
+    # background by a non-interactive shell inherits SIGINT ignored, and Python then
+    # installs none)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     started = time.time()
-    with pytest.raises(KeyboardInterrupt):
-        impact.run("plate", out=out, cells=300, reference=False, progress=on_progress)
-    timer.join()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            impact.run("plate", out=out, cells=300, reference=False, progress=on_progress)
+        timer.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
     assert time.time() - started < 20, "the run did not stop at the interrupt"
     assert not out.exists()
     assert [p.name for p in tmp_path.iterdir() if p.name != ".plate.lock"] == []
