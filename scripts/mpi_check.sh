@@ -79,6 +79,34 @@ PY
   echo "mpi: $scene ($method) on 1-4 ranks: fields equal to the serial run bit for bit, one piece per rank"
 done; done
 
+# impact check and bench convergence under mpirun, unchanged: the same report and files as
+# one rank (check's runs are decomposed, its energies differ by round-off only, which the
+# report does not print; the convergence ladder's runs are whole on every rank, and only
+# rank 0 writes: no two ranks contend for one folder)
+RAYON_NUM_THREADS=1 "$bin" check plate --quiet --json "$work/check1.json" >"$work/check1.out"
+RAYON_NUM_THREADS=1 "${mpi[@]}" -np 2 "$bin" check plate --quiet --json "$work/check2.json" \
+  >"$work/check2.out" 2>"$work/check2.err" || fail "check on 2 ranks failed: $(tail -5 "$work/check2.err")"
+cmp -s "$work/check1.out" "$work/check2.out" || fail "check on 2 ranks printed another report than on one"
+python3 - "$work/check1.json" "$work/check2.json" <<'PY' || fail "check on 2 ranks: its JSON differs"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert a["pass"] == b["pass"] and len(a["reports"]) == len(b["reports"])
+for ra, rb in zip(a["reports"], b["reports"]):
+    assert ra["pass"] == rb["pass"] and ra["rows"] == rb["rows"], (ra["rows"], rb["rows"])
+PY
+for n in 1 2; do
+  launch=()
+  [ "$n" = 1 ] || launch=("${mpi[@]}" -np "$n")
+  RAYON_NUM_THREADS=1 "${launch[@]}" "$bin" bench convergence --scene plate --levels 2 --out "$work/conv$n" \
+    >"$work/conv$n.out" 2>&1 || fail "bench convergence on $n ranks failed: $(tail -5 "$work/conv$n.out")"
+done
+for f in convergence.csv convergence.txt convergence.json; do
+  cmp -s "$work/conv1/$f" "$work/conv2/$f" || fail "bench convergence on 2 ranks: $f differs from one rank's"
+done
+[ "$(grep -c ' cells: L2' "$work/conv2.out")" = "$(grep -c ' cells: L2' "$work/conv1.out")" ] \
+  || fail "bench convergence on 2 ranks: its progress lines are printed by more than rank 0"
+echo "mpi: impact check and bench convergence on 2 ranks: the one-rank report and files"
+
 # failures stop every rank with one message and a non-zero exit (no hang: `timeout`)
 expect_failure() { # code pattern args...
   expect_failure_of "$1" "$2" -np 3 "$bin" "${@:3}" --quiet --out "$work/failing"

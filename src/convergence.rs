@@ -274,9 +274,10 @@ pub fn ladder<const D: usize>(
             let problem = Problem::<D>::from_valid_scene(&s)?;
             match bound_interior(&problem, &config.config) {
                 Err(why) => {
-                    eprintln!(
+                    crate::root_eprintln!(
                         "{:<32} {:>5} cells: skipped, {why}",
-                        config.label, s.domain.cells[0]
+                        config.label,
+                        s.domain.cells[0]
                     );
                     continue;
                 }
@@ -291,9 +292,12 @@ pub fn ladder<const D: usize>(
                 })?;
             let errors = run_level(&problem, config.config, &reference, region.as_ref())
                 .with_context(|| format!("{} at {:?} cells", config.label, s.domain.cells))?;
-            eprintln!(
+            crate::root_eprintln!(
                 "{:<32} {:>5} cells: L2 σ {:.3e}, v {:.3e}",
-                config.label, s.domain.cells[0], errors.l2_stress, errors.l2_velocity
+                config.label,
+                s.domain.cells[0],
+                errors.l2_stress,
+                errors.l2_velocity
             );
             out.push(Level {
                 config: config.label.clone(),

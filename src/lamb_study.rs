@@ -112,7 +112,7 @@ pub fn run(
             let recorded = traces(&problem, config, &load, &points)?;
             for trace in &recorded {
                 let r = row(kind.name(), s.domain.cells[0], h, trace, &load);
-                eprintln!(
+                crate::root_eprintln!(
                     "{:<6} {:>4} cells, r = {:.3} m: L2 w {:.3e}, u_r {:.3e}; P {:+.2} cells, R {:+.2} cells",
                     r.method,
                     r.cells_x,

@@ -112,3 +112,14 @@ pub fn scratch_folder() -> std::path::PathBuf {
 pub fn scratch_output() -> std::path::PathBuf {
     scratch_folder().join("out")
 }
+
+/// `eprintln!` on rank 0 only: on several ranks every rank runs the same command and would
+/// print the same progress line, so rank 0 speaks for all.
+#[macro_export]
+macro_rules! root_eprintln {
+    ($($arg:tt)*) => {
+        if $crate::ranks::is_root() {
+            eprintln!($($arg)*);
+        }
+    };
+}

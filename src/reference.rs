@@ -172,7 +172,7 @@ fn computed_or_cached<const D: usize>(
     let fine_cells = fine.grid.cell_count();
     let (stored, cached) = entry.get_or_compute(problem.output_times.len(), fine_cells, || {
         if say {
-            eprintln!("computing the {description}");
+            crate::root_eprintln!("computing the {description}");
         }
         let progress = say.then(|| crate::run::progress_bar("reference"));
         let (stress_xx, velocity_x, work) =
@@ -187,7 +187,7 @@ fn computed_or_cached<const D: usize>(
         })
     })?;
     if say && cached {
-        eprintln!(
+        crate::root_eprintln!(
             "the {description}: read from the cache {}",
             entry.path().display()
         );

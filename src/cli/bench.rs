@@ -190,7 +190,9 @@ fn convergence(
 ) -> Result<()> {
     let study = Study::load(scene, overrides.clone())?;
     let out = out.unwrap_or_else(|| impact::convergence::default_out(study.name()));
-    let table = impact::convergence::run((&study, scene), levels, &out, |note| say!("{note}"))?;
+    let table = super::in_own_folder(&out, |folder| {
+        impact::convergence::run((&study, scene), levels, folder, |note| say!("{note}"))
+    })?;
     say!("{table}wrote {}", out.display());
     Ok(())
 }
@@ -203,7 +205,9 @@ fn lamb(scene: &str, levels: usize, methods: &[MethodKind], out: Option<PathBuf>
     } else {
         methods.to_vec()
     };
-    let table = impact::lamb_study::run((&study, scene), levels, &methods, &out)?;
+    let table = super::in_own_folder(&out, |folder| {
+        impact::lamb_study::run((&study, scene), levels, &methods, folder)
+    })?;
     say!("{table}wrote {}", out.display());
     Ok(())
 }

@@ -35,12 +35,14 @@ pub(crate) fn command(args: &CheckArgs) -> Result<bool> {
     for report in &reports {
         print_check(study.name(), report);
     }
-    if let Some(path) = &args.json {
+    // (on several ranks, rank 0 writes the files for all)
+    let root = impact::ranks::is_root();
+    if let Some(path) = args.json.as_ref().filter(|_| root) {
         let source = &args.scene.scene;
         impact::check_report::write_outcome(path, (&study, source), &options, &reports, &clock)
             .with_context(|| format!("writing {}", path.display()))?;
     }
-    if let Some(path) = &args.junit {
+    if let Some(path) = args.junit.as_ref().filter(|_| root) {
         impact::check_report::write_junit(path, study.name(), &reports)
             .with_context(|| format!("writing {}", path.display()))?;
     }

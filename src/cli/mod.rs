@@ -21,6 +21,21 @@ macro_rules! say {
     }};
 }
 
+/// `work` on the output folder `out` on rank 0, and on a private scratch folder on the other
+/// ranks (removed after): on several ranks every rank runs the same command (`impact::ranks`)
+/// and only rank 0's files are kept, so the ranks never contend for one folder's lock.
+fn in_own_folder<T>(
+    out: &std::path::Path,
+    work: impl FnOnce(&std::path::Path) -> Result<T>,
+) -> Result<T> {
+    if impact::ranks::is_root() {
+        return work(out);
+    }
+    let result = work(&impact::ranks::scratch_output());
+    let _ = std::fs::remove_dir_all(impact::ranks::scratch_folder());
+    result
+}
+
 mod bench;
 mod check;
 mod figures;

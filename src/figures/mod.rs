@@ -240,7 +240,7 @@ pub fn run(options: &FiguresOptions) -> Result<Index> {
             width: options.width,
         };
         if options.progress {
-            eprintln!("figures: making {}", name.name());
+            crate::root_eprintln!("figures: making {}", name.name());
         }
         let start = std::time::Instant::now();
         let mut entry = match name {
