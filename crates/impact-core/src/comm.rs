@@ -267,10 +267,7 @@ impl Slab {
     /// The grid of the stored layers: `global` cut along its last axis, its origin moved
     /// to the first stored layer.
     pub fn grid<const D: usize>(&self, global: &Grid<D>) -> Grid<D> {
-        let mut grid = global.clone();
-        grid.cells[D - 1] = self.stored.len();
-        grid.origin[D - 1] += self.stored.start as f64 * global.spacing[D - 1];
-        grid
+        global.layers(self.stored.start, self.stored.len())
     }
 
     /// A one-line description for summaries: `slabs along axis 1: rank r owns [a, b)`.

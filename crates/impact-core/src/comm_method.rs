@@ -59,15 +59,30 @@ impl HaloBuffers {
 }
 
 /// The [`Method`](crate::Method) functions of a slab solver that are its local method's
-/// values reduced over the ranks, written once for every method crate: the time step
-/// (minimum), energy and work (sums in rank order), momentum and impulse (the same per
-/// component), the first failure ([`crate::comm_gather::first_bad`]), the initial energy,
-/// this rank's owned samples (the local method's samples: its own carriers) and the comm. Expands inside `impl Method<D> for …` of a struct with the fields
-/// `local` (the rank's own method), `comm: Arc<dyn Comm>` and `initial_energy: f64` (reduced
-/// when built).
+/// values reduced or gathered over the ranks, written once for every method crate: the
+/// configuration, the samples (the local method's, which are its own carriers', gathered in
+/// rank order: [`crate::comm_gather::gather_samples`]), the time step (minimum), energy and
+/// work (sums in rank order), momentum and impulse (the same per component), the first
+/// failure ([`crate::comm_gather::first_bad`]), the initial energy, this rank's owned
+/// samples (the local method's samples), the comm and the halo's bytes per step. Expands
+/// inside `impl Method<D> for …` of a struct with the fields `local` (the rank's own method),
+/// `comm: Arc<dyn Comm>` and `initial_energy: f64` (reduced when built) and an inherent
+/// `bytes_per_step(&self) -> usize`.
 #[macro_export]
 macro_rules! reduced_over_ranks {
     () => {
+        fn config(&self) -> &$crate::method::MethodConfig {
+            self.local.config()
+        }
+        fn sample_into(&self, out: &mut $crate::method::Samples<D>) {
+            // (outputs only: the guard reduces the owned samples; the buffers are the caller's)
+            let mut mine = $crate::method::Samples::<D>::default();
+            self.local.sample_into(&mut mine);
+            $crate::comm_gather::gather_samples(self.comm.as_ref(), &mine, out);
+        }
+        fn bytes_exchanged_per_step(&self) -> usize {
+            self.bytes_per_step()
+        }
         fn stable_dt(&self) -> f64 {
             self.comm.all_reduce_min(self.local.stable_dt())
         }

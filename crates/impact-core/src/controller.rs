@@ -449,25 +449,14 @@ mod tests {
             let all = peaks(values);
             let (peak, place) = peak_over_ranks(&SerialComm, &all);
             for ranks in 2..=4 {
-                let comms = ThreadComm::group(ranks);
-                let got: Vec<(f64, Vector<1>)> = std::thread::scope(|s| {
-                    let handles: Vec<_> = comms
-                        .into_iter()
-                        .map(|comm| {
-                            let part = peaks(values);
-                            s.spawn(move || {
-                                // rank r owns the r-th of `ranks` consecutive runs
-                                let r = comm.rank();
-                                let n = values.len();
-                                let own = r * n / ranks..(r + 1) * n / ranks;
-                                let mut mine = Samples::<1>::default();
-                                mine.stress.extend_from_slice(&part.stress[own.clone()]);
-                                mine.reference.extend_from_slice(&part.reference[own]);
-                                peak_over_ranks(&comm, &mine)
-                            })
-                        })
-                        .collect();
-                    handles.into_iter().map(|h| h.join().unwrap()).collect()
+                let got = ThreadComm::on_ranks(ranks, |comm| {
+                    // rank r owns the r-th of `ranks` consecutive runs
+                    let (r, n) = (comm.rank(), values.len());
+                    let own = r * n / ranks..(r + 1) * n / ranks;
+                    let mut mine = Samples::<1>::default();
+                    mine.stress.extend_from_slice(&all.stress[own.clone()]);
+                    mine.reference.extend_from_slice(&all.reference[own]);
+                    peak_over_ranks(comm.as_ref(), &mine)
                 });
                 for (p, x) in got {
                     assert_eq!(p.to_bits(), peak.to_bits(), "{values:?} on {ranks} ranks");

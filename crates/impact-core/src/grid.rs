@@ -74,6 +74,16 @@ impl<const D: usize> Grid<D> {
         self.cell_lower(c) + self.spacing * 0.5
     }
 
+    /// The `count` layers of cells along the last axis from layer `first` on (a rank's
+    /// slab; `count` may reach past the grid, e.g. into padding): the same spacing, the
+    /// origin moved to the first layer, `x_0 + first · h`.
+    pub fn layers(&self, first: usize, count: usize) -> Self {
+        let mut grid = self.clone();
+        grid.cells[D - 1] = count;
+        grid.origin[D - 1] += first as f64 * self.spacing[D - 1];
+        grid
+    }
+
     /// Upper corner of the grid.
     pub fn upper(&self) -> Vector<D> {
         Vector::<D>::from_fn(|l, _| self.origin[l] + self.cells[l] as f64 * self.spacing[l])

@@ -186,12 +186,8 @@ impl<const D: usize> MaterialPoints<D> {
         }
     }
 
-    /// Copy the points' fields into `out` (the sampling of the point methods).
-    pub fn sample_into(&self, out: &mut Samples<D>) {
-        self.sample_range_into(0..self.len(), out);
-    }
-
-    /// [`Self::sample_into`] for the points `range` only (a rank's own points).
+    /// Copy the fields of the points `range` into `out` (the sampling of the point methods:
+    /// every point on one rank, a slab's own points on several).
     pub fn sample_range_into(&self, range: std::ops::Range<usize>, out: &mut Samples<D>) {
         out.clear();
         out.reference
@@ -213,12 +209,7 @@ impl<const D: usize> MaterialPoints<D> {
         }
     }
 
-    /// Total momentum `Σ m_α v_α`.
-    pub fn momentum(&self) -> Vector<D> {
-        self.momentum_in(0..self.len())
-    }
-
-    /// `Σ m_α v_α` over the points `range`, in order.
+    /// Momentum `Σ m_α v_α` over the points `range`, in order.
     pub fn momentum_in(&self, range: std::ops::Range<usize>) -> Vector<D> {
         self.velocity[range.clone()]
             .iter()
@@ -226,13 +217,8 @@ impl<const D: usize> MaterialPoints<D> {
             .fold(Vector::<D>::zeros(), |sum, (v, m)| sum + v * *m)
     }
 
-    /// Kinetic plus strain energy, `Σ ½ m_α |v_α|² + V_α ψ_α`, with the strain energy
-    /// density `ψ_α = energy_density(α)`.
-    pub fn energy(&self, energy_density: impl Fn(usize) -> f64 + Sync) -> f64 {
-        self.energy_in(0..self.len(), energy_density)
-    }
-
-    /// [`Self::energy`] over the points `range` (`energy_density` takes the point's index).
+    /// Kinetic plus strain energy over the points `range`, `Σ ½ m_α |v_α|² + V_α ψ_α`, with
+    /// the strain energy density `ψ_α = energy_density(α)` (the point's index).
     pub fn energy_in(
         &self,
         range: std::ops::Range<usize>,
@@ -265,12 +251,6 @@ impl<const D: usize> MaterialPoints<D> {
             worst = worst.max((self.volume[i] - other.volume[i]).abs() / other.volume[i]);
         }
         worst
-    }
-
-    /// Reference position of the fastest point (where a blow-up is growing).
-    pub fn hottest_place(&self) -> Vector<D> {
-        self.hottest_in(0..self.len())
-            .map_or_else(Vector::<D>::zeros, |i| self.reference[i])
     }
 
     /// The point of largest `|v|` among `range` (the last of equals), if any.

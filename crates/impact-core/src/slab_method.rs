@@ -105,25 +105,13 @@ impl<const D: usize, M> OnSlab<D, M> {
 }
 
 impl<const D: usize, M: SlabLocal<D>> Method<D> for OnSlab<D, M> {
-    fn config(&self) -> &MethodConfig {
-        self.local.config()
-    }
     fn step(&mut self, t: f64, dt: f64) {
         let (points, extra) = self.local.halo_state();
         self.halo
             .exchange(self.comm.as_ref(), &self.slab, points, extra);
         self.local.step(t, dt);
     }
-    fn sample_into(&self, out: &mut Samples<D>) {
-        // (outputs and the guard's max-norm test only: the buffers are the caller's)
-        let mut mine = Samples::<D>::default();
-        self.local.sample_into(&mut mine);
-        comm_gather::gather_samples(self.comm.as_ref(), &mine, out);
-    }
     crate::reduced_over_ranks!();
-    fn bytes_exchanged_per_step(&self) -> usize {
-        self.bytes_per_step()
-    }
     fn hottest_place(&self) -> Vector<D> {
         let p = self.local.points();
         let mine = p

@@ -30,9 +30,7 @@ impl<const D: usize> Fem<D> {
     ) -> Result<Self, CoreError> {
         problem.check_config(&config)?;
         let place = Place::new(&problem.grid, stored, owned);
-        let mut grid = problem.grid.clone();
-        grid.cells[D - 1] = stored.len();
-        grid.origin[D - 1] += stored.start as f64 * grid.spacing[D - 1];
+        let grid = problem.grid.layers(stored.start, stored.len());
         let nodes = grid.vertex_count();
         let mass = lumped_mass(&grid, problem.material.density);
         let (gauss_gradient, centre_gradient) = shape_gradients(&grid);

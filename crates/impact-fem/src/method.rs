@@ -165,9 +165,10 @@ impl<const D: usize> Method<D> for Fem<D> {
     /// The owned nodes' (every node on one rank).
     fn mesh_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {
         let nodes = self.solver.place.owned_nodes.clone();
-        let velocity = nodes.clone();
-        let velocity = velocity.map(|i| self.solver.full_velocity(&self.state, i));
-        Some((velocity.collect(), self.state.displacement[nodes].to_vec()))
+        let velocity = (nodes.clone())
+            .map(|i| self.solver.full_velocity(&self.state, i))
+            .collect();
+        Some((velocity, self.state.displacement[nodes].to_vec()))
     }
 }
 

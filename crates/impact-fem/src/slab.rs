@@ -44,10 +44,10 @@
 //! nodes are consecutive runs of the global order), so outputs equal the serial ones.
 use crate::Fem;
 use impact_core::comm::{Comm, Slab};
-use impact_core::comm_gather::{gather_samples, hottest_place};
+use impact_core::comm_gather::hottest_place;
 use impact_core::comm_method::gather_vectors;
 use impact_core::comm_method::HaloBuffers;
-use impact_core::method::{Method, MethodConfig, Samples};
+use impact_core::method::{Method, MethodConfig};
 use impact_core::{CoreError, Grid, Problem, Vector};
 use std::sync::Arc;
 
@@ -169,26 +169,15 @@ impl<const D: usize> SlabFem<D> {
 
 impl<const D: usize> Method<D> for SlabFem<D> {
     impact_core::reduced_over_ranks!();
-    fn bytes_exchanged_per_step(&self) -> usize {
-        self.bytes_per_step()
-    }
     fn cells(&self) -> usize {
         self.global_cells
     }
     fn updates_per_step(&self) -> usize {
         self.global_cells
     }
-    fn config(&self) -> &MethodConfig {
-        self.local.config()
-    }
     fn step(&mut self, t: f64, dt: f64) {
         self.local.step(t, dt);
         self.exchange_halo();
-    }
-    fn sample_into(&self, out: &mut Samples<D>) {
-        let mut mine = Samples::<D>::default();
-        self.local.sample_into(&mut mine);
-        gather_samples(self.comm.as_ref(), &mine, out);
     }
     fn hottest_place(&self) -> Vector<D> {
         hottest_place(self.comm.as_ref(), self.local.hottest_owned())

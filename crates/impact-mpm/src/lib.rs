@@ -315,9 +315,7 @@ impl<const D: usize> Mpm<D> {
         // are the whole body's (the same sums and bits on every rank count)
         let parallel = worth_parallel(all.len());
         let share_from = (all.reference.first().copied(), all.domain.first().copied());
-        let mut grid = whole.clone();
-        grid.cells[D - 1] = stored.len() + 2 * PADDING;
-        grid.origin[D - 1] += stored.start as f64 * whole.spacing[D - 1];
+        let grid = whole.layers(stored.start, stored.len() + 2 * PADDING);
         let node_count = grid.vertex_count();
         let node_offset = stored.start * layer_nodes;
         let lightest = all.mass.iter().copied().fold(f64::INFINITY, f64::min);
