@@ -7,8 +7,7 @@
 use super::shapes;
 use crate::riemann::Conserved;
 use crate::Dgmpm;
-use impact_core::method::MethodKind;
-use impact_core::{Grid, Method, Problem, Scene, Tensor, Vector};
+use impact_core::{Grid, Tensor, Vector};
 
 /// Every cell's nodal rates (zero face fluxes) of `dgmpm`'s solver as it is.
 fn rates<const D: usize>(dgmpm: &Dgmpm<D>) -> (Vec<Tensor<D>>, Vec<Vector<D>>) {
@@ -34,22 +33,7 @@ fn rates<const D: usize>(dgmpm: &Dgmpm<D>) -> (Vec<Tensor<D>>, Vec<Vector<D>>) {
 }
 
 fn check<const D: usize>(name: &str, cells: &[usize], points_per_cell: usize) {
-    let mut scene = Scene::builtin(name).unwrap();
-    scene.domain.cells = cells.to_vec();
-    let problem = Problem::<D>::from_scene(&scene).unwrap();
-    let mut config = scene.method_config(MethodKind::Dgmpm);
-    config.points_per_cell = points_per_cell;
-    config.courant = 0.5;
-    let mut dgmpm = Dgmpm::<D>::new(&problem, config).unwrap();
-    let dt = dgmpm.stable_dt();
-    for n in 0..6 {
-        dgmpm.step(n as f64 * dt, dt);
-    }
-    let (peak_s, peak_v) = dgmpm.state.points.peaks();
-    assert!(
-        peak_s > 0.0 && peak_v > 0.0,
-        "{name}: the wave must be there"
-    );
+    let mut dgmpm = super::tests::loaded::<D>(name, cells, points_per_cell);
     let label = format!("{name}, {points_per_cell} points per cell");
     let takes = points_per_cell >= Grid::<D>::NODES_PER_CELL;
     assert_eq!(!dgmpm.solver.volume_weights.is_empty(), takes, "{label}");
