@@ -35,7 +35,8 @@
 //! Files: this one (buffers, dispatch, the cell update), `plane.rs` (the 2D sweep and its
 //! face rows, for both), `bar.rs` (the 1D sweep), `block.rs` (the 3D sweep, donor-cell)
 //! and `block/ctu.rs` (its CTU), `nodal.rs` (the nodal stage: its dispatch, buffers, cell
-//! update and 1D sweep; 1D and 2D only).
+//! update and 1D sweep; 1D and 2D only) and `heun.rs` (RK2's second stage at one point per
+//! cell as a cell update).
 use crate::faces::Fields;
 use crate::riemann::Conserved;
 use crate::{DgmpmSolver, StepPath, CHUNK};
@@ -46,6 +47,7 @@ use std::any::Any;
 
 mod bar;
 mod block;
+mod heun;
 mod nodal;
 mod plane;
 
