@@ -103,9 +103,13 @@ impl<const D: usize> Weights<'_, D> {
     /// Point `p`'s stencil: its shape values and gradients (one row of `nodes` entries,
     /// sliced once: no bounds check per node) and its base node less `offset` (the
     /// band's first node), to which the stencil's `offsets` add.
+    /// `N`: the stencil's node count where the caller fixed it (the default scatter and the
+    /// fused gather, for the hats' and quadratic stencils of 2D and 3D: 4, 8, 9, 27 nodes;
+    /// the loops over the row then have a constant trip count and unroll), 0 where it did
+    /// not (the count read at run time). The same operations in the same order either way.
     #[inline]
-    fn row(&self, p: usize, offset: usize) -> (&[f64], &[Vector<D>], usize) {
-        let nodes = self.offsets.len();
+    fn row<const N: usize>(&self, p: usize, offset: usize) -> (&[f64], &[Vector<D>], usize) {
+        let nodes = if N == 0 { self.offsets.len() } else { N };
         let first = p * self.stride;
         (
             &self.shape[first..first + nodes],
@@ -263,19 +267,16 @@ impl<const D: usize> MpmSolver<D> {
         // per node; each node's sums take the same operations in the same order
         let plain = affine.is_empty();
         match (plain, with_internal) {
-            (true, true) => self.scatter(fill, |weights, p, sums| {
-                let (mass, velocity) = (points.mass[p], points.velocity[p]);
-                // V_p σ_p formed once per point
-                let stress = points.stress[p] * points.volume[p];
-                let (shape, gradient, base) = weights.row(p, sums.offset);
-                let stencil = weights.offsets.iter().zip(shape).zip(gradient);
-                for ((o, s), g) in stencil {
-                    let (i, w) = (base + o, s * mass);
-                    sums.mass[i] += w;
-                    sums.momentum[i] += velocity * w;
-                    sums.force[i] -= stress * g;
-                }
-            }),
+            (true, true) => {
+                let plain = match self.stencil.nodes {
+                    4 => Self::scatter_plain::<4>,
+                    8 => Self::scatter_plain::<8>,
+                    9 => Self::scatter_plain::<9>,
+                    27 => Self::scatter_plain::<27>,
+                    _ => Self::scatter_plain::<0>,
+                };
+                plain(self, points)
+            }
             _ => self.scatter(fill, |weights, p, sums| {
                 let (mass, velocity) = (points.mass[p], points.velocity[p]);
                 let stress = points.stress[p] * points.volume[p];
@@ -284,7 +285,7 @@ impl<const D: usize> MpmSolver<D> {
                 } else {
                     weights.centre(p)
                 };
-                let (shape, gradient, base) = weights.row(p, sums.offset);
+                let (shape, gradient, base) = weights.row::<0>(p, sums.offset);
                 for (a, o) in weights.offsets.iter().enumerate() {
                     let (i, w) = (base + o, shape[a] * mass);
                     sums.mass[i] += w;
@@ -302,6 +303,29 @@ impl<const D: usize> MpmSolver<D> {
         }
     }
 
+    /// Phase 1's sums without APIC, with the internal force (the default), for a stencil of
+    /// `N` nodes (`Weights::row`; 0: any).
+    fn scatter_plain<const N: usize>(&mut self, points: &MaterialPoints<D>) {
+        let fill = Fill {
+            mass: true,
+            momentum: true,
+            force: true,
+        };
+        self.scatter(fill, |weights, p, sums| {
+            let (mass, velocity) = (points.mass[p], points.velocity[p]);
+            // V_p σ_p formed once per point
+            let stress = points.stress[p] * points.volume[p];
+            let (shape, gradient, base) = weights.row::<N>(p, sums.offset);
+            let stencil = weights.offsets.iter().zip(shape).zip(gradient);
+            for ((o, s), g) in stencil {
+                let (i, w) = (base + o, s * mass);
+                sums.mass[i] += w;
+                sums.momentum[i] += velocity * w;
+                sums.force[i] -= stress * g;
+            }
+        });
+    }
+
     /// Internal forces only (USF computes them after its stress update).
     pub(crate) fn internal_forces(&mut self, points: &MaterialPoints<D>) {
         let fill = Fill {
@@ -311,7 +335,7 @@ impl<const D: usize> MpmSolver<D> {
         };
         self.scatter(fill, |weights, p, sums| {
             let stress = points.stress[p] * points.volume[p];
-            let (_, gradient, base) = weights.row(p, sums.offset);
+            let (_, gradient, base) = weights.row::<0>(p, sums.offset);
             for (o, g) in weights.offsets.iter().zip(gradient) {
                 sums.force[base + o] -= stress * g;
             }
@@ -330,7 +354,7 @@ impl<const D: usize> MpmSolver<D> {
     ) {
         match PointVelocity::of(&self.options) {
             None => self.gather_affine::<false>(points, affine, dt),
-            Some(update) => self.gather::<false>(points, update, dt),
+            Some(update) => self.gather::<false, 0>(points, update, dt),
         }
     }
 
@@ -347,7 +371,16 @@ impl<const D: usize> MpmSolver<D> {
     ) {
         match PointVelocity::of(&self.options) {
             None => self.gather_affine::<true>(points, affine, dt),
-            Some(update) => self.gather::<true>(points, update, dt),
+            Some(update) => {
+                let fused = |nodes| match nodes {
+                    4 => Self::gather::<true, 4>,
+                    8 => Self::gather::<true, 8>,
+                    9 => Self::gather::<true, 9>,
+                    27 => Self::gather::<true, 27>,
+                    _ => Self::gather::<true, 0>,
+                };
+                fused(self.stencil.nodes)(self, points, update, dt)
+            }
         }
         if let Model::J2(j2) = self.model {
             j2.correct_points(points, self.parallel);
@@ -355,14 +388,16 @@ impl<const D: usize> MpmSolver<D> {
     }
 
     /// The gather of phase 3 and, with `STRESS`, phase 5 (small strain), for the transfers
-    /// without an affine part.
-    fn gather<const STRESS: bool>(
+    /// without an affine part; `N`: the stencil's node count where fixed (`Weights::row`),
+    /// 0 otherwise.
+    fn gather<const STRESS: bool, const N: usize>(
         &self,
         points: &mut MaterialPoints<D>,
         update: PointVelocity,
         dt: f64,
     ) {
-        let (npc, stride) = (self.stencil.nodes, self.weight_stride);
+        let npc = if N == 0 { self.stencil.nodes } else { N };
+        let stride = self.weight_stride;
         let offsets = &self.stencil.offsets[..npc];
         let nodes = &self.nodes;
         let (inv_mass, momentum, force) =
@@ -443,7 +478,7 @@ impl<const D: usize> MpmSolver<D> {
             } else {
                 weights.centre(p)
             };
-            let (shape, _, base) = weights.row(p, sums.offset);
+            let (shape, _, base) = weights.row::<0>(p, sums.offset);
             for (a, o) in weights.offsets.iter().enumerate() {
                 let (i, w) = (base + o, shape[a] * mass);
                 sums.mass[i] += w;
