@@ -119,6 +119,35 @@ impl<const D: usize> Weights<'_, D> {
     }
 }
 
+/// Add point `p`'s mass `N_ip m_p` and momentum `N_ip m_p v_p` to its nodes' sums (APIC,
+/// `affine` not empty: `N_ip m_p (v_p + C_p (x_i − x_p))`, `crate::affine`): phase 1 with
+/// APIC or without the internal force, and the MUSL remap (phase 4).
+fn add_mass_and_momentum<const D: usize>(
+    weights: &Weights<'_, D>,
+    p: usize,
+    sums: &mut Band<'_, D>,
+    points: &MaterialPoints<D>,
+    affine: &[Tensor<D>],
+) {
+    let (mass, velocity) = (points.mass[p], points.velocity[p]);
+    let centre = if affine.is_empty() {
+        Vector::<D>::zeros()
+    } else {
+        weights.centre(p)
+    };
+    let (shape, _, base) = weights.row::<0>(p, sums.offset);
+    for (a, o) in weights.offsets.iter().enumerate() {
+        let (i, w) = (base + o, shape[a] * mass);
+        sums.mass[i] += w;
+        if affine.is_empty() {
+            sums.momentum[i] += velocity * w;
+        } else {
+            let v = weights.affine_velocity(&velocity, &affine[p], &centre, a);
+            sums.momentum[i] += v * w;
+        }
+    }
+}
+
 impl<const D: usize> MpmSolver<D> {
     /// Add `contribution(p, band)` of every point to the nodal sums named by `fill` (which
     /// are zeroed first). A point whose stencil starts at node layer `j` (along the last
@@ -278,25 +307,12 @@ impl<const D: usize> MpmSolver<D> {
                 plain(self, points)
             }
             _ => self.scatter(fill, |weights, p, sums| {
-                let (mass, velocity) = (points.mass[p], points.velocity[p]);
-                let stress = points.stress[p] * points.volume[p];
-                let centre = if plain {
-                    Vector::<D>::zeros()
-                } else {
-                    weights.centre(p)
-                };
-                let (shape, gradient, base) = weights.row::<0>(p, sums.offset);
-                for (a, o) in weights.offsets.iter().enumerate() {
-                    let (i, w) = (base + o, shape[a] * mass);
-                    sums.mass[i] += w;
-                    if plain {
-                        sums.momentum[i] += velocity * w;
-                    } else {
-                        let v = weights.affine_velocity(&velocity, &affine[p], &centre, a);
-                        sums.momentum[i] += v * w;
-                    }
-                    if with_internal {
-                        sums.force[i] -= stress * gradient[a];
+                add_mass_and_momentum(weights, p, sums, points, affine);
+                if with_internal {
+                    let stress = points.stress[p] * points.volume[p];
+                    let (_, gradient, base) = weights.row::<0>(p, sums.offset);
+                    for (o, g) in weights.offsets.iter().zip(gradient) {
+                        sums.force[base + o] -= stress * g;
                     }
                 }
             }),
@@ -472,23 +488,7 @@ impl<const D: usize> MpmSolver<D> {
             force: false,
         };
         self.scatter(fill, |weights, p, sums| {
-            let (mass, velocity) = (points.mass[p], points.velocity[p]);
-            let centre = if affine.is_empty() {
-                Vector::<D>::zeros()
-            } else {
-                weights.centre(p)
-            };
-            let (shape, _, base) = weights.row::<0>(p, sums.offset);
-            for (a, o) in weights.offsets.iter().enumerate() {
-                let (i, w) = (base + o, shape[a] * mass);
-                sums.mass[i] += w;
-                if affine.is_empty() {
-                    sums.momentum[i] += velocity * w;
-                } else {
-                    let v = weights.affine_velocity(&velocity, &affine[p], &centre, a);
-                    sums.momentum[i] += v * w;
-                }
-            }
+            add_mass_and_momentum(weights, p, sums, points, affine);
         });
         self.fold_padding(window, false);
         self.constrain_momentum(window);
