@@ -1,4 +1,4 @@
-//! 3D speed and memory (issue 24): `cargo bench --bench three_d [-- N [STEPS]]` (default
+//! 3D speed and memory (issues 24, 29): `cargo bench --bench three_d [-- N [STEPS]]` (default
 //! N = 128: a 128³ block, 3 timed steps). `THREE_D_ROWS=<comma-separated label prefixes>`
 //! runs only those rows (e.g. `dgmpm,fem`; the 2D comparison runs when a DGMPM CTU row
 //! does); `THREE_D_STEP_ONLY=<label prefix>` builds that one row on the calling thread and
@@ -7,7 +7,7 @@
 //! steps another block of cells `1/N` m wide (a scene holds at most 1e7 cells × points).
 //!
 //! Each method on the 3D plane wave (`block-wave`'s conditions on an N³ cube, one point per
-//! cell): heap bytes per cell held after `build` and the peak over its first step (a
+//! cell; the rows `dgmpm 8ppc` and `mpm 8ppc` at eight, 2 per axis): heap bytes per cell held after `build` and the peak over its first step (a
 //! counting global allocator, exact), then ns per cell-update of one step, built and
 //! stepped inside a one-thread pool (the serial loops) and inside a two-thread pool (the
 //! parallel loops), the median of `STEPS` steps after one warm-up step. DGMPM CTU is also
@@ -109,6 +109,11 @@ fn main() {
     }
     dcu.courant = 0.48;
     let dgmpm_ctu = ctu(scene.method_config(MethodKind::Dgmpm));
+    // eight points per cell (2 per axis), the issue's 3D material point rows
+    let eight = |mut c: MethodConfig| {
+        c.points_per_cell = 8;
+        c
+    };
     let configs = [
         ("dgmpm CTU Euler", (dgmpm_ctu, false)),
         ("dgmpm CTU cell path", (dgmpm_ctu, true)),
@@ -119,6 +124,11 @@ fn main() {
             (scene.method_config(MethodKind::Mpm), false),
         ),
         ("fem hex8", (scene.method_config(MethodKind::Fem), false)),
+        ("dgmpm 8ppc CTU Euler", (eight(dgmpm_ctu), false)),
+        (
+            "mpm 8ppc USL linear",
+            (eight(scene.method_config(MethodKind::Mpm)), false),
+        ),
     ];
     if let Ok(only) = std::env::var("THREE_D_STEP_ONLY") {
         let (_, (config, cell_path)) = configs
@@ -135,7 +145,9 @@ fn main() {
     }
     let rows = std::env::var("THREE_D_ROWS").unwrap_or_default();
     let wanted = |label: &str| rows.is_empty() || rows.split(',').any(|r| label.starts_with(r));
-    println!("{cells_label} block, one point per cell ({cells:.3e} cells)");
+    println!(
+        "{cells_label} block, one point per cell unless the row says 8ppc ({cells:.3e} cells)"
+    );
     println!(
         "{:<20} {:>10} {:>12} {:>14} {:>14}",
         "method", "B/cell", "peak B/cell", "ns/cell 1 thr", "ns/cell 2 thr"

@@ -22,11 +22,15 @@ impl<const D: usize> MpmSolver<D> {
             chunks(&mut nodes.inv_mass, CHUNK),
         );
         for_each_chunk(self.parallel, 1, parts, |r, (momentum, inv_mass)| {
-            for (j, (p, inv)) in momentum.iter_mut().zip(inv_mass).enumerate() {
-                let i = r * CHUNK + j;
-                if empty.holds(i, mass[i]) {
-                    *p += force[i] * dt;
-                    *inv = 1.0 / mass[i];
+            // the chunk's nodes sliced once (no bounds check per node)
+            let chunk = r * CHUNK..r * CHUNK + momentum.len();
+            let (mass, force) = (&mass[chunk.clone()], &force[chunk.clone()]);
+            let walls = empty.walls_of(chunk);
+            let nodes = mass.iter().zip(force).zip(walls);
+            for ((p, inv), ((&m, f), &w)) in momentum.iter_mut().zip(inv_mass).zip(nodes) {
+                if empty.holds_on(w, m) {
+                    *p += f * dt;
+                    *inv = 1.0 / m;
                 } else {
                     *inv = 0.0;
                 }

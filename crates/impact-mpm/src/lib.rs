@@ -179,7 +179,19 @@ impl EmptyNodes {
     /// Whether node `i`, of mass `mass`, carries mass (is not empty).
     #[inline]
     pub fn holds(&self, i: usize, mass: f64) -> bool {
-        mass > self.floors[usize::from(self.walls[i])]
+        self.holds_on(self.walls[i], mass)
+    }
+
+    /// Whether a node on `walls` mirror planes, of mass `mass`, carries mass.
+    #[inline]
+    pub fn holds_on(&self, walls: u8, mass: f64) -> bool {
+        mass > self.floors[usize::from(walls)]
+    }
+
+    /// `w_i` of the nodes `range`.
+    #[inline]
+    pub fn walls_of(&self, range: std::ops::Range<usize>) -> &[u8] {
+        &self.walls[range]
     }
 }
 

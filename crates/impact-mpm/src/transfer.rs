@@ -79,17 +79,17 @@ struct Weights<'a, const D: usize> {
 
 impl<const D: usize> Weights<'_, D> {
     /// APIC's velocity of point `p` at its stencil's local node `a`, `v_p + C_p (x_i − x_p)`
-    /// (`crate::affine`), with `centre` the point relative to its base node.
+    /// (`crate::affine`), with `centre` the point relative to its base node and `a` the
+    /// local node.
     #[inline]
     fn affine_velocity(
         &self,
         velocity: &Vector<D>,
         affine: &Tensor<D>,
         centre: &Vector<D>,
-        p: usize,
-        entry: usize,
+        a: usize,
     ) -> Vector<D> {
-        velocity + affine * (self.steps[entry - p * self.stride] - centre)
+        velocity + affine * (self.steps[a] - centre)
     }
 
     /// Point `p` relative to its base node, `Σ_a w_ap (x_a − x_base)` (linear completeness:
@@ -100,14 +100,51 @@ impl<const D: usize> Weights<'_, D> {
         row.iter().zip(self.steps).map(|(w, x)| x * *w).sum()
     }
 
-    /// `(entry of p's weights, node − offset)` for each node of point `p`'s stencil.
+    /// Point `p`'s stencil: its shape values and gradients (one row of `nodes` entries,
+    /// sliced once: no bounds check per node) and its base node less `offset` (the
+    /// band's first node), to which the stencil's `offsets` add.
+    /// `N`: the stencil's node count where the caller fixed it (the default scatter and the
+    /// fused gather, for the hats' and quadratic stencils of 2D and 3D: 4, 8, 9, 27 nodes;
+    /// the loops over the row then have a constant trip count and unroll), 0 where it did
+    /// not (the count read at run time). The same operations in the same order either way.
     #[inline]
-    fn nodes_of(&self, p: usize, offset: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
-        let base = self.bases[p] - offset;
-        self.offsets
-            .iter()
-            .enumerate()
-            .map(move |(a, o)| (p * self.stride + a, base + o))
+    fn row<const N: usize>(&self, p: usize, offset: usize) -> (&[f64], &[Vector<D>], usize) {
+        let nodes = if N == 0 { self.offsets.len() } else { N };
+        let first = p * self.stride;
+        (
+            &self.shape[first..first + nodes],
+            &self.gradient[first..first + nodes],
+            self.bases[p] - offset,
+        )
+    }
+}
+
+/// Add point `p`'s mass `N_ip m_p` and momentum `N_ip m_p v_p` to its nodes' sums (APIC,
+/// `affine` not empty: `N_ip m_p (v_p + C_p (x_i − x_p))`, `crate::affine`): phase 1 with
+/// APIC or without the internal force, and the MUSL remap (phase 4).
+fn add_mass_and_momentum<const D: usize>(
+    weights: &Weights<'_, D>,
+    p: usize,
+    sums: &mut Band<'_, D>,
+    points: &MaterialPoints<D>,
+    affine: &[Tensor<D>],
+) {
+    let (mass, velocity) = (points.mass[p], points.velocity[p]);
+    let centre = if affine.is_empty() {
+        Vector::<D>::zeros()
+    } else {
+        weights.centre(p)
+    };
+    let (shape, _, base) = weights.row::<0>(p, sums.offset);
+    for (a, o) in weights.offsets.iter().enumerate() {
+        let (i, w) = (base + o, shape[a] * mass);
+        sums.mass[i] += w;
+        if affine.is_empty() {
+            sums.momentum[i] += velocity * w;
+        } else {
+            let v = weights.affine_velocity(&velocity, &affine[p], &centre, a);
+            sums.momentum[i] += v * w;
+        }
     }
 }
 
@@ -255,27 +292,52 @@ impl<const D: usize> MpmSolver<D> {
             momentum: true,
             force: true,
         };
+        // the branches on APIC and on the internal force are taken once per scatter, not
+        // per node; each node's sums take the same operations in the same order
+        let plain = affine.is_empty();
+        match (plain, with_internal) {
+            (true, true) => {
+                let plain = match self.stencil.nodes {
+                    4 => Self::scatter_plain::<4>,
+                    8 => Self::scatter_plain::<8>,
+                    9 => Self::scatter_plain::<9>,
+                    27 => Self::scatter_plain::<27>,
+                    _ => Self::scatter_plain::<0>,
+                };
+                plain(self, points)
+            }
+            _ => self.scatter(fill, |weights, p, sums| {
+                add_mass_and_momentum(weights, p, sums, points, affine);
+                if with_internal {
+                    let stress = points.stress[p] * points.volume[p];
+                    let (_, gradient, base) = weights.row::<0>(p, sums.offset);
+                    for (o, g) in weights.offsets.iter().zip(gradient) {
+                        sums.force[base + o] -= stress * g;
+                    }
+                }
+            }),
+        }
+    }
+
+    /// Phase 1's sums without APIC, with the internal force (the default), for a stencil of
+    /// `N` nodes (`Weights::row`; 0: any).
+    fn scatter_plain<const N: usize>(&mut self, points: &MaterialPoints<D>) {
+        let fill = Fill {
+            mass: true,
+            momentum: true,
+            force: true,
+        };
         self.scatter(fill, |weights, p, sums| {
             let (mass, velocity) = (points.mass[p], points.velocity[p]);
             // V_p σ_p formed once per point
             let stress = points.stress[p] * points.volume[p];
-            let centre = if affine.is_empty() {
-                Vector::<D>::zeros()
-            } else {
-                weights.centre(p)
-            };
-            for (a, i) in weights.nodes_of(p, sums.offset) {
-                let w = weights.shape[a] * mass;
+            let (shape, gradient, base) = weights.row::<N>(p, sums.offset);
+            let stencil = weights.offsets.iter().zip(shape).zip(gradient);
+            for ((o, s), g) in stencil {
+                let (i, w) = (base + o, s * mass);
                 sums.mass[i] += w;
-                if affine.is_empty() {
-                    sums.momentum[i] += velocity * w;
-                } else {
-                    let v = weights.affine_velocity(&velocity, &affine[p], &centre, p, a);
-                    sums.momentum[i] += v * w;
-                }
-                if with_internal {
-                    sums.force[i] -= stress * weights.gradient[a];
-                }
+                sums.momentum[i] += velocity * w;
+                sums.force[i] -= stress * g;
             }
         });
     }
@@ -289,8 +351,9 @@ impl<const D: usize> MpmSolver<D> {
         };
         self.scatter(fill, |weights, p, sums| {
             let stress = points.stress[p] * points.volume[p];
-            for (a, i) in weights.nodes_of(p, sums.offset) {
-                sums.force[i] -= stress * weights.gradient[a];
+            let (_, gradient, base) = weights.row::<0>(p, sums.offset);
+            for (o, g) in weights.offsets.iter().zip(gradient) {
+                sums.force[base + o] -= stress * g;
             }
         });
     }
@@ -307,7 +370,7 @@ impl<const D: usize> MpmSolver<D> {
     ) {
         match PointVelocity::of(&self.options) {
             None => self.gather_affine::<false>(points, affine, dt),
-            Some(update) => self.gather::<false>(points, update, dt),
+            Some(update) => self.gather::<false, 0>(points, update, dt),
         }
     }
 
@@ -324,7 +387,16 @@ impl<const D: usize> MpmSolver<D> {
     ) {
         match PointVelocity::of(&self.options) {
             None => self.gather_affine::<true>(points, affine, dt),
-            Some(update) => self.gather::<true>(points, update, dt),
+            Some(update) => {
+                let fused = |nodes| match nodes {
+                    4 => Self::gather::<true, 4>,
+                    8 => Self::gather::<true, 8>,
+                    9 => Self::gather::<true, 9>,
+                    27 => Self::gather::<true, 27>,
+                    _ => Self::gather::<true, 0>,
+                };
+                fused(self.stencil.nodes)(self, points, update, dt)
+            }
         }
         if let Model::J2(j2) = self.model {
             j2.correct_points(points, self.parallel);
@@ -332,15 +404,20 @@ impl<const D: usize> MpmSolver<D> {
     }
 
     /// The gather of phase 3 and, with `STRESS`, phase 5 (small strain), for the transfers
-    /// without an affine part.
-    fn gather<const STRESS: bool>(
+    /// without an affine part; `N`: the stencil's node count where fixed (`Weights::row`),
+    /// 0 otherwise.
+    fn gather<const STRESS: bool, const N: usize>(
         &self,
         points: &mut MaterialPoints<D>,
         update: PointVelocity,
         dt: f64,
     ) {
-        let (npc, stride) = (self.stencil.nodes, self.weight_stride);
+        let npc = if N == 0 { self.stencil.nodes } else { N };
+        let stride = self.weight_stride;
+        let offsets = &self.stencil.offsets[..npc];
         let nodes = &self.nodes;
+        let (inv_mass, momentum, force) =
+            (&nodes.inv_mass[..], &nodes.momentum[..], &nodes.force[..]);
         let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
         let parts = (
             (
@@ -360,19 +437,20 @@ impl<const D: usize> MpmSolver<D> {
                 let points = velocity.iter_mut().zip(position.iter_mut());
                 for (j, (vp, xp)) in points.enumerate() {
                     let p = r * CHUNK + j;
+                    let row = p * stride..p * stride + npc;
+                    let (shape, gradient) = (&self.shape[row.clone()], &self.shape_gradient[row]);
                     let base = self.point_base[p];
                     let mut dv = Vector::<D>::zeros();
                     let mut v = Vector::<D>::zeros();
                     let mut l = Tensor::<D>::zeros();
-                    for a in 0..npc {
-                        let i = base + self.stencil.offsets[a];
-                        let inv = nodes.inv_mass[i];
-                        let s = self.shape[p * stride + a];
-                        let node_velocity = nodes.momentum[i] * inv;
-                        dv += nodes.force[i] * (s * dt * inv);
+                    for ((o, &s), g) in offsets.iter().zip(shape).zip(gradient) {
+                        let i = base + o;
+                        let inv = inv_mass[i];
+                        let node_velocity = momentum[i] * inv;
+                        dv += force[i] * (s * dt * inv);
                         v += node_velocity * s;
                         if STRESS {
-                            l += node_velocity * self.shape_gradient[p * stride + a].transpose();
+                            l += node_velocity * g.transpose();
                         }
                     }
                     match update {
@@ -410,21 +488,7 @@ impl<const D: usize> MpmSolver<D> {
             force: false,
         };
         self.scatter(fill, |weights, p, sums| {
-            let centre = if affine.is_empty() {
-                Vector::<D>::zeros()
-            } else {
-                weights.centre(p)
-            };
-            for (a, i) in weights.nodes_of(p, sums.offset) {
-                let w = weights.shape[a] * points.mass[p];
-                sums.mass[i] += w;
-                if affine.is_empty() {
-                    sums.momentum[i] += points.velocity[p] * w;
-                } else {
-                    let v = &points.velocity[p];
-                    sums.momentum[i] += weights.affine_velocity(v, &affine[p], &centre, p, a) * w;
-                }
-            }
+            add_mass_and_momentum(weights, p, sums, points, affine);
         });
         self.fold_padding(window, false);
         self.constrain_momentum(window);
