@@ -72,6 +72,7 @@ mod edges;
 mod grid_update;
 mod loads;
 mod method;
+pub mod migrate;
 pub mod shape;
 pub mod slab;
 use edges::{edge_conditions, node_constraints, point_constraints, MirrorConstraint, SurfaceLoad};
@@ -253,6 +254,10 @@ pub(crate) struct Place<const D: usize> {
     pub owned_nodes: std::ops::Range<usize>,
     /// The points whose loads, prescribed velocities and diagnostics this solver counts.
     pub owned_points: std::ops::Range<usize>,
+    /// The stored points in the whole run's order (their global numbers' order), which the
+    /// scatters keep within a layer (`weights.rs`), so that a node adds its points as one
+    /// rank does; empty where that is the stored order (`migrate.rs` fills it).
+    pub scatter_order: Vec<usize>,
 }
 
 impl<const D: usize> Place<D> {
@@ -364,6 +369,7 @@ impl<const D: usize> Mpm<D> {
                 ..(owned_node_layers.end - stored.start) * layer_nodes,
             owned_points: (owned.start - stored.start) * per_layer
                 ..(owned.end - stored.start) * per_layer,
+            scatter_order: Vec::new(),
         };
         let mut mpm = Self {
             solver: MpmSolver {
