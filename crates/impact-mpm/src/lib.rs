@@ -56,7 +56,8 @@
 //! `affine.rs` (APIC's gather), `loads.rs` (the loads' nodal forces and the prescribed point
 //! velocities), `grid_update.rs`
 //! (phase 2), `method.rs` (the `Method` impl), `slab.rs` (a rank's slab of a run split over
-//! several: issue 27); this file holds the solver and its buffers.
+//! several: issue 27), `migrate.rs` (the same in the updated Lagrangian frame, points
+//! migrating between the slabs); this file holds the solver and its buffers.
 //!
 //! Every piece is dimension-generic (`const D`): in 3D the stencils have 8, 27 or 64 nodes
 //! (tensor products of the 1D weights) and CPDI domains are parallelepipeds with 8 corners

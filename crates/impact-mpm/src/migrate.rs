@@ -40,7 +40,7 @@
 use crate::edges::SurfaceLoad;
 use crate::slab::halo_layers;
 use crate::{Mpm, MpmState};
-use impact_core::comm::{sum_vector, Comm, CommError, Slab};
+use impact_core::comm::{Comm, CommError, Slab};
 use impact_core::comm_gather::{first_bad, gather_samples, hottest_place};
 use impact_core::comm_migrate::{exchange_varying, point_columns, Column};
 use impact_core::method::{BadState, Method, MethodConfig, MpmShape, Samples};
@@ -217,6 +217,12 @@ impl<const D: usize> MigratingMpm<D> {
         &self.ids[self.local.owned_points()]
     }
 
+    /// Bytes this rank sent in the last step (the messages vary with the points crossing
+    /// and in the halo).
+    pub fn bytes_per_step(&self) -> usize {
+        self.bytes
+    }
+
     /// Points this rank has sent to a neighbour's ownership since the start.
     pub fn migrated(&self) -> usize {
         self.migrated
@@ -387,9 +393,6 @@ impl<const D: usize> Method<D> for MigratingMpm<D> {
         self.steps += 1;
         self.migrate(t + dt);
     }
-    fn config(&self) -> &MethodConfig {
-        self.local.config()
-    }
     /// The samples of every rank's own points, in the global order (as one rank's).
     fn sample_into(&self, out: &mut Samples<D>) {
         let mut mine = Samples::<D>::default();
@@ -417,33 +420,7 @@ impl<const D: usize> Method<D> for MigratingMpm<D> {
         pick(&gathered.plastic_strain, &order, &mut out.plastic_strain);
         pick(&gathered.stress_zz, &order, &mut out.stress_zz);
     }
-    fn owned_samples_into(&self, out: &mut Samples<D>) {
-        self.local.sample_into(out);
-    }
-    fn comm(&self) -> &dyn Comm {
-        self.comm.as_ref()
-    }
-    fn bytes_exchanged_per_step(&self) -> usize {
-        self.bytes
-    }
-    fn stable_dt(&self) -> f64 {
-        self.comm.all_reduce_min(self.local.stable_dt())
-    }
-    fn energy(&self) -> f64 {
-        self.comm.all_reduce_sum(self.local.energy())
-    }
-    fn external_work(&self) -> f64 {
-        self.comm.all_reduce_sum(self.local.external_work())
-    }
-    fn initial_energy(&self) -> f64 {
-        self.initial_energy
-    }
-    fn momentum(&self) -> Vector<D> {
-        sum_vector(self.comm.as_ref(), self.local.momentum())
-    }
-    fn external_impulse(&self) -> Vector<D> {
-        sum_vector(self.comm.as_ref(), self.local.external_impulse())
-    }
+    impact_core::reduced_sums_over_ranks!();
     fn check_finite(&self) -> Result<(), BadState<D>> {
         let local = match &self.failure {
             Some(failure) => Err(failure.clone()),

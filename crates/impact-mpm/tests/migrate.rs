@@ -9,7 +9,7 @@ use impact_core::comm::ThreadComm;
 use impact_core::method::{
     MethodConfig, MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate,
 };
-use impact_core::slab_method::{refusal_on_ranks, RunEnd};
+use impact_core::slab_method::{blowup_on_ranks, refusal_on_ranks, RunEnd};
 use impact_core::{Method, Problem, Scene, Vector};
 use impact_mpm::migrate::MigratingMpm;
 use impact_mpm::Mpm;
@@ -163,6 +163,32 @@ fn a_sheared_plate_migrates_and_equals_one_rank() {
     );
 }
 
+/// 3D: the block on slabs along z, sheared along z, hats and quadratic B-splines (MUSL:
+/// under USL the serial run itself blows up, a node losing its last point).
+#[test]
+fn a_sheared_block_migrates_and_equals_one_rank() {
+    let mut block = scene("block");
+    block.domain.cells = vec![8, 6, 24];
+    check::<3>(
+        "block, MUSL",
+        &block,
+        |c| c.mpm_mut().unwrap().stress_update = StressUpdate::Musl,
+        30,
+        false,
+    );
+    check::<3>(
+        "block, quadratic B-splines, MUSL",
+        &block,
+        |c| {
+            let o = c.mpm_mut().unwrap();
+            o.shape = MpmShape::Bspline2;
+            o.stress_update = StressUpdate::Musl;
+        },
+        30,
+        false,
+    );
+}
+
 /// Neighbours overtaking each other across the cut faces: a layer's points arrive from
 /// both sides out of the order of their numbers.
 #[test]
@@ -237,5 +263,25 @@ fn a_jump_past_the_halo_fails_and_cpdi_is_refused() {
     assert!(
         message.contains("CPDI") && message.contains("2 ranks"),
         "{message}"
+    );
+}
+
+/// A NaN planted in one point is reported by every rank, once, as one rank reports it.
+#[test]
+fn a_blowup_on_one_rank_is_seen_by_every_rank() {
+    let plate = scene("plate");
+    let problem = Problem::<2>::from_scene(&plate).unwrap();
+    let mut config = plate.method_config(MethodKind::Mpm);
+    config.mpm_mut().unwrap().frame = MpmFrame::UpdatedLagrangian;
+    let mut serial = Mpm::<2>::new(&problem, config).unwrap();
+    let bad = serial.state.points.len() - 40; // in the last rank's slab
+    serial.state.points.velocity[bad][1] = f64::NAN;
+    let expected = serial.check_finite().unwrap_err();
+    let reports = blowup_on_ranks(3, bad, |comm| {
+        MigratingMpm::<2>::new(&problem, config, comm).unwrap()
+    });
+    assert!(
+        reports.iter().all(|state| state == &expected),
+        "{reports:?}"
     );
 }
