@@ -5,13 +5,14 @@
 //! Every rank runs the same command on the same code path; rank 0 prints and writes the
 //! output folder, the others run silently into a private scratch folder that is removed at
 //! the end (so every rank makes the same collective calls in the same order). Only
-//! [`crate::run::run_method`]'s runs are decomposed ([`build_ranked`]): DGMPM, MPM (total
-//! Lagrangian frame; the updated frame is refused on more than one rank) and FEM in slabs
-//! along the last axis ([`impact_dgmpm::slab`], [`impact_mpm::slab`], [`impact_fem::slab`]).
+//! [`crate::run::run_method`]'s runs are decomposed ([`build_ranked`]): DGMPM, MPM and FEM
+//! in slabs along the last axis ([`impact_dgmpm::slab`], [`impact_mpm::slab`],
+//! [`impact_fem::slab`]; MPM's updated frame with points migrating between the slabs,
+//! [`impact_mpm::migrate`], CPDI there refused on more than one rank).
 //! The converged references are computed whole on every rank (no collective calls, so a
 //! cache hit on one rank and a miss on another cannot desynchronise them).
 use impact_core::comm::{Comm, CommError, SerialComm};
-use impact_core::method::{MethodConfig, MethodKind};
+use impact_core::method::{MethodConfig, MethodKind, MpmFrame};
 use impact_core::{CoreError, Method, Problem};
 use std::sync::{Arc, OnceLock};
 
@@ -71,6 +72,11 @@ pub fn build_ranked<const D: usize>(
         MethodKind::Dgmpm => Ok(Box::new(impact_dgmpm::slab::SlabDgmpm::<D>::new(
             problem, config, comm,
         )?)),
+        MethodKind::Mpm if config.mpm().map(|o| o.frame) == Some(MpmFrame::UpdatedLagrangian) => {
+            Ok(Box::new(impact_mpm::migrate::MigratingMpm::<D>::new(
+                problem, config, comm,
+            )?))
+        }
         MethodKind::Mpm => Ok(Box::new(impact_mpm::slab::SlabMpm::<D>::new(
             problem, config, comm,
         )?)),

@@ -59,7 +59,15 @@ fn steps_allocate<const D: usize>(
     // counted: a worker starting late, on a loaded machine, allocates its thread's state
     // on a rayon thread during the counted steps (seen once in 3D FEM's first case)
     rayon::broadcast(|_| ());
-    let mut m = impact::build(problem, config).unwrap();
+    steps_of_allocate(impact::build(problem, config).unwrap(), config)
+}
+
+/// [`steps_allocate`] of the method `m`, built.
+fn steps_of_allocate<const D: usize>(
+    mut m: Box<dyn impact_core::Method<D>>,
+    config: impact_core::method::MethodConfig,
+) -> usize {
+    rayon::broadcast(|_| ());
     let dt = m.stable_dt();
     let mut steps = 0;
     ALLOCATIONS.store(0, Ordering::SeqCst);
@@ -453,4 +461,25 @@ fn no_allocation_in_the_3d_step_loop() {
         }
     }
     assert_eq!(cases, 2 * (12 + 12 + 5));
+}
+
+/// MPM's migrating slab (updated Lagrangian, `impact_mpm::migrate`) on one rank: packing,
+/// sorting and unpacking every point each step reuse their buffers (the messages between
+/// ranks are the comm's: MPI's send from the buffers, the test's thread ranks copy).
+#[test]
+fn no_allocation_in_the_migrating_step_loop() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let scene = Scene::builtin("ep-plate").unwrap();
+    let problem = Problem::<2>::from_scene(&scene).unwrap();
+    for transfer in [MpmTransfer::Flip, MpmTransfer::Apic] {
+        let mut config = scene.method_config(MethodKind::Mpm);
+        let o = config.mpm_mut().unwrap();
+        o.frame = MpmFrame::UpdatedLagrangian;
+        o.stress_update = StressUpdate::Musl;
+        o.transfer = transfer;
+        let comm = std::sync::Arc::new(impact_core::comm::SerialComm);
+        let m = impact_mpm::migrate::MigratingMpm::<2>::new(&problem, config, comm).unwrap();
+        let count = steps_of_allocate(Box::new(m), config);
+        assert_eq!(count, 0, "{transfer:?}: {count} allocations in 100 steps");
+    }
 }

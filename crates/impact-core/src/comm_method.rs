@@ -61,24 +61,38 @@ impl HaloBuffers {
 /// The [`Method`](crate::Method) functions of a slab solver that are its local method's
 /// values reduced or gathered over the ranks, written once for every method crate: the
 /// configuration, the samples (the local method's, which are its own carriers', gathered in
-/// rank order: [`crate::comm_gather::gather_samples`]), the time step (minimum), energy and
-/// work (sums in rank order), momentum and impulse (the same per component), the first
-/// failure ([`crate::comm_gather::first_bad`]), the initial energy, this rank's owned
-/// samples (the local method's samples), the comm and the halo's bytes per step. Expands
-/// inside `impl Method<D> for …` of a struct with the fields `local` (the rank's own method),
-/// `comm: Arc<dyn Comm>` and `initial_energy: f64` (reduced when built) and an inherent
-/// `bytes_per_step(&self) -> usize`.
+/// rank order: [`crate::comm_gather::gather_samples`]), the first failure
+/// ([`crate::comm_gather::first_bad`]) and the rest of [`crate::reduced_sums_over_ranks!`].
+/// Expands inside `impl Method<D> for …` of a struct with the fields `local` (the rank's own
+/// method), `comm: Arc<dyn Comm>` and `initial_energy: f64` (reduced when built) and an
+/// inherent `bytes_per_step(&self) -> usize`.
 #[macro_export]
 macro_rules! reduced_over_ranks {
     () => {
-        fn config(&self) -> &$crate::method::MethodConfig {
-            self.local.config()
-        }
         fn sample_into(&self, out: &mut $crate::method::Samples<D>) {
             // (outputs only: the guard reduces the owned samples; the buffers are the caller's)
             let mut mine = $crate::method::Samples::<D>::default();
             self.local.sample_into(&mut mine);
             $crate::comm_gather::gather_samples(self.comm.as_ref(), &mine, out);
+        }
+        fn check_finite(&self) -> Result<(), $crate::method::BadState<D>> {
+            $crate::comm_gather::first_bad(self.comm.as_ref(), self.local.check_finite())
+        }
+        $crate::reduced_sums_over_ranks!();
+    };
+}
+
+/// What [`crate::reduced_over_ranks!`] writes but the samples and the first failure (a
+/// solver whose carriers change ranks gathers its samples in another order, and has
+/// failures of its own: MPM's migrating slab): the configuration, the time step (minimum),
+/// energy and work (sums in rank order), momentum and impulse (the same per component), the
+/// initial energy, this rank's owned samples (the local method's samples), the comm and the
+/// bytes exchanged per step. The same fields as [`crate::reduced_over_ranks!`].
+#[macro_export]
+macro_rules! reduced_sums_over_ranks {
+    () => {
+        fn config(&self) -> &$crate::method::MethodConfig {
+            self.local.config()
         }
         fn bytes_exchanged_per_step(&self) -> usize {
             self.bytes_per_step()
@@ -100,9 +114,6 @@ macro_rules! reduced_over_ranks {
         }
         fn external_impulse(&self) -> $crate::Vector<D> {
             $crate::comm::sum_vector(self.comm.as_ref(), self.local.external_impulse())
-        }
-        fn check_finite(&self) -> Result<(), $crate::method::BadState<D>> {
-            $crate::comm_gather::first_bad(self.comm.as_ref(), self.local.check_finite())
         }
         fn owned_samples_into(&self, out: &mut $crate::method::Samples<D>) {
             self.local.sample_into(out);

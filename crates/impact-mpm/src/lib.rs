@@ -56,7 +56,8 @@
 //! `affine.rs` (APIC's gather), `loads.rs` (the loads' nodal forces and the prescribed point
 //! velocities), `grid_update.rs`
 //! (phase 2), `method.rs` (the `Method` impl), `slab.rs` (a rank's slab of a run split over
-//! several: issue 27); this file holds the solver and its buffers.
+//! several: issue 27), `migrate.rs` (the same in the updated Lagrangian frame, points
+//! migrating between the slabs); this file holds the solver and its buffers.
 //!
 //! Every piece is dimension-generic (`const D`): in 3D the stencils have 8, 27 or 64 nodes
 //! (tensor products of the 1D weights) and CPDI domains are parallelepipeds with 8 corners
@@ -72,6 +73,7 @@ mod edges;
 mod grid_update;
 mod loads;
 mod method;
+pub mod migrate;
 pub mod shape;
 pub mod slab;
 use edges::{edge_conditions, node_constraints, point_constraints, MirrorConstraint, SurfaceLoad};
@@ -265,6 +267,10 @@ pub(crate) struct Place<const D: usize> {
     pub owned_nodes: std::ops::Range<usize>,
     /// The points whose loads, prescribed velocities and diagnostics this solver counts.
     pub owned_points: std::ops::Range<usize>,
+    /// The stored points in the whole run's order (their global numbers' order), which the
+    /// scatters keep within a layer (`weights.rs`), so that a node adds its points as one
+    /// rank does; empty where that is the stored order (`migrate.rs` fills it).
+    pub scatter_order: Vec<usize>,
 }
 
 impl<const D: usize> Place<D> {
@@ -376,6 +382,7 @@ impl<const D: usize> Mpm<D> {
                 ..(owned_node_layers.end - stored.start) * layer_nodes,
             owned_points: (owned.start - stored.start) * per_layer
                 ..(owned.end - stored.start) * per_layer,
+            scatter_order: Vec::new(),
         };
         let mut mpm = Self {
             solver: MpmSolver {

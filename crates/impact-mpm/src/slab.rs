@@ -3,8 +3,9 @@
 //! halo of its neighbours' layers with the unchanged kernels on the background nodes of
 //! those layers, and exchanges the halo's point state once per step. Total Lagrangian
 //! frame only (the default): a point never changes cell, so a layer's points stay on their
-//! rank. The updated Lagrangian frame (points migrating between ranks) is refused on more
-//! than one rank ([`CommError::Unsupported`]).
+//! rank. The updated Lagrangian frame, whose points migrate between ranks, is
+//! [`crate::migrate::MigratingMpm`]'s; this wrapper refuses it on more than one rank
+//! ([`CommError::Unsupported`]).
 //!
 //! **Why the halo makes the own points exact.** A node's sums read the points whose
 //! stencil covers it, and a point's update reads the nodes of its stencil. A point of cell
@@ -79,8 +80,8 @@ impl<const D: usize> SlabBuild<D> for Mpm<D> {
             return Err(CommError::Unsupported {
                 what: "MPM in the updated Lagrangian frame (frame = updated)".into(),
                 ranks: comm.size(),
-                allowed: "points do not migrate between ranks yet; run it on one rank, or \
-                          the total Lagrangian frame (the default) on several"
+                allowed: "this slab's halo holds fixed points; the migrating slab \
+                          (impact_mpm::migrate::MigratingMpm) runs it"
                     .into(),
             }
             .into());
@@ -117,9 +118,13 @@ impl<const D: usize> SlabLocal<D> for Mpm<D> {
 pub fn describe<const D: usize>(grid: &Grid<D>, options: &MpmOptions, ranks: usize) -> String {
     format!(
         "{ranks} slabs along axis {} ({} layers of cells, halo {} layers of points, \
-         exchanged once per step)",
+         exchanged once per step{})",
         D - 1,
         grid.cells[D - 1],
-        halo_layers(options)
+        halo_layers(options),
+        match options.frame {
+            MpmFrame::TotalLagrangian => "",
+            MpmFrame::UpdatedLagrangian => "; points migrate to the rank owning their cell",
+        }
     )
 }

@@ -143,8 +143,11 @@ impl<const D: usize> MpmSolver<D> {
             starts[k] += starts[k - 1];
         }
         // `starts[k]` is the next free slot of layer k while filling; shifted back after
-        for (p, &base) in self.point_base.iter().enumerate() {
-            let layer = base / layer_nodes;
+        // within a layer in the global point order (`Place::scatter_order`)
+        let by_id = &self.place.scatter_order;
+        for k in 0..self.point_base.len() {
+            let p = if by_id.is_empty() { k } else { by_id[k] };
+            let layer = self.point_base[p] / layer_nodes;
             self.layer_order[starts[layer]] = p;
             starts[layer] += 1;
         }

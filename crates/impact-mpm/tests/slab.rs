@@ -3,7 +3,8 @@
 //! transfer, stress update, shape and model (the same operations on the same bits,
 //! `slab.rs`); energy, work, momentum and impulse to round-off (summed per rank, then in rank
 //! order). A non-finite state on one rank is reported identically by every rank at its
-//! global place; the updated Lagrangian frame is refused on more than one rank.
+//! global place; the updated Lagrangian frame is refused by this fixed-halo slab on more than one rank
+//! (`tests/migrate.rs` runs it on the migrating slab).
 use impact_core::comm::{Comm, ThreadComm};
 use impact_core::method::{
     MethodConfig, MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate,
@@ -184,7 +185,7 @@ fn a_blowup_on_one_rank_is_seen_by_every_rank() {
     );
 }
 
-/// The updated Lagrangian frame (points migrating between ranks) is refused on more than
+/// The updated Lagrangian frame (points migrating between ranks: `MigratingMpm`) is refused by `SlabMpm` on more than
 /// one rank, by every rank with the same message; more ranks than the halo allows too.
 #[test]
 fn updated_frame_and_too_many_ranks_are_refused_on_every_rank() {

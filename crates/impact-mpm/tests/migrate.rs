@@ -1,0 +1,287 @@
+//! MPM in the updated Lagrangian frame on 1 to 4 slab ranks ([`MigratingMpm`], ranks as
+//! threads through [`ThreadComm`]), points crossing the rank faces, equals the one-rank
+//! run: the sampled fields (gathered in the global order) bit for bit, every point owned
+//! by exactly one rank with its mass unchanged, energy and momentum to round-off (sums in
+//! rank order). J2's history and APIC's affine velocity travel with their points (a field
+//! left behind would change the fields after the crossing). A point that jumps past the
+//! halo in one step fails the run with the step and the point; CPDI is refused.
+use impact_core::comm::ThreadComm;
+use impact_core::method::{
+    MethodConfig, MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate,
+};
+use impact_core::slab_method::{blowup_on_ranks, refusal_on_ranks, RunEnd};
+use impact_core::{Method, Problem, Scene, Vector};
+use impact_mpm::migrate::MigratingMpm;
+use impact_mpm::Mpm;
+
+fn scene(name: &str) -> Scene {
+    Scene::builtin(name).unwrap()
+}
+
+/// `problem`'s points kicked along the last axis by `speed · (½ + X₀/L₀)` (a shear across
+/// the cut faces in 2D, a rigid translation on top of the impact in 1D), as every run of a
+/// comparison gets it; with `scrambled`, every other column of cells (along the first axis)
+/// by `speed`, the others not at all: a column overtakes its neighbours by more than a
+/// cell, so points of one layer sharing nodes are no longer in the order of their numbers
+/// along the cut axis (the scatters must add them in the global order, not in a rank's
+/// stored one).
+fn kick<const D: usize>(m: &mut dyn Method<D>, speed: f64, length: f64, scrambled: bool) {
+    m.perturb_velocity(&mut |_, x| {
+        let mut v = Vector::<D>::zeros();
+        v[D - 1] = if scrambled {
+            speed * ((x[0] / length * 33.0).floor() % 2.0) // the plate's 33 columns
+        } else if D == 1 {
+            speed
+        } else {
+            speed * (0.5 + x[0] / length)
+        };
+        v
+    });
+}
+
+/// `scene` in the updated frame, edited by `edit`, on 1..=4 ranks for `steps` steps, against
+/// one rank: bit for bit, points and masses conserved, points really migrating.
+fn check<const D: usize>(
+    label: &str,
+    scene: &Scene,
+    edit: impl Fn(&mut MethodConfig),
+    steps: usize,
+    scrambled: bool,
+) {
+    let problem = Problem::<D>::from_scene(scene).unwrap();
+    let mut config = scene.method_config(MethodKind::Mpm);
+    config.mpm_mut().unwrap().frame = MpmFrame::UpdatedLagrangian;
+    edit(&mut config);
+    let (speed, length) = (0.12 * problem.max_wave_speed(), scene.domain.length[0]);
+    let mut one = Mpm::<D>::new(&problem, config).unwrap();
+    kick::<D>(&mut one, speed, length, scrambled);
+    let serial = RunEnd::after_steps(&mut one, steps);
+    let s = &serial.samples;
+    let finite = |x: &[f64]| x.iter().all(|v| v.is_finite());
+    assert!(
+        s.position.iter().all(|x| finite(x.as_slice()))
+            && s.stress.iter().all(|x| finite(x.as_slice())),
+        "{label}: the serial run must stay finite"
+    );
+    let peak = s.stress.iter().fold(0.0f64, |m, x| m.max(x.amax()));
+    assert!(peak > 1e5, "{label}: the wave must be there");
+    let total_mass: f64 = one.state.points.mass.iter().sum();
+    for ranks in 1..=4 {
+        let ends = ThreadComm::on_ranks(ranks, |comm| {
+            let mut m = MigratingMpm::<D>::new(&problem, config, comm).unwrap();
+            kick::<D>(&mut m, speed, length, scrambled);
+            let end = RunEnd::after_steps(&mut m, steps);
+            let own = m.local.owned_points();
+            let masses: Vec<(usize, f64)> = (m.owned_ids().iter().copied())
+                .zip(m.local.state.points.mass[own].iter().copied())
+                .collect();
+            (end, masses, m.migrated())
+        });
+        let at = format!("{label}, {ranks} ranks");
+        let migrated: usize = ends.iter().map(|e| e.2).sum();
+        assert!(
+            ranks == 1 || migrated > 0,
+            "{at}: no point crossed a rank face"
+        );
+        let mut masses: Vec<(usize, f64)> = ends.iter().flat_map(|e| e.1.clone()).collect();
+        masses.sort_by_key(|e| e.0);
+        let expected: Vec<(usize, f64)> =
+            one.state.points.mass.iter().copied().enumerate().collect();
+        assert_eq!(
+            masses, expected,
+            "{at}: every point owned once, its mass unchanged"
+        );
+        let mass: f64 = masses.iter().map(|e| e.1).sum();
+        assert_eq!(mass, total_mass, "{at}: Σ m");
+        for (rank, (end, _, _)) in ends.iter().enumerate() {
+            let e = &end.samples;
+            let at = format!("{at}, rank {rank}");
+            assert_eq!(e.reference, s.reference, "{at}: reference positions");
+            assert_eq!(e.position, s.position, "{at}: position bit for bit");
+            assert_eq!(e.velocity, s.velocity, "{at}: velocity bit for bit");
+            assert_eq!(e.stress, s.stress, "{at}: stress bit for bit");
+            assert_eq!(e.plastic_strain, s.plastic_strain, "{at}: plastic strain");
+            assert_eq!(e.stress_zz, s.stress_zz, "{at}: out-of-plane stress");
+            let tol = 1e-12;
+            assert!(
+                (end.energy - serial.energy).abs() <= tol * serial.energy.abs(),
+                "{at}: energy {} against {}",
+                end.energy,
+                serial.energy
+            );
+            let p = serial.momentum.norm().max(serial.impulse.norm());
+            assert!(
+                (end.momentum - serial.momentum).norm() <= tol * p,
+                "{at}: momentum {} against {}",
+                end.momentum,
+                serial.momentum
+            );
+            assert!(
+                (end.impulse - serial.impulse).norm() <= tol * p,
+                "{at}: impulse"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_moving_bar_migrates_and_equals_one_rank() {
+    check::<1>("bar", &scene("bar"), |_| {}, 40, false);
+    check::<1>(
+        "bar, quadratic B-splines, MUSL",
+        &scene("bar"),
+        |c| {
+            let o = c.mpm_mut().unwrap();
+            o.shape = MpmShape::Bspline2;
+            o.stress_update = StressUpdate::Musl;
+        },
+        40,
+        false,
+    );
+}
+
+#[test]
+fn a_sheared_plate_migrates_and_equals_one_rank() {
+    check::<2>("plate", &scene("plate"), |_| {}, 30, false);
+    check::<2>(
+        "plate, GIMP, USF",
+        &scene("plate"),
+        |c| {
+            let o = c.mpm_mut().unwrap();
+            o.shape = MpmShape::Gimp;
+            o.stress_update = StressUpdate::Usf;
+        },
+        30,
+        false,
+    );
+    check::<2>(
+        "plate, quadratic B-splines",
+        &scene("plate"),
+        |c| c.mpm_mut().unwrap().shape = MpmShape::Bspline2,
+        30,
+        false,
+    );
+}
+
+/// 3D: the block on slabs along z, sheared along z, hats and quadratic B-splines (MUSL:
+/// under USL the serial run itself blows up, a node losing its last point).
+#[test]
+fn a_sheared_block_migrates_and_equals_one_rank() {
+    let mut block = scene("block");
+    block.domain.cells = vec![8, 6, 24];
+    check::<3>(
+        "block, MUSL",
+        &block,
+        |c| c.mpm_mut().unwrap().stress_update = StressUpdate::Musl,
+        30,
+        false,
+    );
+    check::<3>(
+        "block, quadratic B-splines, MUSL",
+        &block,
+        |c| {
+            let o = c.mpm_mut().unwrap();
+            o.shape = MpmShape::Bspline2;
+            o.stress_update = StressUpdate::Musl;
+        },
+        30,
+        false,
+    );
+}
+
+/// Neighbours overtaking each other across the cut faces: a layer's points arrive from
+/// both sides out of the order of their numbers.
+#[test]
+fn scrambled_points_are_added_in_the_global_order() {
+    check::<2>(
+        "scrambled plate, MUSL",
+        &scene("plate"),
+        |c| c.mpm_mut().unwrap().stress_update = StressUpdate::Musl,
+        30,
+        true,
+    );
+    check::<2>(
+        "scrambled plate, quadratic B-splines, MUSL",
+        &scene("plate"),
+        |c| {
+            let o = c.mpm_mut().unwrap();
+            o.shape = MpmShape::Bspline2;
+            o.stress_update = StressUpdate::Musl;
+        },
+        30,
+        true,
+    );
+    // large enough for the parallel coloured scatter (from 4096 points, with more than one
+    // rayon thread), whose blocks follow the whole grid's layers on every slab
+    let mut large = scene("plate");
+    large.domain.cells = vec![70, 61];
+    check::<2>(
+        "plate 70 × 61, MUSL",
+        &large,
+        |c| c.mpm_mut().unwrap().stress_update = StressUpdate::Musl,
+        30,
+        true,
+    );
+}
+
+/// J2's plastic history and APIC's affine velocity cross with their points.
+#[test]
+fn plastic_history_and_apic_migrate_with_their_points() {
+    check::<2>(
+        "ep-plate, APIC",
+        &scene("ep-plate"),
+        |c| c.mpm_mut().unwrap().transfer = MpmTransfer::Apic,
+        30,
+        false,
+    );
+}
+
+/// A point kicked past the halo in one step stops the run with the step and the point, on
+/// every rank; CPDI is refused on several ranks.
+#[test]
+fn a_jump_past_the_halo_fails_and_cpdi_is_refused() {
+    let plate = scene("plate");
+    let problem = Problem::<2>::from_scene(&plate).unwrap();
+    let mut config = plate.method_config(MethodKind::Mpm);
+    config.mpm_mut().unwrap().frame = MpmFrame::UpdatedLagrangian;
+    let fast = 40.0 * problem.max_wave_speed();
+    let reports = ThreadComm::on_ranks(3, |comm| {
+        let mut m = MigratingMpm::<2>::new(&problem, config, comm).unwrap();
+        m.perturb_velocity(&mut |i, _| Vector::<2>::new(0.0, if i == 400 { fast } else { 0.0 }));
+        let dt = m.stable_dt();
+        m.step(0.0, dt);
+        m.check_finite().unwrap_err()
+    });
+    let reason = &reports[0].reason;
+    assert!(
+        reason.contains("step 1,") && reason.contains("material point") && reason.contains("halo"),
+        "{reason}"
+    );
+    assert!(reports.iter().all(|r| r == &reports[0]), "{reports:?}");
+    config.mpm_mut().unwrap().shape = MpmShape::Cpdi;
+    let message = refusal_on_ranks(2, |comm| MigratingMpm::<2>::new(&problem, config, comm));
+    assert!(
+        message.contains("CPDI") && message.contains("2 ranks"),
+        "{message}"
+    );
+}
+
+/// A NaN planted in one point is reported by every rank, once, as one rank reports it.
+#[test]
+fn a_blowup_on_one_rank_is_seen_by_every_rank() {
+    let plate = scene("plate");
+    let problem = Problem::<2>::from_scene(&plate).unwrap();
+    let mut config = plate.method_config(MethodKind::Mpm);
+    config.mpm_mut().unwrap().frame = MpmFrame::UpdatedLagrangian;
+    let mut serial = Mpm::<2>::new(&problem, config).unwrap();
+    let bad = serial.state.points.len() - 40; // in the last rank's slab
+    serial.state.points.velocity[bad][1] = f64::NAN;
+    let expected = serial.check_finite().unwrap_err();
+    let reports = blowup_on_ranks(3, bad, |comm| {
+        MigratingMpm::<2>::new(&problem, config, comm).unwrap()
+    });
+    assert!(
+        reports.iter().all(|state| state == &expected),
+        "{reports:?}"
+    );
+}
