@@ -17,10 +17,12 @@ pub fn gather_vectors<const D: usize>(
         .collect()
 }
 
-/// The messages of a slab's halo exchange with its two neighbours, allocated once: what
-/// goes to and comes from the lower (`rank − 1`) and the upper (`rank + 1`) neighbour.
+/// The messages of a halo exchange along one axis with its two neighbours, allocated once:
+/// what goes to and comes from the lower and the upper neighbour.
 #[derive(Debug, Default)]
 pub struct HaloBuffers {
+    /// The lower and upper neighbour ranks (`None` at a physical edge).
+    pub neighbours: [Option<usize>; 2],
     /// To the lower neighbour (this rank's lowest owned layers).
     pub send_low: Vec<f64>,
     /// To the upper neighbour (this rank's highest owned layers).
@@ -33,8 +35,9 @@ pub struct HaloBuffers {
 
 impl HaloBuffers {
     /// `below` values each way with the lower neighbour, `above` with the upper one.
-    pub fn new(below: usize, above: usize) -> Self {
+    pub fn new(neighbours: [Option<usize>; 2], below: usize, above: usize) -> Self {
         Self {
+            neighbours,
             send_low: vec![0.0; below],
             send_high: vec![0.0; above],
             receive_low: vec![0.0; below],
@@ -45,6 +48,7 @@ impl HaloBuffers {
     /// Send the send buffers, fill the receive buffers ([`Comm::exchange`]).
     pub fn exchange(&mut self, comm: &(impl Comm + ?Sized)) {
         comm.exchange(
+            self.neighbours,
             &self.send_low,
             &self.send_high,
             &mut self.receive_low,
@@ -66,8 +70,9 @@ impl HaloBuffers {
 /// failure ([`crate::comm_gather::first_bad`]), the initial energy, this rank's owned
 /// samples (the local method's samples), the comm and the halo's bytes per step. Expands
 /// inside `impl Method<D> for …` of a struct with the fields `local` (the rank's own method),
-/// `comm: Arc<dyn Comm>` and `initial_energy: f64` (reduced when built) and an inherent
-/// `bytes_per_step(&self) -> usize`.
+/// `comm: Arc<dyn Comm>` and `initial_energy: f64` (reduced when built) and inherent
+/// `bytes_per_step(&self) -> usize` and `sample_order(&self) -> &[usize]` (the global
+/// index of each own sample, empty where rank order is the global order).
 #[macro_export]
 macro_rules! reduced_over_ranks {
     () => {
@@ -78,7 +83,12 @@ macro_rules! reduced_over_ranks {
             // (outputs only: the guard reduces the owned samples; the buffers are the caller's)
             let mut mine = $crate::method::Samples::<D>::default();
             self.local.sample_into(&mut mine);
-            $crate::comm_gather::gather_samples(self.comm.as_ref(), &mine, out);
+            $crate::comm_gather::gather_samples(
+                self.comm.as_ref(),
+                &mine,
+                self.sample_order(),
+                out,
+            );
         }
         fn bytes_exchanged_per_step(&self) -> usize {
             self.bytes_per_step()

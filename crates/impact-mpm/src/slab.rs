@@ -42,7 +42,7 @@
 //! last ranks). Samples are gathered in rank order (the global point order), so outputs and
 //! error metrics equal the serial ones.
 use crate::Mpm;
-use impact_core::comm::{Comm, CommError, Slab};
+use impact_core::comm::{Comm, CommError, RankBox, RankGrid};
 use impact_core::method::{MethodConfig, MpmFrame, MpmOptions, MpmShape, StressUpdate};
 use impact_core::points::MaterialPoints;
 use impact_core::slab_method::{OnSlab, SlabBuild, SlabLocal, SlabParts};
@@ -70,6 +70,7 @@ impl<const D: usize> SlabBuild<D> for Mpm<D> {
         problem: &Problem<D>,
         config: MethodConfig,
         comm: &dyn Comm,
+        rank_grid: &RankGrid,
     ) -> Result<SlabParts<Self>, CoreError> {
         let options = *config.mpm().ok_or_else(|| CoreError::Unsupported {
             method: "mpm".into(),
@@ -88,13 +89,22 @@ impl<const D: usize> SlabBuild<D> for Mpm<D> {
         problem.check_config(&config)?;
         let global = &problem.grid;
         let layers = global.cells[D - 1];
-        let slab = Slab::new(layers, comm.size(), comm.rank(), halo_layers(&options))?;
-        let local = Mpm::build(problem, config, Some(&slab))?;
-        let per_layer = local.state.points.len() / slab.stored.len();
+        let rank_box = RankBox::new(
+            &global.cells,
+            rank_grid,
+            comm.size(),
+            comm.rank(),
+            halo_layers(&options),
+        )?;
+        if !rank_box.is_slabs() {
+            return Err(slabs_only(&rank_box).into());
+        }
+        let local = Mpm::build(problem, config, Some(&rank_box))?;
+        let per_layer = local.state.points.len() / rank_box.stored[D - 1].len();
         Ok(SlabParts {
             local,
-            slab,
-            per_layer,
+            per_cell: per_layer * layers / global.cell_count(),
+            rank_box,
             cells: global.cell_count(),
             updates_per_step: per_layer * layers,
         })
@@ -108,8 +118,28 @@ impl<const D: usize> SlabLocal<D> for Mpm<D> {
     fn halo_state(&mut self) -> (&mut MaterialPoints<D>, &mut [Tensor<D>]) {
         (&mut self.state.points, &mut self.state.affine)
     }
-    fn owned_points(&self) -> std::ops::Range<usize> {
-        Mpm::owned_points(self)
+    fn owned_runs(&self) -> Vec<std::ops::Range<usize>> {
+        std::iter::once(Mpm::owned_points(self)).collect()
+    }
+}
+
+/// The refusal of a rank grid other than slabs along the last axis (MPM's scatter and halo
+/// are not on boxes yet).
+fn slabs_only(rank_box: &RankBox) -> CommError {
+    let parts: Vec<String> = rank_box.parts.iter().map(usize::to_string).collect();
+    CommError::Unsupported {
+        what: format!("MPM on the rank grid {} (boxes)", parts.join(",")),
+        ranks: rank_box.ranks,
+        allowed: format!(
+            "MPM runs in slabs along the last axis only: leave --ranks-grid out or give 1 \
+             part on every axis but the last (e.g. {})",
+            [
+                vec!["1".to_string(); parts.len() - 1],
+                vec![rank_box.ranks.to_string()]
+            ]
+            .concat()
+            .join(",")
+        ),
     }
 }
 
