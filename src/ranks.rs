@@ -7,7 +7,8 @@
 //! the end (so every rank makes the same collective calls in the same order). Only
 //! [`crate::run::run_method`]'s runs are decomposed ([`build_ranked`]): DGMPM, MPM (total
 //! Lagrangian frame; the updated frame is refused on more than one rank) and FEM in slabs
-//! along the last axis ([`impact_dgmpm::slab`], [`impact_mpm::slab`], [`impact_fem::slab`]).
+//! along the last axis ([`impact_dgmpm::slab`], [`impact_mpm::slab`], [`impact_fem::slab`]),
+//! or DGMPM in boxes of the rank grid `--ranks-grid` ([`set_rank_grid`]).
 //! The converged references are computed whole on every rank (no collective calls, so a
 //! cache hit on one rank and a miss on another cannot desynchronise them).
 use impact_core::comm::{Comm, CommError, RankGrid, SerialComm};
@@ -66,6 +67,18 @@ pub fn init() -> Result<Guard, CommError> {
         }
     }
     Ok(None)
+}
+
+/// Refuse the rank grid (`--ranks-grid`) of a `dim`-dimensional run of `methods` before
+/// any run starts: one that does not fit the rank count or the dimension, or boxes for a
+/// method that runs in slabs only (MPM, FEM).
+pub fn check_rank_grid(dim: usize, methods: &[MethodKind]) -> Result<(), CommError> {
+    let grid = rank_grid();
+    grid.parts(dim, size())?;
+    for kind in methods.iter().filter(|&&k| k != MethodKind::Dgmpm) {
+        grid.slabs_only(&kind.name().to_uppercase(), dim, size())?;
+    }
+    Ok(())
 }
 
 /// Build `config` on `problem` for this process's rank: the whole problem on one rank,

@@ -70,13 +70,7 @@ impl<const D: usize> SlabBuild<D> for Dgmpm<D> {
         })?;
         problem.check_config(&config)?;
         let global = &problem.grid;
-        let rank_box = RankBox::new(
-            &global.cells,
-            rank_grid,
-            comm.size(),
-            comm.rank(),
-            halo_layers(&options),
-        )?;
+        let rank_box = RankBox::for_rank(&global.cells, rank_grid, comm, halo_layers(&options))?;
         let stored: [Range<usize>; D] = std::array::from_fn(|k| rank_box.stored[k].clone());
         // only the stored cells' points, seeded from the whole grid's origin and global
         // cell indices: the same bits as one rank's, in memory that shrinks with the ranks

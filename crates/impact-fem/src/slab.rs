@@ -43,7 +43,7 @@
 //! fields of the mesh are gathered to every rank in rank order (the owned elements and
 //! nodes are consecutive runs of the global order), so outputs equal the serial ones.
 use crate::Fem;
-use impact_core::comm::{Comm, CommError, RankBox, RankGrid};
+use impact_core::comm::{Comm, RankBox, RankGrid};
 use impact_core::comm_gather::hottest_place;
 use impact_core::comm_method::gather_vectors;
 use impact_core::comm_method::HaloBuffers;
@@ -94,31 +94,9 @@ impl<const D: usize> SlabFem<D> {
         rank_grid: &RankGrid,
     ) -> Result<Self, CoreError> {
         problem.check_config(&config)?;
+        rank_grid.slabs_only("FEM", D, comm.size())?;
         let global = &problem.grid;
-        let slab = RankBox::new(
-            &global.cells,
-            rank_grid,
-            comm.size(),
-            comm.rank(),
-            HALO_LAYERS,
-        )?;
-        if !slab.is_slabs() {
-            return Err(CommError::Unsupported {
-                what: format!(
-                    "FEM on the rank grid {} (boxes)",
-                    slab.parts
-                        .iter()
-                        .map(usize::to_string)
-                        .collect::<Vec<_>>()
-                        .join(",")
-                ),
-                ranks: slab.ranks,
-                allowed: "FEM runs in slabs along the last axis only: leave --ranks-grid \
-                          out or give 1 part on every axis but the last"
-                    .into(),
-            }
-            .into());
-        }
+        let slab = RankBox::for_rank(&global.cells, rank_grid, comm.as_ref(), HALO_LAYERS)?;
         let (stored, owned) = (&slab.stored[D - 1], &slab.owned[D - 1]);
         let local = Fem::on_layers(problem, config, stored, owned)?;
         let initial_energy = comm.all_reduce_sum(local.state.initial_energy);

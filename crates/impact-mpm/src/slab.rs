@@ -89,16 +89,8 @@ impl<const D: usize> SlabBuild<D> for Mpm<D> {
         problem.check_config(&config)?;
         let global = &problem.grid;
         let layers = global.cells[D - 1];
-        let rank_box = RankBox::new(
-            &global.cells,
-            rank_grid,
-            comm.size(),
-            comm.rank(),
-            halo_layers(&options),
-        )?;
-        if !rank_box.is_slabs() {
-            return Err(slabs_only(&rank_box).into());
-        }
+        rank_grid.slabs_only("MPM", D, comm.size())?;
+        let rank_box = RankBox::for_rank(&global.cells, rank_grid, comm, halo_layers(&options))?;
         let local = Mpm::build(problem, config, Some(&rank_box))?;
         let per_layer = local.state.points.len() / rank_box.stored[D - 1].len();
         Ok(SlabParts {
@@ -120,26 +112,6 @@ impl<const D: usize> SlabLocal<D> for Mpm<D> {
     }
     fn owned_runs(&self) -> Vec<std::ops::Range<usize>> {
         std::iter::once(Mpm::owned_points(self)).collect()
-    }
-}
-
-/// The refusal of a rank grid other than slabs along the last axis (MPM's scatter and halo
-/// are not on boxes yet).
-fn slabs_only(rank_box: &RankBox) -> CommError {
-    let parts: Vec<String> = rank_box.parts.iter().map(usize::to_string).collect();
-    CommError::Unsupported {
-        what: format!("MPM on the rank grid {} (boxes)", parts.join(",")),
-        ranks: rank_box.ranks,
-        allowed: format!(
-            "MPM runs in slabs along the last axis only: leave --ranks-grid out or give 1 \
-             part on every axis but the last (e.g. {})",
-            [
-                vec!["1".to_string(); parts.len() - 1],
-                vec![rank_box.ranks.to_string()]
-            ]
-            .concat()
-            .join(",")
-        ),
     }
 }
 

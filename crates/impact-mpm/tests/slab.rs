@@ -214,7 +214,7 @@ fn updated_frame_and_too_many_ranks_are_refused_on_every_rank() {
     });
     assert!(
         message.contains("MPM on the rank grid 2,2 (boxes) does not run on 4 ranks yet")
-            && message.contains("(e.g. 1,4)"),
+            && message.contains("last (1,4)"),
         "{message}"
     );
     let slabs = RankGrid(vec![1, 2]);
