@@ -109,9 +109,16 @@ fn bad_flags_are_named() {
     );
     cli_error(
         &["run", "plate", "--ranks-grid", "1,1,1"],
-        &["--ranks-grid 1,1,1", "3 entries but the grid is 2D", "px,py"],
+        &[
+            "--ranks-grid 1,1,1",
+            "3 entries but the grid is 2D",
+            "px,py",
+        ],
     );
-    cli_error(&["run", "plate", "--ranks-grid", "2,x"], &["--ranks-grid", "x"]);
+    cli_error(
+        &["run", "plate", "--ranks-grid", "2,x"],
+        &["--ranks-grid", "x"],
+    );
     cli_error(
         &["run", "bar", "--integrator", "rk4"],
         &["--integrator", "rk4", "euler", "rk2"],

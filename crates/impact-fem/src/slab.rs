@@ -1,5 +1,6 @@
 //! FEM on one rank's slab of the mesh (issue 27): the element layers along the last axis
-//! are split over the ranks ([`Slab`]); each rank stores its own layers plus one layer of
+//! are split over the ranks ([`RankBox`], the slab `1 × … × 1 × N`: boxes are
+//! refused); each rank stores its own layers plus one layer of
 //! each neighbour's, steps them with the unchanged kernels (stencil or Gauss-point path,
 //! fused or not), and after each step (and once when built) receives the halo's nodal
 //! state (`u^n`, `v^{n-1/2}`, `a^n`) from the nodes' owners.

@@ -1,5 +1,6 @@
 //! MPM on one rank's slab of the grid (issue 27): the layers of cells along the last axis
-//! are split over the ranks ([`Slab`]); each rank steps the points of its own layers plus a
+//! are split over the ranks ([`RankBox`], the slab `1 × … × 1 × N`: boxes are
+//! refused); each rank steps the points of its own layers plus a
 //! halo of its neighbours' layers with the unchanged kernels on the background nodes of
 //! those layers, and exchanges the halo's point state once per step. Total Lagrangian
 //! frame only (the default): a point never changes cell, so a layer's points stay on their
