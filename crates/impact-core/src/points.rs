@@ -189,12 +189,16 @@ impl<const D: usize> MaterialPoints<D> {
     /// Copy the fields of the points `range` into `out` (the sampling of the point methods:
     /// every point on one rank, a slab's own points on several).
     pub fn sample_range_into(&self, range: std::ops::Range<usize>, out: &mut Samples<D>) {
-        self.sample_runs_into(std::slice::from_ref(&range), out);
+        self.sample_runs_into(std::iter::once(range), out);
     }
 
     /// Copy the fields of the points `runs` into `out`, run after run (a box's own points
     /// are a run per row of its own cells).
-    pub fn sample_runs_into(&self, runs: &[std::ops::Range<usize>], out: &mut Samples<D>) {
+    pub fn sample_runs_into(
+        &self,
+        runs: impl Iterator<Item = std::ops::Range<usize>>,
+        out: &mut Samples<D>,
+    ) {
         out.clear();
         for range in runs {
             out.reference

@@ -16,15 +16,22 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
         self.solver.step(&mut self.state, t, dt);
     }
     fn sample_into(&self, out: &mut Samples<D>) {
-        let own: Vec<_> = self.owned_point_runs().collect();
-        self.state.points.sample_runs_into(&own, out);
+        self.state
+            .points
+            .sample_runs_into(self.owned_point_runs(), out);
         if let Some(j2) = &self.solver.plastic {
             let zz = &self.state.points.plastic_strain_zz;
-            let own_zz: Vec<f64> = own
-                .iter()
-                .flat_map(|r| zz[r.clone()].iter().copied())
-                .collect();
-            j2.samples_zz(out, &own_zz);
+            let runs = &self.solver.place.owned_cell_runs;
+            if let [run] = runs.as_slice() {
+                // one run (one rank, a slab): no copy
+                let n = self.solver.points_per_cell;
+                j2.samples_zz(out, &zz[run.start * n..run.end * n]);
+            } else {
+                let own_zz: Vec<f64> = (self.owned_point_runs())
+                    .flat_map(|r| zz[r].iter().copied())
+                    .collect();
+                j2.samples_zz(out, &own_zz);
+            }
         }
     }
     fn energy(&self) -> f64 {
