@@ -8,7 +8,8 @@
 # order, to 1e-12); MPM's updated frame on 1-3 ranks likewise; a bad input, an option that
 # is not decomposed (CPDI in MPM's updated frame), a
 # blow-up and a folder that one rank cannot write stop every rank with one message and a
-# non-zero exit.
+# non-zero exit. Boxes (--ranks-grid): DGMPM on the 2 x 2 plate and the 2 x 2 x 1 block,
+# byte for byte; MPM and FEM refuse them.
 # Usage: scripts/mpi_check.sh [path/to/impact]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -135,6 +136,37 @@ for ta, tb in zip(a["times"], b["times"], strict=True):
 PY
 done
 echo "mpi: a moving plate (mpm, updated frame, points migrating) on 1-3 ranks: the serial run's files"
+# boxes (--ranks-grid): DGMPM on the plate (2 x 2) and a small block (2 x 2 x 1) on 4 ranks
+# writes the serial files byte for byte (profiles, grid files; metrics to the energy's
+# round-off); MPM and FEM refuse boxes with one message (below, expect_failure)
+for case in "plate 2,2" "block 2,2,1 --cells 16 --no-reference"; do
+  read -r scene grid extra <<<"$case"
+  serial="$work/boxes-$scene-serial"
+  out="$work/boxes-$scene-np4"
+  # shellcheck disable=SC2086
+  RAYON_NUM_THREADS=1 "$bin" run "$scene" --method dgmpm --quiet --out "$serial" $extra >/dev/null
+  # shellcheck disable=SC2086
+  RAYON_NUM_THREADS=1 "${mpi[@]}" -np 4 "$bin" run "$scene" --method dgmpm --ranks-grid "$grid" \
+    --quiet --out "$out" $extra >"$out.log" 2>&1 || fail "dgmpm $scene on boxes $grid failed: $(tail -5 "$out.log")"
+  count=0
+  for f in "$serial"/*.csv "$serial"/dgmpm_grid_t*.vtu; do
+    [ -f "$f" ] || continue
+    cmp -s "$f" "$out/$(basename "$f")" || fail "dgmpm $scene on boxes $grid: $(basename "$f") differs from the serial run"
+    count=$((count + 1))
+  done
+  [ "$count" -gt 2 ] || fail "dgmpm $scene on boxes: only $count field files compared"
+  python3 - "$serial/summary.json" "$out/summary.json" "${grid//,/ × }" <<'PY' || fail "dgmpm $scene on boxes $grid: summary.json"
+import json, sys
+a, b, grid = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), sys.argv[3]
+ra, rb = a["runs"][0], b["runs"][0]
+assert rb["ranks"] == 4 and f"boxes (rank grid {grid}," in rb["decomposition"], rb["decomposition"]
+assert ra["steps"] == rb["steps"] and ra["cells"] == rb["cells"]
+for ta, tb in zip(ra["times"], rb["times"], strict=True):
+    for k, va in ta.items():
+        assert abs(va - tb[k]) <= 1e-12 if k.startswith("energy") else va == tb[k], (k, va, tb[k])
+PY
+  echo "mpi: $scene (dgmpm) on 4 ranks as boxes $grid: files equal to the serial run bit for bit"
+done
 
 # impact check and bench convergence under mpirun, unchanged: the same report and files as
 # one rank (check's runs are decomposed, its energies differ by round-off only, which the
@@ -186,6 +218,9 @@ expect_failure_of() { # code pattern mpirun-args...
 expect_failure 2 "courant.*7" run plate --method dgmpm --courant 7
 expect_failure 2 "CPDI in the updated Lagrangian frame.*does not run on 3 ranks" run plate --method mpm --frame updated-lagrangian --shape cpdi
 expect_failure 3 "blew up" run plate --method dgmpm --courant 1.5 --allow-unstable
+expect_failure 2 "MPM on the rank grid 3,1 (boxes) does not run on 3 ranks" run plate --method mpm --ranks-grid 3,1
+expect_failure 2 "FEM on the rank grid 3,1 (boxes)" run plate --method fem --ranks-grid 3,1
+expect_failure 2 "ranks-grid 2,2: its product is 4 but the run has 3 ranks" run plate --method dgmpm --ranks-grid 2,2
 echo "mpi: a bad input, an undecomposed option and a blow-up stop all 3 ranks with one message"
 # a failure on some ranks only: rank 0 cannot make its output folder (under /proc); ranks 1
 # and 2 cannot make their scratch folders (TMPDIR under /proc, MPMD launch) while rank 0 can

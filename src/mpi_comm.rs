@@ -1,6 +1,6 @@
 //! [`MpiComm`]: [`Comm`] over MPI (rsmpi on the system's MPI library; the `mpi` feature).
 //! Variable-length all-gathers (`MPI_Allgatherv`, after an `MPI_Allgather` of the
-//! lengths), the slab neighbours' exchange by non-blocking sends and blocking receives,
+//! lengths), the neighbours' exchange along an axis by non-blocking sends and blocking receives,
 //! `MPI_Barrier` and `MPI_Abort`. MPI is initialised with `MPI_THREAD_SERIALIZED`: the
 //! controller calls from one of rayon's workers, never two at once (a mutex holds the
 //! communicator).
@@ -101,29 +101,23 @@ impl Comm for MpiComm {
     }
     fn exchange(
         &self,
+        [lower, upper]: [Option<usize>; 2],
         to_lower: &[f64],
         to_upper: &[f64],
         from_lower: &mut [f64],
         from_upper: &mut [f64],
     ) {
         let world = self.world();
-        let (rank, size) = (self.rank as i32, self.size as i32);
         mpi::request::scope(|scope| {
-            let low = (rank > 0).then(|| {
-                world
-                    .process_at_rank(rank - 1)
-                    .immediate_send(scope, to_lower)
-            });
-            let high = (rank + 1 < size).then(|| {
-                world
-                    .process_at_rank(rank + 1)
-                    .immediate_send(scope, to_upper)
-            });
-            if rank > 0 {
-                world.process_at_rank(rank - 1).receive_into(from_lower);
+            let send = |to: Option<usize>, data| {
+                to.map(|r| world.process_at_rank(r as i32).immediate_send(scope, data))
+            };
+            let (low, high) = (send(lower, to_lower), send(upper, to_upper));
+            if let Some(r) = lower {
+                world.process_at_rank(r as i32).receive_into(from_lower);
             }
-            if rank + 1 < size {
-                world.process_at_rank(rank + 1).receive_into(from_upper);
+            if let Some(r) = upper {
+                world.process_at_rank(r as i32).receive_into(from_upper);
             }
             for request in [low, high].into_iter().flatten() {
                 request.wait();

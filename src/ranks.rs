@@ -8,15 +8,27 @@
 //! [`crate::run::run_method`]'s runs are decomposed ([`build_ranked`]): DGMPM, MPM and FEM
 //! in slabs along the last axis ([`impact_dgmpm::slab`], [`impact_mpm::slab`],
 //! [`impact_fem::slab`]; MPM's updated frame with points migrating between the slabs,
-//! [`impact_mpm::migrate`], CPDI there refused on more than one rank).
+//! [`impact_mpm::migrate`], CPDI there refused on more than one rank), or DGMPM in boxes of
+//! the rank grid `--ranks-grid` ([`set_rank_grid`]).
 //! The converged references are computed whole on every rank (no collective calls, so a
 //! cache hit on one rank and a miss on another cannot desynchronise them).
-use impact_core::comm::{Comm, CommError, SerialComm};
+use impact_core::comm::{Comm, CommError, RankGrid, SerialComm};
 use impact_core::method::{MethodConfig, MethodKind, MpmFrame};
 use impact_core::{CoreError, Method, Problem};
 use std::sync::{Arc, OnceLock};
 
 static COMM: OnceLock<Arc<dyn Comm>> = OnceLock::new();
+static RANK_GRID: OnceLock<RankGrid> = OnceLock::new();
+
+/// Use `grid` (`--ranks-grid`) to split this process's runs (first call only).
+pub fn set_rank_grid(grid: RankGrid) {
+    let _ = RANK_GRID.set(grid);
+}
+
+/// The rank grid of this process's runs (automatic unless `--ranks-grid` was given).
+pub fn rank_grid() -> RankGrid {
+    RANK_GRID.get().cloned().unwrap_or_default()
+}
 
 /// This process's communicator (one rank unless [`init`] found an MPI launcher).
 pub fn comm() -> Arc<dyn Comm> {
@@ -58,30 +70,46 @@ pub fn init() -> Result<Guard, CommError> {
     Ok(None)
 }
 
+/// Refuse the rank grid (`--ranks-grid`) of a `dim`-dimensional run of `methods` before
+/// any run starts: one that does not fit the rank count or the dimension, or boxes for a
+/// method that runs in slabs only (MPM, FEM).
+pub fn check_rank_grid(dim: usize, methods: &[MethodKind]) -> Result<(), CommError> {
+    let grid = rank_grid();
+    grid.parts(dim, size())?;
+    for kind in methods.iter().filter(|&&k| k != MethodKind::Dgmpm) {
+        grid.slabs_only(&kind.name().to_uppercase(), dim, size())?;
+    }
+    Ok(())
+}
+
 /// Build `config` on `problem` for this process's rank: the whole problem on one rank,
 /// this rank's DGMPM, MPM or FEM slab on several.
 pub fn build_ranked<const D: usize>(
     problem: &Problem<D>,
     config: MethodConfig,
 ) -> Result<Box<dyn Method<D>>, CoreError> {
-    let comm = comm();
+    let (comm, grid) = (comm(), rank_grid());
+    // (a rank grid that does not fit is refused on one rank too)
+    grid.parts(D, comm.size()).map_err(CoreError::from)?;
     if comm.size() == 1 {
         return crate::build(problem, config);
     }
     match config.kind() {
-        MethodKind::Dgmpm => Ok(Box::new(impact_dgmpm::slab::SlabDgmpm::<D>::new(
-            problem, config, comm,
+        MethodKind::Dgmpm => Ok(Box::new(impact_dgmpm::slab::SlabDgmpm::<D>::on_grid(
+            problem, config, comm, &grid,
         )?)),
         MethodKind::Mpm if config.mpm().map(|o| o.frame) == Some(MpmFrame::UpdatedLagrangian) => {
+            grid.slabs_only("MPM", D, comm.size())
+                .map_err(CoreError::from)?;
             Ok(Box::new(impact_mpm::migrate::MigratingMpm::<D>::new(
                 problem, config, comm,
             )?))
         }
-        MethodKind::Mpm => Ok(Box::new(impact_mpm::slab::SlabMpm::<D>::new(
-            problem, config, comm,
+        MethodKind::Mpm => Ok(Box::new(impact_mpm::slab::SlabMpm::<D>::on_grid(
+            problem, config, comm, &grid,
         )?)),
-        MethodKind::Fem => Ok(Box::new(impact_fem::slab::SlabFem::<D>::new(
-            problem, config, comm,
+        MethodKind::Fem => Ok(Box::new(impact_fem::slab::SlabFem::<D>::on_grid(
+            problem, config, comm, &grid,
         )?)),
     }
 }
@@ -98,7 +126,12 @@ pub fn decomposition<const D: usize>(
     }
     match (config.kind(), config.dgmpm(), config.mpm()) {
         (MethodKind::Fem, _, _) => Some(impact_fem::slab::describe(&problem.grid, ranks)),
-        (_, Some(o), _) => Some(impact_dgmpm::slab::describe(&problem.grid, o, ranks)),
+        (_, Some(o), _) => Some(impact_dgmpm::slab::describe(
+            &problem.grid,
+            o,
+            ranks,
+            &rank_grid(),
+        )),
         (_, _, Some(o)) => Some(impact_mpm::slab::describe(&problem.grid, o, ranks)),
         _ => None,
     }

@@ -101,6 +101,24 @@ fn bad_flags_are_named() {
         &["run", "plate", "--cells", "20000"],
         &["--cells", "at most 1.5e8"],
     );
+    // a rank grid (`--ranks-grid`) that does not fit the rank count or the dimension,
+    // refused before any run (here on one rank)
+    cli_error(
+        &["run", "plate", "--method", "dgmpm", "--ranks-grid", "2,2"],
+        &["--ranks-grid 2,2", "product is 4 but the run has 1 ranks"],
+    );
+    cli_error(
+        &["run", "plate", "--ranks-grid", "1,1,1"],
+        &[
+            "--ranks-grid 1,1,1",
+            "3 entries but the grid is 2D",
+            "px,py",
+        ],
+    );
+    cli_error(
+        &["run", "plate", "--ranks-grid", "2,x"],
+        &["--ranks-grid", "x"],
+    );
     cli_error(
         &["run", "bar", "--integrator", "rk4"],
         &["--integrator", "rk4", "euler", "rk2"],

@@ -39,6 +39,11 @@ pub(crate) struct RunArgs {
     /// Encoding of the `.vtu` files: zlib-compressed binary, or ASCII text.
     #[arg(long, value_enum, default_value = "binary")]
     vtu: impact_io::vtu::VtuEncoding,
+    /// How the ranks of an MPI run split the grid: parts along x, y, z (their product is the
+    /// rank count; axes not named get one part). Default: slabs along the last axis. Boxes
+    /// for DGMPM; MPM and FEM run in slabs only.
+    #[arg(long, value_name = "PX,PY[,PZ]", value_delimiter = ',')]
+    ranks_grid: Option<Vec<usize>>,
 }
 
 /// What `impact run` runs: the study, the methods and the run's options.
@@ -111,6 +116,10 @@ impl RunArgs {
 
 pub(crate) fn command(args: &RunArgs) -> Result<()> {
     let mut plan = args.plan()?;
+    if let Some(parts) = &args.ranks_grid {
+        impact::ranks::set_rank_grid(impact_core::comm::RankGrid(parts.clone()));
+    }
+    impact::ranks::check_rank_grid(plan.study.dim(), &plan.methods)?;
     // ranks other than 0 run the same code silently into a scratch folder (`ranks`)
     let scratch = (!impact::ranks::is_root()).then(impact::ranks::scratch_folder);
     if scratch.is_some() {

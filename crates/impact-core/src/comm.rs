@@ -1,7 +1,7 @@
 //! The communication seam of a run split across ranks (issue 27; the design note's "More
 //! than one machine"): a [`Comm`] gives a rank its number, the rank count, reductions,
-//! the halo exchange between slab neighbours and gathers; a [`Slab`] is one rank's share
-//! of the grid.
+//! the halo exchange between neighbours along an axis and gathers; a
+//! [`RankBox`](crate::comm_box::RankBox) is one rank's share of the grid.
 //!
 //! Three implementations: [`SerialComm`] (one rank: every reduction is the identity, an
 //! exchange has no neighbour), [`ThreadComm`] (ranks as threads of one process, over
@@ -14,12 +14,9 @@
 //! from the one-rank sum by round-off where the one-rank sum groups its terms otherwise:
 //! `Σ_r (Σ_{i∈r} x_i)` against `Σ_i x_i`.) Min and max are exact.
 //!
-//! **Slabs.** The layers of cells along the last axis are split into `ranks` contiguous
-//! runs, the first `layers mod ranks` ranks one layer longer ([`Slab::new`]). A rank stores
-//! its own layers plus `halo` layers of each neighbour (fewer at a physical edge); a face
-//! of the slab is a physical edge only where the slab reaches the end of the grid.
-use crate::{Grid, Vector};
-use std::ops::Range;
+//! **Boxes.** The cells are split over a grid of ranks along every axis
+//! ([`crate::comm_box`]); the automatic choice is slabs along the last axis.
+use crate::Vector;
 use thiserror::Error;
 
 /// Why a decomposition or a rank's work failed.
@@ -27,18 +24,29 @@ use thiserror::Error;
 pub enum CommError {
     /// More ranks than the grid can share out.
     #[error(
-        "{ranks} ranks cannot share the {layers} layers of cells along the last axis: \
-         each rank needs at least {needed} (its halo width); run on at most {most} ranks"
+        "{ranks} ranks cannot share the {layers} layers of cells along axis {axis}: \
+         each rank needs at least {needed} (its halo width); run on at most {most} ranks \
+         along that axis"
     )]
     TooManyRanks {
-        /// Ranks asked for.
+        /// Ranks asked for along `axis`.
         ranks: usize,
-        /// Layers of cells along the last axis.
+        /// Layers of cells along `axis`.
         layers: usize,
+        /// The axis split.
+        axis: usize,
         /// Layers each rank must own.
         needed: usize,
         /// Most ranks that fit.
         most: usize,
+    },
+    /// A rank grid (`--ranks-grid`) that does not fit the grid or the rank count.
+    #[error("--ranks-grid {grid}: {message}")]
+    RankGrid {
+        /// The rank grid as given.
+        grid: String,
+        /// Why it is refused.
+        message: String,
     },
     /// A method or option that has no decomposed form yet.
     #[error("{what} does not run on {ranks} ranks yet: {allowed}")]
@@ -72,11 +80,13 @@ pub trait Comm: Send + Sync + std::fmt::Debug {
     fn all_gather_into(&self, local: &[f64], out: &mut Vec<f64>, counts: &mut Vec<usize>);
     /// Every rank's `local` bytes concatenated in rank order into `out`, with the lengths.
     fn all_gather_bytes(&self, local: &[u8], out: &mut Vec<u8>, counts: &mut Vec<usize>);
-    /// Slab neighbours' halo exchange: send `to_lower` to `rank - 1` and `to_upper` to
-    /// `rank + 1`, receive `from_lower` from `rank - 1` and `from_upper` from `rank + 1`
-    /// (empty slices where there is no neighbour; lengths agree pairwise).
+    /// Halo exchange along one axis with the `neighbours` (lower, upper; `None` where
+    /// there is none): send `to_lower` to the lower and `to_upper` to the upper one,
+    /// receive `from_lower` from the lower and `from_upper` from the upper one (lengths
+    /// agree pairwise). Every rank exchanges along the axes in the same order.
     fn exchange(
         &self,
+        neighbours: [Option<usize>; 2],
         to_lower: &[f64],
         to_upper: &[f64],
         from_lower: &mut [f64],
@@ -183,135 +193,19 @@ impl Comm for SerialComm {
         counts.clear();
         counts.push(local.len());
     }
-    fn exchange(&self, _: &[f64], _: &[f64], _: &mut [f64], _: &mut [f64]) {}
+    fn exchange(&self, _: [Option<usize>; 2], _: &[f64], _: &[f64], _: &mut [f64], _: &mut [f64]) {}
     fn barrier(&self) {}
     fn abort(&self, code: i32) -> ! {
         std::process::exit(code)
     }
 }
 
+pub use crate::comm_box::{RankBox, RankGrid};
 pub use crate::comm_thread::ThreadComm;
-
-/// One rank's share of a grid split in slabs along the last axis (module doc). Layer
-/// indices are global unless named `local`.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Slab {
-    /// This rank.
-    pub rank: usize,
-    /// Number of ranks.
-    pub ranks: usize,
-    /// Layers of cells along the last axis (the whole grid).
-    pub layers: usize,
-    /// Halo width (layers stored from each neighbour).
-    pub halo: usize,
-    /// The layers this rank owns.
-    pub owned: Range<usize>,
-    /// The layers it stores: owned plus the halo, clamped to the grid.
-    pub stored: Range<usize>,
-}
-
-impl Slab {
-    /// Rank `rank`'s slab of `layers` layers split over `ranks` ranks with a halo of
-    /// `halo` layers. Refused where a rank would own fewer layers than the halo (its
-    /// neighbours' halos would then reach past it).
-    pub fn new(layers: usize, ranks: usize, rank: usize, halo: usize) -> Result<Self, CommError> {
-        let needed = halo.max(1);
-        let most = (layers / needed).max(1);
-        if ranks == 0 || (ranks > 1 && layers / ranks < needed) || rank >= ranks.max(1) {
-            return Err(CommError::TooManyRanks {
-                ranks,
-                layers,
-                needed,
-                most,
-            });
-        }
-        let (base, extra) = (layers / ranks, layers % ranks);
-        let start = rank * base + rank.min(extra);
-        let owned = start..start + base + usize::from(rank < extra);
-        let stored = owned.start.saturating_sub(halo)..(owned.end + halo).min(layers);
-        Ok(Self {
-            rank,
-            ranks,
-            layers,
-            halo,
-            owned,
-            stored,
-        })
-    }
-
-    /// The owned layers in stored (local) indices.
-    pub fn owned_local(&self) -> Range<usize> {
-        self.owned.start - self.stored.start..self.owned.end - self.stored.start
-    }
-
-    /// Whether the stored grid's low (`side = 0`) or high (`1`) face is a physical edge
-    /// (the body's boundary condition applies there; elsewhere it is a cut, whose
-    /// halo cells the neighbour refreshes).
-    pub fn physical_edge(&self, side: usize) -> bool {
-        match side {
-            0 => self.stored.start == 0,
-            _ => self.stored.end == self.layers,
-        }
-    }
-
-    /// Layers received from the lower neighbour (stored below the owned ones).
-    pub fn halo_below(&self) -> usize {
-        self.owned.start - self.stored.start
-    }
-
-    /// Layers received from the upper neighbour.
-    pub fn halo_above(&self) -> usize {
-        self.stored.end - self.owned.end
-    }
-
-    /// The grid of the stored layers: `global` cut along its last axis, its origin moved
-    /// to the first stored layer.
-    pub fn grid<const D: usize>(&self, global: &Grid<D>) -> Grid<D> {
-        global.layers(self.stored.start, self.stored.len())
-    }
-
-    /// A one-line description for summaries: `slabs along axis 1: rank r owns [a, b)`.
-    pub fn describe(&self, dim: usize) -> String {
-        format!(
-            "{} slabs along axis {} ({} layers, halo {})",
-            self.ranks,
-            dim - 1,
-            self.layers,
-            self.halo
-        )
-    }
-}
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Slabs cover the layers once, in rank order, balanced to one layer; halos are
-    /// clamped at the physical edges; too many ranks are refused with the most that fit.
-    #[test]
-    fn slabs_partition_the_layers() {
-        for layers in [4usize, 7, 25] {
-            for ranks in 1..=4 {
-                let mut next = 0;
-                for rank in 0..ranks {
-                    let s = Slab::new(layers, ranks, rank, 1).unwrap();
-                    assert_eq!(s.owned.start, next);
-                    next = s.owned.end;
-                    assert!(s.owned.len() >= layers / ranks && s.owned.len() <= layers / ranks + 1);
-                    // the stored grid's faces: physical where the halo reaches the end
-                    assert_eq!(s.physical_edge(0), s.owned.start <= s.halo);
-                    assert_eq!(s.physical_edge(1), s.owned.end + s.halo >= layers);
-                    assert!(rank > 0 || s.physical_edge(0));
-                    assert!(rank + 1 < ranks || s.physical_edge(1));
-                    assert_eq!(s.halo_below(), usize::from(rank > 0));
-                    assert_eq!(s.halo_above(), usize::from(rank + 1 < ranks));
-                }
-                assert_eq!(next, layers);
-            }
-        }
-        let err = Slab::new(5, 3, 0, 2).unwrap_err();
-        assert!(err.to_string().contains("at most 2 ranks"), "{err}");
-    }
 
     /// The serial comm is the identity; the first error is rank 0's.
     #[test]

@@ -6,10 +6,18 @@ use crate::comm::{Comm, CommError};
 use crate::method::{BadState, Samples};
 use crate::{Tensor, Vector};
 
-/// Every rank's samples `mine` (its own points, in order) concatenated in rank order into
-/// `out` on every rank. The plastic strain and the out-of-plane stress are carried where
-/// `mine` has them (every rank alike: one model).
-pub fn gather_samples<const D: usize>(comm: &dyn Comm, mine: &Samples<D>, out: &mut Samples<D>) {
+/// Every rank's samples `mine` (its own points, in order) gathered into `out` on every
+/// rank, in the global point order: `global_index[i]` is the global index of `mine`'s
+/// sample `i` (a box's own points are not one run of the global order), or, where
+/// `global_index` is empty on every rank, concatenated in rank order (a slab's own points
+/// are). The plastic strain and the out-of-plane stress are carried where `mine` has them
+/// (every rank alike: one model).
+pub fn gather_samples<const D: usize>(
+    comm: &dyn Comm,
+    mine: &Samples<D>,
+    global_index: &[usize],
+    out: &mut Samples<D>,
+) {
     let (plastic, zz) = (!mine.plastic_strain.is_empty(), !mine.stress_zz.is_empty());
     let width = 4 * D + D * D + usize::from(plastic) + usize::from(zz);
     let mut packed = Vec::with_capacity(mine.len() * width);
@@ -27,8 +35,17 @@ pub fn gather_samples<const D: usize>(comm: &dyn Comm, mine: &Samples<D>, out: &
         }
     }
     let all = comm.all_gather(&packed);
+    let chunks: Vec<&[f64]> = all.chunks_exact(width).collect();
+    // (indices below 2^53 travel exactly as f64)
+    let indices = comm.all_gather(&global_index.iter().map(|&i| i as f64).collect::<Vec<_>>());
+    let mut slot: Vec<usize> = (0..chunks.len()).collect();
+    if indices.len() == chunks.len() {
+        for (k, &g) in indices.iter().enumerate() {
+            slot[g as usize] = k;
+        }
+    }
     out.clear();
-    for s in all.chunks_exact(width) {
+    for s in slot.into_iter().map(|k| chunks[k]) {
         let v = |k: usize| Vector::<D>::from_column_slice(&s[k * D..(k + 1) * D]);
         out.reference.push(v(0));
         out.position.push(v(1));

@@ -1,33 +1,45 @@
-//! The halo exchange of a point method split in slabs ([`crate::comm`]): a rank's points are
-//! stored layer by layer (`per_layer` points a layer of cells), and once per step it sends
-//! the point state of its own edge layers to its neighbours and takes theirs into its halo
-//! layers, one message each way per neighbour. Shared by the point methods' slab wrappers
-//! (DGMPM, MPM).
+//! The halo exchange of a point method split in boxes ([`crate::comm_box`]): a rank's points
+//! are stored cell by cell (`per_cell` points a cell, the cells of its stored box in
+//! lexicographic order), and once per step it sends the point state of its own cells next to
+//! each cut to the neighbour across it and takes theirs into its halo, axis by axis, one
+//! message each way per neighbour. Shared by the point methods' wrappers (DGMPM, MPM).
 //!
 //! Per point: position, velocity and stress, and where the points have them the
 //! deformation gradient (large strain), the plastic history (J2: `ε̄`, `ε^p_zz`, plastic
 //! work) and one extra tensor per point the method keeps beside the points (MPM's APIC
 //! affine velocity; none: an empty slice). The mass, volume, reference position and
 //! half-size are not sent: a total Lagrangian slab never changes them.
-use crate::comm::{Comm, Slab};
+use crate::comm::{Comm, RankBox};
 use crate::comm_method::HaloBuffers;
 use crate::points::MaterialPoints;
 use crate::Tensor;
 
-/// The buffers of one rank's halo exchange.
+/// The buffers of one rank's halo exchange: one [`HaloBuffers`] per split axis, in axis
+/// order, with the stored cells each message carries (`crate::comm_box`: later axes carry
+/// the halos of earlier ones, which fills the edges and corners).
 #[derive(Debug, Default)]
 pub struct PointHalo {
+    axes: Vec<AxisHalo>,
+    /// Points per cell.
+    per_cell: usize,
+}
+
+/// The exchange along one axis: buffers and the local cells sent to and received from the
+/// low and the high neighbour (lexicographic order in the box, the same cells on both ends).
+#[derive(Debug, Default)]
+struct AxisHalo {
     buffers: HaloBuffers,
-    /// Points per layer of cells.
-    per_layer: usize,
+    sent: [Vec<usize>; 2],
+    received: [Vec<usize>; 2],
 }
 
 impl PointHalo {
-    /// The buffers for `slab`'s halo, `per_layer` points a layer, shaped like `points`
-    /// (which state they carry) and `extra` (a tensor per point if not empty).
+    /// The buffers for `rank_box`'s halo, `per_cell` points a cell (stored cell by cell),
+    /// shaped like `points` (which state they carry) and `extra` (a tensor per point if not
+    /// empty).
     pub fn new<const D: usize>(
-        slab: &Slab,
-        per_layer: usize,
+        rank_box: &RankBox,
+        per_cell: usize,
         points: &MaterialPoints<D>,
         extra: &[Tensor<D>],
     ) -> Self {
@@ -37,60 +49,68 @@ impl PointHalo {
             + present(D * D, !points.deformation.is_empty())
             + present(3, !points.equivalent_plastic_strain.is_empty())
             + present(D * D, !extra.is_empty());
-        let size = |layers: usize| layers * per_layer * per_point;
-        Self {
-            buffers: HaloBuffers::new(size(slab.halo_below()), size(slab.halo_above())),
-            per_layer,
-        }
+        let axes = (0..D)
+            .filter(|&axis| rank_box.parts[axis] > 1)
+            .map(|axis| {
+                let cells = |boxes: fn(&RankBox, usize, usize) -> Vec<std::ops::Range<usize>>| {
+                    [0, 1].map(|side| {
+                        if rank_box.neighbour(axis, side).is_some() {
+                            rank_box.local_cells(&boxes(rank_box, axis, side))
+                        } else {
+                            Vec::new()
+                        }
+                    })
+                };
+                let (sent, received) = (cells(RankBox::sent), cells(RankBox::received));
+                let size = |side: usize| sent[side].len() * per_cell * per_point;
+                AxisHalo {
+                    buffers: HaloBuffers::new(rank_box.neighbours(axis), size(0), size(1)),
+                    sent,
+                    received,
+                }
+            })
+            .collect();
+        Self { axes, per_cell }
     }
 
-    /// Bytes this rank sends per exchange (both neighbours).
+    /// Bytes this rank sends per exchange (every neighbour).
     pub fn bytes_per_step(&self) -> usize {
-        self.buffers.bytes_sent()
+        self.axes.iter().map(|a| a.buffers.bytes_sent()).sum()
     }
 
-    /// Send the own edge layers of `slab` to the neighbours and take theirs into the halo
-    /// (`points` and `extra` hold the stored layers).
+    /// Send the own cells next to each cut to the neighbours and take theirs into the halo,
+    /// axis by axis (`points` and `extra` hold the stored cells' points).
     pub fn exchange<const D: usize>(
         &mut self,
         comm: &dyn Comm,
-        slab: &Slab,
         points: &mut MaterialPoints<D>,
         extra: &mut [Tensor<D>],
     ) {
-        let (below, above) = (slab.halo_below(), slab.halo_above());
-        let stored = slab.stored.len();
-        let own = slab.owned_local();
-        let n = self.per_layer;
-        let b = &mut self.buffers;
-        pack(
-            points,
-            extra,
-            own.start * n..(own.start + below) * n,
-            &mut b.send_low,
-        );
-        pack(
-            points,
-            extra,
-            (own.end - above) * n..own.end * n,
-            &mut b.send_high,
-        );
-        b.exchange(comm);
-        unpack(points, extra, 0..below * n, &b.receive_low);
-        unpack(
-            points,
-            extra,
-            (stored - above) * n..stored * n,
-            &b.receive_high,
-        );
+        let n = self.per_cell;
+        for axis in &mut self.axes {
+            let b = &mut axis.buffers;
+            pack(points, extra, &axis.sent[0], n, &mut b.send_low);
+            pack(points, extra, &axis.sent[1], n, &mut b.send_high);
+            b.exchange(comm);
+            unpack(points, extra, &axis.received[0], n, &b.receive_low);
+            unpack(points, extra, &axis.received[1], n, &b.receive_high);
+        }
     }
 }
 
-/// Copy the state of the points `range` into `out` (module doc).
+/// The points of the local cells `cells` (`per_cell` each, stored cell by cell).
+fn points_of(cells: &[usize], per_cell: usize) -> impl Iterator<Item = usize> + '_ {
+    cells
+        .iter()
+        .flat_map(move |&c| c * per_cell..(c + 1) * per_cell)
+}
+
+/// Copy the state of the points of `cells` into `out` (module doc).
 fn pack<const D: usize>(
     p: &MaterialPoints<D>,
     extra: &[Tensor<D>],
-    range: std::ops::Range<usize>,
+    cells: &[usize],
+    per_cell: usize,
     out: &mut [f64],
 ) {
     let mut k = 0;
@@ -98,7 +118,7 @@ fn pack<const D: usize>(
         out[k..k + x.len()].copy_from_slice(x);
         k += x.len();
     };
-    for i in range {
+    for i in points_of(cells, per_cell) {
         put(p.position[i].as_slice());
         put(p.velocity[i].as_slice());
         put(p.stress[i].as_slice());
@@ -122,7 +142,8 @@ fn pack<const D: usize>(
 fn unpack<const D: usize>(
     p: &mut MaterialPoints<D>,
     extra: &mut [Tensor<D>],
-    range: std::ops::Range<usize>,
+    cells: &[usize],
+    per_cell: usize,
     data: &[f64],
 ) {
     let mut k = 0;
@@ -130,7 +151,7 @@ fn unpack<const D: usize>(
         k += n;
         &data[k - n..k]
     };
-    for i in range {
+    for i in points_of(cells, per_cell) {
         p.position[i].copy_from_slice(take(D));
         p.velocity[i].copy_from_slice(take(D));
         p.stress[i].copy_from_slice(take(D * D));

@@ -17,10 +17,12 @@ pub fn gather_vectors<const D: usize>(
         .collect()
 }
 
-/// The messages of a slab's halo exchange with its two neighbours, allocated once: what
-/// goes to and comes from the lower (`rank − 1`) and the upper (`rank + 1`) neighbour.
+/// The messages of a halo exchange along one axis with its two neighbours, allocated once:
+/// what goes to and comes from the lower and the upper neighbour.
 #[derive(Debug, Default)]
 pub struct HaloBuffers {
+    /// The lower and upper neighbour ranks (`None` at a physical edge).
+    pub neighbours: [Option<usize>; 2],
     /// To the lower neighbour (this rank's lowest owned layers).
     pub send_low: Vec<f64>,
     /// To the upper neighbour (this rank's highest owned layers).
@@ -33,8 +35,9 @@ pub struct HaloBuffers {
 
 impl HaloBuffers {
     /// `below` values each way with the lower neighbour, `above` with the upper one.
-    pub fn new(below: usize, above: usize) -> Self {
+    pub fn new(neighbours: [Option<usize>; 2], below: usize, above: usize) -> Self {
         Self {
+            neighbours,
             send_low: vec![0.0; below],
             send_high: vec![0.0; above],
             receive_low: vec![0.0; below],
@@ -45,6 +48,7 @@ impl HaloBuffers {
     /// Send the send buffers, fill the receive buffers ([`Comm::exchange`]).
     pub fn exchange(&mut self, comm: &(impl Comm + ?Sized)) {
         comm.exchange(
+            self.neighbours,
             &self.send_low,
             &self.send_high,
             &mut self.receive_low,
@@ -61,11 +65,13 @@ impl HaloBuffers {
 /// The [`Method`](crate::Method) functions of a slab solver that are its local method's
 /// values reduced or gathered over the ranks, written once for every method crate: the
 /// configuration, the samples (the local method's, which are its own carriers', gathered in
-/// rank order: [`crate::comm_gather::gather_samples`]), the first failure
+/// rank order: [`crate::comm_gather::gather_samples`], put in the global order by the
+/// inherent `sample_order(&self) -> &[usize]`: the global index of each own sample, empty
+/// where rank order is the global order), the first failure
 /// ([`crate::comm_gather::first_bad`]) and the rest of [`crate::reduced_sums_over_ranks!`].
 /// Expands inside `impl Method<D> for …` of a struct with the fields `local` (the rank's own
-/// method), `comm: Arc<dyn Comm>` and `initial_energy: f64` (reduced when built) and an
-/// inherent `bytes_per_step(&self) -> usize`.
+/// method), `comm: Arc<dyn Comm>` and `initial_energy: f64` (reduced when built) and the
+/// inherent `bytes_per_step(&self) -> usize` and `sample_order`.
 #[macro_export]
 macro_rules! reduced_over_ranks {
     () => {
@@ -73,7 +79,12 @@ macro_rules! reduced_over_ranks {
             // (outputs only: the guard reduces the owned samples; the buffers are the caller's)
             let mut mine = $crate::method::Samples::<D>::default();
             self.local.sample_into(&mut mine);
-            $crate::comm_gather::gather_samples(self.comm.as_ref(), &mine, out);
+            $crate::comm_gather::gather_samples(
+                self.comm.as_ref(),
+                &mine,
+                self.sample_order(),
+                out,
+            );
         }
         fn check_finite(&self) -> Result<(), $crate::method::BadState<D>> {
             $crate::comm_gather::first_bad(self.comm.as_ref(), self.local.check_finite())

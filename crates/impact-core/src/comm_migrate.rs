@@ -26,7 +26,13 @@ pub fn exchange_varying(
         usize::from(comm.rank() + 1 < comm.size()),
     );
     let (mut length_low, mut length_high) = ([0.0], [0.0]);
+    // the slab's neighbours along the last axis (the rank grid `1 × … × N`)
+    let neighbours = [
+        comm.rank().checked_sub(1),
+        (comm.rank() + 1 < comm.size()).then(|| comm.rank() + 1),
+    ];
     comm.exchange(
+        neighbours,
         &[to_lower.len() as f64][..low],
         &[to_upper.len() as f64][..high],
         &mut length_low[..low],
@@ -40,7 +46,7 @@ pub fn exchange_varying(
         &to_lower[..to_lower.len() * low],
         &to_upper[..to_upper.len() * high],
     );
-    comm.exchange(to_lower, to_upper, from_lower, from_upper);
+    comm.exchange(neighbours, to_lower, to_upper, from_lower, from_upper);
     8 * (low + high + to_lower.len() + to_upper.len())
 }
 

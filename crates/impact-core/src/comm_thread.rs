@@ -148,22 +148,23 @@ impl Comm for ThreadComm {
     }
     fn exchange(
         &self,
+        [lower, upper]: [Option<usize>; 2],
         to_lower: &[f64],
         to_upper: &[f64],
         from_lower: &mut [f64],
         from_upper: &mut [f64],
     ) {
-        if self.rank > 0 {
-            self.send(self.rank - 1, Payload::Floats(to_lower.to_vec()));
+        if let Some(r) = lower {
+            self.send(r, Payload::Floats(to_lower.to_vec()));
         }
-        if self.rank + 1 < self.size {
-            self.send(self.rank + 1, Payload::Floats(to_upper.to_vec()));
+        if let Some(r) = upper {
+            self.send(r, Payload::Floats(to_upper.to_vec()));
         }
-        if self.rank > 0 {
-            from_lower.copy_from_slice(&self.floats(self.rank - 1));
+        if let Some(r) = lower {
+            from_lower.copy_from_slice(&self.floats(r));
         }
-        if self.rank + 1 < self.size {
-            from_upper.copy_from_slice(&self.floats(self.rank + 1));
+        if let Some(r) = upper {
+            from_upper.copy_from_slice(&self.floats(r));
         }
     }
     fn barrier(&self) {
@@ -197,7 +198,11 @@ mod tests {
                         if c.rank() + 1 == c.size() {
                             above.clear();
                         }
-                        c.exchange(&[r], &[r], &mut below, &mut above);
+                        let neighbours = [
+                            c.rank().checked_sub(1),
+                            (c.rank() + 1 < c.size()).then_some(c.rank() + 1),
+                        ];
+                        c.exchange(neighbours, &[r], &[r], &mut below, &mut above);
                         let (below, above) = (
                             below.first().copied().unwrap_or(f64::NAN),
                             above.first().copied().unwrap_or(f64::NAN),

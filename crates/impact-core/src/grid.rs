@@ -78,9 +78,23 @@ impl<const D: usize> Grid<D> {
     /// slab; `count` may reach past the grid, e.g. into padding): the same spacing, the
     /// origin moved to the first layer, `x_0 + first · h`.
     pub fn layers(&self, first: usize, count: usize) -> Self {
+        let mut cells = self.cells;
+        cells[D - 1] = count;
+        self.cut(
+            std::array::from_fn(|k| if k == D - 1 { first } else { 0 }),
+            cells,
+        )
+    }
+
+    /// The box of `cells` cells per axis from cell `first` on (a rank's box; it may reach
+    /// past the grid): the same spacing, the origin moved to the first cell,
+    /// `x_0 + first · h` per axis (the same arithmetic on every axis, none on an uncut one).
+    pub fn cut(&self, first: [usize; D], cells: [usize; D]) -> Self {
         let mut grid = self.clone();
-        grid.cells[D - 1] = count;
-        grid.origin[D - 1] += first as f64 * self.spacing[D - 1];
+        grid.cells = cells;
+        for k in (0..D).filter(|&k| first[k] > 0) {
+            grid.origin[k] += first[k] as f64 * self.spacing[k];
+        }
         grid
     }
 

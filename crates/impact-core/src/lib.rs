@@ -18,6 +18,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod comm;
+pub mod comm_box;
 pub mod comm_gather;
 pub mod comm_halo;
 pub mod comm_method;

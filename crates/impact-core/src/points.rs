@@ -189,23 +189,35 @@ impl<const D: usize> MaterialPoints<D> {
     /// Copy the fields of the points `range` into `out` (the sampling of the point methods:
     /// every point on one rank, a slab's own points on several).
     pub fn sample_range_into(&self, range: std::ops::Range<usize>, out: &mut Samples<D>) {
+        self.sample_runs_into(std::iter::once(range), out);
+    }
+
+    /// Copy the fields of the points `runs` into `out`, run after run (a box's own points
+    /// are a run per row of its own cells).
+    pub fn sample_runs_into(
+        &self,
+        runs: impl Iterator<Item = std::ops::Range<usize>>,
+        out: &mut Samples<D>,
+    ) {
         out.clear();
-        out.reference
-            .extend_from_slice(&self.reference[range.clone()]);
-        out.position
-            .extend_from_slice(&self.position[range.clone()]);
-        match self.uniform_half_size {
-            Some(h) => out.half_size.resize(range.len(), h),
-            None => out
-                .half_size
-                .extend_from_slice(&self.half_size[range.clone()]),
-        }
-        out.stress.extend_from_slice(&self.stress[range.clone()]);
-        out.velocity
-            .extend_from_slice(&self.velocity[range.clone()]);
-        if !self.equivalent_plastic_strain.is_empty() {
-            out.plastic_strain
-                .extend_from_slice(&self.equivalent_plastic_strain[range]);
+        for range in runs {
+            out.reference
+                .extend_from_slice(&self.reference[range.clone()]);
+            out.position
+                .extend_from_slice(&self.position[range.clone()]);
+            match self.uniform_half_size {
+                Some(h) => out.half_size.resize(out.half_size.len() + range.len(), h),
+                None => out
+                    .half_size
+                    .extend_from_slice(&self.half_size[range.clone()]),
+            }
+            out.stress.extend_from_slice(&self.stress[range.clone()]);
+            out.velocity
+                .extend_from_slice(&self.velocity[range.clone()]);
+            if !self.equivalent_plastic_strain.is_empty() {
+                out.plastic_strain
+                    .extend_from_slice(&self.equivalent_plastic_strain[range.clone()]);
+            }
         }
     }
 
@@ -280,26 +292,26 @@ impl<const D: usize> MaterialPoints<D> {
     /// As [`Self::regular`] with the points of each cell placed by `layout` (equal masses
     /// and volumes; `half_size` stays half the sub-cell).
     pub fn seeded(grid: &Grid<D>, per_axis: usize, density: f64, layout: &PointLayout) -> Self {
-        Self::seeded_layers(grid, per_axis, density, layout, 0..grid.cells[D - 1])
+        let whole: [std::ops::Range<usize>; D] = std::array::from_fn(|k| 0..grid.cells[k]);
+        Self::seeded_box(grid, per_axis, density, layout, &whole)
     }
 
-    /// [`Self::seeded`] for the layers of cells `layers` along the last axis only (one
-    /// rank's stored layers, issue 27): the points of those cells of the whole `grid`,
+    /// [`Self::seeded`] for the box of cells `cells` (a range per axis) only (one rank's
+    /// stored box, issue 27): the points of those cells of the whole `grid`, cell by cell in
+    /// the box's lexicographic order (axis 0 fastest, the whole grid's relative order),
     /// placed from the whole grid's origin and global cell indices, so each point has the
-    /// same bits as in the whole body's seeding (and the memory is the layers' only).
-    pub fn seeded_layers(
+    /// same bits as in the whole body's seeding (and the memory is the box's only).
+    pub fn seeded_box(
         grid: &Grid<D>,
         per_axis: usize,
         density: f64,
         layout: &PointLayout,
-        layers: std::ops::Range<usize>,
+        cells: &[std::ops::Range<usize>; D],
     ) -> Self {
         let per_cell = per_axis.pow(D as u32);
         let local = layout.local_positions::<D>(per_axis);
-        // cells are numbered with the last axis slowest: a run of layers is a run of cells
-        let per_layer = grid.cell_count() / grid.cells[D - 1].max(1);
-        let cells = layers.start * per_layer..layers.end * per_layer;
-        let n = cells.len() * per_cell;
+        let box_cells: usize = cells.iter().map(|r| r.len()).product();
+        let n = box_cells * per_cell;
         let volume = grid.cell_volume() / per_cell as f64;
         let sub = grid.spacing / per_axis as f64;
         let mut points = Self {
@@ -317,8 +329,14 @@ impl<const D: usize> MaterialPoints<D> {
             plastic_strain_zz: Vec::new(),
             plastic_work: Vec::new(),
         };
-        for c in cells {
-            let lower = grid.cell_lower(c);
+        for k in 0..box_cells {
+            let mut rest = k;
+            let idx: [usize; D] = std::array::from_fn(|l| {
+                let i = cells[l].start + rest % cells[l].len();
+                rest /= cells[l].len();
+                i
+            });
+            let lower = grid.cell_lower(grid.cell_index(idx));
             for u in &local {
                 let x = lower + grid.spacing.component_mul(u);
                 points.reference.push(x);

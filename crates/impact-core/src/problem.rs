@@ -402,17 +402,19 @@ impl<const D: usize> Problem<D> {
         grid: &Grid<D>,
         config: &crate::options::MethodConfig,
     ) -> Result<crate::points::MaterialPoints<D>, CoreError> {
-        self.material_points_of_layers(grid, config, 0..grid.cells[D - 1])
+        let whole: [std::ops::Range<usize>; D] = std::array::from_fn(|k| 0..grid.cells[k]);
+        self.material_points_of_box(grid, config, &whole)
     }
 
-    /// [`Self::material_points`] of the layers of cells `layers` along `grid`'s last axis
-    /// only (a rank's stored layers, [`crate::points::MaterialPoints::seeded_layers`]): the
-    /// same points, with the same bits, as the whole body's points of those layers.
-    pub fn material_points_of_layers(
+    /// [`Self::material_points`] of the box of cells `cells` (a range per axis of `grid`)
+    /// only (a rank's stored box, [`crate::points::MaterialPoints::seeded_box`]): the same
+    /// points, with the same bits, as the whole body's points of those cells, in the
+    /// box's lexicographic cell order.
+    pub fn material_points_of_box(
         &self,
         grid: &Grid<D>,
         config: &crate::options::MethodConfig,
-        layers: std::ops::Range<usize>,
+        cells: &[std::ops::Range<usize>; D],
     ) -> Result<crate::points::MaterialPoints<D>, CoreError> {
         let per_axis = self.points_per_axis(config.points_per_cell)?;
         if !self.layout.fits(config.points_per_cell) {
@@ -425,12 +427,12 @@ impl<const D: usize> Problem<D> {
                 ),
             });
         }
-        let mut points = crate::points::MaterialPoints::seeded_layers(
+        let mut points = crate::points::MaterialPoints::seeded_box(
             grid,
             per_axis,
             self.material.density,
             &self.layout,
-            layers,
+            cells,
         );
         points.apply_initial(&self.initial);
         Ok(match self.model {

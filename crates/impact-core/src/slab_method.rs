@@ -1,15 +1,16 @@
-//! A point method on one rank's slab as a [`Method`] whose values are global (issue 27):
-//! [`OnSlab`] wraps the method's solver built on the slab's stored layers (its own layers
-//! plus the halo, [`Slab`]), exchanges the halo's point state once per step before the
-//! step ([`PointHalo`]), and reduces what the controller reads over the ranks. Shared by
+//! A point method on one rank's slab or box as a [`Method`] whose values are global (issue
+//! 27): [`OnSlab`] wraps the method's solver built on the box's stored cells (its own cells
+//! plus the halo, [`RankBox`]; a slab is the box `1 × … × 1 × N`), exchanges the halo's
+//! point state once per step before the step ([`PointHalo`]), and reduces what the
+//! controller reads over the ranks. Shared by
 //! the point methods (DGMPM's `SlabDgmpm`, MPM's `SlabMpm`), which say how to build their
 //! solver on a slab ([`SlabBuild`]) and which points it owns ([`SlabLocal`]).
 //!
 //! Reductions: the time step is the minimum over the ranks; the energy, work, momentum and
 //! impulse are each rank's own sums added in rank order ([`crate::comm`]: equal to one
-//! rank's to round-off); samples are gathered in rank order (the global point order), the
+//! rank's to round-off); samples are gathered in the global point order, the
 //! first failure and the fastest point found over the ranks ([`crate::comm_gather`]).
-use crate::comm::{Comm, Slab, ThreadComm};
+use crate::comm::{Comm, RankBox, RankGrid, ThreadComm};
 use crate::comm_gather;
 use crate::comm_halo::PointHalo;
 use crate::method::{BadState, Method, MethodConfig, Samples};
@@ -24,44 +25,48 @@ pub trait SlabLocal<const D: usize>: Method<D> {
     fn points(&self) -> &MaterialPoints<D>;
     /// The stored points and the extra tensor per point the halo carries (empty if none).
     fn halo_state(&mut self) -> (&mut MaterialPoints<D>, &mut [Tensor<D>]);
-    /// The points this solver owns (local indices: its own layers').
-    fn owned_points(&self) -> std::ops::Range<usize>;
+    /// The points this solver owns, as runs of local indices in order (its own cells').
+    fn owned_runs(&self) -> Vec<std::ops::Range<usize>>;
 }
 
 /// What [`SlabBuild::on_slab`] returns: the local solver and where it lies.
 #[derive(Debug)]
 pub struct SlabParts<M> {
-    /// The solver on the stored layers.
+    /// The solver on the stored cells.
     pub local: M,
-    /// The slab.
-    pub slab: Slab,
-    /// Points per layer of cells.
-    pub per_layer: usize,
+    /// The box.
+    pub rank_box: RankBox,
+    /// Points per cell (stored cell by cell).
+    pub per_cell: usize,
     /// The whole run's [`Method::cells`] and [`Method::updates_per_step`].
     pub cells: usize,
     /// See `cells`.
     pub updates_per_step: usize,
 }
 
-/// How a point method builds its solver on one rank's slab.
+/// How a point method builds its solver on one rank's box.
 pub trait SlabBuild<const D: usize>: SlabLocal<D> + Sized {
-    /// This rank's solver of `problem` on its slab (every rank builds its own; a bad
-    /// input is refused on every rank alike, before any communication).
+    /// This rank's solver of `problem` on its box of `rank_grid` (every rank builds its
+    /// own; a bad input is refused on every rank alike, before any communication).
     fn on_slab(
         problem: &Problem<D>,
         config: MethodConfig,
         comm: &dyn Comm,
+        rank_grid: &RankGrid,
     ) -> Result<SlabParts<Self>, CoreError>;
 }
 
 /// A point method on one rank's slab, a [`Method`] whose values are global (module doc).
 #[derive(Debug)]
 pub struct OnSlab<const D: usize, M> {
-    /// The slab's solver (own layers and halo).
+    /// The box's solver (own cells and halo).
     pub local: M,
     comm: Arc<dyn Comm>,
-    slab: Slab,
-    per_layer: usize,
+    rank_box: RankBox,
+    per_cell: usize,
+    /// The global index of each own point, in local order (empty on slabs, whose own
+    /// points in rank order are the global order).
+    sample_order: Vec<usize>,
     cells: usize,
     updates_per_step: usize,
     initial_energy: f64,
@@ -69,21 +74,44 @@ pub struct OnSlab<const D: usize, M> {
 }
 
 impl<const D: usize, M: SlabBuild<D>> OnSlab<D, M> {
-    /// This rank's slab of `problem` ([`SlabBuild::on_slab`]).
+    /// This rank's slab of `problem` (the automatic rank grid, [`Self::on_grid`]).
     pub fn new(
         problem: &Problem<D>,
         config: MethodConfig,
         comm: Arc<dyn Comm>,
     ) -> Result<Self, CoreError> {
-        let mut parts = M::on_slab(problem, config, comm.as_ref())?;
+        Self::on_grid(problem, config, comm, &RankGrid::automatic())
+    }
+
+    /// This rank's box of `problem` split as `rank_grid` says ([`SlabBuild::on_slab`]).
+    pub fn on_grid(
+        problem: &Problem<D>,
+        config: MethodConfig,
+        comm: Arc<dyn Comm>,
+        rank_grid: &RankGrid,
+    ) -> Result<Self, CoreError> {
+        let mut parts = M::on_slab(problem, config, comm.as_ref(), rank_grid)?;
         let initial_energy = comm.all_reduce_sum(parts.local.initial_energy());
         let (points, extra) = parts.local.halo_state();
-        let halo = PointHalo::new(&parts.slab, parts.per_layer, points, extra);
+        let halo = PointHalo::new(&parts.rank_box, parts.per_cell, points, extra);
+        let sample_order = if parts.rank_box.is_slabs() {
+            Vec::new()
+        } else {
+            let global = |i: usize| global_point(&parts.rank_box, parts.per_cell, i);
+            parts
+                .local
+                .owned_runs()
+                .into_iter()
+                .flatten()
+                .map(global)
+                .collect()
+        };
         Ok(Self {
             local: parts.local,
             comm,
-            slab: parts.slab,
-            per_layer: parts.per_layer,
+            rank_box: parts.rank_box,
+            per_cell: parts.per_cell,
+            sample_order,
             cells: parts.cells,
             updates_per_step: parts.updates_per_step,
             initial_energy,
@@ -92,30 +120,41 @@ impl<const D: usize, M: SlabBuild<D>> OnSlab<D, M> {
     }
 }
 
+/// The global index of the stored point `local` of `rank_box` (`per_cell` points a cell,
+/// stored cell by cell in both numberings).
+fn global_point(rank_box: &RankBox, per_cell: usize, local: usize) -> usize {
+    rank_box.global_cell(local / per_cell) * per_cell + local % per_cell
+}
+
 impl<const D: usize, M> OnSlab<D, M> {
-    /// The slab this rank stores.
-    pub fn slab(&self) -> &Slab {
-        &self.slab
+    /// The box this rank stores.
+    pub fn rank_box(&self) -> &RankBox {
+        &self.rank_box
     }
 
-    /// Bytes this rank sends per step (the halo's point state, both neighbours).
+    /// Bytes this rank sends per step (the halo's point state, every neighbour).
     pub fn bytes_per_step(&self) -> usize {
         self.halo.bytes_per_step()
+    }
+
+    /// The global index of each own sample (empty: rank order is the global order).
+    pub fn sample_order(&self) -> &[usize] {
+        &self.sample_order
     }
 }
 
 impl<const D: usize, M: SlabLocal<D>> Method<D> for OnSlab<D, M> {
     fn step(&mut self, t: f64, dt: f64) {
         let (points, extra) = self.local.halo_state();
-        self.halo
-            .exchange(self.comm.as_ref(), &self.slab, points, extra);
+        self.halo.exchange(self.comm.as_ref(), points, extra);
         self.local.step(t, dt);
     }
     crate::reduced_over_ranks!();
     fn hottest_place(&self) -> Vector<D> {
         let p = self.local.points();
-        let mine = p
-            .hottest_in(self.local.owned_points())
+        // the last of equals, as one rank's `max_by`
+        let mine = (self.local.owned_runs().into_iter().flatten())
+            .max_by(|&a, &b| p.velocity[a].norm().total_cmp(&p.velocity[b].norm()))
             .map(|i| (p.velocity[i].norm(), p.reference[i]));
         comm_gather::hottest_place(self.comm.as_ref(), mine)
     }
@@ -126,8 +165,9 @@ impl<const D: usize, M: SlabLocal<D>> Method<D> for OnSlab<D, M> {
         self.updates_per_step
     }
     fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
-        let first = self.slab.stored.start * self.per_layer;
-        self.local.perturb_velocity(&mut |i, x| kick(first + i, x));
+        let (rank_box, per_cell) = (&self.rank_box, self.per_cell);
+        self.local
+            .perturb_velocity(&mut |i, x| kick(global_point(rank_box, per_cell, i), x));
     }
 }
 

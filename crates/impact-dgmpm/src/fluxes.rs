@@ -104,9 +104,8 @@ impl<const D: usize> DgmpmSolver<D> {
             (Some(c), None) => (1, c),
             _ => return 0.0,
         };
-        // a halo layer's edge faces are its owner's (a rank's slab, `GridPlace`)
-        let layer = cell / (self.grid.cell_count() / self.grid.cells[D - 1]);
-        if !self.place.owned_layers.contains(&layer) {
+        // a halo cell's edge faces are its owner's (a rank's box, `GridPlace`)
+        if !self.owns_edge_face(&self.grid.cell_multi_index(cell)) {
             return 0.0;
         }
         if self.ghost_condition(l, side, s) == GhostCondition::free() {
@@ -349,11 +348,10 @@ impl<const D: usize> DgmpmSolver<D> {
         -flux.momentum * (sign * area)
     }
 
-    /// Whether the boundary face at `idx` (of any axis) counts on this grid: a slab's halo
-    /// layers' edge faces are their owner's (`GridPlace`); always on one rank.
+    /// Whether the boundary face at `idx` (of any axis) counts on this grid: a box's halo
+    /// cells' edge faces are their owner's (`GridPlace`); always on one rank.
     #[inline]
     pub(crate) fn owns_edge_face(&self, idx: &[usize; D]) -> bool {
-        let layer = idx[D - 1].min(self.grid.cells[D - 1] - 1);
-        self.place.owned_layers.contains(&layer)
+        self.place.owns(idx, &self.grid.cells)
     }
 }

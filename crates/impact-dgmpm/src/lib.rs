@@ -279,14 +279,17 @@ pub struct DgmpmSolver<const D: usize> {
 }
 
 /// Where a solver's grid sits in the whole body: the global origin and the global index
-/// of its first cell (face coordinates are formed from global indices, so a slab's loads
-/// see the same bits as the whole grid's), and the layers along the last axis whose
-/// boundary work and force it owns (a slab's halo layers are owned by a neighbour).
+/// of its first cell (face coordinates are formed from global indices, so a box's loads
+/// see the same bits as the whole grid's), the cells per axis (local indices) whose
+/// boundary work and force it owns (a box's halo cells are owned by a neighbour), and the
+/// same owned cells as runs of consecutive local cells (rows along axis 0, in order: the
+/// cells whose points its diagnostics and samples cover).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct GridPlace<const D: usize> {
     pub origin: Vector<D>,
     pub offset: [usize; D],
-    pub owned_layers: std::ops::Range<usize>,
+    pub owned: [std::ops::Range<usize>; D],
+    pub owned_cell_runs: Vec<std::ops::Range<usize>>,
 }
 
 impl<const D: usize> GridPlace<D> {
@@ -295,8 +298,16 @@ impl<const D: usize> GridPlace<D> {
         Self {
             origin: grid.origin,
             offset: [0; D],
-            owned_layers: 0..grid.cells[D - 1],
+            owned: std::array::from_fn(|k| 0..grid.cells[k]),
+            owned_cell_runs: std::iter::once(0..grid.cell_count()).collect(),
         }
+    }
+
+    /// Whether the local cell `idx` (clamped to the grid `cells`: a face index may be one
+    /// past the last cell) is owned here.
+    #[inline]
+    pub fn owns(&self, idx: &[usize; D], cells: &[usize; D]) -> bool {
+        (0..D).all(|k| self.owned[k].contains(&idx[k].min(cells[k] - 1)))
     }
 }
 

@@ -16,26 +16,44 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
         self.solver.step(&mut self.state, t, dt);
     }
     fn sample_into(&self, out: &mut Samples<D>) {
-        let own = self.owned_points();
-        self.state.points.sample_range_into(own.clone(), out);
+        self.state
+            .points
+            .sample_runs_into(self.owned_point_runs(), out);
         if let Some(j2) = &self.solver.plastic {
-            j2.samples_zz(out, &self.state.points.plastic_strain_zz[own]);
+            let zz = &self.state.points.plastic_strain_zz;
+            let runs = &self.solver.place.owned_cell_runs;
+            if let [run] = runs.as_slice() {
+                // one run (one rank, a slab): no copy
+                let n = self.solver.points_per_cell;
+                j2.samples_zz(out, &zz[run.start * n..run.end * n]);
+            } else {
+                let own_zz: Vec<f64> = (self.owned_point_runs())
+                    .flat_map(|r| zz[r].iter().copied())
+                    .collect();
+                j2.samples_zz(out, &own_zz);
+            }
         }
     }
     fn energy(&self) -> f64 {
         let p = &self.state.points;
         let m = &self.solver.material;
-        let own = self.owned_points();
-        if let Some(j2) = &self.solver.plastic {
-            // elastic energy and the plastic work (dissipated and stored in hardening)
-            return p.energy_in(own, |i| {
-                j2.elastic_energy_density(&p.stress[i], p.plastic_strain_zz[i]) + p.plastic_work[i]
-            });
-        }
-        p.energy_in(own, |i| match self.solver.physics {
-            Physics::Linear => m.energy_density(&p.stress[i]),
-            Physics::Svk { svk, .. } => svk.energy_density(&p.deformation[i]),
-        })
+        // a run per row of own cells, added in order (one run on one rank)
+        let mut runs = self.owned_point_runs();
+        let first = runs.next().unwrap_or(0..0);
+        let energy_in = |run: std::ops::Range<usize>| {
+            if let Some(j2) = &self.solver.plastic {
+                // elastic energy and the plastic work (dissipated and stored in hardening)
+                return p.energy_in(run, |i| {
+                    j2.elastic_energy_density(&p.stress[i], p.plastic_strain_zz[i])
+                        + p.plastic_work[i]
+                });
+            }
+            p.energy_in(run, |i| match self.solver.physics {
+                Physics::Linear => m.energy_density(&p.stress[i]),
+                Physics::Svk { svk, .. } => svk.energy_density(&p.deformation[i]),
+            })
+        };
+        runs.fold(energy_in(first), |sum, run| sum + energy_in(run))
     }
     fn external_work(&self) -> f64 {
         self.state.work
@@ -44,7 +62,10 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
         self.state.initial_energy
     }
     fn momentum(&self) -> Vector<D> {
-        self.state.points.momentum_in(self.owned_points())
+        let p = &self.state.points;
+        let mut runs = self.owned_point_runs();
+        let first = p.momentum_in(runs.next().unwrap_or(0..0));
+        runs.fold(first, |sum, run| sum + p.momentum_in(run))
     }
     fn external_impulse(&self) -> Vector<D> {
         self.state.impulse
@@ -58,11 +79,12 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
             Physics::Svk { svk, .. } => svk.admissible(&p.deformation[i], self.solver.wave_speed),
             Physics::Linear => true,
         };
-        let own = self.owned_points();
-        let Some(i) = first_failing(own.len(), |j| {
-            finite(own.start + j) && admissible(own.start + j)
-        })
-        .map(|j| own.start + j) else {
+        let Some(i) = self.owned_point_runs().find_map(|own| {
+            first_failing(own.len(), |j| {
+                finite(own.start + j) && admissible(own.start + j)
+            })
+            .map(|j| own.start + j)
+        }) else {
             return Ok(());
         };
         let reason = match self.solver.physics {
@@ -79,7 +101,9 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
     }
     fn hottest_place(&self) -> Vector<D> {
         let p = &self.state.points;
-        p.hottest_in(self.owned_points())
+        // the last of equals over the own points in order
+        (self.owned_point_runs().flatten())
+            .max_by(|&a, &b| p.velocity[a].norm().total_cmp(&p.velocity[b].norm()))
             .map_or_else(Vector::<D>::zeros, |i| p.reference[i])
     }
     fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {

@@ -5,105 +5,30 @@
 //! impulse to round-off (summed per rank, then in rank order). A non-finite state on one
 //! rank is reported identically by every rank at its global place; more ranks than layers
 //! are refused on every rank with the most that fit.
-use impact_core::comm::{Comm, ThreadComm};
+use impact_core::comm::{Comm, RankGrid, ThreadComm};
 use impact_core::method::{Integrator, MethodConfig, MethodKind, SchemeOrder, TransverseFlux};
-use impact_core::slab_method::{blowup_on_ranks, owned_in_rank_order, refusal_on_ranks, RunEnd};
+use impact_core::slab_method::{blowup_on_ranks, owned_in_rank_order, refusal_on_ranks};
 use impact_core::{Method, Problem, Scene};
 use impact_dgmpm::slab::SlabDgmpm;
 use impact_dgmpm::Dgmpm;
 use std::sync::Arc;
 
-fn scene(name: &str) -> Scene {
-    Scene::builtin(name).unwrap()
-}
+mod decomposed;
+use decomposed::{runs, scene, slabs};
 
 /// `body` on `ranks` thread ranks, its results in rank order.
 fn on_ranks<T: Send>(ranks: usize, body: impl Fn(Arc<dyn Comm>) -> T + Sync) -> Vec<T> {
     ThreadComm::on_ranks(ranks, body)
 }
 
-fn runs<const D: usize>(
-    problem: &Problem<D>,
-    config: MethodConfig,
-    ranks: usize,
-    n: usize,
-) -> (RunEnd<D>, Vec<RunEnd<D>>) {
-    let serial = RunEnd::after_steps(&mut Dgmpm::<D>::new(problem, config).unwrap(), n);
-    let ends = on_ranks(ranks, |comm| {
-        RunEnd::after_steps(&mut SlabDgmpm::<D>::new(problem, config, comm).unwrap(), n)
-    });
-    (serial, ends)
-}
-
-fn relative(a: f64, b: f64) -> f64 {
-    (a - b).abs() / b.abs().max(1e-300)
-}
-
-/// Compare `ranks` = 1..=4 with the serial run: fields exactly (`exact`) or to 1e-13 of
-/// their peaks; sums to 1e-12.
+/// Compare slabs on 1 to 4 ranks with the serial run (`decomposed::check_on`).
 fn check<const D: usize>(
     label: &str,
     scene: &Scene,
     edit: impl Fn(&mut MethodConfig),
     exact: bool,
 ) {
-    let problem = Problem::<D>::from_scene(scene).unwrap();
-    let mut config = scene.method_config(MethodKind::Dgmpm);
-    edit(&mut config);
-    for ranks in 1..=4 {
-        let (serial, ends) = runs::<D>(&problem, config, ranks, 40);
-        let s = &serial.samples;
-        let peak_s = s.stress.iter().fold(0.0f64, |m, x| m.max(x.amax()));
-        let peak_v = s.velocity.iter().fold(0.0f64, |m, x| m.max(x.amax()));
-        assert!(
-            peak_s > 1e5 && peak_v > 1e-3,
-            "{label}: the wave must be there"
-        );
-        for (rank, end) in ends.iter().enumerate() {
-            let e = &end.samples;
-            assert_eq!(e.len(), s.len(), "{label}, {ranks} ranks, rank {rank}");
-            assert_eq!(e.reference, s.reference, "{label}: reference positions");
-            if exact {
-                assert_eq!(
-                    e.stress, s.stress,
-                    "{label}, {ranks} ranks: stress bit for bit"
-                );
-                assert_eq!(e.velocity, s.velocity, "{label}, {ranks} ranks: velocity");
-                assert_eq!(
-                    e.plastic_strain, s.plastic_strain,
-                    "{label}: plastic strain"
-                );
-            } else {
-                for i in 0..s.len() {
-                    assert!(
-                        (e.stress[i] - s.stress[i]).amax() <= 1e-13 * peak_s,
-                        "{label}"
-                    );
-                    assert!(
-                        (e.velocity[i] - s.velocity[i]).amax() <= 1e-13 * peak_v,
-                        "{label}"
-                    );
-                }
-            }
-            let tol = 1e-12;
-            assert!(relative(end.energy, serial.energy) < tol, "{label}: energy");
-            assert!(
-                relative(end.work, serial.work) < tol,
-                "{label}: work {} {}",
-                end.work,
-                serial.work
-            );
-            let p = serial.momentum.norm().max(serial.impulse.norm());
-            assert!(
-                (end.momentum - serial.momentum).norm() <= tol * p,
-                "{label}: momentum"
-            );
-            assert!(
-                (end.impulse - serial.impulse).norm() <= tol * p,
-                "{label}: impulse"
-            );
-        }
-    }
+    decomposed::check_on::<D>(label, scene, edit, exact, &slabs());
 }
 
 #[test]
@@ -232,7 +157,7 @@ fn halo_bytes_per_step_are_one_layer_per_neighbour() {
     assert_eq!(bytes, vec![layer, 2 * layer, layer]);
 }
 
-/// A rank seeds only its stored layers' points (`material_points_of_layers`): the same
+/// A rank seeds only its stored layers' points (`material_points_of_box`): the same
 /// bits as the whole body's points cut to those layers, for every layout-relevant scene
 /// (initial states, J2 history, SVK's `F`, 3D) and 1 or 4 points per cell. (`Debug`
 /// prints each `f64` in its shortest round-trip form, so equal text is equal bits.)
@@ -256,7 +181,7 @@ fn stored_layers_are_seeded_with_the_whole_bodys_bits() {
         let layers = grid.cells[1];
         for range in [0..1, 0..layers, 3..7, layers - 2..layers] {
             let part = problem
-                .material_points_of_layers(grid, &config, range.clone())
+                .material_points_of_box(grid, &config, &[0..grid.cells[0], range.clone()])
                 .unwrap();
             let cut = whole.select(range.start * per_layer..range.end * per_layer);
             assert_eq!(part.len(), range.len() * per_layer, "{name}");
@@ -269,10 +194,25 @@ fn stored_layers_are_seeded_with_the_whole_bodys_bits() {
     let config = block.method_config(MethodKind::Dgmpm);
     let whole = problem.material_points(&problem.grid, &config).unwrap();
     let part = problem
-        .material_points_of_layers(&problem.grid, &config, 2..5)
+        .material_points_of_box(&problem.grid, &config, &[0..6, 0..5, 2..5])
         .unwrap();
     let cut = whole.select(2 * 30..5 * 30);
     assert_eq!(format!("{part:?}"), format!("{cut:?}"), "block-wave");
+    // a box: the whole body's points of its cells, in the whole body's relative order
+    let cells = [1..4, 2..5, 3..7];
+    let part = problem
+        .material_points_of_box(&problem.grid, &config, &cells)
+        .unwrap();
+    let per_cell = whole.len() / problem.grid.cell_count();
+    let mut expected = Vec::new();
+    for c in 0..problem.grid.cell_count() {
+        let idx = problem.grid.cell_multi_index(c);
+        if (0..3).all(|k| cells[k].contains(&idx[k])) {
+            expected.extend(c * per_cell..(c + 1) * per_cell);
+        }
+    }
+    let picked: Vec<_> = expected.iter().map(|&i| whole.reference[i]).collect();
+    assert_eq!(part.reference, picked, "block-wave, a box");
 }
 
 /// Each rank's owned samples (its output piece), concatenated in rank order, are the
@@ -283,7 +223,7 @@ fn owned_samples_in_rank_order_are_the_gathered_ones() {
     let problem = Problem::<2>::from_scene(&plate).unwrap();
     let config = plate.method_config(MethodKind::Dgmpm);
     for ranks in 1..=3 {
-        let (serial, ends) = runs(&problem, config, ranks, 20);
+        let (serial, ends) = runs(&problem, config, &RankGrid::automatic(), ranks, 20);
         let owned: Vec<_> = ends.iter().map(|e| &e.owned).collect();
         assert!(
             owned_in_rank_order(&owned, &serial.samples),

@@ -1,5 +1,6 @@
 //! FEM on one rank's slab of the mesh (issue 27): the element layers along the last axis
-//! are split over the ranks ([`Slab`]); each rank stores its own layers plus one layer of
+//! are split over the ranks ([`RankBox`], the slab `1 × … × 1 × N`: boxes are
+//! refused); each rank stores its own layers plus one layer of
 //! each neighbour's, steps them with the unchanged kernels (stencil or Gauss-point path,
 //! fused or not), and after each step (and once when built) receives the halo's nodal
 //! state (`u^n`, `v^{n-1/2}`, `a^n`) from the nodes' owners.
@@ -43,7 +44,7 @@
 //! fields of the mesh are gathered to every rank in rank order (the owned elements and
 //! nodes are consecutive runs of the global order), so outputs equal the serial ones.
 use crate::Fem;
-use impact_core::comm::{Comm, Slab};
+use impact_core::comm::{Comm, RankBox, RankGrid};
 use impact_core::comm_gather::hottest_place;
 use impact_core::comm_method::gather_vectors;
 use impact_core::comm_method::HaloBuffers;
@@ -60,7 +61,7 @@ pub struct SlabFem<const D: usize> {
     /// The slab's FEM (owned layers and halo).
     pub local: Fem<D>,
     comm: Arc<dyn Comm>,
-    slab: Slab,
+    slab: RankBox,
     /// Nodes per layer along the last axis.
     layer_nodes: usize,
     /// Elements of the whole mesh.
@@ -82,14 +83,31 @@ impl<const D: usize> SlabFem<D> {
         config: MethodConfig,
         comm: Arc<dyn Comm>,
     ) -> Result<Self, CoreError> {
+        Self::on_grid(problem, config, comm, &RankGrid::automatic())
+    }
+
+    /// [`Self::new`] split as `rank_grid` says: slabs along the last axis only (the FEM's
+    /// halo is not on boxes yet); another rank grid is refused with the slab one to use.
+    pub fn on_grid(
+        problem: &Problem<D>,
+        config: MethodConfig,
+        comm: Arc<dyn Comm>,
+        rank_grid: &RankGrid,
+    ) -> Result<Self, CoreError> {
         problem.check_config(&config)?;
+        rank_grid.slabs_only("FEM", D, comm.size())?;
         let global = &problem.grid;
-        let slab = Slab::new(global.cells[D - 1], comm.size(), comm.rank(), HALO_LAYERS)?;
-        let local = Fem::on_layers(problem, config, &slab.stored, &slab.owned)?;
+        let slab = RankBox::for_rank(&global.cells, rank_grid, comm.as_ref(), HALO_LAYERS)?;
+        let (stored, owned) = (&slab.stored[D - 1], &slab.owned[D - 1]);
+        let local = Fem::on_layers(problem, config, stored, owned)?;
         let initial_energy = comm.all_reduce_sum(local.state.initial_energy);
         let layer_nodes = global.vertex_count() / (global.cells[D - 1] + 1);
         let size = |layers: usize| layers * layer_nodes * packed_len(D);
-        let buffers = HaloBuffers::new(size(slab.halo_below()), size(slab.halo_above()));
+        let buffers = HaloBuffers::new(
+            slab.neighbours(D - 1),
+            size(slab.halo_width(D - 1, 0)),
+            size(slab.halo_width(D - 1, 1)),
+        );
         let mut slab_fem = Self {
             local,
             comm,
@@ -105,8 +123,13 @@ impl<const D: usize> SlabFem<D> {
     }
 
     /// The slab this rank stores.
-    pub fn slab(&self) -> &Slab {
+    pub fn slab(&self) -> &RankBox {
         &self.slab
+    }
+
+    /// The samples' global order: the rank order (empty, `reduced_over_ranks!`).
+    pub fn sample_order(&self) -> &[usize] {
+        &[]
     }
 
     /// Bytes this rank sends per step (one node layer's `u`, `v`, `a` per neighbour).
@@ -146,8 +169,11 @@ impl<const D: usize> SlabFem<D> {
     /// the node layers below the owned ones, and those from the upper neighbour's first
     /// owned layer up to (not including) the top cut face.
     fn exchange_halo(&mut self) {
-        let (below, above) = (self.slab.halo_below(), self.slab.halo_above());
-        let own = self.slab.owned_local();
+        let (below, above) = (
+            self.slab.halo_width(D - 1, 0),
+            self.slab.halo_width(D - 1, 1),
+        );
+        let own = self.slab.owned_local(D - 1);
         let n = self.layer_nodes;
         let b = &mut self.buffers;
         Self::pack(

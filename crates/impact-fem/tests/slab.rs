@@ -6,8 +6,9 @@
 //! by the same operations on the same bits (`slab.rs`); energy, work, momentum and impulse
 //! to round-off (summed per rank, then in rank order), and the momentum balance holds on
 //! the ranks as on one. A non-finite state on one rank is reported identically by every
-//! rank at its global place; more ranks than layers are refused on every rank.
-use impact_core::comm::ThreadComm;
+//! rank at its global place; more ranks than layers and box decompositions (`--ranks-grid`
+//! other than slabs) are refused on every rank.
+use impact_core::comm::{RankGrid, ThreadComm};
 use impact_core::method::{MethodConfig, MethodKind};
 use impact_core::slab_method::{blowup_on_ranks, owned_in_rank_order, refusal_on_ranks};
 use impact_core::{Method, Problem, Samples, Scene, Vector};
@@ -243,6 +244,18 @@ fn too_many_ranks_are_refused_on_every_rank() {
         message.contains("4 ranks cannot share the 3 layers"),
         "{}",
         message
+    );
+    // boxes are not the FEM's yet: refused on every rank
+    let plate = scene("plate");
+    let problem = Problem::<2>::from_scene(&plate).unwrap();
+    let config = plate.method_config(MethodKind::Fem);
+    let boxes = RankGrid(vec![2, 2]);
+    let message = refusal_on_ranks(4, |comm| {
+        SlabFem::<2>::on_grid(&problem, config, comm, &boxes)
+    });
+    assert!(
+        message.contains("FEM on the rank grid 2,2 (boxes) does not run on 4 ranks yet"),
+        "{message}"
     );
 }
 

@@ -79,7 +79,7 @@ pub mod slab;
 use edges::{edge_conditions, node_constraints, point_constraints, MirrorConstraint, SurfaceLoad};
 mod transfer;
 mod weights;
-use impact_core::comm::Slab;
+use impact_core::comm::RankBox;
 use impact_core::method::{MethodConfig, Model, MpmOptions, MpmShape, MpmTransfer, StressUpdate};
 use impact_core::parallel::worth_parallel;
 use impact_core::points::MaterialPoints;
@@ -304,7 +304,7 @@ impl<const D: usize> Mpm<D> {
     pub(crate) fn build(
         problem: &Problem<D>,
         config: MethodConfig,
-        slab: Option<&Slab>,
+        slab: Option<&RankBox>,
     ) -> Result<Self, CoreError> {
         let options = *config.mpm().ok_or_else(|| CoreError::Unsupported {
             method: "mpm".into(),
@@ -325,7 +325,7 @@ impl<const D: usize> Mpm<D> {
         }
         let layers = body.cells[D - 1];
         let (stored, owned) = slab.map_or((0..layers, 0..layers), |s| {
-            (s.stored.clone(), s.owned.clone())
+            (s.stored[D - 1].clone(), s.owned[D - 1].clone())
         });
         let layer_nodes = whole.vertex_count() / whole.vertex_counts()[D - 1];
         let per_layer = all.len() / layers.max(1);

@@ -3,7 +3,7 @@
 //!
 //! **Ownership by the current cell.** A rank owns the points whose current cell's layer
 //! (along the last axis; a point beyond the body's grid counts in its first or last layer)
-//! is one of its own layers ([`Slab`]), and stores besides them its neighbours' points in
+//! is one of its own layers (a [`RankBox`] of the slab rank grid `1 × … × N`), and stores besides them its neighbours' points in
 //! its halo layers: the whole body's points cut to its stored layers, as the total
 //! Lagrangian slab (`slab.rs`, whose module doc shows why the own points are then exact
 //! after a step: the stencils are evaluated at the step's start, so the argument holds for
@@ -40,7 +40,7 @@
 use crate::edges::SurfaceLoad;
 use crate::slab::halo_layers;
 use crate::{Mpm, MpmState};
-use impact_core::comm::{Comm, CommError, Slab};
+use impact_core::comm::{Comm, CommError, RankBox, RankGrid};
 use impact_core::comm_gather::{first_bad, gather_samples, hottest_place};
 use impact_core::comm_migrate::{exchange_varying, point_columns, Column};
 use impact_core::method::{BadState, Method, MethodConfig, MpmShape, Samples};
@@ -70,9 +70,9 @@ pub struct MigratingMpm<const D: usize> {
     /// The slab's solver (own points and halo).
     pub local: Mpm<D>,
     comm: Arc<dyn Comm>,
-    slab: Slab,
+    slab: RankBox,
     /// The neighbours' slabs (below, above).
-    neighbours: [Option<Slab>; 2],
+    neighbours: [Option<RankBox>; 2],
     /// Global number of each stored point.
     ids: Vec<usize>,
     /// Which columns travel (the arrays the model fills).
@@ -157,11 +157,13 @@ impl<const D: usize> MigratingMpm<D> {
         problem.check_config(&config)?;
         let layers = problem.grid.cells[D - 1];
         let (ranks, rank, halo) = (comm.size(), comm.rank(), halo_layers(&options));
-        let slab = Slab::new(layers, ranks, rank, halo)?;
+        let cells = &problem.grid.cells;
+        let slabs = RankGrid::automatic();
+        let slab = RankBox::new(cells, &slabs, ranks, rank, halo)?;
         let whole = Mpm::build(problem, config, None)?;
         let mut local = Mpm::build(problem, config, Some(&slab))?;
         let per_layer = whole.state.points.len() / layers;
-        let first = slab.stored.start * per_layer;
+        let first = slab.stored[D - 1].start * per_layer;
         let mut ids: Vec<usize> = (first..first + local.state.points.len()).collect();
         let present = columns(&mut ids, &mut local.state).map(|c| !c.is_empty());
         let widths = columns(&mut ids, &mut local.state).map(|c| c.width());
@@ -172,7 +174,8 @@ impl<const D: usize> MigratingMpm<D> {
         // the position is column 2, after the number (1) and the reference (D)
         let last_coordinate = 1 + D + D - 1;
         let initial_energy = comm.all_reduce_sum(local.state.initial_energy);
-        let neighbour = |r: Option<usize>| r.and_then(|r| Slab::new(layers, ranks, r, halo).ok());
+        let neighbour =
+            |r: Option<usize>| r.and_then(|r| RankBox::new(cells, &slabs, ranks, r, halo).ok());
         let mut m = Self {
             neighbours: [
                 neighbour(rank.checked_sub(1)),
@@ -200,15 +203,15 @@ impl<const D: usize> MigratingMpm<D> {
             initial_energy,
         };
         let (below, own) = (
-            m.slab.halo_below() * per_layer,
-            m.slab.owned.len() * per_layer,
+            m.slab.halo_width(D - 1, 0) * per_layer,
+            m.slab.owned[D - 1].len() * per_layer,
         );
         m.install(below..below + own);
         Ok(m)
     }
 
     /// The slab this rank stores.
-    pub fn slab(&self) -> &Slab {
+    pub fn slab(&self) -> &RankBox {
         &self.slab
     }
 
@@ -231,7 +234,7 @@ impl<const D: usize> MigratingMpm<D> {
     /// The layer (of the body's grid, along the last axis) of the cell of a point whose last
     /// coordinate is `x`; beyond the body, its first or last layer.
     fn layer_of(&self, x: f64) -> usize {
-        (((x - self.origin) / self.spacing).floor() as usize).min(self.slab.layers - 1)
+        (((x - self.origin) / self.spacing).floor() as usize).min(self.slab.cells[D - 1] - 1)
     }
 
     /// Move the own points that left the own layers to their new owners, then refresh the
@@ -239,7 +242,7 @@ impl<const D: usize> MigratingMpm<D> {
     fn migrate(&mut self, t: f64) {
         let (w, halo) = (self.width, self.slab.halo);
         let owned = self.local.owned_points();
-        let own_layers = self.slab.owned.clone();
+        let own_layers = self.slab.owned[D - 1].clone();
         // where each own point goes: 0 kept, 1 below, 2 above
         let b = &mut self.buffers;
         b.keep.clear();
@@ -247,8 +250,8 @@ impl<const D: usize> MigratingMpm<D> {
         b.send_high.clear();
         for (k, i) in owned.clone().enumerate() {
             let x = self.local.state.points.position[i][D - 1];
-            let layer =
-                (((x - self.origin) / self.spacing).floor() as usize).min(self.slab.layers - 1);
+            let layer = (((x - self.origin) / self.spacing).floor() as usize)
+                .min(self.slab.cells[D - 1] - 1);
             let moved = layer.abs_diff(self.before[k]);
             let destination = if moved > halo {
                 if self.failure.is_none() {
@@ -305,14 +308,14 @@ impl<const D: usize> MigratingMpm<D> {
         for row in b.own.chunks_exact(w) {
             let layer = (((row[self.last_coordinate] - self.origin) / self.spacing).floor()
                 as usize)
-                .min(self.slab.layers - 1);
+                .min(self.slab.cells[D - 1] - 1);
             for (send, neighbour) in [&mut b.send_low, &mut b.send_high]
                 .into_iter()
                 .zip(&self.neighbours)
             {
                 if neighbour
                     .as_ref()
-                    .is_some_and(|n| n.stored.contains(&layer))
+                    .is_some_and(|n| n.stored[D - 1].contains(&layer))
                 {
                     send.extend_from_slice(row);
                 }
@@ -397,28 +400,7 @@ impl<const D: usize> Method<D> for MigratingMpm<D> {
     fn sample_into(&self, out: &mut Samples<D>) {
         let mut mine = Samples::<D>::default();
         self.local.sample_into(&mut mine);
-        let mut gathered = Samples::<D>::default();
-        gather_samples(self.comm.as_ref(), &mine, &mut gathered);
-        let own: Vec<f64> = self.ids[self.local.owned_points()]
-            .iter()
-            .map(|&id| id as f64)
-            .collect();
-        let ids = self.comm.all_gather(&own);
-        let mut order: Vec<usize> = (0..ids.len()).collect();
-        order.sort_unstable_by(|&a, &b| ids[a].total_cmp(&ids[b]));
-        fn pick<T: Copy>(from: &[T], order: &[usize], to: &mut Vec<T>) {
-            if !from.is_empty() {
-                to.extend(order.iter().map(|&k| from[k]));
-            }
-        }
-        out.clear();
-        pick(&gathered.reference, &order, &mut out.reference);
-        pick(&gathered.position, &order, &mut out.position);
-        pick(&gathered.half_size, &order, &mut out.half_size);
-        pick(&gathered.stress, &order, &mut out.stress);
-        pick(&gathered.velocity, &order, &mut out.velocity);
-        pick(&gathered.plastic_strain, &order, &mut out.plastic_strain);
-        pick(&gathered.stress_zz, &order, &mut out.stress_zz);
+        gather_samples(self.comm.as_ref(), &mine, self.owned_ids(), out);
     }
     impact_core::reduced_sums_over_ranks!();
     fn check_finite(&self) -> Result<(), BadState<D>> {

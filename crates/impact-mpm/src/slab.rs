@@ -1,5 +1,6 @@
 //! MPM on one rank's slab of the grid (issue 27): the layers of cells along the last axis
-//! are split over the ranks ([`Slab`]); each rank steps the points of its own layers plus a
+//! are split over the ranks ([`RankBox`], the slab `1 × … × 1 × N`: boxes are
+//! refused); each rank steps the points of its own layers plus a
 //! halo of its neighbours' layers with the unchanged kernels on the background nodes of
 //! those layers, and exchanges the halo's point state once per step. Total Lagrangian
 //! frame only (the default): a point never changes cell, so a layer's points stay on their
@@ -43,7 +44,7 @@
 //! last ranks). Samples are gathered in rank order (the global point order), so outputs and
 //! error metrics equal the serial ones.
 use crate::Mpm;
-use impact_core::comm::{Comm, CommError, Slab};
+use impact_core::comm::{Comm, CommError, RankBox, RankGrid};
 use impact_core::method::{MethodConfig, MpmFrame, MpmOptions, MpmShape, StressUpdate};
 use impact_core::points::MaterialPoints;
 use impact_core::slab_method::{OnSlab, SlabBuild, SlabLocal, SlabParts};
@@ -71,6 +72,7 @@ impl<const D: usize> SlabBuild<D> for Mpm<D> {
         problem: &Problem<D>,
         config: MethodConfig,
         comm: &dyn Comm,
+        rank_grid: &RankGrid,
     ) -> Result<SlabParts<Self>, CoreError> {
         let options = *config.mpm().ok_or_else(|| CoreError::Unsupported {
             method: "mpm".into(),
@@ -89,13 +91,14 @@ impl<const D: usize> SlabBuild<D> for Mpm<D> {
         problem.check_config(&config)?;
         let global = &problem.grid;
         let layers = global.cells[D - 1];
-        let slab = Slab::new(layers, comm.size(), comm.rank(), halo_layers(&options))?;
-        let local = Mpm::build(problem, config, Some(&slab))?;
-        let per_layer = local.state.points.len() / slab.stored.len();
+        rank_grid.slabs_only("MPM", D, comm.size())?;
+        let rank_box = RankBox::for_rank(&global.cells, rank_grid, comm, halo_layers(&options))?;
+        let local = Mpm::build(problem, config, Some(&rank_box))?;
+        let per_layer = local.state.points.len() / rank_box.stored[D - 1].len();
         Ok(SlabParts {
             local,
-            slab,
-            per_layer,
+            per_cell: per_layer * layers / global.cell_count(),
+            rank_box,
             cells: global.cell_count(),
             updates_per_step: per_layer * layers,
         })
@@ -109,8 +112,8 @@ impl<const D: usize> SlabLocal<D> for Mpm<D> {
     fn halo_state(&mut self) -> (&mut MaterialPoints<D>, &mut [Tensor<D>]) {
         (&mut self.state.points, &mut self.state.affine)
     }
-    fn owned_points(&self) -> std::ops::Range<usize> {
-        Mpm::owned_points(self)
+    fn owned_runs(&self) -> Vec<std::ops::Range<usize>> {
+        std::iter::once(Mpm::owned_points(self)).collect()
     }
 }
 
