@@ -1,7 +1,7 @@
 //! The communication seam of a run split across ranks (issue 27; the design note's "More
 //! than one machine"): a [`Comm`] gives a rank its number, the rank count, reductions,
 //! the halo exchange between neighbours along an axis and gathers; a
-//! [`RankBox`](crate::comm_box::RankBox) is one rank's share of the grid.
+//! [`RankBox`] is one rank's share of the grid.
 //!
 //! Three implementations: [`SerialComm`] (one rank: every reduction is the identity, an
 //! exchange has no neighbour), [`ThreadComm`] (ranks as threads of one process, over

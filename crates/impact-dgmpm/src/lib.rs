@@ -43,7 +43,7 @@
 //!
 //! **Volume weights** (the nodal paths with linear elasticity and `2^D` points per cell or
 //! more): phase 3's volume term `-Σ_α V_α σ_h(X_α) ∇S_iα` is `-Σ_b σ_b K_ib` with the
-//! cell's weights `K_ib = Σ_α V_α S_bα ∇S_iα`, formed once ([`mapping::volume_weights`]);
+//! cell's weights `K_ib = Σ_α V_α S_bα ∇S_iα`, formed once (`mapping::volume_weights`);
 //! they replace the points' gradients. Tested equal to the per-point sums to 1e-13.
 //!
 //! Choices where the paper is silent, with their reasons:
