@@ -1,0 +1,212 @@
+//! Phases 3-5 of the transfers: grid→particles (the velocity and position update, fused
+//! with the stress update under USL), the MUSL remap and the stress update (module doc of
+//! `transfer.rs`).
+use super::*;
+
+impl<const D: usize> MpmSolver<D> {
+    /// Phase 3: the velocity update of the transfer (`PointVelocity`; APIC:
+    /// `crate::affine`), FLIP's `v_p += Δt Σ_i N_ip f_i/m_i` by default, and the position
+    /// update `x_p += Δt Σ_i N_ip p_i/m_i` (`1/m_i` from the grid update, 0 on empty
+    /// nodes).
+    pub fn grid_to_particles(
+        &self,
+        points: &mut MaterialPoints<D>,
+        affine: &mut [Tensor<D>],
+        dt: f64,
+    ) {
+        match PointVelocity::of(&self.options) {
+            None => self.gather_affine::<false>(points, affine, dt),
+            Some(update) => self.gather::<false, 0>(points, update, dt),
+        }
+    }
+
+    /// Phases 3 and 5 of USL in one gather of each point's nodes (small strain): the FLIP
+    /// update of phase 3, and `σ_p += Δt C : sym(∇v)`, `∇v = Σ_i (p_i/m_i) ⊗ ∇N_ip`, of
+    /// phase 5 (`V_p *= 1 + Δt tr ∇v` in the updated Lagrangian frame; J2: the return map
+    /// after). Phase 5 reads only the grid-updated nodes, which phase 3 leaves alone, so
+    /// the order is USL's; tested against the separate phases to 1e-13.
+    pub fn grid_to_particles_and_stress(
+        &self,
+        points: &mut MaterialPoints<D>,
+        affine: &mut [Tensor<D>],
+        dt: f64,
+    ) {
+        match PointVelocity::of(&self.options) {
+            None => self.gather_affine::<true>(points, affine, dt),
+            Some(update) => {
+                let fused = |nodes| match nodes {
+                    4 => Self::gather::<true, 4>,
+                    8 => Self::gather::<true, 8>,
+                    9 => Self::gather::<true, 9>,
+                    27 => Self::gather::<true, 27>,
+                    _ => Self::gather::<true, 0>,
+                };
+                fused(self.stencil.nodes)(self, points, update, dt)
+            }
+        }
+        if let Model::J2(j2) = self.model {
+            j2.correct_points(points, self.parallel);
+        }
+    }
+
+    /// The gather of phase 3 and, with `STRESS`, phase 5 (small strain), for the transfers
+    /// without an affine part; `N`: the stencil's node count where fixed (`Weights::row`),
+    /// 0 otherwise.
+    pub(crate) fn gather<const STRESS: bool, const N: usize>(
+        &self,
+        points: &mut MaterialPoints<D>,
+        update: PointVelocity,
+        dt: f64,
+    ) {
+        let npc = if N == 0 { self.stencil.nodes } else { N };
+        let stride = self.weight_stride;
+        let offsets = &self.stencil.offsets[..npc];
+        let nodes = &self.nodes;
+        let (inv_mass, momentum, force) =
+            (&nodes.inv_mass[..], &nodes.momentum[..], &nodes.force[..]);
+        let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
+        let parts = (
+            (
+                chunks(&mut points.velocity, CHUNK),
+                chunks(&mut points.position, CHUNK),
+            ),
+            (
+                chunks(&mut points.stress, CHUNK),
+                chunks(&mut points.volume, CHUNK),
+            ),
+        );
+        for_each_chunk(
+            self.parallel,
+            1,
+            parts,
+            |r, ((velocity, position), (stress, volume))| {
+                let points = velocity.iter_mut().zip(position.iter_mut());
+                for (j, (vp, xp)) in points.enumerate() {
+                    let p = r * CHUNK + j;
+                    let row = p * stride..p * stride + npc;
+                    let (shape, gradient) = (&self.shape[row.clone()], &self.shape_gradient[row]);
+                    let base = self.point_base[p];
+                    let mut dv = Vector::<D>::zeros();
+                    let mut v = Vector::<D>::zeros();
+                    let mut l = Tensor::<D>::zeros();
+                    for ((o, &s), g) in offsets.iter().zip(shape).zip(gradient) {
+                        let i = base + o;
+                        let inv = inv_mass[i];
+                        let node_velocity = momentum[i] * inv;
+                        dv += force[i] * (s * dt * inv);
+                        v += node_velocity * s;
+                        if STRESS {
+                            l += node_velocity * g.transpose();
+                        }
+                    }
+                    match update {
+                        PointVelocity::Flip => *vp += dv,
+                        PointVelocity::Pic => *vp = v,
+                        PointVelocity::Blend(alpha) => *vp = (*vp + dv) * alpha + v * (1.0 - alpha),
+                    }
+                    *xp += v * dt;
+                    if STRESS {
+                        stress[j] += self.material.stress(&((l + l.transpose()) * 0.5)) * dt;
+                        if moving {
+                            volume[j] *= 1.0 + dt * l.trace();
+                        }
+                    }
+                }
+            },
+        );
+    }
+
+    /// Phase 4 (MUSL): nodal momentum mapped again from the updated point velocities (with
+    /// the shape functions of the start of the step) with the mass, the padding's sums
+    /// folded onto the interior as in phase 2 (`grid_update.rs`), then the prescribed nodal
+    /// velocities.
+    /// APIC (`affine` not empty) maps `v_p + C_p (x_i − x_p)` as phase 1 does.
+    pub fn remap_momentum(
+        &mut self,
+        points: &MaterialPoints<D>,
+        affine: &[Tensor<D>],
+        window: (f64, f64),
+    ) {
+        // the mass again too (the same sums as phase 1): the fold reads the padding's own
+        let fill = Fill {
+            mass: true,
+            momentum: true,
+            force: false,
+        };
+        self.scatter(fill, |weights, p, sums| {
+            add_mass_and_momentum(weights, p, sums, points, affine);
+        });
+        self.fold_padding(window, false);
+        self.constrain_momentum(window);
+    }
+
+    /// Velocity gradient `∇v = Σ_i v_i ⊗ ∇N_ip` at point `p` (`∇_X` in the total
+    /// Lagrangian frame), `v_i = p_i/m_i`.
+    pub(crate) fn velocity_gradient(&self, p: usize) -> Tensor<D> {
+        let npc = self.stencil.nodes;
+        let mut l = Tensor::<D>::zeros();
+        for a in 0..npc {
+            let i = self.point_base[p] + self.stencil.offsets[a];
+            let m = self.nodes.mass[i];
+            if self.empty.holds(i, m) {
+                let g = self.shape_gradient[p * self.weight_stride + a];
+                l += (self.nodes.momentum[i] / m) * g.transpose();
+            }
+        }
+        l
+    }
+
+    /// Phase 5: `σ_p += Δt C : sym(∇v)` (and `V_p *= 1 + Δt tr ∇v` in the updated
+    /// Lagrangian frame), or `F_p += Δt ∇_X v`, `Π_p = Π(F_p)` (Saint-Venant–Kirchhoff).
+    pub fn update_stress(&self, points: &mut MaterialPoints<D>, dt: f64) {
+        let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
+        if moving && !points.domain.is_empty() {
+            // CPDI: the domain follows the motion, R ← (I + Δt ∇v) R (`crate::cpdi`)
+            for_each_chunk(
+                self.parallel,
+                1,
+                chunks(&mut points.domain, CHUNK),
+                |r, domain| {
+                    for (j, rp) in domain.iter_mut().enumerate() {
+                        let l = self.velocity_gradient(r * CHUNK + j);
+                        *rp += l * *rp * dt;
+                    }
+                },
+            );
+        }
+        let parts = (
+            chunks(&mut points.stress, CHUNK),
+            chunks(&mut points.volume, CHUNK),
+        );
+        match self.model {
+            Model::LinearElastic | Model::J2(_) => {
+                for_each_chunk(self.parallel, 1, parts, |r, (stress, volume)| {
+                    for (j, (s, vol)) in stress.iter_mut().zip(volume.iter_mut()).enumerate() {
+                        let l = self.velocity_gradient(r * CHUNK + j);
+                        *s += self.material.stress(&((l + l.transpose()) * 0.5)) * dt;
+                        if moving {
+                            *vol *= 1.0 + dt * l.trace();
+                        }
+                    }
+                });
+                // J2: the elastic update is the trial; the return map corrects it
+                if let Model::J2(j2) = self.model {
+                    j2.correct_points(points, self.parallel);
+                }
+            }
+            Model::Svk(svk) => {
+                // the total Lagrangian frame only (checked at construction)
+                let both = (
+                    chunks(&mut points.deformation, CHUNK),
+                    chunks(&mut points.stress, CHUNK),
+                );
+                for_each_chunk(self.parallel, 1, both, |r, (deformation, piola)| {
+                    for (j, (f, s)) in deformation.iter_mut().zip(piola.iter_mut()).enumerate() {
+                        *f += self.velocity_gradient(r * CHUNK + j) * dt;
+                        *s = svk.piola(f);
+                    }
+                });
+            }
+        }
+    }
+}
