@@ -52,6 +52,25 @@ use std::sync::Arc;
 const COLUMNS: usize = 14;
 
 /// The messages of one rank's migration, kept between steps (no allocation once grown).
+/// The body's layers of cells along the last axis, which decide a point's owner.
+#[derive(Debug, Clone, Copy)]
+struct Layers {
+    /// The body's lower edge (m).
+    origin: f64,
+    /// Cell size (m).
+    spacing: f64,
+    /// Number of layers.
+    count: usize,
+}
+
+impl Layers {
+    /// The layer of the cell of a point whose last coordinate is `x`; beyond the body, its
+    /// first or last layer.
+    fn of(&self, x: f64) -> usize {
+        (((x - self.origin) / self.spacing).floor() as usize).min(self.count - 1)
+    }
+}
+
 #[derive(Debug, Default)]
 struct Buffers {
     keep: Vec<f64>,
@@ -80,9 +99,8 @@ pub struct MigratingMpm<const D: usize> {
     /// Floats per row, and where the position's last coordinate is in it.
     width: usize,
     last_coordinate: usize,
-    /// The body's lower edge and cell size along the last axis.
-    origin: f64,
-    spacing: f64,
+    /// The body's layers of cells along the last axis.
+    layers: Layers,
     /// The whole body's loads and prescribed point velocities (by global number).
     loads: Vec<SurfaceLoad<D>>,
     constraints: Vec<Constraint>,
@@ -184,8 +202,11 @@ impl<const D: usize> MigratingMpm<D> {
             local_of: vec![0; whole.state.points.len()],
             loads: whole.solver.loads,
             constraints: whole.solver.point_constraints,
-            origin: problem.grid.origin[D - 1],
-            spacing: problem.grid.spacing[D - 1],
+            layers: Layers {
+                origin: problem.grid.origin[D - 1],
+                spacing: problem.grid.spacing[D - 1],
+                count: layers,
+            },
             local,
             comm,
             slab,
@@ -231,16 +252,10 @@ impl<const D: usize> MigratingMpm<D> {
         self.migrated
     }
 
-    /// The layer (of the body's grid, along the last axis) of the cell of a point whose last
-    /// coordinate is `x`; beyond the body, its first or last layer.
-    fn layer_of(&self, x: f64) -> usize {
-        (((x - self.origin) / self.spacing).floor() as usize).min(self.slab.cells[D - 1] - 1)
-    }
-
     /// Move the own points that left the own layers to their new owners, then refresh the
     /// halo (module doc). `t` is the time reached.
     fn migrate(&mut self, t: f64) {
-        let (w, halo) = (self.width, self.slab.halo);
+        let (w, halo, layers) = (self.width, self.slab.halo, self.layers);
         let owned = self.local.owned_points();
         let own_layers = self.slab.owned[D - 1].clone();
         // where each own point goes: 0 kept, 1 below, 2 above
@@ -250,8 +265,7 @@ impl<const D: usize> MigratingMpm<D> {
         b.send_high.clear();
         for (k, i) in owned.clone().enumerate() {
             let x = self.local.state.points.position[i][D - 1];
-            let layer = (((x - self.origin) / self.spacing).floor() as usize)
-                .min(self.slab.cells[D - 1] - 1);
+            let layer = layers.of(x);
             let moved = layer.abs_diff(self.before[k]);
             let destination = if moved > halo {
                 if self.failure.is_none() {
@@ -306,9 +320,7 @@ impl<const D: usize> MigratingMpm<D> {
         b.send_low.clear();
         b.send_high.clear();
         for row in b.own.chunks_exact(w) {
-            let layer = (((row[self.last_coordinate] - self.origin) / self.spacing).floor()
-                as usize)
-                .min(self.slab.cells[D - 1] - 1);
+            let layer = layers.of(row[self.last_coordinate]);
             for (send, neighbour) in [&mut b.send_low, &mut b.send_high]
                 .into_iter()
                 .zip(&self.neighbours)
@@ -389,7 +401,7 @@ impl<const D: usize> Method<D> for MigratingMpm<D> {
         let owned = self.local.owned_points();
         self.before.clear();
         for i in owned {
-            let layer = self.layer_of(self.local.state.points.position[i][D - 1]);
+            let layer = self.layers.of(self.local.state.points.position[i][D - 1]);
             self.before.push(layer);
         }
         self.local.step(t, dt);
