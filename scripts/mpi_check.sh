@@ -81,6 +81,27 @@ PY
   echo "mpi: $scene ($method) on 1-4 ranks: fields equal to the serial run bit for bit, one piece per rank"
 done; done
 
+# same_as_serial LABEL SERIAL OUT METHOD: OUT's profiles and grid files are SERIAL's byte for
+# byte (at least three compared) and its metrics equal (the energies to 1e-12: sums in rank
+# order), step count included
+same_as_serial() {
+  local label=$1 serial=$2 out=$3 method=$4 count=0 f
+  for f in "$serial"/*.csv "$serial/${method}"_grid_t*.vtu; do
+    [ -f "$f" ] || continue
+    cmp -s "$f" "$out/$(basename "$f")" || fail "$label: $(basename "$f") differs from the serial run"
+    count=$((count + 1))
+  done
+  [ "$count" -gt 2 ] || fail "$label: only $count field files compared"
+  python3 - "$serial/summary.json" "$out/summary.json" <<'PY' || fail "$label: summary.json"
+import json, sys
+a, b = (json.load(open(p))["runs"][0] for p in sys.argv[1:3])
+assert a["steps"] == b["steps"] and a["cells"] == b["cells"]
+for ta, tb in zip(a["times"], b["times"], strict=True):
+    for k, va in ta.items():
+        assert abs(va - tb[k]) <= 1e-12 if k.startswith("energy") else va == tb[k], (k, va, tb[k])
+PY
+}
+
 # MPM in the updated Lagrangian frame, points migrating between the slabs: an
 # elastic-plastic plate impacted on its left edge while moving up (the cut axis) at 250-450
 # m/s, so every point crosses one or two cell faces, rank faces too; the profiles, the grid
@@ -119,21 +140,7 @@ for n in 1 2 3; do
   out="$work/ul-np$n"
   RAYON_NUM_THREADS=1 "${mpi[@]}" -np "$n" "$bin" run "$work/moving.toml" --method mpm --quiet --out "$out" \
     >"$out.log" 2>&1 || fail "mpm moving plate (updated frame) on $n ranks failed: $(tail -5 "$out.log")"
-  count=0
-  for f in "$serial"/*.csv "$serial"/mpm_grid_t*.vtu; do
-    [ -f "$f" ] || continue
-    cmp -s "$f" "$out/$(basename "$f")" || fail "mpm moving plate (updated frame) on $n ranks: $(basename "$f") differs"
-    count=$((count + 1))
-  done
-  [ "$count" -gt 2 ] || fail "mpm moving plate (updated frame): only $count field files compared"
-  python3 - "$serial/summary.json" "$out/summary.json" <<'PY' || fail "mpm moving plate (updated frame) on $n ranks: summary.json"
-import json, sys
-a, b = (json.load(open(p))["runs"][0] for p in sys.argv[1:3])
-assert a["steps"] == b["steps"]
-for ta, tb in zip(a["times"], b["times"], strict=True):
-    for k, va in ta.items():
-        assert abs(va - tb[k]) <= 1e-12 if k.startswith("energy") else va == tb[k], (k, va, tb[k])
-PY
+  same_as_serial "mpm moving plate (updated frame) on $n ranks" "$serial" "$out" mpm
 done
 echo "mpi: a moving plate (mpm, updated frame, points migrating) on 1-3 ranks: the serial run's files"
 # boxes (--ranks-grid): DGMPM on the plate (2 x 2) and a small block (2 x 2 x 1) on 4 ranks
@@ -148,22 +155,11 @@ for case in "plate 2,2" "block 2,2,1 --cells 16 --no-reference"; do
   # shellcheck disable=SC2086
   RAYON_NUM_THREADS=1 "${mpi[@]}" -np 4 "$bin" run "$scene" --method dgmpm --ranks-grid "$grid" \
     --quiet --out "$out" $extra >"$out.log" 2>&1 || fail "dgmpm $scene on boxes $grid failed: $(tail -5 "$out.log")"
-  count=0
-  for f in "$serial"/*.csv "$serial"/dgmpm_grid_t*.vtu; do
-    [ -f "$f" ] || continue
-    cmp -s "$f" "$out/$(basename "$f")" || fail "dgmpm $scene on boxes $grid: $(basename "$f") differs from the serial run"
-    count=$((count + 1))
-  done
-  [ "$count" -gt 2 ] || fail "dgmpm $scene on boxes: only $count field files compared"
-  python3 - "$serial/summary.json" "$out/summary.json" "${grid//,/ × }" <<'PY' || fail "dgmpm $scene on boxes $grid: summary.json"
+  same_as_serial "dgmpm $scene on boxes $grid" "$serial" "$out" dgmpm
+  python3 - "$out/summary.json" "${grid//,/ × }" <<'PY' || fail "dgmpm $scene on boxes $grid: summary.json"
 import json, sys
-a, b, grid = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), sys.argv[3]
-ra, rb = a["runs"][0], b["runs"][0]
+rb, grid = json.load(open(sys.argv[1]))["runs"][0], sys.argv[2]
 assert rb["ranks"] == 4 and f"boxes (rank grid {grid}," in rb["decomposition"], rb["decomposition"]
-assert ra["steps"] == rb["steps"] and ra["cells"] == rb["cells"]
-for ta, tb in zip(ra["times"], rb["times"], strict=True):
-    for k, va in ta.items():
-        assert abs(va - tb[k]) <= 1e-12 if k.startswith("energy") else va == tb[k], (k, va, tb[k])
 PY
   echo "mpi: $scene (dgmpm) on 4 ranks as boxes $grid: files equal to the serial run bit for bit"
 done
