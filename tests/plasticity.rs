@@ -5,6 +5,8 @@ use impact::run::{run_method, Silent};
 use impact_core::method::MethodKind;
 use impact_core::reference::Reference;
 use impact_core::{Method, Problem, Scene};
+mod common;
+use common::{impact, text, tmp, vtu_text};
 
 fn advance<const D: usize>(
     problem: &Problem<D>,
@@ -399,4 +401,38 @@ fn perfectly_plastic_plane_wave() {
     rod.material.hardening = Some(0.0);
     let refused = rod.validate().unwrap_err().to_string();
     assert!(refused.contains("material.hardening"), "{refused}");
+}
+
+/// `impact run ep-bar` writes the accumulated plastic strain: a CSV column and a VTU array
+/// per method; behind DGMPM's plastic wave it is the exact `(p − σ_y)/H` = 0.02.
+#[test]
+fn elastoplastic_runs_write_the_plastic_strain() {
+    let out = tmp("ep-bar");
+    let o = impact(&["run", "ep-bar", "--quiet", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    for method in ["dgmpm", "mpm", "fem"] {
+        let csv = std::fs::read_to_string(out.join(format!("{method}_t2.csv"))).unwrap();
+        let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+        let column = header
+            .iter()
+            .position(|h| *h == "equivalent_plastic_strain")
+            .unwrap_or_else(|| panic!("{method}: {header:?}"));
+        let first: f64 = csv
+            .lines()
+            .nth(1)
+            .unwrap()
+            .split(',')
+            .nth(column)
+            .unwrap()
+            .parse()
+            .unwrap();
+        if method == "dgmpm" {
+            assert!((first - 0.02).abs() < 1e-3, "{first}");
+        }
+        let vtu = vtu_text(out.join(format!("{method}_t2.vtu")));
+        assert!(
+            vtu.contains("Name=\"equivalent_plastic_strain\""),
+            "{method}"
+        );
+    }
 }

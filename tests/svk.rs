@@ -5,6 +5,8 @@ use impact_core::method::{MethodKind, RiemannSolver};
 use impact_core::reference::Reference;
 use impact_core::{Blowup, Problem, Scene};
 use std::process::Command;
+mod common;
+use common::{impact, text, tmp, vtu_text};
 
 fn svk_bar(pressure: f64) -> (Scene, Problem<1>, Reference) {
     let mut scene = Scene::builtin("svk-bar").unwrap();
@@ -226,4 +228,39 @@ fn svk_plate_runs_in_every_method_with_momentum_balance() {
         );
         assert!(p[1].abs() <= 1e-9 * p[0].abs(), "{kind:?}");
     }
+}
+
+/// Under Saint-Venant–Kirchhoff the files name the first Piola–Kirchhoff stress, and the
+/// column holds it: it matches the exact `P` of the reference column away from the fronts.
+#[test]
+fn svk_outputs_name_and_hold_the_first_piola_kirchhoff_stress() {
+    let out = tmp("svk-names");
+    let o = impact(&[
+        "run",
+        "svk-bar",
+        "--method",
+        "dgmpm",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let csv = std::fs::read_to_string(out.join("dgmpm_t0.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    assert_eq!(header[2], "piola_stress_xx");
+    assert_eq!(header[4], "reference_piola_stress_xx");
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let scale = rows.iter().fold(0.0f64, |m, r| m.max(r[4].abs()));
+    assert!(scale > 0.0);
+    let close = rows
+        .iter()
+        .filter(|r| (r[2] - r[4]).abs() < 0.05 * scale)
+        .count();
+    assert!(close * 10 >= rows.len() * 8, "{close} of {}", rows.len());
+    let vtu = vtu_text(out.join("dgmpm_t0.vtu"));
+    assert!(vtu.contains("Name=\"piola_stress\"") && !vtu.contains("Name=\"cauchy_stress\""));
 }

@@ -70,6 +70,11 @@ pub fn text(o: &std::process::Output) -> String {
     )
 }
 
+/// A `.vtu` as text (its raw appended binary section read lossily).
+pub fn vtu_text(path: std::path::PathBuf) -> String {
+    String::from_utf8_lossy(&std::fs::read(path).unwrap()).into_owned()
+}
+
 /// A JSON file, parsed.
 pub fn json(path: &std::path::Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
