@@ -390,36 +390,6 @@ fn valid_edge_cases_run() {
     }
 }
 
-/// An end time of exactly one stable step takes one step, and DGMPM at Courant 1 is exact
-/// after it.
-#[test]
-fn an_end_time_of_one_step_takes_one_step() {
-    let scene = Scene::builtin("bar").unwrap();
-    let problem = impact_core::Problem::<1>::from_scene(&scene).unwrap();
-    let transit = problem.cell_transit_time();
-    let out = std::env::temp_dir().join(format!("impact-one-step-{}", std::process::id()));
-    let t_end = format!("{transit:e}");
-    let o = impact(&[
-        "run",
-        "bar",
-        "--method",
-        "dgmpm",
-        "--t-end",
-        &t_end,
-        "--quiet",
-        "--no-files",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
-    let run = &summary["runs"][0];
-    assert_eq!(run["steps"], 1, "{run}");
-    let l1 = run["times"][0]["l1_rel"].as_f64().unwrap();
-    assert!(l1 < 1e-12, "{l1}");
-}
-
 /// Checks before work (issue 23, item 9): an option the scene's model or dimension does not
 /// take is refused before the converged reference or any run starts, within a second, with
 /// exit 2 and the field, the value and what is allowed; the same for `check` and the
