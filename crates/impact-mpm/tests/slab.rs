@@ -4,9 +4,8 @@
 //! `slab.rs`); energy, work, momentum and impulse to round-off (summed per rank, then in rank
 //! order). A non-finite state on one rank is reported identically by every rank at its
 //! global place; the updated Lagrangian frame is refused by this fixed-halo slab on more than
-//! one rank (`tests/migrate.rs` runs it on the migrating slab), and so is a box
-//! decomposition (`--ranks-grid` other than slabs).
-use impact_core::comm::{Comm, RankGrid, ThreadComm};
+//! one rank (`tests/migrate.rs` runs it on the migrating slab). Boxes: `tests/boxes.rs`.
+use impact_core::comm::{Comm, ThreadComm};
 use impact_core::method::{
     MethodConfig, MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate,
 };
@@ -207,21 +206,6 @@ fn updated_frame_and_too_many_ranks_are_refused_on_every_rank() {
     options(&mut config).stress_update = StressUpdate::Musl;
     let message = refusal_on_ranks(5, |comm| SlabMpm::<2>::new(&problem, config, comm));
     assert!(message.contains("at most 4 ranks"), "{message}");
-    // boxes are not MPM's yet: refused, naming the slab grid to use; `1,2` is slabs
-    let config = plate.method_config(MethodKind::Mpm);
-    let boxes = RankGrid(vec![2, 2]);
-    let message = refusal_on_ranks(4, |comm| {
-        SlabMpm::<2>::on_grid(&problem, config, comm, &boxes)
-    });
-    assert!(
-        message.contains("MPM on the rank grid 2,2 (boxes) does not run on 4 ranks yet")
-            && message.contains("last (1,4)"),
-        "{message}"
-    );
-    let slabs = RankGrid(vec![1, 2]);
-    on_ranks(2, |comm| {
-        SlabMpm::<2>::on_grid(&problem, config, comm, &slabs).unwrap()
-    });
 }
 
 /// The halo message per step: `halo` layers of points each way per neighbour, 8 values per
