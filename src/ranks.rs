@@ -99,7 +99,8 @@ pub fn build_ranked<const D: usize>(
             problem, config, comm, &grid,
         )?)),
         MethodKind::Mpm if config.mpm().map(|o| o.frame) == Some(MpmFrame::UpdatedLagrangian) => {
-            grid.slabs_only("MPM", D, comm.size())
+            // points migrate between slabs only (`impact_mpm::migrate`)
+            grid.slabs_only("MPM in the updated Lagrangian frame", D, comm.size())
                 .map_err(CoreError::from)?;
             Ok(Box::new(impact_mpm::migrate::MigratingMpm::<D>::new(
                 problem, config, comm,
