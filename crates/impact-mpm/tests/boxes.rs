@@ -8,117 +8,35 @@
 //! order). A non-finite state in one box is reported identically by every rank at its
 //! global place; the updated Lagrangian frame is refused on boxes.
 use impact_core::comm::{Comm, RankBox, RankGrid, ThreadComm};
-use impact_core::method::{
-    MethodConfig, MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate,
-};
-use impact_core::slab_method::{blowup_on_ranks, refusal_on_ranks, RunEnd};
-use impact_core::{Boundary, Load, Method, Problem, Scene};
+use impact_core::method::{MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate};
+use impact_core::slab_method::{blowup_on_ranks, refusal_on_ranks};
+use impact_core::{Boundary, Load, Method, Problem};
 use impact_mpm::slab::{halo_layers, SlabMpm};
 use impact_mpm::Mpm;
 use std::sync::Arc;
 
-fn scene(name: &str) -> Scene {
-    Scene::builtin(name).unwrap()
-}
-
-fn options(c: &mut MethodConfig) -> &mut impact_core::method::MpmOptions {
-    c.mpm_mut().unwrap()
-}
-
-fn relative(a: f64, b: f64) -> f64 {
-    (a - b).abs() / b.abs().max(1e-300)
-}
+mod decomposed;
+use decomposed::{boxes, check, check_scene, options, scene};
 
 /// The 2D rank grids of the brief: 2×2, 3×1, 1×3.
 const PLATE_GRIDS: [&[usize]; 3] = [&[2, 2], &[3, 1], &[1, 3]];
 
-/// `problem` under `config` on each rank grid of `grids` against the serial run after `n`
-/// steps: the gathered fields bit for bit in the global point order, the own samples
-/// covering every point once; the global sums to 1e-12 (rank-order sums).
-fn check<const D: usize>(
-    label: &str,
-    problem: &Problem<D>,
-    config: MethodConfig,
-    grids: &[&[usize]],
-    n: usize,
-) {
-    let serial = RunEnd::after_steps(&mut Mpm::<D>::new(problem, config).unwrap(), n);
-    let s = &serial.samples;
-    let peak_s = s.stress.iter().fold(0.0f64, |m, x| m.max(x.amax()));
-    let peak_v = s.velocity.iter().fold(0.0f64, |m, x| m.max(x.amax()));
-    assert!(
-        peak_s > 1e5 && peak_v > 1e-3,
-        "{label}: the wave must be there"
-    );
-    for parts in grids {
-        let ranks: usize = parts.iter().product();
-        let grid = RankGrid(parts.to_vec());
-        let ends = ThreadComm::on_ranks(ranks, |comm| {
-            let mut m = SlabMpm::<D>::on_grid(problem, config, comm, &grid).unwrap();
-            RunEnd::after_steps(&mut m, n)
-        });
-        let owned: usize = ends.iter().map(|e| e.owned.len()).sum();
-        let at = format!("{label}, rank grid {parts:?}");
-        assert_eq!(owned, s.len(), "{at}: every point owned once");
-        for (rank, end) in ends.iter().enumerate() {
-            let e = &end.samples;
-            let at = format!("{at}, rank {rank}");
-            assert_eq!(e.len(), s.len(), "{at}");
-            assert_eq!(e.reference, s.reference, "{at}: reference positions");
-            assert_eq!(e.stress, s.stress, "{at}: stress bit for bit");
-            assert_eq!(e.velocity, s.velocity, "{at}: velocity bit for bit");
-            assert_eq!(e.position, s.position, "{at}: position bit for bit");
-            assert_eq!(e.plastic_strain, s.plastic_strain, "{at}: plastic strain");
-            assert_eq!(e.stress_zz, s.stress_zz, "{at}: out-of-plane stress");
-            let tol = 1e-12;
-            assert!(relative(end.energy, serial.energy) < tol, "{at}: energy");
-            assert!(
-                (end.work - serial.work).abs() <= tol * serial.work.abs().max(serial.energy),
-                "{at}: work {} against {}",
-                end.work,
-                serial.work
-            );
-            let p = serial.momentum.norm().max(serial.impulse.norm());
-            assert!(
-                (end.momentum - serial.momentum).norm() <= tol * p,
-                "{at}: momentum {} against {}",
-                end.momentum,
-                serial.momentum
-            );
-            assert!(
-                (end.impulse - serial.impulse).norm() <= tol * p,
-                "{at}: impulse {} against {}",
-                end.impulse,
-                serial.impulse
-            );
-        }
-    }
-}
-
-/// `scene`'s MPM configuration edited by `edit`, on `grids`, over 40 steps.
-fn check_scene<const D: usize>(
-    label: &str,
-    scene: &Scene,
-    edit: impl Fn(&mut MethodConfig),
-    grids: &[&[usize]],
-) {
-    let problem = Problem::<D>::from_scene(scene).unwrap();
-    let mut config = scene.method_config(MethodKind::Mpm);
-    edit(&mut config);
-    check::<D>(label, &problem, config, grids, 40);
-}
-
 #[test]
 fn plates_on_boxes_equal_one_rank() {
-    check_scene::<2>("plate", &scene("plate"), |_| {}, &PLATE_GRIDS);
+    check_scene::<2>("plate", &scene("plate"), |_| {}, &boxes(&PLATE_GRIDS));
     // symmetry on both faces of both axes: the mirrored padding on the boxes at the ends
-    check_scene::<2>("plate-wave", &scene("plate-wave"), |_| {}, &PLATE_GRIDS);
+    check_scene::<2>(
+        "plate-wave",
+        &scene("plate-wave"),
+        |_| {},
+        &boxes(&PLATE_GRIDS),
+    );
 }
 
 #[test]
 fn stress_updates_and_transfers_on_boxes_equal_one_rank() {
     let plate = scene("plate");
-    let square: [&[usize]; 1] = [&[2, 2]];
+    let square = boxes(&[&[2, 2]]);
     check_scene::<2>(
         "plate, MUSL",
         &plate,
@@ -158,7 +76,7 @@ fn stress_updates_and_transfers_on_boxes_equal_one_rank() {
 #[test]
 fn shapes_on_boxes_equal_one_rank() {
     let plate = scene("plate");
-    let square: [&[usize]; 1] = [&[2, 2]];
+    let square = boxes(&[&[2, 2]]);
     check_scene::<2>(
         "plate, GIMP",
         &plate,
@@ -179,7 +97,7 @@ fn shapes_on_boxes_equal_one_rank() {
         |c| {
             options(c).shape = MpmShape::Bspline3;
         },
-        &[&[2, 2], &[3, 1]],
+        &boxes(&[&[2, 2], &[3, 1]]),
     );
     check_scene::<2>(
         "plate, CPDI, 4 points per cell",
@@ -194,7 +112,7 @@ fn shapes_on_boxes_equal_one_rank() {
 
 #[test]
 fn plastic_and_large_strain_plates_on_boxes_equal_one_rank() {
-    let square: [&[usize]; 1] = [&[2, 2]];
+    let square = boxes(&[&[2, 2]]);
     check_scene::<2>("ep-plate", &scene("ep-plate"), |_| {}, &square);
     check_scene::<2>(
         "ep-plate, GIMP, MUSL",
@@ -222,7 +140,7 @@ fn loads_across_cuts_and_the_coloured_scatter_equal_one_rank() {
         "plate, pressure on the left",
         &problem,
         config,
-        &PLATE_GRIDS,
+        &boxes(&PLATE_GRIDS),
         40,
     );
     let mut large = plate.clone();
@@ -234,7 +152,7 @@ fn loads_across_cuts_and_the_coloured_scatter_equal_one_rank() {
         "plate 70 × 61, quadratic B-splines",
         &problem,
         config,
-        &[&[2, 2]],
+        &boxes(&[&[2, 2]]),
         30,
     );
 }
@@ -245,7 +163,7 @@ fn block_on_boxes_equals_one_rank() {
     let mut block = scene("block");
     block.domain.cells = vec![12, 12, 12];
     let grids: [&[usize]; 2] = [&[2, 2, 1], &[1, 2, 2]];
-    check_scene::<3>("block", &block, |_| {}, &grids);
+    check_scene::<3>("block", &block, |_| {}, &boxes(&grids));
     check_scene::<3>(
         "block, quadratic B-splines, MUSL",
         &block,
@@ -253,7 +171,7 @@ fn block_on_boxes_equals_one_rank() {
             options(c).shape = MpmShape::Bspline2;
             options(c).stress_update = StressUpdate::Musl;
         },
-        &grids[..1],
+        &boxes(&grids[..1]),
     );
 }
 
