@@ -269,6 +269,21 @@ pub fn refusal_on_ranks<const D: usize, M: Method<D>, E: std::fmt::Display>(
     messages[0].clone()
 }
 
+/// Slabs (the automatic rank grid) on 1 to `most` ranks, each with its rank count: the
+/// decompositions the slab tests run.
+pub fn slab_grids(most: usize) -> Vec<(RankGrid, usize)> {
+    (1..=most).map(|r| (RankGrid::automatic(), r)).collect()
+}
+
+/// The rank grids `parts`, each with its rank count (the product of its parts): the
+/// decompositions the box tests run.
+pub fn box_grids(parts: &[&[usize]]) -> Vec<(RankGrid, usize)> {
+    parts
+        .iter()
+        .map(|p| (RankGrid(p.to_vec()), p.iter().product()))
+        .collect()
+}
+
 /// Assert that the runs `ends` of each rank of a decomposed run equal the one-rank run
 /// `serial` (the point methods' slab and box tests): every point owned once (the ranks'
 /// own samples add up to the whole body's), and each rank's gathered fields, in the global

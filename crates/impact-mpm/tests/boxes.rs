@@ -9,14 +9,14 @@
 //! global place; the updated Lagrangian frame is refused on boxes.
 use impact_core::comm::{Comm, RankBox, RankGrid, ThreadComm};
 use impact_core::method::{MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate};
-use impact_core::slab_method::{blowup_on_ranks, refusal_on_ranks};
+use impact_core::slab_method::{blowup_on_ranks, box_grids as boxes, refusal_on_ranks};
 use impact_core::{Boundary, Load, Method, Problem};
 use impact_mpm::slab::{halo_layers, SlabMpm};
 use impact_mpm::Mpm;
 use std::sync::Arc;
 
 mod decomposed;
-use decomposed::{boxes, check, check_scene, options, scene};
+use decomposed::{check, check_scene, options, scene};
 
 /// The 2D rank grids of the brief: 2×2, 3×1, 1×3.
 const PLATE_GRIDS: [&[usize]; 3] = [&[2, 2], &[3, 1], &[1, 3]];

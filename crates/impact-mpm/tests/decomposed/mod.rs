@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 use impact_core::comm::{RankGrid, ThreadComm};
 use impact_core::method::{MethodConfig, MethodKind, MpmOptions};
-use impact_core::slab_method::{assert_matches_serial, owned_in_rank_order, RunEnd};
+use impact_core::slab_method::{assert_matches_serial, owned_in_rank_order, slab_grids, RunEnd};
 use impact_core::{Problem, Scene};
 use impact_mpm::slab::SlabMpm;
 use impact_mpm::Mpm;
@@ -60,13 +60,5 @@ pub fn check_scene<const D: usize>(
 
 /// Slabs (the automatic rank grid) on 1 to 4 ranks.
 pub fn slabs() -> Vec<(RankGrid, usize)> {
-    (1..=4).map(|r| (RankGrid::automatic(), r)).collect()
-}
-
-/// The rank grids `parts` (each on the product of its parts ranks).
-pub fn boxes(parts: &[&[usize]]) -> Vec<(RankGrid, usize)> {
-    parts
-        .iter()
-        .map(|p| (RankGrid(p.to_vec()), p.iter().product()))
-        .collect()
+    slab_grids(4)
 }
