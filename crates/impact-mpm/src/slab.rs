@@ -58,8 +58,8 @@ use impact_core::points::MaterialPoints;
 use impact_core::slab_method::{OnSlab, SlabBuild, SlabLocal, SlabParts};
 use impact_core::{CoreError, Grid, Problem, Tensor};
 
-/// Halo width (layers) for `options`: scatter–gather rounds per step × layers a round
-/// spoils next to a cut face (module doc).
+/// Halo width (cells, along every axis) for `options`: scatter–gather rounds per step ×
+/// cells a round spoils next to a cut face (module doc).
 pub fn halo_layers(options: &MpmOptions) -> usize {
     let rounds = match options.stress_update {
         StressUpdate::Usl => 1,
