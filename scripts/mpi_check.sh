@@ -9,7 +9,7 @@
 # is not decomposed (CPDI in MPM's updated frame), a
 # blow-up and a folder that one rank cannot write stop every rank with one message and a
 # non-zero exit. Boxes (--ranks-grid): DGMPM on the 2 x 2 plate and the 2 x 2 x 1 block,
-# byte for byte; MPM and FEM refuse them.
+# MPM on the 2 x 2 plate, byte for byte; FEM refuses them.
 # Usage: scripts/mpi_check.sh [path/to/impact]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -145,23 +145,24 @@ done
 echo "mpi: a moving plate (mpm, updated frame, points migrating) on 1-3 ranks: the serial run's files"
 # boxes (--ranks-grid): DGMPM on the plate (2 x 2) and a small block (2 x 2 x 1) on 4 ranks
 # writes the serial files byte for byte (profiles, grid files; metrics to the energy's
-# round-off); MPM and FEM refuse boxes with one message (below, expect_failure)
-for case in "plate 2,2" "block 2,2,1 --cells 16 --no-reference"; do
-  read -r scene grid extra <<<"$case"
-  serial="$work/boxes-$scene-serial"
-  out="$work/boxes-$scene-np4"
+# round-off); MPM (total Lagrangian) on the plate (2 x 2) likewise; FEM refuses boxes with
+# one message (below, expect_failure)
+for case in "dgmpm plate 2,2" "dgmpm block 2,2,1 --cells 16 --no-reference" "mpm plate 2,2"; do
+  read -r method scene grid extra <<<"$case"
+  serial="$work/boxes-$method-$scene-serial"
+  out="$work/boxes-$method-$scene-np4"
   # shellcheck disable=SC2086
-  RAYON_NUM_THREADS=1 "$bin" run "$scene" --method dgmpm --quiet --out "$serial" $extra >/dev/null
+  RAYON_NUM_THREADS=1 "$bin" run "$scene" --method "$method" --quiet --out "$serial" $extra >/dev/null
   # shellcheck disable=SC2086
-  RAYON_NUM_THREADS=1 "${mpi[@]}" -np 4 "$bin" run "$scene" --method dgmpm --ranks-grid "$grid" \
-    --quiet --out "$out" $extra >"$out.log" 2>&1 || fail "dgmpm $scene on boxes $grid failed: $(tail -5 "$out.log")"
-  same_as_serial "dgmpm $scene on boxes $grid" "$serial" "$out" dgmpm
-  python3 - "$out/summary.json" "${grid//,/ × }" <<'PY' || fail "dgmpm $scene on boxes $grid: summary.json"
+  RAYON_NUM_THREADS=1 "${mpi[@]}" -np 4 "$bin" run "$scene" --method "$method" --ranks-grid "$grid" \
+    --quiet --out "$out" $extra >"$out.log" 2>&1 || fail "$method $scene on boxes $grid failed: $(tail -5 "$out.log")"
+  same_as_serial "$method $scene on boxes $grid" "$serial" "$out" "$method"
+  python3 - "$out/summary.json" "${grid//,/ × }" <<'PY' || fail "$method $scene on boxes $grid: summary.json"
 import json, sys
 rb, grid = json.load(open(sys.argv[1]))["runs"][0], sys.argv[2]
 assert rb["ranks"] == 4 and f"boxes (rank grid {grid}," in rb["decomposition"], rb["decomposition"]
 PY
-  echo "mpi: $scene (dgmpm) on 4 ranks as boxes $grid: files equal to the serial run bit for bit"
+  echo "mpi: $scene ($method) on 4 ranks as boxes $grid: files equal to the serial run bit for bit"
 done
 
 # impact check and bench convergence under mpirun, unchanged: the same report and files as
@@ -214,7 +215,7 @@ expect_failure_of() { # code pattern mpirun-args...
 expect_failure 2 "courant.*7" run plate --method dgmpm --courant 7
 expect_failure 2 "CPDI in the updated Lagrangian frame.*does not run on 3 ranks" run plate --method mpm --frame updated-lagrangian --shape cpdi
 expect_failure 3 "blew up" run plate --method dgmpm --courant 1.5 --allow-unstable
-expect_failure 2 "MPM on the rank grid 3,1 (boxes) does not run on 3 ranks" run plate --method mpm --ranks-grid 3,1
+expect_failure 2 "MPM in the updated Lagrangian frame on the rank grid 3,1 (boxes)" run plate --method mpm --frame updated-lagrangian --ranks-grid 3,1
 expect_failure 2 "FEM on the rank grid 3,1 (boxes)" run plate --method fem --ranks-grid 3,1
 expect_failure 2 "ranks-grid 2,2: its product is 4 but the run has 3 ranks" run plate --method dgmpm --ranks-grid 2,2
 echo "mpi: a bad input, an undecomposed option and a blow-up stop all 3 ranks with one message"

@@ -8,8 +8,8 @@
 //! [`crate::run::run_method`]'s runs are decomposed ([`build_ranked`]): DGMPM, MPM and FEM
 //! in slabs along the last axis ([`impact_dgmpm::slab`], [`impact_mpm::slab`],
 //! [`impact_fem::slab`]; MPM's updated frame with points migrating between the slabs,
-//! [`impact_mpm::migrate`], CPDI there refused on more than one rank), or DGMPM in boxes of
-//! the rank grid `--ranks-grid` ([`set_rank_grid`]).
+//! [`impact_mpm::migrate`], CPDI there refused on more than one rank), or DGMPM and MPM
+//! (total Lagrangian) in boxes of the rank grid `--ranks-grid` ([`set_rank_grid`]).
 //! The converged references are computed whole on every rank (no collective calls, so a
 //! cache hit on one rank and a miss on another cannot desynchronise them).
 use impact_core::comm::{Comm, CommError, RankGrid, SerialComm};
@@ -72,11 +72,11 @@ pub fn init() -> Result<Guard, CommError> {
 
 /// Refuse the rank grid (`--ranks-grid`) of a `dim`-dimensional run of `methods` before
 /// any run starts: one that does not fit the rank count or the dimension, or boxes for a
-/// method that runs in slabs only (MPM, FEM).
+/// method that runs in slabs only (FEM; MPM's updated frame is refused by [`build_ranked`]).
 pub fn check_rank_grid(dim: usize, methods: &[MethodKind]) -> Result<(), CommError> {
     let grid = rank_grid();
     grid.parts(dim, size())?;
-    for kind in methods.iter().filter(|&&k| k != MethodKind::Dgmpm) {
+    for kind in methods.iter().filter(|&&k| k == MethodKind::Fem) {
         grid.slabs_only(&kind.name().to_uppercase(), dim, size())?;
     }
     Ok(())
@@ -99,7 +99,8 @@ pub fn build_ranked<const D: usize>(
             problem, config, comm, &grid,
         )?)),
         MethodKind::Mpm if config.mpm().map(|o| o.frame) == Some(MpmFrame::UpdatedLagrangian) => {
-            grid.slabs_only("MPM", D, comm.size())
+            // points migrate between slabs only (`impact_mpm::migrate`)
+            grid.slabs_only("MPM in the updated Lagrangian frame", D, comm.size())
                 .map_err(CoreError::from)?;
             Ok(Box::new(impact_mpm::migrate::MigratingMpm::<D>::new(
                 problem, config, comm,
@@ -132,7 +133,12 @@ pub fn decomposition<const D: usize>(
             ranks,
             &rank_grid(),
         )),
-        (_, _, Some(o)) => Some(impact_mpm::slab::describe(&problem.grid, o, ranks)),
+        (_, _, Some(o)) => Some(impact_mpm::slab::describe(
+            &problem.grid,
+            o,
+            ranks,
+            &rank_grid(),
+        )),
         _ => None,
     }
 }

@@ -41,7 +41,7 @@ pub(crate) struct RunArgs {
     vtu: impact_io::vtu::VtuEncoding,
     /// How the ranks of an MPI run split the grid: parts along x, y, z (their product is the
     /// rank count; axes not named get one part). Default: slabs along the last axis. Boxes
-    /// for DGMPM; MPM and FEM run in slabs only.
+    /// for DGMPM and MPM (total Lagrangian); MPM's updated frame and FEM run in slabs only.
     #[arg(long, value_name = "PX,PY[,PZ]", value_delimiter = ',')]
     ranks_grid: Option<Vec<usize>>,
 }

@@ -268,3 +268,84 @@ pub fn refusal_on_ranks<const D: usize, M: Method<D>, E: std::fmt::Display>(
     );
     messages[0].clone()
 }
+
+/// Slabs (the automatic rank grid) on 1 to `most` ranks, each with its rank count: the
+/// decompositions the slab tests run.
+pub fn slab_grids(most: usize) -> Vec<(RankGrid, usize)> {
+    (1..=most).map(|r| (RankGrid::automatic(), r)).collect()
+}
+
+/// The rank grids `parts`, each with its rank count (the product of its parts): the
+/// decompositions the box tests run.
+pub fn box_grids(parts: &[&[usize]]) -> Vec<(RankGrid, usize)> {
+    parts
+        .iter()
+        .map(|p| (RankGrid(p.to_vec()), p.iter().product()))
+        .collect()
+}
+
+/// Assert that the runs `ends` of each rank of a decomposed run equal the one-rank run
+/// `serial` (the point methods' slab and box tests): every point owned once (the ranks'
+/// own samples add up to the whole body's), and each rank's gathered fields, in the global
+/// point order, bit for bit (`exact`) or within 1e-13 of their peaks (stress and velocity);
+/// the energy, work, momentum and impulse, sums per rank added in rank order, to 1e-12
+/// (the work relative to the larger of the work and the energy, the momentum and impulse
+/// to the larger of their norms). Panics with `label` and the rank on a mismatch.
+pub fn assert_matches_serial<const D: usize>(
+    label: &str,
+    serial: &RunEnd<D>,
+    ends: &[RunEnd<D>],
+    exact: bool,
+) {
+    let s = &serial.samples;
+    let peak = |v: &[Vector<D>]| v.iter().fold(0.0f64, |m, x| m.max(x.amax()));
+    let peak_s = s.stress.iter().fold(0.0f64, |m, x| m.max(x.amax()));
+    let peak_v = peak(&s.velocity);
+    assert!(
+        peak_s > 1e5 && peak_v > 1e-3,
+        "{label}: the wave must be there"
+    );
+    let owned: usize = ends.iter().map(|e| e.owned.len()).sum();
+    assert_eq!(owned, s.len(), "{label}: every point owned once");
+    let tol = 1e-12;
+    let relative = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
+    for (rank, end) in ends.iter().enumerate() {
+        let (e, at) = (&end.samples, format!("{label}, rank {rank}"));
+        assert_eq!(e.len(), s.len(), "{at}");
+        assert_eq!(e.reference, s.reference, "{at}: reference positions");
+        if exact {
+            assert_eq!(e.stress, s.stress, "{at}: stress bit for bit");
+            assert_eq!(e.velocity, s.velocity, "{at}: velocity bit for bit");
+            assert_eq!(e.position, s.position, "{at}: position bit for bit");
+            assert_eq!(e.plastic_strain, s.plastic_strain, "{at}: plastic strain");
+            assert_eq!(e.stress_zz, s.stress_zz, "{at}: out-of-plane stress");
+        } else {
+            for i in 0..s.len() {
+                let stress = (e.stress[i] - s.stress[i]).amax();
+                assert!(stress <= 1e-13 * peak_s, "{at}: stress at {i}");
+                let velocity = (e.velocity[i] - s.velocity[i]).amax();
+                assert!(velocity <= 1e-13 * peak_v, "{at}: velocity at {i}");
+            }
+        }
+        assert!(relative(end.energy, serial.energy) < tol, "{at}: energy");
+        assert!(
+            (end.work - serial.work).abs() <= tol * serial.work.abs().max(serial.energy),
+            "{at}: work {} against {}",
+            end.work,
+            serial.work
+        );
+        let p = serial.momentum.norm().max(serial.impulse.norm());
+        assert!(
+            (end.momentum - serial.momentum).norm() <= tol * p,
+            "{at}: momentum {} against {}",
+            end.momentum,
+            serial.momentum
+        );
+        assert!(
+            (end.impulse - serial.impulse).norm() <= tol * p,
+            "{at}: impulse {} against {}",
+            end.impulse,
+            serial.impulse
+        );
+    }
+}

@@ -39,7 +39,7 @@ impl<const D: usize> MpmSolver<D> {
         let mut work = 0.0;
         let mut impulse = Vector::<D>::zeros();
         // a slab counts its own nodes' reactions (`crate::Place`)
-        let owned = &self.place.owned_nodes;
+        let place = &self.place;
         let mut hold = |nodes: &mut crate::NodeSums<D>, v: usize, axis: usize, value: f64| {
             let m = nodes.mass[v];
             if empty.holds(v, m) {
@@ -48,7 +48,7 @@ impl<const D: usize> MpmSolver<D> {
                 // reaction force of the constraint, kept in the force for the FLIP update
                 let reaction = (value * m - old) / dt;
                 nodes.force[v][axis] += reaction;
-                if owned.contains(&v) {
+                if place.owns_node(v) {
                     work += dt * reaction * value;
                     impulse[axis] += dt * reaction;
                 }

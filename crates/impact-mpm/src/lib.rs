@@ -55,9 +55,10 @@
 //! `transfer.rs` (phases 1, 3, 4, 5: the scatters, coloured by node layer, and the gathers),
 //! `affine.rs` (APIC's gather), `loads.rs` (the loads' nodal forces and the prescribed point
 //! velocities), `grid_update.rs`
-//! (phase 2), `method.rs` (the `Method` impl), `slab.rs` (a rank's slab of a run split over
-//! several: issue 27), `migrate.rs` (the same in the updated Lagrangian frame, points
-//! migrating between the slabs); this file holds the solver and its buffers.
+//! (phase 2), `method.rs` (the `Method` impl), `build.rs` (building the solver on the whole
+//! body or one rank's box, and where it lies in the whole run), `slab.rs` (a rank's box of a
+//! run split over several: issue 27), `migrate.rs` (slabs in the updated Lagrangian frame,
+//! points migrating between them); this file holds the solver and its buffers.
 //!
 //! Every piece is dimension-generic (`const D`): in 3D the stencils have 8, 27 or 64 nodes
 //! (tensor products of the 1D weights) and CPDI domains are parallelepipeds with 8 corners
@@ -68,6 +69,7 @@
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
 mod affine;
+mod build;
 mod cpdi;
 mod edges;
 mod grid_update;
@@ -76,12 +78,11 @@ mod method;
 pub mod migrate;
 pub mod shape;
 pub mod slab;
-use edges::{edge_conditions, node_constraints, point_constraints, MirrorConstraint, SurfaceLoad};
+use build::Place;
+use edges::{MirrorConstraint, SurfaceLoad};
 mod transfer;
 mod weights;
-use impact_core::comm::RankBox;
-use impact_core::method::{MethodConfig, Model, MpmOptions, MpmShape, MpmTransfer, StressUpdate};
-use impact_core::parallel::worth_parallel;
+use impact_core::method::{MethodConfig, Model, MpmOptions, StressUpdate};
 use impact_core::points::MaterialPoints;
 use impact_core::{Constraint, CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
 
@@ -247,40 +248,6 @@ pub struct MpmSolver<const D: usize> {
     place: Place<D>,
 }
 
-/// Where a solver's nodes and points lie in the whole run: on one rank the whole padded
-/// grid and every point; on a slab (`slab.rs`) the nodes and points of its stored layers,
-/// of which it owns some.
-#[derive(Debug, Clone)]
-pub(crate) struct Place<const D: usize> {
-    /// The padded background grid of the whole body. Shape functions and load positions
-    /// are evaluated on it, then shifted by `node_offset`: a slab's own origin would round
-    /// the grid coordinates `(x − x_0)/h` differently, and its weights would differ from one
-    /// rank's in the last bits.
-    pub whole: Grid<D>,
-    /// Node layers (along the last axis) of `whole` below this solver's first: the coloured
-    /// scatter's blocks follow the whole grid's layers (`transfer.rs`), so a node's sum is
-    /// added in one rank's order.
-    pub first_layer: usize,
-    /// Nodes of `whole` below this solver's first (`first_layer` node layers).
-    pub node_offset: usize,
-    /// The nodes whose constraint reactions this solver counts in the work and impulse.
-    pub owned_nodes: std::ops::Range<usize>,
-    /// The points whose loads, prescribed velocities and diagnostics this solver counts.
-    pub owned_points: std::ops::Range<usize>,
-    /// The stored points in the whole run's order (their global numbers' order), which the
-    /// scatters keep within a layer (`weights.rs`), so that a node adds its points as one
-    /// rank does; empty where that is the stored order (`migrate.rs` fills it).
-    pub scatter_order: Vec<usize>,
-}
-
-impl<const D: usize> Place<D> {
-    /// Whether point `p` is this solver's own.
-    #[inline]
-    pub fn owns(&self, p: usize) -> bool {
-        self.owned_points.contains(&p)
-    }
-}
-
 /// USL MPM as a [`Method`](impact_core::Method).
 #[derive(Debug, Clone)]
 pub struct Mpm<const D: usize> {
@@ -294,142 +261,6 @@ impl<const D: usize> Mpm<D> {
     /// Build MPM for `problem`.
     pub fn new(problem: &Problem<D>, config: MethodConfig) -> Result<Self, CoreError> {
         Self::build(problem, config, None)
-    }
-
-    /// MPM for `problem` on the stored layers of `slab` (every layer without one): the
-    /// whole body's points cut to those layers (the same bits as one rank's), the edge
-    /// conditions of the whole body's edges only (a cut face is no edge), the nodal
-    /// constraints found on the whole padded grid and cut to the stored nodes, and the
-    /// empty-node floor and serial/parallel choice of the whole body (`slab.rs`).
-    pub(crate) fn build(
-        problem: &Problem<D>,
-        config: MethodConfig,
-        slab: Option<&RankBox>,
-    ) -> Result<Self, CoreError> {
-        let options = *config.mpm().ok_or_else(|| CoreError::Unsupported {
-            method: "mpm".into(),
-            message: "not an MPM configuration".into(),
-        })?;
-        let per_axis = problem.points_per_axis(config.points_per_cell)?;
-        problem.check_config(&config)?;
-        let body = problem.grid.clone();
-        let mut all = problem.material_points(&body, &config)?;
-        let whole = Grid {
-            origin: body.origin - body.spacing * PADDING as f64,
-            spacing: body.spacing,
-            cells: std::array::from_fn(|k| body.cells[k] + 2 * PADDING),
-        };
-        let stencil = shape::Stencil::new(&whole, options.shape, per_axis);
-        if options.shape == MpmShape::Cpdi {
-            all = all.with_domains();
-        }
-        let layers = body.cells[D - 1];
-        let (stored, owned) = slab.map_or((0..layers, 0..layers), |s| {
-            (s.stored[D - 1].clone(), s.owned[D - 1].clone())
-        });
-        let layer_nodes = whole.vertex_count() / whole.vertex_counts()[D - 1];
-        let per_layer = all.len() / layers.max(1);
-        // the serial/parallel choice, the empty-node floor and the shared weights' point
-        // are the whole body's (the same sums and bits on every rank count)
-        let parallel = worth_parallel(all.len());
-        let share_from = (all.reference.first().copied(), all.domain.first().copied());
-        let grid = whole.layers(stored.start, stored.len() + 2 * PADDING);
-        let node_count = grid.vertex_count();
-        let node_offset = stored.start * layer_nodes;
-        let lightest = all.mass.iter().copied().fold(f64::INFINITY, f64::min);
-        let points = match slab {
-            Some(_) => all.select(stored.start * per_layer..stored.end * per_layer),
-            None => all,
-        };
-        let (loads, velocity_edges) = edge_conditions(problem, &points);
-        let (mut node_constraints, mut mirror_constraints, on_walls) =
-            node_constraints(&whole, &velocity_edges);
-        let here = node_offset..node_offset + node_count;
-        node_constraints.retain(|c| here.contains(&c.carrier));
-        node_constraints
-            .iter_mut()
-            .for_each(|c| c.carrier -= node_offset);
-        // a padding node whose mirror is not stored is read by no stored point
-        mirror_constraints.retain(|c| here.contains(&c.node) && here.contains(&c.mirror));
-        for c in mirror_constraints.iter_mut() {
-            c.node -= node_offset;
-            c.mirror -= node_offset;
-        }
-        let empty = EmptyNodes::new(lightest, config.points_per_cell, on_walls[here].to_vec());
-        let np = points.len();
-        let point_constraints = point_constraints(&body, &points, &velocity_edges);
-        let affine = match options.transfer {
-            MpmTransfer::Apic => vec![Tensor::<D>::zeros(); np],
-            _ => Vec::new(),
-        };
-        // node layers of `whole`: a rank owns those of its own cell layers' lower faces, the
-        // first rank those below, the last one those above
-        let node_layers = whole.vertex_counts()[D - 1];
-        let owned_node_layers = (if owned.start == 0 {
-            0
-        } else {
-            PADDING + owned.start
-        })..(if owned.end == layers {
-            node_layers
-        } else {
-            PADDING + owned.end
-        });
-        let place = Place {
-            whole,
-            first_layer: stored.start,
-            node_offset,
-            owned_nodes: (owned_node_layers.start - stored.start) * layer_nodes
-                ..(owned_node_layers.end - stored.start) * layer_nodes,
-            owned_points: (owned.start - stored.start) * per_layer
-                ..(owned.end - stored.start) * per_layer,
-            scatter_order: Vec::new(),
-        };
-        let mut mpm = Self {
-            solver: MpmSolver {
-                config,
-                options,
-                body,
-                material: problem.material,
-                model: problem.model,
-                wave_speed: problem.max_wave_speed(),
-                loads,
-                node_constraints,
-                mirror_constraints,
-                point_constraints,
-                nodes: NodeSums::new(node_count),
-                layer_order: vec![0; np],
-                layer_start: vec![0; grid.cells[D - 1] + 2],
-                in_layer_order: false,
-                parallel,
-                point_base: vec![0; np],
-                stencil,
-                empty,
-                shape: Vec::new(),
-                shape_gradient: Vec::new(),
-                weight_stride: 0,
-                shapes_ready: false,
-                fuse_gathers: true,
-                grid,
-                place,
-            },
-            state: MpmState {
-                points,
-                work: 0.0,
-                impulse: Vector::<D>::zeros(),
-                initial_energy: 0.0,
-                affine,
-            },
-        };
-        mpm.solver.weight_stride = mpm.solver.stencil.nodes;
-        mpm.solver.allocate_weights(&mpm.state.points, share_from);
-        // the scene's initial state (of the owned points); the impactor's kick below is the
-        // load's doing (the reference's work counts it)
-        mpm.state.initial_energy = impact_core::Method::energy(&mpm);
-        let kick = mpm
-            .solver
-            .impose_point_velocities(&mut mpm.state.points, (0.0, 0.0));
-        mpm.state.impulse += kick;
-        Ok(mpm)
     }
 }
 

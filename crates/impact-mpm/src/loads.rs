@@ -14,7 +14,7 @@ impl<const D: usize> MpmSolver<D> {
         let npc = Grid::<D>::NODES_PER_CELL;
         let mut s = [0.0; MAX_NODES];
         let mut g = [Vector::<D>::zeros(); MAX_NODES];
-        for load in &self.loads {
+        'loads: for load in &self.loads {
             let x = match self.options.frame {
                 MpmFrame::TotalLagrangian => points.reference[load.point],
                 MpmFrame::UpdatedLagrangian => points.position[load.point],
@@ -25,15 +25,23 @@ impl<const D: usize> MpmSolver<D> {
                 continue;
             };
             whole.shape(&xi, &mut s[..npc], &mut g[..npc]);
-            let node = |a: usize| whole.vertex_of(c, a) - self.place.node_offset;
-            let with_mass = |a: usize| self.empty.holds(node(a), self.nodes.mass[node(a)]);
+            // this solver's numbers of the cell's nodes (all stored for a stored point's
+            // cell, `crate::build`; a cell reaching past them carries no load here)
+            let mut node = [0usize; MAX_NODES];
+            for (a, n) in node[..npc].iter_mut().enumerate() {
+                match self.place.local_node(whole.vertex_of(c, a)) {
+                    Some(v) => *n = v,
+                    None => continue 'loads,
+                }
+            }
+            let with_mass = |a: usize| self.empty.holds(node[a], self.nodes.mass[node[a]]);
             let total: f64 = (0..npc).filter(|&a| with_mass(a)).map(|a| s[a]).sum();
             if total <= 0.0 {
                 continue;
             }
             let force = load.force * load.history.mean(window.0, window.1);
             for a in 0..npc {
-                let i = node(a);
+                let i = node[a];
                 if self.empty.holds(i, self.nodes.mass[i]) {
                     self.nodes.force[i] += force * (s[a] / total);
                 }

@@ -15,22 +15,37 @@ impl<const D: usize> Method<D> for Mpm<D> {
         self.solver.step(&mut self.state, t, dt);
     }
     fn sample_into(&self, out: &mut Samples<D>) {
-        let own = self.owned_points();
-        self.state.points.sample_range_into(own.clone(), out);
+        let runs = self.owned_point_runs();
+        let points = &self.state.points;
+        points.sample_runs_into(runs.iter().cloned(), out);
         if let Model::J2(j2) = &self.solver.model {
-            j2.samples_zz(out, &self.state.points.plastic_strain_zz[own]);
+            let zz = &points.plastic_strain_zz;
+            if let [run] = runs {
+                // one run (one rank, a slab): no copy
+                j2.samples_zz(out, &zz[run.clone()]);
+            } else {
+                let own_zz: Vec<f64> = runs.iter().flat_map(|r| zz[r.clone()].to_vec()).collect();
+                j2.samples_zz(out, &own_zz);
+            }
         }
     }
     fn energy(&self) -> f64 {
         let p = &self.state.points;
         let m = &self.solver.material;
-        p.energy_in(self.owned_points(), |i| match self.solver.model {
-            Model::LinearElastic => m.energy_density(&p.stress[i]),
-            Model::Svk(svk) => svk.energy_density(&p.deformation[i]),
-            Model::J2(j2) => {
-                j2.elastic_energy_density(&p.stress[i], p.plastic_strain_zz[i]) + p.plastic_work[i]
-            }
-        })
+        let energy_in = |run: std::ops::Range<usize>| {
+            p.energy_in(run, |i| match self.solver.model {
+                Model::LinearElastic => m.energy_density(&p.stress[i]),
+                Model::Svk(svk) => svk.energy_density(&p.deformation[i]),
+                Model::J2(j2) => {
+                    j2.elastic_energy_density(&p.stress[i], p.plastic_strain_zz[i])
+                        + p.plastic_work[i]
+                }
+            })
+        };
+        // a run per row of own cells, added in order (one run on one rank)
+        let mut runs = self.owned_point_runs().iter().cloned();
+        let first = energy_in(runs.next().unwrap_or(0..0));
+        runs.fold(first, |sum, run| sum + energy_in(run))
     }
     fn initial_energy(&self) -> f64 {
         self.state.initial_energy
@@ -39,7 +54,10 @@ impl<const D: usize> Method<D> for Mpm<D> {
         self.state.work
     }
     fn momentum(&self) -> Vector<D> {
-        self.state.points.momentum_in(self.owned_points())
+        let p = &self.state.points;
+        let mut runs = self.owned_point_runs().iter().cloned();
+        let first = p.momentum_in(runs.next().unwrap_or(0..0));
+        runs.fold(first, |sum, run| sum + p.momentum_in(run))
     }
     fn external_impulse(&self) -> Vector<D> {
         self.state.impulse
@@ -68,9 +86,12 @@ impl<const D: usize> Method<D> for Mpm<D> {
                     None => self.solver.stencil.fits(&self.solver.grid, &p.position[i]),
                 }
         };
-        let own = self.owned_points();
         let ok = |i: usize| finite(i) && admissible(i) && fits(i);
-        let Some(i) = first_failing(own.len(), |j| ok(own.start + j)).map(|j| own.start + j) else {
+        let Some(i) = self
+            .owned_point_runs()
+            .iter()
+            .find_map(|own| first_failing(own.len(), |j| ok(own.start + j)).map(|j| own.start + j))
+        else {
             return Ok(());
         };
         let reason = if !finite(i) {
@@ -90,7 +111,9 @@ impl<const D: usize> Method<D> for Mpm<D> {
     }
     fn hottest_place(&self) -> Vector<D> {
         let p = &self.state.points;
-        p.hottest_in(self.owned_points())
+        // the last of equals over the own points in order, as `hottest_in`
+        (self.owned_point_runs().iter().cloned().flatten())
+            .max_by(|&a, &b| p.velocity[a].norm().total_cmp(&p.velocity[b].norm()))
             .map_or_else(Vector::<D>::zeros, |i| p.reference[i])
     }
     fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
@@ -100,14 +123,23 @@ impl<const D: usize> Method<D> for Mpm<D> {
         self.solver.body.cell_count()
     }
     fn updates_per_step(&self) -> usize {
-        self.owned_points().len()
+        self.owned_point_runs().iter().map(|r| r.len()).sum()
     }
 }
 
 impl<const D: usize> Mpm<D> {
-    /// The points this solver owns: all of them on one rank, a slab's own layers' points
-    /// (`crate::slab`); the diagnostics and samples cover these.
+    /// The points this solver owns, a run per row of own cells in order: all of them on
+    /// one rank, a slab's own layers' points (one run), a box's own rows (`crate::slab`);
+    /// the diagnostics and samples cover these.
+    pub fn owned_point_runs(&self) -> &[std::ops::Range<usize>] {
+        &self.solver.place.owned_runs
+    }
+
+    /// The points this solver owns where they are one run (one rank, a slab, the migrating
+    /// slab of `crate::migrate`): from the first own point to the last.
     pub fn owned_points(&self) -> std::ops::Range<usize> {
-        self.solver.place.owned_points.clone()
+        let runs = self.owned_point_runs();
+        let start = runs.first().map_or(0, |r| r.start);
+        start..runs.last().map_or(start, |r| r.end)
     }
 }

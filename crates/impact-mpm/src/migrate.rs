@@ -370,7 +370,9 @@ impl<const D: usize> MigratingMpm<D> {
             (p < count && ids[p] == id).then_some(p)
         };
         let solver = &mut self.local.solver;
-        solver.place.owned_points = owned;
+        // (one run, its buffer kept: no allocation in the step)
+        solver.place.owned_runs.clear();
+        solver.place.owned_runs.push(owned);
         let order = &mut solver.place.scatter_order;
         order.clear();
         order.extend(0..count);

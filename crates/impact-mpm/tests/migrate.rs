@@ -9,7 +9,7 @@ use impact_core::comm::ThreadComm;
 use impact_core::method::{
     MethodConfig, MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate,
 };
-use impact_core::slab_method::{blowup_on_ranks, refusal_on_ranks, RunEnd};
+use impact_core::slab_method::{assert_matches_serial, blowup_on_ranks, refusal_on_ranks, RunEnd};
 use impact_core::{Method, Problem, Scene, Vector};
 use impact_mpm::migrate::MigratingMpm;
 use impact_mpm::Mpm;
@@ -93,34 +93,8 @@ fn check<const D: usize>(
         );
         let mass: f64 = masses.iter().map(|e| e.1).sum();
         assert_eq!(mass, total_mass, "{at}: Σ m");
-        for (rank, (end, _, _)) in ends.iter().enumerate() {
-            let e = &end.samples;
-            let at = format!("{at}, rank {rank}");
-            assert_eq!(e.reference, s.reference, "{at}: reference positions");
-            assert_eq!(e.position, s.position, "{at}: position bit for bit");
-            assert_eq!(e.velocity, s.velocity, "{at}: velocity bit for bit");
-            assert_eq!(e.stress, s.stress, "{at}: stress bit for bit");
-            assert_eq!(e.plastic_strain, s.plastic_strain, "{at}: plastic strain");
-            assert_eq!(e.stress_zz, s.stress_zz, "{at}: out-of-plane stress");
-            let tol = 1e-12;
-            assert!(
-                (end.energy - serial.energy).abs() <= tol * serial.energy.abs(),
-                "{at}: energy {} against {}",
-                end.energy,
-                serial.energy
-            );
-            let p = serial.momentum.norm().max(serial.impulse.norm());
-            assert!(
-                (end.momentum - serial.momentum).norm() <= tol * p,
-                "{at}: momentum {} against {}",
-                end.momentum,
-                serial.momentum
-            );
-            assert!(
-                (end.impulse - serial.impulse).norm() <= tol * p,
-                "{at}: impulse"
-            );
-        }
+        let runs: Vec<RunEnd<D>> = ends.iter().map(|e| e.0.clone()).collect();
+        assert_matches_serial(&at, &serial, &runs, true);
     }
 }
 

@@ -4,94 +4,33 @@
 //! `slab.rs`); energy, work, momentum and impulse to round-off (summed per rank, then in rank
 //! order). A non-finite state on one rank is reported identically by every rank at its
 //! global place; the updated Lagrangian frame is refused by this fixed-halo slab on more than
-//! one rank (`tests/migrate.rs` runs it on the migrating slab), and so is a box
-//! decomposition (`--ranks-grid` other than slabs).
-use impact_core::comm::{Comm, RankGrid, ThreadComm};
+//! one rank (`tests/migrate.rs` runs it on the migrating slab). Boxes: `tests/boxes.rs`.
+use impact_core::comm::{Comm, ThreadComm};
 use impact_core::method::{
     MethodConfig, MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate,
 };
-use impact_core::slab_method::{blowup_on_ranks, owned_in_rank_order, refusal_on_ranks, RunEnd};
+use impact_core::slab_method::{blowup_on_ranks, refusal_on_ranks};
 use impact_core::{Boundary, Load, Method, Problem, Scene};
 use impact_mpm::slab::SlabMpm;
 use impact_mpm::Mpm;
 use std::sync::Arc;
 
-fn scene(name: &str) -> Scene {
-    Scene::builtin(name).unwrap()
-}
+mod decomposed;
+use decomposed::{options, scene, slabs};
 
 /// `body` on `ranks` thread ranks, its results in rank order.
 fn on_ranks<T: Send>(ranks: usize, body: impl Fn(Arc<dyn Comm>) -> T + Sync) -> Vec<T> {
     ThreadComm::on_ranks(ranks, body)
 }
 
-fn relative(a: f64, b: f64) -> f64 {
-    (a - b).abs() / b.abs().max(1e-300)
-}
-
-/// Compare `ranks` = 1..=4 with the serial run after `n` steps: the sampled fields bit for
-/// bit; the global sums to 1e-12 (rank-order sums).
+/// Compare slabs on 1 to 4 ranks with the serial run after `n` steps (`decomposed::check`).
 fn check<const D: usize>(label: &str, problem: &Problem<D>, config: MethodConfig, n: usize) {
-    let serial = RunEnd::after_steps(&mut Mpm::<D>::new(problem, config).unwrap(), n);
-    let s = &serial.samples;
-    let peak_s = s.stress.iter().fold(0.0f64, |m, x| m.max(x.amax()));
-    let peak_v = s.velocity.iter().fold(0.0f64, |m, x| m.max(x.amax()));
-    assert!(
-        peak_s > 1e5 && peak_v > 1e-3,
-        "{label}: the wave must be there"
-    );
-    for ranks in 1..=4 {
-        let ends = on_ranks(ranks, |comm| {
-            RunEnd::after_steps(&mut SlabMpm::<D>::new(problem, config, comm).unwrap(), n)
-        });
-        let owned: Vec<_> = ends.iter().map(|e| &e.owned).collect();
-        assert!(
-            owned_in_rank_order(&owned, s),
-            "{label}, {ranks} ranks: the own samples in rank order are not the whole body's"
-        );
-        for (rank, end) in ends.iter().enumerate() {
-            let e = &end.samples;
-            let at = format!("{label}, {ranks} ranks, rank {rank}");
-            assert_eq!(e.len(), s.len(), "{at}");
-            assert_eq!(e.reference, s.reference, "{at}: reference positions");
-            assert_eq!(e.stress, s.stress, "{at}: stress bit for bit");
-            assert_eq!(e.velocity, s.velocity, "{at}: velocity bit for bit");
-            assert_eq!(e.position, s.position, "{at}: position bit for bit");
-            assert_eq!(e.plastic_strain, s.plastic_strain, "{at}: plastic strain");
-            assert_eq!(e.stress_zz, s.stress_zz, "{at}: out-of-plane stress");
-            let tol = 1e-12;
-            assert!(relative(end.energy, serial.energy) < tol, "{at}: energy");
-            assert!(
-                (end.work - serial.work).abs() <= tol * serial.work.abs().max(serial.energy),
-                "{at}: work {} against {}",
-                end.work,
-                serial.work
-            );
-            let p = serial.momentum.norm().max(serial.impulse.norm());
-            assert!(
-                (end.momentum - serial.momentum).norm() <= tol * p,
-                "{at}: momentum"
-            );
-            assert!(
-                (end.impulse - serial.impulse).norm() <= tol * p,
-                "{at}: impulse {} against {}",
-                end.impulse,
-                serial.impulse
-            );
-        }
-    }
+    decomposed::check::<D>(label, problem, config, &slabs(), n);
 }
 
-/// `scene`'s MPM configuration edited by `edit`, checked over `n` steps.
+/// `scene`'s MPM configuration edited by `edit`, on slabs on 1 to 4 ranks.
 fn check_scene<const D: usize>(label: &str, scene: &Scene, edit: impl Fn(&mut MethodConfig)) {
-    let problem = Problem::<D>::from_scene(scene).unwrap();
-    let mut config = scene.method_config(MethodKind::Mpm);
-    edit(&mut config);
-    check::<D>(label, &problem, config, 40);
-}
-
-fn options(c: &mut MethodConfig) -> &mut impact_core::method::MpmOptions {
-    c.mpm_mut().unwrap()
+    decomposed::check_scene::<D>(label, scene, edit, &slabs());
 }
 
 #[test]
@@ -207,21 +146,6 @@ fn updated_frame_and_too_many_ranks_are_refused_on_every_rank() {
     options(&mut config).stress_update = StressUpdate::Musl;
     let message = refusal_on_ranks(5, |comm| SlabMpm::<2>::new(&problem, config, comm));
     assert!(message.contains("at most 4 ranks"), "{message}");
-    // boxes are not MPM's yet: refused, naming the slab grid to use; `1,2` is slabs
-    let config = plate.method_config(MethodKind::Mpm);
-    let boxes = RankGrid(vec![2, 2]);
-    let message = refusal_on_ranks(4, |comm| {
-        SlabMpm::<2>::on_grid(&problem, config, comm, &boxes)
-    });
-    assert!(
-        message.contains("MPM on the rank grid 2,2 (boxes) does not run on 4 ranks yet")
-            && message.contains("last (1,4)"),
-        "{message}"
-    );
-    let slabs = RankGrid(vec![1, 2]);
-    on_ranks(2, |comm| {
-        SlabMpm::<2>::on_grid(&problem, config, comm, &slabs).unwrap()
-    });
 }
 
 /// The halo message per step: `halo` layers of points each way per neighbour, 8 values per

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 use impact_core::comm::{RankGrid, ThreadComm};
 use impact_core::method::{MethodConfig, MethodKind};
-use impact_core::slab_method::RunEnd;
+use impact_core::slab_method::{assert_matches_serial, slab_grids, RunEnd};
 use impact_core::{Problem, Scene};
 use impact_dgmpm::slab::SlabDgmpm;
 use impact_dgmpm::Dgmpm;
@@ -28,10 +28,6 @@ pub fn runs<const D: usize>(
     (serial, ends)
 }
 
-fn relative(a: f64, b: f64) -> f64 {
-    (a - b).abs() / b.abs().max(1e-300)
-}
-
 /// `scene` (its DGMPM configuration changed by `edit`) on each of `grids` (rank grid, rank
 /// count) against the serial run after 40 steps: the gathered fields exactly (`exact`) or
 /// to 1e-13 of their peaks, in the global point order; sums to 1e-12.
@@ -48,74 +44,11 @@ pub fn check_on<const D: usize>(
     for (grid, ranks) in grids {
         let label = format!("{label}, rank grid {:?} on {ranks} ranks", grid.0);
         let (serial, ends) = runs::<D>(&problem, config, grid, *ranks, 40);
-        compare(&label, &serial, &ends, exact);
-    }
-}
-
-fn compare<const D: usize>(label: &str, serial: &RunEnd<D>, ends: &[RunEnd<D>], exact: bool) {
-    let s = &serial.samples;
-    let peak_s = s.stress.iter().fold(0.0f64, |m, x| m.max(x.amax()));
-    let peak_v = s.velocity.iter().fold(0.0f64, |m, x| m.max(x.amax()));
-    assert!(
-        peak_s > 1e5 && peak_v > 1e-3,
-        "{label}: the wave must be there"
-    );
-    let owned: usize = ends.iter().map(|e| e.owned.len()).sum();
-    assert_eq!(owned, s.len(), "{label}: every point owned once");
-    for (rank, end) in ends.iter().enumerate() {
-        let e = &end.samples;
-        assert_eq!(e.len(), s.len(), "{label}, rank {rank}");
-        assert_eq!(e.reference, s.reference, "{label}: reference positions");
-        if exact {
-            assert_eq!(e.stress, s.stress, "{label}: stress bit for bit");
-            assert_eq!(e.velocity, s.velocity, "{label}: velocity");
-            assert_eq!(e.position, s.position, "{label}: position");
-            assert_eq!(
-                e.plastic_strain, s.plastic_strain,
-                "{label}: plastic strain"
-            );
-            assert_eq!(e.stress_zz, s.stress_zz, "{label}: out-of-plane stress");
-        } else {
-            for i in 0..s.len() {
-                assert!(
-                    (e.stress[i] - s.stress[i]).amax() <= 1e-13 * peak_s,
-                    "{label}"
-                );
-                assert!(
-                    (e.velocity[i] - s.velocity[i]).amax() <= 1e-13 * peak_v,
-                    "{label}"
-                );
-            }
-        }
-        let tol = 1e-12;
-        assert!(relative(end.energy, serial.energy) < tol, "{label}: energy");
-        assert!(
-            relative(end.work, serial.work) < tol,
-            "{label}: work {} {}",
-            end.work,
-            serial.work
-        );
-        let p = serial.momentum.norm().max(serial.impulse.norm());
-        assert!(
-            (end.momentum - serial.momentum).norm() <= tol * p,
-            "{label}: momentum"
-        );
-        assert!(
-            (end.impulse - serial.impulse).norm() <= tol * p,
-            "{label}: impulse"
-        );
+        assert_matches_serial(&label, &serial, &ends, exact);
     }
 }
 
 /// Slabs (the automatic rank grid) on 1 to 4 ranks.
 pub fn slabs() -> Vec<(RankGrid, usize)> {
-    (1..=4).map(|r| (RankGrid::automatic(), r)).collect()
-}
-
-/// The rank grids `parts` (each on the product of its parts ranks).
-pub fn boxes(parts: &[&[usize]]) -> Vec<(RankGrid, usize)> {
-    parts
-        .iter()
-        .map(|p| (RankGrid(p.to_vec()), p.iter().product()))
-        .collect()
+    slab_grids(4)
 }
