@@ -125,7 +125,11 @@ pub fn decomposition<const D: usize>(
         return None;
     }
     match (config.kind(), config.dgmpm(), config.mpm()) {
-        (MethodKind::Fem, _, _) => Some(impact_fem::slab::describe(&problem.grid, ranks)),
+        (MethodKind::Fem, _, _) => Some(impact_fem::slab::describe(
+            &problem.grid,
+            ranks,
+            &rank_grid(),
+        )),
         (_, Some(o), _) => Some(impact_dgmpm::slab::describe(
             &problem.grid,
             o,
