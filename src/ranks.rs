@@ -5,11 +5,12 @@
 //! Every rank runs the same command on the same code path; rank 0 prints and writes the
 //! output folder, the others run silently into a private scratch folder that is removed at
 //! the end (so every rank makes the same collective calls in the same order). Only
-//! [`crate::run::run_method`]'s runs are decomposed ([`build_ranked`]): DGMPM, MPM and FEM
+//! [`crate::run::run_method`]'s runs and `bench convergence`'s levels
+//! ([`crate::convergence`]) are decomposed ([`build_ranked`]): DGMPM, MPM and FEM
 //! in slabs along the last axis ([`impact_dgmpm::slab`], [`impact_mpm::slab`],
 //! [`impact_fem::slab`]; MPM's updated frame with points migrating between the slabs,
-//! [`impact_mpm::migrate`], CPDI there refused on more than one rank), or DGMPM in boxes of
-//! the rank grid `--ranks-grid` ([`set_rank_grid`]).
+//! [`impact_mpm::migrate`], CPDI there refused on more than one rank), or DGMPM and FEM in
+//! boxes of the rank grid `--ranks-grid` ([`set_rank_grid`]).
 //! The converged references are computed whole on every rank (no collective calls, so a
 //! cache hit on one rank and a miss on another cannot desynchronise them).
 use impact_core::comm::{Comm, CommError, RankGrid, SerialComm};
@@ -72,11 +73,12 @@ pub fn init() -> Result<Guard, CommError> {
 
 /// Refuse the rank grid (`--ranks-grid`) of a `dim`-dimensional run of `methods` before
 /// any run starts: one that does not fit the rank count or the dimension, or boxes for a
-/// method that runs in slabs only (MPM, FEM).
+/// method that runs in slabs only (MPM).
 pub fn check_rank_grid(dim: usize, methods: &[MethodKind]) -> Result<(), CommError> {
     let grid = rank_grid();
     grid.parts(dim, size())?;
-    for kind in methods.iter().filter(|&&k| k != MethodKind::Dgmpm) {
+    let on_boxes = [MethodKind::Dgmpm, MethodKind::Fem];
+    for kind in methods.iter().filter(|k| !on_boxes.contains(k)) {
         grid.slabs_only(&kind.name().to_uppercase(), dim, size())?;
     }
     Ok(())

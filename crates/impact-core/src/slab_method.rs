@@ -171,6 +171,20 @@ impl<const D: usize, M: SlabLocal<D>> Method<D> for OnSlab<D, M> {
     }
 }
 
+/// Slabs (the automatic rank grid) on 1 to 4 ranks: the decomposed tests' slab runs.
+pub fn slab_grids() -> Vec<(RankGrid, usize)> {
+    (1..=4).map(|r| (RankGrid::automatic(), r)).collect()
+}
+
+/// The rank grids `parts`, each on the product of its parts ranks: the decomposed tests'
+/// box runs.
+pub fn box_grids(parts: &[&[usize]]) -> Vec<(RankGrid, usize)> {
+    parts
+        .iter()
+        .map(|p| (RankGrid(p.to_vec()), p.iter().product()))
+        .collect()
+}
+
 /// The samples and global sums a run ends with: what a decomposed run is compared on
 /// against one rank (the point methods' slab tests).
 #[derive(Debug, Clone)]

@@ -7,13 +7,13 @@
 //! rank, then in rank order). Bad rank grids are refused on every rank alike.
 use impact_core::comm::{RankBox, RankGrid};
 use impact_core::method::{Integrator, MethodKind, SchemeOrder};
-use impact_core::slab_method::{blowup_on_ranks, refusal_on_ranks};
+use impact_core::slab_method::{blowup_on_ranks, box_grids, refusal_on_ranks};
 use impact_core::{Method, Problem};
 use impact_dgmpm::slab::SlabDgmpm;
 use impact_dgmpm::Dgmpm;
 
 mod decomposed;
-use decomposed::{boxes, check_on, scene};
+use decomposed::{check_on, scene};
 
 /// The 2D rank grids of the brief: 2×2, 3×1, 1×3, 2×1.
 const PLATE_GRIDS: [&[usize]; 4] = [&[2, 2], &[3, 1], &[1, 3], &[2]];
@@ -21,12 +21,18 @@ const PLATE_GRIDS: [&[usize]; 4] = [&[2, 2], &[3, 1], &[1, 3], &[2]];
 #[test]
 fn bar_on_a_rank_grid_equals_one_rank() {
     // 1D: the rank grid is the slab one, `N`
-    check_on::<1>("bar", &scene("bar"), |_| {}, true, &boxes(&[&[2], &[3]]));
+    check_on::<1>(
+        "bar",
+        &scene("bar"),
+        |_| {},
+        true,
+        &box_grids(&[&[2], &[3]]),
+    );
 }
 
 #[test]
 fn plates_on_boxes_equal_one_rank() {
-    let grids = boxes(&PLATE_GRIDS);
+    let grids = box_grids(&PLATE_GRIDS);
     check_on::<2>("plate, CTU", &scene("plate"), |_| {}, true, &grids);
     check_on::<2>("plate-wave", &scene("plate-wave"), |_| {}, true, &grids);
     check_on::<2>(
@@ -37,13 +43,13 @@ fn plates_on_boxes_equal_one_rank() {
             c.courant = 0.9;
         },
         true,
-        &boxes(&[&[2, 2]]),
+        &box_grids(&[&[2, 2]]),
     );
 }
 
 #[test]
 fn plastic_and_large_strain_plates_on_boxes_equal_one_rank() {
-    let square = boxes(&[&[2, 2]]);
+    let square = box_grids(&[&[2, 2]]);
     check_on::<2>("ep-plate", &scene("ep-plate"), |_| {}, true, &square);
     // RK2 on the nodal path: shape functions from the box's origin (round-off, as slabs)
     check_on::<2>("svk-plate", &scene("svk-plate"), |_| {}, false, &square);
@@ -60,7 +66,7 @@ fn rk2_and_four_points_per_cell_on_boxes() {
             (c.points_per_cell, c.courant) = (4, 0.5);
         },
         false,
-        &boxes(&[&[2, 2]]),
+        &box_grids(&[&[2, 2]]),
     );
 }
 
@@ -75,7 +81,7 @@ fn block_on_boxes_equals_one_rank() {
         &block,
         |_| {},
         true,
-        &boxes(&[&[2, 2, 1], &[1, 2, 2]]),
+        &box_grids(&[&[2, 2, 1], &[1, 2, 2]]),
     );
 }
 

@@ -9,13 +9,13 @@
 //! rank alike.
 use impact_core::comm::{RankBox, RankGrid, ThreadComm};
 use impact_core::method::MethodKind;
-use impact_core::slab_method::{blowup_on_ranks, refusal_on_ranks};
+use impact_core::slab_method::{blowup_on_ranks, box_grids, refusal_on_ranks};
 use impact_core::{Method, Problem};
 use impact_fem::slab::{describe, SlabFem};
 use impact_fem::Fem;
 
 mod decomposed;
-use decomposed::{boxes, check_on, scene, sine_pressure_plate, Path};
+use decomposed::{check_on, scene, sine_pressure_plate, Path};
 
 /// The 2D rank grids of the brief: 2×2, 3×1, 1×3.
 const PLATE_GRIDS: [&[usize]; 3] = [&[2, 2], &[3, 1], &[1, 3]];
@@ -23,7 +23,7 @@ const PLATE_GRIDS: [&[usize]; 3] = [&[2, 2], &[3, 1], &[1, 3]];
 #[test]
 fn plates_on_boxes_equal_one_rank() {
     // the impactor's nodes (y ≤ 1 m) on the left face, cut along y on 2×2 and 1×3
-    let grids = boxes(&PLATE_GRIDS);
+    let grids = box_grids(&PLATE_GRIDS);
     let plate = scene("plate");
     check_on::<2>("plate", &plate, Path::Default, 60, &grids);
     check_on::<2>("plate, two phases", &plate, Path::TwoPhases, 60, &grids);
@@ -40,7 +40,7 @@ fn plates_on_boxes_equal_one_rank() {
 #[test]
 fn a_varying_pressure_across_the_cuts_equals_one_rank() {
     let pressure = sine_pressure_plate();
-    let grids = boxes(&[&[2, 2], &[1, 3]]);
+    let grids = box_grids(&[&[2, 2], &[1, 3]]);
     check_on::<2>("plate, sine pressure", &pressure, Path::Default, 60, &grids);
     check_on::<2>(
         "plate, sine pressure, Gauss",
@@ -53,7 +53,7 @@ fn a_varying_pressure_across_the_cuts_equals_one_rank() {
 
 #[test]
 fn plastic_and_large_strain_plates_on_boxes_equal_one_rank() {
-    let grids = boxes(&[&[2, 2], &[3, 1]]);
+    let grids = box_grids(&[&[2, 2], &[3, 1]]);
     check_on::<2>("ep-plate", &scene("ep-plate"), Path::Default, 60, &grids);
     check_on::<2>("svk-plate", &scene("svk-plate"), Path::Default, 60, &grids);
 }
@@ -61,14 +61,20 @@ fn plastic_and_large_strain_plates_on_boxes_equal_one_rank() {
 /// 3D: the block (the impactor's square patch on x = 0) on 2×2×1 and 1×2×2.
 #[test]
 fn block_on_boxes_equals_one_rank() {
-    let grids = boxes(&[&[2, 2, 1], &[1, 2, 2]]);
+    let grids = box_grids(&[&[2, 2, 1], &[1, 2, 2]]);
     let mut block = scene("block");
     block.domain.cells = vec![10, 8, 12];
     check_on::<3>("block", &block, Path::Default, 30, &grids);
     check_on::<3>("block, Gauss points", &block, Path::Gauss, 30, &grids);
     let mut ep = scene("ep-block");
     ep.domain.cells = vec![10, 8, 12];
-    check_on::<3>("ep-block", &ep, Path::Default, 30, &boxes(&[&[2, 2, 1]]));
+    check_on::<3>(
+        "ep-block",
+        &ep,
+        Path::Default,
+        30,
+        &box_grids(&[&[2, 2, 1]]),
+    );
 }
 
 /// A NaN planted in one box is reported by every rank, once, at its global place.

@@ -10,17 +10,17 @@
 //! `boxes.rs`.)
 use impact_core::comm::ThreadComm;
 use impact_core::method::MethodKind;
-use impact_core::slab_method::{blowup_on_ranks, refusal_on_ranks};
+use impact_core::slab_method::{blowup_on_ranks, refusal_on_ranks, slab_grids};
 use impact_core::{Method, Problem, Scene};
 use impact_fem::slab::SlabFem;
 use impact_fem::Fem;
 
 mod decomposed;
-use decomposed::{check_on, scene, sine_pressure_plate, slabs, Path};
+use decomposed::{check_on, scene, sine_pressure_plate, Path};
 
 /// [`check_on`] on slabs over 1 to 4 ranks.
 fn check<const D: usize>(label: &str, scene: &Scene, path: Path, n: usize) {
-    check_on::<D>(label, scene, path, n, &slabs());
+    check_on::<D>(label, scene, path, n, &slab_grids());
 }
 
 #[test]

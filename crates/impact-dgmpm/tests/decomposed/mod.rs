@@ -106,16 +106,3 @@ fn compare<const D: usize>(label: &str, serial: &RunEnd<D>, ends: &[RunEnd<D>], 
         );
     }
 }
-
-/// Slabs (the automatic rank grid) on 1 to 4 ranks.
-pub fn slabs() -> Vec<(RankGrid, usize)> {
-    (1..=4).map(|r| (RankGrid::automatic(), r)).collect()
-}
-
-/// The rank grids `parts` (each on the product of its parts ranks).
-pub fn boxes(parts: &[&[usize]]) -> Vec<(RankGrid, usize)> {
-    parts
-        .iter()
-        .map(|p| (RankGrid(p.to_vec()), p.iter().product()))
-        .collect()
-}
