@@ -207,6 +207,29 @@ PY
 [ "$(grep -c ' cells: L2' "$work/conv2.out")" = "$(grep -c ' cells: L2' "$work/conv1.out")" ] \
   || fail "bench convergence on 2 ranks: its progress lines are printed by more than rank 0"
 echo "mpi: impact check and bench convergence on 2 ranks: the one-rank report and files"
+# bench work-precision: on one rank each run is a child process, on several the same study
+# split over the ranks in this process; the bar's errors, steps and cells as one rank's (the
+# errors to 1e-12: the child's study and the in-process one differ in a last digit, and
+# MPM's fields are round-off from one rank's), timings and memory their own
+for n in 1 2; do
+  launch=()
+  [ "$n" = 1 ] || launch=("${mpi[@]}" -np "$n")
+  RAYON_NUM_THREADS=1 "${launch[@]}" "$bin" bench work-precision --scene bar --levels 2 --out "$work/wp$n" \
+    >"$work/wp$n.out" 2>&1 || fail "bench work-precision on $n ranks failed: $(tail -5 "$work/wp$n.out")"
+done
+python3 - "$work/wp1/work_precision.json" "$work/wp2/work_precision.json" <<'PY' || fail "bench work-precision on 2 ranks: its runs differ from one rank's"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert len(a) == len(b) > 0, (len(a), len(b))
+for ra, rb in zip(a, b):
+    for k in ("scene", "config", "cells_x", "cells", "steps", "error"):
+        assert ra.get(k) == rb.get(k), (ra["config"], k, ra.get(k), rb.get(k))
+    for k in ("l1_rel", "l1_spread"):
+        assert (k in ra) == (k in rb) and abs(ra.get(k, 0) - rb.get(k, 0)) <= 1e-12, (ra["config"], k)
+PY
+[ "$(wc -l <"$work/wp2.out")" = "$(wc -l <"$work/wp1.out")" ] \
+  || fail "bench work-precision on 2 ranks: its lines are printed by more than rank 0"
+echo "mpi: bench work-precision on 2 ranks: the one-rank errors, steps and cells"
 
 # failures stop every rank with one message and a non-zero exit (no hang: `timeout`)
 expect_failure() { # code pattern args...
