@@ -9,7 +9,7 @@
 # is not decomposed (CPDI in MPM's updated frame), a
 # blow-up and a folder that one rank cannot write stop every rank with one message and a
 # non-zero exit. Boxes (--ranks-grid): DGMPM on the 2 x 2 plate and the 2 x 2 x 1 block,
-# MPM on the 2 x 2 plate, byte for byte; FEM refuses them.
+# DGMPM, MPM and FEM on the 2 x 2 plate, byte for byte; MPM's updated frame refuses them.
 # Usage: scripts/mpi_check.sh [path/to/impact]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -143,11 +143,11 @@ for n in 1 2 3; do
   same_as_serial "mpm moving plate (updated frame) on $n ranks" "$serial" "$out" mpm
 done
 echo "mpi: a moving plate (mpm, updated frame, points migrating) on 1-3 ranks: the serial run's files"
-# boxes (--ranks-grid): DGMPM on the plate (2 x 2) and a small block (2 x 2 x 1) on 4 ranks
-# writes the serial files byte for byte (profiles, grid files; metrics to the energy's
-# round-off); MPM (total Lagrangian) on the plate (2 x 2) likewise; FEM refuses boxes with
-# one message (below, expect_failure)
-for case in "dgmpm plate 2,2" "dgmpm block 2,2,1 --cells 16 --no-reference" "mpm plate 2,2"; do
+# boxes (--ranks-grid): DGMPM on the plate (2 x 2) and a small block (2 x 2 x 1) on 4 ranks,
+# MPM (total Lagrangian) and FEM on the plate (2 x 2), write the serial files byte for byte
+# (profiles, grid files; metrics to the energy's round-off); MPM's updated frame refuses
+# boxes with one message (below, expect_failure)
+for case in "dgmpm plate 2,2" "dgmpm block 2,2,1 --cells 16 --no-reference" "mpm plate 2,2" "fem plate 2,2"; do
   read -r method scene grid extra <<<"$case"
   serial="$work/boxes-$method-$scene-serial"
   out="$work/boxes-$method-$scene-np4"
@@ -167,8 +167,10 @@ done
 
 # impact check and bench convergence under mpirun, unchanged: the same report and files as
 # one rank (check's runs are decomposed, its energies differ by round-off only, which the
-# report does not print; the convergence ladder's runs are whole on every rank, and only
-# rank 0 writes: no two ranks contend for one folder)
+# report does not print; the convergence ladder's runs are decomposed too, their errors
+# those of the gathered samples: the table and CSV byte for byte, the JSON's full-precision
+# errors to 1e-12 relative, MPM's fields being round-off from one rank's; only rank 0
+# writes: no two ranks contend for one folder)
 RAYON_NUM_THREADS=1 "$bin" check plate --quiet --json "$work/check1.json" >"$work/check1.out"
 RAYON_NUM_THREADS=1 "${mpi[@]}" -np 2 "$bin" check plate --quiet --json "$work/check2.json" \
   >"$work/check2.out" 2>"$work/check2.err" || fail "check on 2 ranks failed: $(tail -5 "$work/check2.err")"
@@ -186,12 +188,48 @@ for n in 1 2; do
   RAYON_NUM_THREADS=1 "${launch[@]}" "$bin" bench convergence --scene plate --levels 2 --out "$work/conv$n" \
     >"$work/conv$n.out" 2>&1 || fail "bench convergence on $n ranks failed: $(tail -5 "$work/conv$n.out")"
 done
-for f in convergence.csv convergence.txt convergence.json; do
+for f in convergence.csv convergence.txt; do
   cmp -s "$work/conv1/$f" "$work/conv2/$f" || fail "bench convergence on 2 ranks: $f differs from one rank's"
 done
+python3 - "$work/conv1/convergence.json" "$work/conv2/convergence.json" <<'PY' || fail "bench convergence on 2 ranks: its JSON differs from one rank's beyond round-off"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert len(a) == len(b), (len(a), len(b))
+for ra, rb in zip(a, b):
+    assert ra.keys() == rb.keys(), (ra, rb)
+    for k, va in ra.items():
+        vb = rb[k]
+        if isinstance(va, float):
+            assert abs(va - vb) <= 1e-12 * abs(va), (ra["config"], k, va, vb)
+        else:
+            assert va == vb, (k, va, vb)
+PY
 [ "$(grep -c ' cells: L2' "$work/conv2.out")" = "$(grep -c ' cells: L2' "$work/conv1.out")" ] \
   || fail "bench convergence on 2 ranks: its progress lines are printed by more than rank 0"
 echo "mpi: impact check and bench convergence on 2 ranks: the one-rank report and files"
+# bench work-precision: on one rank each run is a child process, on several the same study
+# split over the ranks in this process; the bar's errors, steps and cells as one rank's (the
+# errors to 1e-12: the child's study and the in-process one differ in a last digit, and
+# MPM's fields are round-off from one rank's), timings and memory their own
+for n in 1 2; do
+  launch=()
+  [ "$n" = 1 ] || launch=("${mpi[@]}" -np "$n")
+  RAYON_NUM_THREADS=1 "${launch[@]}" "$bin" bench work-precision --scene bar --levels 2 --out "$work/wp$n" \
+    >"$work/wp$n.out" 2>&1 || fail "bench work-precision on $n ranks failed: $(tail -5 "$work/wp$n.out")"
+done
+python3 - "$work/wp1/work_precision.json" "$work/wp2/work_precision.json" <<'PY' || fail "bench work-precision on 2 ranks: its runs differ from one rank's"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert len(a) == len(b) > 0, (len(a), len(b))
+for ra, rb in zip(a, b):
+    for k in ("scene", "config", "cells_x", "cells", "steps", "error"):
+        assert ra.get(k) == rb.get(k), (ra["config"], k, ra.get(k), rb.get(k))
+    for k in ("l1_rel", "l1_spread"):
+        assert (k in ra) == (k in rb) and abs(ra.get(k, 0) - rb.get(k, 0)) <= 1e-12, (ra["config"], k)
+PY
+[ "$(wc -l <"$work/wp2.out")" = "$(wc -l <"$work/wp1.out")" ] \
+  || fail "bench work-precision on 2 ranks: its lines are printed by more than rank 0"
+echo "mpi: bench work-precision on 2 ranks: the one-rank errors, steps and cells"
 
 # failures stop every rank with one message and a non-zero exit (no hang: `timeout`)
 expect_failure() { # code pattern args...
@@ -216,7 +254,6 @@ expect_failure 2 "courant.*7" run plate --method dgmpm --courant 7
 expect_failure 2 "CPDI in the updated Lagrangian frame.*does not run on 3 ranks" run plate --method mpm --frame updated-lagrangian --shape cpdi
 expect_failure 3 "blew up" run plate --method dgmpm --courant 1.5 --allow-unstable
 expect_failure 2 "MPM in the updated Lagrangian frame on the rank grid 3,1 (boxes)" run plate --method mpm --frame updated-lagrangian --ranks-grid 3,1
-expect_failure 2 "FEM on the rank grid 3,1 (boxes)" run plate --method fem --ranks-grid 3,1
 expect_failure 2 "ranks-grid 2,2: its product is 4 but the run has 3 ranks" run plate --method dgmpm --ranks-grid 2,2
 echo "mpi: a bad input, an undecomposed option and a blow-up stop all 3 ranks with one message"
 # a failure on some ranks only: rank 0 cannot make its output folder (under /proc); ranks 1

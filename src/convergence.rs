@@ -5,6 +5,15 @@
 //! [`impact_core::exact::StandingWave`]. Every configuration of the work-precision ladder
 //! ([`crate::work_precision::configurations`]) runs a refinement ladder (1D: 75·2^k cells,
 //! 2D: 16·2^k × 12·2^k, `k = 1..=levels`) to the scene's last output time, in this process.
+//! Under `mpirun` each level's run is split over the ranks like `impact run`'s
+//! ([`crate::ranks::build_ranked`]: slabs, or boxes with `--ranks-grid`); its samples are
+//! gathered in the global order on every rank, so every rank measures the same errors, and
+//! rank 0 alone prints and writes. The errors equal one rank's bit for bit where the
+//! decomposed run's fields do (DGMPM's cell and fused paths, FEM), and to round-off where
+//! they do (DGMPM's nodal paths, MPM: shape functions formed from the slab's origin;
+//! `docs/mpi.md`). The converged references stay whole on every rank (no collective
+//! calls: a cache hit on one rank and a miss on another cannot desynchronise them; the
+//! cache's lock makes one rank compute and write each entry, the others read it).
 //!
 //! Errors are over the whole body, each sample against the exact average over its region
 //! (the cell average a finite-volume scheme carries; the point value differs from it by
@@ -162,14 +171,15 @@ pub fn field_errors<const D: usize>(
     }
 }
 
-/// Run one configuration on `problem` to its last output and measure it.
+/// Run one configuration on `problem` to its last output, split over this process's ranks
+/// (module doc), and measure it.
 fn run_level<const D: usize>(
     problem: &Problem<D>,
     config: impact_core::method::MethodConfig,
     reference: &Reference,
     region: Option<&Interior<D>>,
 ) -> Result<FieldErrors> {
-    let mut method = crate::build(problem, config)?;
+    let mut method = crate::ranks::build_ranked(problem, config)?;
     let mut samples = Samples::<D>::default();
     let mut errors = FieldErrors::default();
     let last = problem.output_times.len() - 1;

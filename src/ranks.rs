@@ -5,11 +5,12 @@
 //! Every rank runs the same command on the same code path; rank 0 prints and writes the
 //! output folder, the others run silently into a private scratch folder that is removed at
 //! the end (so every rank makes the same collective calls in the same order). Only
-//! [`crate::run::run_method`]'s runs are decomposed ([`build_ranked`]): DGMPM, MPM and FEM
+//! [`crate::run::run_method`]'s runs and `bench convergence`'s levels
+//! ([`crate::convergence`]) are decomposed ([`build_ranked`]): DGMPM, MPM and FEM
 //! in slabs along the last axis ([`impact_dgmpm::slab`], [`impact_mpm::slab`],
 //! [`impact_fem::slab`]; MPM's updated frame with points migrating between the slabs,
-//! [`impact_mpm::migrate`], CPDI there refused on more than one rank), or DGMPM and MPM
-//! (total Lagrangian) in boxes of the rank grid `--ranks-grid` ([`set_rank_grid`]).
+//! [`impact_mpm::migrate`], CPDI there refused on more than one rank), or DGMPM, MPM
+//! (total Lagrangian) and FEM in boxes of the rank grid `--ranks-grid` ([`set_rank_grid`]).
 //! The converged references are computed whole on every rank (no collective calls, so a
 //! cache hit on one rank and a miss on another cannot desynchronise them).
 use impact_core::comm::{Comm, CommError, RankGrid, SerialComm};
@@ -72,12 +73,15 @@ pub fn init() -> Result<Guard, CommError> {
 
 /// Refuse the rank grid (`--ranks-grid`) of a `dim`-dimensional run of `methods` before
 /// any run starts: one that does not fit the rank count or the dimension, or boxes for a
-/// method that runs in slabs only (FEM; MPM's updated frame is refused by [`build_ranked`]).
-pub fn check_rank_grid(dim: usize, methods: &[MethodKind]) -> Result<(), CommError> {
+/// configuration that runs in slabs only (MPM's updated frame: its points migrate between
+/// slabs only, [`impact_mpm::migrate`]); DGMPM, MPM (total Lagrangian) and FEM run on boxes.
+pub fn check_rank_grid(dim: usize, configs: &[MethodConfig]) -> Result<(), CommError> {
     let grid = rank_grid();
     grid.parts(dim, size())?;
-    for kind in methods.iter().filter(|&&k| k == MethodKind::Fem) {
-        grid.slabs_only(&kind.name().to_uppercase(), dim, size())?;
+    for config in configs {
+        if config.mpm().map(|o| o.frame) == Some(MpmFrame::UpdatedLagrangian) {
+            grid.slabs_only("MPM in the updated Lagrangian frame", dim, size())?;
+        }
     }
     Ok(())
 }
@@ -126,7 +130,11 @@ pub fn decomposition<const D: usize>(
         return None;
     }
     match (config.kind(), config.dgmpm(), config.mpm()) {
-        (MethodKind::Fem, _, _) => Some(impact_fem::slab::describe(&problem.grid, ranks)),
+        (MethodKind::Fem, _, _) => Some(impact_fem::slab::describe(
+            &problem.grid,
+            ranks,
+            &rank_grid(),
+        )),
         (_, Some(o), _) => Some(impact_dgmpm::slab::describe(
             &problem.grid,
             o,

@@ -1,6 +1,8 @@
 //! Work-precision: run time against error. Each configuration runs a refinement ladder at a
 //! fixed time; each run is a separate `impact run --no-files` process, so its wall time
-//! (stepping only), steps and peak memory (`VmHWM`) are its own. Errors are relative L1 of
+//! (stepping only), steps and peak memory (`VmHWM`) are its own. Under `mpirun` (several
+//! ranks) each run is the same study run in this process instead, split over the ranks like
+//! `impact run` ([`run_ranked`]); rank 0 alone prints and writes. Errors are relative L1 of
 //! σ_xx (Π for SVK) against the scene's reference: exact for `bar`, `svk-bar` and
 //! `plate-wave`; for `plate`, each run's converged reference (DGMPM on a grid 8× finer,
 //! with FEM's on the same grid for the spread beside each error, `l1_spread`; stated in the
@@ -16,21 +18,23 @@
 //! Courant numbers per configuration stay inside the measured stability limits
 //! (`impact stability`): DGMPM 1 point per cell Euler 1.0 (2D: CTU 1.0, DCU 0.6); several
 //! points per cell with Euler 0.6; RK2 1.0 (2D: DCU 0.95, CTU 0.7); MPM 0.5; FEM 0.9.
+mod level;
 mod summary;
+
+use level::{run_one, run_ranked};
 
 use summary::EXACT;
 pub use summary::{ranking, summarize, summarize_dir};
 
 use crate::ladder::{provenance, usable_configurations, LADDER_FLAGS};
 use crate::Study;
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use impact_core::method::{
     Integrator, MethodConfig, MethodKind, MpmShape, MpmTransfer, TransverseFlux,
 };
 use impact_core::Scene;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// One configuration of the ladder.
 #[derive(Debug, Clone)]
@@ -242,73 +246,6 @@ pub fn cells_x(dim: usize, k: usize) -> usize {
     }
 }
 
-/// Run one configuration at one level as a child process of `exe` on the scene file
-/// `scene` (the study's resolved `scene.toml`).
-fn run_one(
-    exe: &Path,
-    scene: &Path,
-    name: &str,
-    c: &Config,
-    k: usize,
-    (t, budget): (f64, Option<f64>),
-    dir: &Path,
-) -> Result<Point> {
-    let dim = c.dim;
-    let out = dir.join(format!("run-{}-{k}", c.label.replace(' ', "_")));
-    let nx = cells_x(dim, k);
-    let mut cmd = Command::new(exe);
-    cmd.arg("run")
-        .arg(scene)
-        .args(["--quiet", "--no-files"])
-        .args([
-            "--cells",
-            &nx.to_string(),
-            "--output-times",
-            &format!("{t:e}"),
-        ])
-        .args(c.flags(dim))
-        .arg("--out")
-        .arg(&out);
-    if let Some(b) = budget {
-        cmd.args(["--work-budget", &format!("{b:e}")]);
-    }
-    let status = cmd
-        .output()
-        .with_context(|| format!("running {}", exe.display()))?;
-    let text = std::fs::read_to_string(out.join("summary.json")).with_context(|| {
-        format!(
-            "{} {}: {}",
-            c.label,
-            nx,
-            String::from_utf8_lossy(&status.stderr)
-        )
-    })?;
-    let s: serde_json::Value = serde_json::from_str(&text)?;
-    let r = &s["runs"][0];
-    let steps = r["steps"].as_u64().unwrap_or(0) as usize;
-    let cells = r["cells"].as_u64().unwrap_or(0) as usize;
-    let wall = r["wall_s"].as_f64().unwrap_or(f64::NAN);
-    // a scratch run: its numbers are read, its folder goes
-    let _ = impact_io::folder::remove(&out);
-    Ok(Point {
-        scene: name.into(),
-        config: c.label.clone(),
-        cells_x: nx,
-        cells,
-        steps,
-        wall_s: wall,
-        updates_per_s: cells as f64 * steps as f64 / wall,
-        peak_rss_mib: s["peak_rss_mib"].as_f64().unwrap_or(f64::NAN),
-        l1_rel: r["times"][0]["l1_rel"].as_f64().unwrap_or(f64::NAN),
-        l1_spread: r["times"][0]["l1_spread"].as_f64(),
-        error: r["error"].as_str().map(String::from).or_else(|| {
-            r["times"][0]["l1_rel"]
-                .is_null()
-                .then(|| format!("no relative error: {}", r["times"][0]["errors"]))
-        }),
-    })
-}
-
 /// Run the ladder on `study` (`source`: the scene as given; `levels` refinements) and
 /// write `work_precision.csv`, `work_precision.json`, `work_precision.png`,
 /// `provenance.json` and `scene.toml` into `out`. Each run is `impact run` on the resolved
@@ -366,7 +303,13 @@ pub fn run(
     for c in &configs {
         for k in 0..levels {
             let budget = study.overrides.work_budget;
-            let p = run_one(exe, &scene_file, name, c, k, (t, budget), folder.path())?;
+            let at = (t, budget);
+            let p = match (crate::ranks::size(), c.dim) {
+                (1, _) => run_one(exe, &scene_file, name, c, k, at, folder.path())?,
+                (_, 1) => run_ranked::<1>(&scene_file, name, c, k, at)?,
+                (_, 2) => run_ranked::<2>(&scene_file, name, c, k, at)?,
+                _ => run_ranked::<3>(&scene_file, name, c, k, at)?,
+            };
             progress(&p);
             points.push(p);
         }

@@ -137,17 +137,19 @@ fn work_precision(
             .expect("internal: valid template")
             .progress_chars("=> "),
     );
-    let (points, sentence) = impact::work_precision::run(
-        &exe,
-        (&study, scene),
-        levels,
-        &out,
-        |note| bar.suspend(|| say!("{note}")),
-        |p| {
-            bar.set_message(format!("{} {} cells", p.config, p.cells));
-            bar.inc(1);
-        },
-    )?;
+    let (points, sentence) = super::in_own_folder(&out, |folder| {
+        impact::work_precision::run(
+            &exe,
+            (&study, scene),
+            levels,
+            folder,
+            |note| bar.suspend(|| say!("{note}")),
+            |p| {
+                bar.set_message(format!("{} {} cells", p.config, p.cells));
+                bar.inc(1);
+            },
+        )
+    })?;
     bar.finish_and_clear();
     say!(
         "{:<26} {:>8} {:>7} {:>10} {:>12} {:>9} {:>10}",

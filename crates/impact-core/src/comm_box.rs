@@ -360,8 +360,9 @@ impl RankBox {
 }
 
 /// The indices, in a box of `counts` cells per axis numbered lexicographically (axis 0
-/// fastest), of the cells of the sub-box `ranges`, in that order.
-fn lexicographic(ranges: &[Range<usize>], counts: &[usize]) -> Vec<usize> {
+/// fastest), of the cells of the sub-box `ranges`, in that order (also the FEM's boxes of
+/// nodes).
+pub fn lexicographic(ranges: &[Range<usize>], counts: &[usize]) -> Vec<usize> {
     let mut out = vec![0usize];
     let mut stride = 1;
     for (range, &n) in ranges.iter().zip(counts) {

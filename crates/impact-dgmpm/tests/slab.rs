@@ -7,14 +7,16 @@
 //! are refused on every rank with the most that fit.
 use impact_core::comm::{Comm, RankGrid, ThreadComm};
 use impact_core::method::{Integrator, MethodConfig, MethodKind, SchemeOrder, TransverseFlux};
-use impact_core::slab_method::{blowup_on_ranks, owned_in_rank_order, refusal_on_ranks};
+use impact_core::slab_method::{
+    blowup_on_ranks, owned_in_rank_order, refusal_on_ranks, slab_grids,
+};
 use impact_core::{Method, Problem, Scene};
 use impact_dgmpm::slab::SlabDgmpm;
 use impact_dgmpm::Dgmpm;
 use std::sync::Arc;
 
 mod decomposed;
-use decomposed::{runs, scene, slabs};
+use decomposed::{runs, scene};
 
 /// `body` on `ranks` thread ranks, its results in rank order.
 fn on_ranks<T: Send>(ranks: usize, body: impl Fn(Arc<dyn Comm>) -> T + Sync) -> Vec<T> {
@@ -28,7 +30,7 @@ fn check<const D: usize>(
     edit: impl Fn(&mut MethodConfig),
     exact: bool,
 ) {
-    decomposed::check_on::<D>(label, scene, edit, exact, &slabs());
+    decomposed::check_on::<D>(label, scene, edit, exact, &slab_grids(4));
 }
 
 #[test]

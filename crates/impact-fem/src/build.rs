@@ -1,7 +1,7 @@
-//! Building the FEM: the whole mesh on one rank ([`Fem::new`]), or a slab of its element
-//! layers (`slab.rs`, through [`Fem::on_layers`]): the lumped mass, the shape-function
-//! gradients, the boundary loads of the stored nodes (found on the whole mesh by global
-//! index, so a slab's cut faces carry none), the initial fields and `a^0`.
+//! Building the FEM: the whole mesh on one rank ([`Fem::new`]), or a box of its elements
+//! (`slab.rs`, through [`Fem::on_box`]): the lumped mass, the shape-function gradients,
+//! the boundary loads of the stored nodes (found on the whole mesh by global index, so a
+//! box's cut faces carry none), the initial fields and `a^0`.
 use crate::place::Place;
 use crate::{loads, stencil, Fem, FemSolver, FemState, GaussPlasticity, MAX_NODES};
 use impact_core::method::{MethodConfig, Model};
@@ -12,32 +12,35 @@ use std::ops::Range;
 impl<const D: usize> Fem<D> {
     /// Build the FEM for `problem`.
     pub fn new(problem: &Problem<D>, config: MethodConfig) -> Result<Self, CoreError> {
-        let layers = 0..problem.grid.cells[D - 1];
-        Self::on_layers(problem, config, &layers, &layers)
+        let all: [Range<usize>; D] = std::array::from_fn(|k| 0..problem.grid.cells[k]);
+        Self::on_box(problem, config, &all, &all)
     }
 
-    /// The FEM of the element layers `stored` (along the last axis, global indices) of
-    /// `problem`'s mesh, of which it owns `owned` (`slab.rs`): its mesh is those layers,
-    /// its loads, prescribed velocities and initial fields those of the whole problem at
-    /// the stored nodes (a face of the stored layers inside the mesh is free), its
-    /// energy, momentum, work, impulse, samples and checks those of the owned nodes and
-    /// elements. With every layer stored and owned, the whole problem.
-    pub fn on_layers(
+    /// The FEM of the elements `stored` (per axis, global indices) of `problem`'s mesh, of
+    /// which it owns `owned` (`slab.rs`): its mesh is that box, its loads, prescribed
+    /// velocities and initial fields those of the whole problem at the stored nodes (a face
+    /// of the box inside the mesh is free), its energy, momentum, work, impulse, samples and
+    /// checks those of the owned nodes and elements. With every element stored and owned,
+    /// the whole problem.
+    pub fn on_box(
         problem: &Problem<D>,
         config: MethodConfig,
-        stored: &Range<usize>,
-        owned: &Range<usize>,
+        stored: &[Range<usize>; D],
+        owned: &[Range<usize>; D],
     ) -> Result<Self, CoreError> {
         problem.check_config(&config)?;
         let place = Place::new(&problem.grid, stored, owned);
-        let grid = problem.grid.layers(stored.start, stored.len());
+        let grid = (problem.grid).cut(
+            stored.clone().map(|r| r.start),
+            stored.clone().map(|r| r.len()),
+        );
         let nodes = grid.vertex_count();
-        let mass = lumped_mass(&grid, problem.material.density);
+        let mass = lumped_mass(&grid, &place, problem.material.density);
         let (gauss_gradient, centre_gradient) = shape_gradients(&grid);
         let gauss_count = Grid::<D>::NODES_PER_CELL;
         let grid_cells = grid.cell_count();
-        let first_node = place.global_node(0);
-        let (loaded, constraints) = loads::boundary_loads(problem, first_node..first_node + nodes);
+        let global_nodes = (0..nodes).map(|i| place.global_node(i));
+        let (loaded, constraints) = loads::boundary_loads(problem, global_nodes);
         let mut free_mask = vec![Vector::<D>::from_element(1.0); nodes];
         for c in &constraints {
             free_mask[c.carrier][c.axis] = 0.0;
@@ -110,17 +113,18 @@ impl<const D: usize> Fem<D> {
     }
 }
 
-/// Row-sum lumped mass: each element's `ρ V_e` shared equally among its nodes.
-fn lumped_mass<const D: usize>(grid: &Grid<D>, density: f64) -> Vec<f64> {
-    let npc = Grid::<D>::NODES_PER_CELL;
-    let mut mass = vec![0.0; grid.vertex_count()];
-    let element_mass = density * grid.cell_volume();
-    for c in 0..grid.cell_count() {
-        for a in 0..npc {
-            mass[grid.vertex_of(c, a)] += element_mass / npc as f64;
-        }
-    }
-    mass
+/// Row-sum lumped mass: each element's `ρ V_e` shared equally among its nodes, so a node's
+/// mass is that share added once per element of the WHOLE mesh around it
+/// ([`Place::elements_around`]; the same additions, in the same order, as a loop over the
+/// elements). A box's halo nodes on a cut face thus carry their whole-mesh mass, not the
+/// part of the stored elements: a load's change of step mean at such a node
+/// (`hold_velocities`, `f Δḡ / m`) then moves it as on one rank, which the owned nodes next
+/// to it read.
+fn lumped_mass<const D: usize>(grid: &Grid<D>, place: &Place<D>, density: f64) -> Vec<f64> {
+    let share = density * grid.cell_volume() / Grid::<D>::NODES_PER_CELL as f64;
+    (0..grid.vertex_count())
+        .map(|i| (0..place.elements_around(i)).fold(0.0, |m, _| m + share))
+        .collect()
 }
 
 /// Shape-function gradients at the `2^D` Gauss points `ξ = ½ ± 1/(2√3)` per axis (node

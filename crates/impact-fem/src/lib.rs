@@ -39,7 +39,7 @@
 //! step; `method.rs` the `Method` impl; `stencil.rs` the internal force of linear
 //! elasticity as a node stencil (the default there; the Gauss-point path stays the
 //! reference it is tested against); `place.rs` where the stored mesh lies in the whole
-//! one, and `slab.rs` the FEM on one rank's slab of element layers (issue 27).
+//! one, and `slab.rs` the FEM on one rank's box of elements (issue 27).
 
 // Index loops over tensor axes and local nodes read best as written in the formulas.
 #![allow(clippy::needless_range_loop)]
@@ -51,6 +51,7 @@ mod build;
 mod central;
 mod loads;
 mod method;
+mod node_halo;
 mod place;
 mod plastic;
 pub mod slab;
@@ -178,10 +179,11 @@ impl<const D: usize> FemSolver<D> {
         for_each_chunk(self.parallel, 1, chunks(&mut force, CHUNK), |_, f| {
             f.iter_mut().for_each(|x| *x = Vector::<D>::zeros());
         });
-        // the layers of even global index first, as on one rank (a slab may start on an
-        // odd one): each node adds its elements' forces in the same order
+        // the layers of even global index first, as on one rank (a box may start on an
+        // odd one): each node adds its elements' forces in the same order (within a layer
+        // the box keeps the global relative order, so no other axis needs a parity)
         for pass in 0..2 {
-            let colour = (pass + self.place.first_layer) % 2;
+            let colour = (pass + self.place.first_layer()) % 2;
             let band = &mut force[colour * layer_nodes..];
             for_each_chunk(
                 self.parallel,

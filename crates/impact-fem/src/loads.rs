@@ -11,19 +11,18 @@ use impact_core::{Constraint, Grid, LoadHistory, Problem, Vector};
 /// length along the edge, or under `cover = "fraction"` the part of it inside the segment)
 /// at full magnitude with their histories, and the prescribed velocity components of the
 /// edges (by the node's position), of the whole mesh's nodes `nodes` (global indices,
-/// recognised on the whole mesh, so a slab's cut face is never an edge), numbered from
-/// `nodes.start`.
+/// recognised on the whole mesh, so a box's cut face is never an edge), numbered by their
+/// place in `nodes` (the stored box's local numbering).
 #[allow(clippy::type_complexity)]
 pub(crate) fn boundary_loads<const D: usize>(
     problem: &Problem<D>,
-    nodes: std::ops::Range<usize>,
+    nodes: impl Iterator<Item = usize>,
 ) -> (Vec<(usize, Vector<D>, LoadHistory)>, Vec<Constraint>) {
     let grid = &problem.grid;
-    let first = nodes.start;
     let mut loaded = Vec::new();
     let mut constraints = Vec::new();
     let counts = grid.vertex_counts();
-    for v in nodes {
+    for (local, v) in nodes.enumerate() {
         let x = grid.vertex_position(v);
         let mut rest = v;
         let mut idx = [0usize; D];
@@ -70,13 +69,13 @@ pub(crate) fn boundary_loads<const D: usize>(
                         if share > 0.0 {
                             let mut force = Vector::<D>::zeros();
                             force[l] = -sign * load.value * tributary * share;
-                            loaded.push((v - first, force, load.history));
+                            loaded.push((local, force, load.history));
                         }
                     }
                     Boundary::Velocity { load, bonded } => {
                         if load.acts_on(l, &x) {
                             let prescribe = |axis, value| Constraint {
-                                carrier: v - first,
+                                carrier: local,
                                 axis,
                                 value,
                                 history: load.history,
@@ -90,7 +89,7 @@ pub(crate) fn boundary_loads<const D: usize>(
                         }
                     }
                     Boundary::Symmetry => constraints.push(Constraint {
-                        carrier: v - first,
+                        carrier: local,
                         axis: l,
                         value: 0.0,
                         history: LoadHistory::Step,

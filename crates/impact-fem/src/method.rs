@@ -1,7 +1,8 @@
 //! The [`Method`] impl of FEM: stepping, sampling at element centres, energy, momentum,
 //! the stability guard's checks. Every sum, sample and check covers the owned nodes and
-//! elements only (all of them on one rank; a slab's own layers, `slab.rs`), at their
-//! places in the whole mesh.
+//! elements only (all of them on one rank; a box's own, `slab.rs`), at their places in the
+//! whole mesh. The owned nodes and elements are runs of consecutive local indices (one run
+//! on one rank and on slabs); a sum over them is the sum of each run's, in order.
 use crate::{Fem, FemSolver};
 use impact_core::method::{BadState, Method, MethodConfig, Model, Samples};
 use impact_core::parallel::{first_failing, sum_over};
@@ -21,7 +22,7 @@ impl<const D: usize> Method<D> for Fem<D> {
         out.clear();
         let grid = &self.solver.grid;
         let npc = Grid::<D>::NODES_PER_CELL;
-        for c in self.solver.place.owned_elements.clone() {
+        for c in self.solver.place.owned_element_iter() {
             let centre = self.solver.place.element_centre(c);
             let mut u = Vector::<D>::zeros();
             let mut v = Vector::<D>::zeros();
@@ -52,17 +53,19 @@ impl<const D: usize> Method<D> for Fem<D> {
     fn energy(&self) -> f64 {
         let s = &self.solver;
         let npc = Grid::<D>::NODES_PER_CELL;
-        let nodes = s.place.owned_nodes.clone();
-        let kinetic = sum_over(nodes.len(), |k| {
-            let i = nodes.start + k;
-            0.5 * s.mass[i] * s.full_velocity(&self.state, i).norm_squared()
-        });
-        let elements = s.place.owned_elements.clone();
+        let over_owned = |term: &(dyn Fn(usize) -> f64 + Sync)| {
+            (s.place.owned_nodes.iter()).fold(0.0, |sum, run| {
+                sum + sum_over(run.len(), |k| term(run.start + k))
+            })
+        };
+        let kinetic =
+            over_owned(&|i| 0.5 * s.mass[i] * s.full_velocity(&self.state, i).norm_squared());
         let volume = s.grid.cell_volume() * s.gauss_weight;
         if let Some(p) = &s.plastic {
             // elastic energy of the stored Gauss stresses plus the plastic work
             let g = &p.points;
-            let stored: f64 = (elements.start * npc..elements.end * npc)
+            let stored: f64 = (s.place.owned_element_iter())
+                .flat_map(|c| c * npc..(c + 1) * npc)
                 .map(|i| {
                     p.j2.elastic_energy_density(&g.stress[i], g.plastic_strain_zz[i])
                         + g.plastic_work[i]
@@ -75,14 +78,11 @@ impl<const D: usize> Method<D> for Fem<D> {
             // the same quadrature, with f_int of the current displacement (every step ends
             // computing it)
             let (u, a) = (&self.state.displacement, &self.state.acceleration);
-            let strain_energy = sum_over(nodes.len(), |k| {
-                let i = nodes.start + k;
-                0.5 * u[i].dot(&s.internal_force_at(a, i))
-            });
+            let strain_energy = over_owned(&|i| 0.5 * u[i].dot(&s.internal_force_at(a, i)));
             return kinetic + strain_energy;
         }
         let mut strain_energy = 0.0;
-        for c in elements {
+        for c in s.place.owned_element_iter() {
             let nodes = s.element_nodes(c);
             for q in 0..npc {
                 let g = &s.gauss_gradient[q * npc..(q + 1) * npc];
@@ -102,8 +102,7 @@ impl<const D: usize> Method<D> for Fem<D> {
     fn momentum(&self) -> Vector<D> {
         let s = &self.solver;
         s.place
-            .owned_nodes
-            .clone()
+            .owned_node_iter()
             .fold(Vector::<D>::zeros(), |m, i| {
                 m + self.state.velocity_half[i] * s.mass[i]
             })
@@ -118,16 +117,17 @@ impl<const D: usize> Method<D> for Fem<D> {
                 && state.velocity_half[i].iter().all(|x| x.is_finite())
         };
         let place = &self.solver.place;
-        let nodes = place.owned_nodes.clone();
-        if let Some(k) = first_failing(nodes.len(), |k| finite(nodes.start + k)) {
-            return Err(BadState {
-                place: place.node_position(nodes.start + k),
-                reason: "non-finite displacement or velocity at a node".into(),
-            });
+        for run in &place.owned_nodes {
+            if let Some(k) = first_failing(run.len(), |k| finite(run.start + k)) {
+                return Err(BadState {
+                    place: place.node_position(run.start + k),
+                    reason: "non-finite displacement or velocity at a node".into(),
+                });
+            }
         }
         if let Model::Svk(svk) = self.solver.model {
             let npc = Grid::<D>::NODES_PER_CELL;
-            for c in place.owned_elements.clone() {
+            for c in place.owned_element_iter() {
                 let grad = FemSolver::displacement_gradient(
                     &self.state.displacement,
                     &self.solver.element_nodes(c),
@@ -162,13 +162,14 @@ impl<const D: usize> Method<D> for Fem<D> {
     fn updates_per_step(&self) -> usize {
         self.solver.grid.cell_count()
     }
-    /// The owned nodes' (every node on one rank).
+    /// The owned nodes' (every node on one rank), in order.
     fn mesh_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {
-        let nodes = self.solver.place.owned_nodes.clone();
-        let velocity = (nodes.clone())
+        let nodes = || self.solver.place.owned_node_iter();
+        let velocity = nodes()
             .map(|i| self.solver.full_velocity(&self.state, i))
             .collect();
-        Some((velocity, self.state.displacement[nodes].to_vec()))
+        let displacement = nodes().map(|i| self.state.displacement[i]).collect();
+        Some((velocity, displacement))
     }
 }
 
@@ -178,7 +179,7 @@ impl<const D: usize> Fem<D> {
     pub fn hottest_owned(&self) -> Option<(f64, Vector<D>)> {
         let v = &self.state.velocity_half;
         let place = &self.solver.place;
-        (place.owned_nodes.clone())
+        (place.owned_node_iter())
             .max_by(|&a, &b| v[a].norm().total_cmp(&v[b].norm()))
             .map(|i| (v[i].norm(), place.node_position(i)))
     }

@@ -8,7 +8,9 @@
 //! assembled stiffness of a uniform mesh is a difference stencil). The block depends only
 //! on the node's type `t`: per axis low edge, interior or high edge (`3^D` types; an edge
 //! node misses the elements outside). Each node gathers its own force: no scatter, no
-//! colouring, disjoint writes in parallel.
+//! colouring, disjoint writes in parallel. On a rank's box of the mesh (`slab.rs`) the
+//! types are read off the stored box; they are the whole mesh's on every owned node, since
+//! a cut face's nodes are halo nodes, whose accelerations come from their owners.
 //!
 //! `K_e` is built by applying the solver's own Gauss-point force to unit displacements
 //! ([`crate::FemSolver::element_stiffness`]), so the stencil and the Gauss path share the

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 use impact_core::comm::{RankGrid, ThreadComm};
 use impact_core::method::{MethodConfig, MethodKind};
-use impact_core::slab_method::{assert_matches_serial, slab_grids, RunEnd};
+use impact_core::slab_method::{assert_matches_serial, RunEnd};
 use impact_core::{Problem, Scene};
 use impact_dgmpm::slab::SlabDgmpm;
 use impact_dgmpm::Dgmpm;
@@ -46,9 +46,4 @@ pub fn check_on<const D: usize>(
         let (serial, ends) = runs::<D>(&problem, config, grid, *ranks, 40);
         assert_matches_serial(&label, &serial, &ends, exact);
     }
-}
-
-/// Slabs (the automatic rank grid) on 1 to 4 ranks.
-pub fn slabs() -> Vec<(RankGrid, usize)> {
-    slab_grids(4)
 }
