@@ -239,6 +239,10 @@ pub struct DgmpmSolver<const D: usize> {
     /// cell, row `a` after row (nodal paths with linear elasticity and at least `2^D` points
     /// per cell; empty otherwise): [`mapping::volume_weights`].
     pub(crate) volume_weights: Vec<Vector<D>>,
+    /// Phase 1's weights `W_αi = S_iα m_α / M_i` of every cell, `points × 2^D`, point
+    /// after point (nodal paths with several points per cell; empty otherwise; the lumped
+    /// masses `M_i` are then formed with them, once): [`mapping::mapping_weights`].
+    pub(crate) mapping_weights: Vec<f64>,
     /// Whether every `S_iα > 0` (every point strictly inside its cell).
     pub(crate) inside: bool,
     pub(crate) nodes: NodalFields<D>,

@@ -51,6 +51,7 @@ impl<const D: usize> DgmpmSolver<D> {
             shape,
             shape_gradient,
             volume_weights: Vec::new(),
+            mapping_weights: Vec::new(),
             inside,
             nodes: NodalFields::default(),
             face_flux: std::array::from_fn(|_| Vec::new()),
@@ -100,6 +101,7 @@ impl<const D: usize> DgmpmSolver<D> {
         };
         solver.form_volume_weights(points);
         solver.allocate_buffers();
+        solver.form_mapping_weights(points);
         Ok(solver)
     }
 
@@ -126,6 +128,23 @@ impl<const D: usize> DgmpmSolver<D> {
             );
             self.shape_gradient = Vec::new();
         }
+    }
+
+    /// Form phase 1's mapping weights [`Self::mapping_weights`] from the shape functions
+    /// at the (fixed) points and their (fixed) masses, and write the lumped masses `M_i`
+    /// into the nodal fields, where the path is nodal with several points per cell. Called
+    /// after [`Self::allocate_buffers`] (which may allocate the masses anew), so phase 1
+    /// never forms them in the step.
+    pub(crate) fn form_mapping_weights(&mut self, points: &MaterialPoints<D>) {
+        if !self.path.nodal() || self.points_per_cell == 1 {
+            return;
+        }
+        let (weights, masses) =
+            mapping::mapping_weights::<D>(&self.shape, &points.mass, self.points_per_cell);
+        if self.mapping_weights.is_empty() {
+            self.mapping_weights = weights;
+        }
+        self.nodes.mass.copy_from_slice(&masses);
     }
 
     /// Allocate the buffers the path reads where they are missing (never in the step
@@ -226,6 +245,7 @@ impl<const D: usize> DgmpmSolver<D> {
         self.path = path;
         self.form_volume_weights(points);
         self.allocate_buffers();
+        self.form_mapping_weights(points);
         Ok(())
     }
 
