@@ -370,8 +370,11 @@ pub(crate) fn shapes<const D: usize>(
 }
 
 /// The volume term's weights of every cell, `K_ab = Σ_α V_α S_bα ∇S_aα` over the cell's
-/// points `α` (in point order from zero), `2^D × 2^D` per cell, row `a` after row, from the
-/// points' shape values `shape` and gradients `gradient` (`2^D` per point) and volumes.
+/// points `α` (in point order from zero), `(2^D - 1) × 2^D` per cell, row `a` after row,
+/// from the points' shape values `shape` and gradients `gradient` (`2^D` per point) and
+/// volumes. The last node's row is not stored: `Σ_a K_ab = Σ_α V_α S_bα Σ_a ∇S_aα = 0`
+/// (the partition of unity), so its terms are minus the others' sum
+/// (`DgmpmSolver::rates_of_cell`).
 ///
 /// With linear elasticity the volume term of node `a` (paper eq. 15),
 /// `-Σ_α V_α σ_h(X_α) ∇S_aα` with `σ_h(X_α) = Σ_b S_bα σ_b` (and `v_h ⊗ ∇S_aα` likewise),
@@ -386,13 +389,14 @@ pub(crate) fn volume_weights<const D: usize>(
 ) -> Vec<Vector<D>> {
     let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
     let cells = volume.len() / points_per_cell;
-    let per_cell = nodes_per_cell * nodes_per_cell;
+    let rows = nodes_per_cell - 1;
+    let per_cell = rows * nodes_per_cell;
     let mut weights = vec![Vector::<D>::zeros(); cells * per_cell];
     for (c, k) in weights.chunks_mut(per_cell).enumerate() {
         for p in c * points_per_cell..(c + 1) * points_per_cell {
             let s = &shape[p * nodes_per_cell..(p + 1) * nodes_per_cell];
             let g = &gradient[p * nodes_per_cell..(p + 1) * nodes_per_cell];
-            for a in 0..nodes_per_cell {
+            for a in 0..rows {
                 let vg = g[a] * volume[p];
                 for b in 0..nodes_per_cell {
                     k[a * nodes_per_cell + b] += vg * s[b];
