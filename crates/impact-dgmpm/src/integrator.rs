@@ -80,8 +80,10 @@ impl<const D: usize> DgmpmSolver<D> {
     /// node to the sum `-Σ_α V_α v_h ⊗ ∇S_iα`. With linear elasticity and `2^D` points per
     /// cell or more the volume sums are `-Σ_b σ_b K_ib`, `-Σ_b v_b ⊗ K_ib` from the cell's
     /// weights `K_ib = Σ_α V_α S_bα ∇S_iα` (`mapping::volume_weights`, formed once), which
-    /// costs `2^D × 2^D` terms per cell instead of `2 × 2^D` per point. Rates are zero at a
-    /// node without mass.
+    /// costs `2^D × 2^D` terms per cell instead of `2 × 2^D` per point; the last node's are
+    /// minus the sum of the others' (`Σ_i K_ib = 0` since `Σ_i ∇S_i = 0`, the partition of
+    /// unity), so `(2^D - 1) × 2^D` terms (to round-off: tested against the per-point
+    /// form). Rates are zero at a node without mass.
     /// Shared by the phase path and the fused nodal sweep.
     #[inline(always)]
     pub(crate) fn rates_of_cell(
@@ -109,15 +111,20 @@ impl<const D: usize> DgmpmSolver<D> {
         let mut force = [Vector::<D>::zeros(); MAX_NODES];
         if !self.volume_weights.is_empty() {
             // linear elasticity, 2^D points or more: -Σ_b v_b ⊗ K_ab and -Σ_b σ_b K_ab
-            // (`mapping::volume_weights`)
-            let per_cell = nodes_per_cell * nodes_per_cell;
+            // (`mapping::volume_weights`) for every node but the last, whose terms are
+            // minus the others' sum (Σ_a K_ab = 0: Σ_a ∇S_a = 0)
+            let last = nodes_per_cell - 1;
+            let per_cell = last * nodes_per_cell;
             let k = &self.volume_weights[c * per_cell..(c + 1) * per_cell];
-            for a in 0..nodes_per_cell {
-                let row = &k[a * nodes_per_cell..(a + 1) * nodes_per_cell];
+            for (a, row) in k.chunks_exact(nodes_per_cell).enumerate() {
                 for b in 0..nodes_per_cell {
                     velocity_gradient[a] -= nv[b] * row[b].transpose();
                     force[a] -= nq[b] * row[b];
                 }
+            }
+            for a in 0..last {
+                velocity_gradient[last] -= velocity_gradient[a];
+                force[last] -= force[a];
             }
         }
         let per_point = match self.volume_weights.is_empty() {

@@ -44,7 +44,13 @@
 //! **Volume weights** (the nodal paths with linear elasticity and `2^D` points per cell or
 //! more): phase 3's volume term `-Σ_α V_α σ_h(X_α) ∇S_iα` is `-Σ_b σ_b K_ib` with the
 //! cell's weights `K_ib = Σ_α V_α S_bα ∇S_iα`, formed once (`mapping::volume_weights`);
-//! they replace the points' gradients. Tested equal to the per-point sums to 1e-13.
+//! they replace the points' gradients, and the last node's row is not stored (`Σ_i K_ib = 0`:
+//! its terms are minus the others'). Tested equal to the per-point sums to 1e-13.
+//!
+//! **Mapping weights** (the nodal paths with several points per cell): phase 1 is
+//! `q_i = Σ_α W_αi q_α` with `W_αi = S_iα m_α / M_i` and the lumped masses `M_i` formed
+//! once (`mapping::mapping_weights`: the points never move in the grid and their masses
+//! are fixed), a small dense product per cell. Tested equal to the per-node sums to 1e-13.
 //!
 //! Choices where the paper is silent, with their reasons:
 //! - **Point update** ([`PointUpdate`]): the default is `Nodal` (points take the
@@ -235,10 +241,14 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) shape: Vec<f64>,
     /// `∇S_iα`, `points × 2^D` (nodal paths only; empty where `volume_weights` replaces it).
     pub(crate) shape_gradient: Vec<Vector<D>>,
-    /// The volume term's weights `K_ab = Σ_α V_α S_bα ∇S_aα` of every cell, `2^D × 2^D` per
-    /// cell, row `a` after row (nodal paths with linear elasticity and at least `2^D` points
+    /// The volume term's weights `K_ab = Σ_α V_α S_bα ∇S_aα` of every cell, `(2^D - 1) × 2^D`
+    /// per cell (the last row is minus the others' sum), row `a` after row (nodal paths with linear elasticity and at least `2^D` points
     /// per cell; empty otherwise): [`mapping::volume_weights`].
     pub(crate) volume_weights: Vec<Vector<D>>,
+    /// Phase 1's weights `W_αi = S_iα m_α / M_i` of every cell, `points × 2^D`, point
+    /// after point (nodal paths with several points per cell; empty otherwise; the lumped
+    /// masses `M_i` are then formed with them, once): [`mapping::mapping_weights`].
+    pub(crate) mapping_weights: Vec<f64>,
     /// Whether every `S_iα > 0` (every point strictly inside its cell).
     pub(crate) inside: bool,
     pub(crate) nodes: NodalFields<D>,

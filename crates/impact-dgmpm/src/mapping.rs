@@ -69,12 +69,84 @@ fn cell_sums<const D: usize>(
     (mass, tensor, velocity)
 }
 
+/// One cell's phase 1 with its mapping weights `w` (`W_αi`, `2^D` per point, point after
+/// point): `q_i = Σ_α W_αi q_α`, `v_i = Σ_α W_αi v_α` into the cell's nodes, each sum in
+/// point order from zero. The point loop is outside the node loop, so each point is read
+/// once; the node loop has the constant length `2^D`.
+#[inline(always)]
+fn weighted_cell<const D: usize>(
+    w: &[f64],
+    (q, v): (&[Tensor<D>], &[Vector<D>]),
+    (tensor, velocity): (&mut [Tensor<D>], &mut [Vector<D>]),
+) {
+    let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
+    let mut tensor_sum = [Tensor::<D>::zeros(); MAX_NODES];
+    let mut velocity_sum = [Vector::<D>::zeros(); MAX_NODES];
+    for ((w, q), v) in w.chunks_exact(nodes_per_cell).zip(q).zip(v) {
+        for a in 0..nodes_per_cell {
+            tensor_sum[a] += q * w[a];
+            velocity_sum[a] += v * w[a];
+        }
+    }
+    tensor.copy_from_slice(&tensor_sum[..nodes_per_cell]);
+    velocity.copy_from_slice(&velocity_sum[..nodes_per_cell]);
+}
+
+/// The phase-1 mapping weights of every cell and the lumped masses of its nodes, from the
+/// points' shape values `shape` (`2^D` per point) and masses: `M_i = Σ_α S_iα m_α` (in
+/// point order from zero, as `cell_sums` forms it) and `W_αi = S_iα m_α / M_i` (0 where
+/// `M_i = 0`), `points_per_cell × 2^D` per cell, point after point. Phase 1 is then
+/// `q_i = Σ_α W_αi q_α` ([`DgmpmSolver::particles_to_nodes`]).
+pub(crate) fn mapping_weights<const D: usize>(
+    shape: &[f64],
+    mass: &[f64],
+    points_per_cell: usize,
+) -> (Vec<f64>, Vec<f64>) {
+    let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
+    let cells = mass.len() / points_per_cell;
+    let per_cell = points_per_cell * nodes_per_cell;
+    let mut weights = vec![0.0; cells * per_cell];
+    let mut masses = vec![0.0; cells * nodes_per_cell];
+    for (c, (w, node_mass)) in weights
+        .chunks_mut(per_cell)
+        .zip(masses.chunks_mut(nodes_per_cell))
+        .enumerate()
+    {
+        let points = c * points_per_cell..(c + 1) * points_per_cell;
+        let s = &shape[points.start * nodes_per_cell..points.end * nodes_per_cell];
+        let m = &mass[points];
+        for (s, m) in s.chunks_exact(nodes_per_cell).zip(m) {
+            for a in 0..nodes_per_cell {
+                node_mass[a] += s[a] * m;
+            }
+        }
+        for ((w, s), m) in w
+            .chunks_exact_mut(nodes_per_cell)
+            .zip(s.chunks_exact(nodes_per_cell))
+            .zip(m)
+        {
+            for a in 0..nodes_per_cell {
+                if node_mass[a] > 0.0 {
+                    w[a] = s[a] * m / node_mass[a];
+                }
+            }
+        }
+    }
+    (weights, masses)
+}
+
 impl<const D: usize> DgmpmSolver<D> {
     /// Phase 1: lumped nodal mass `M_i = Σ_α S_iα m_α` and mass-weighted nodal fields
     /// `M_i q_i = Σ_α S_iα m_α q_α` (paper eq. 17), `q` being `σ` (small strain) or `F`
     /// (Saint-Venant–Kirchhoff). On [`StepPath::SinglePoint`] (and [`StepPath::FusedNodal`]
     /// with one point per cell) the map is the identity
-    /// (`q_i = q_p`) and only the masses are weighed. With several points per cell the
+    /// (`q_i = q_p`) and only the masses are weighed. With several points per cell and the
+    /// cells' mapping weights `W_αi = S_iα m_α / M_i` ([`Self::mapping_weights`], formed
+    /// once with the fixed masses `M_i`: the points never move in the grid of this total
+    /// Lagrangian scheme) each node's field is the small dense product
+    /// `q_i = Σ_α W_αi q_α` (`weighted_cell`): no mass sums and no division per step, and
+    /// equal to the per-node formula to round-off (the division by `M_i` is taken before
+    /// the sum; tested). Without them (never on the nodal paths, which form them) the
     /// cell's points are walked once, each added to its cell's node sums (`cell_sums`),
     /// each node's sum in point order: the per-node formula bit for bit (tested).
     pub fn particles_to_nodes(&mut self, points: &MaterialPoints<D>) {
@@ -84,6 +156,7 @@ impl<const D: usize> DgmpmSolver<D> {
         let source = self.point_tensor(points);
         let single = self.path == StepPath::SinglePoint
             || (self.path == StepPath::FusedNodal && points_per_cell == 1);
+        let weights = &self.mapping_weights;
         let nodes = &mut self.nodes;
         // chunks of CELL_GRAIN cells, walked cell by cell
         let per_chunk = CELL_GRAIN * nodes_per_cell;
@@ -113,15 +186,30 @@ impl<const D: usize> DgmpmSolver<D> {
                 }
                 return;
             }
-            // point by point: each point's state, mass and weights are read once and added
-            // to its cell's node sums, each node's in point order (the order of the
-            // per-node formula, so the sums are the same bit for bit; tested)
             let points_range = first * points_per_cell..(first + cells) * points_per_cell;
             let (q, v, m) = (
                 &source[points_range.clone()],
                 &points.velocity[points_range.clone()],
                 &points.mass[points_range.clone()],
             );
+            if !weights.is_empty() {
+                // the fixed weights: q_i = Σ_α W_αi q_α (the masses are already there)
+                let per_cell = points_per_cell * nodes_per_cell;
+                let w = &weights[first * per_cell..(first + cells) * per_cell];
+                let cells_in = w
+                    .chunks_exact(per_cell)
+                    .zip(q.chunks_exact(points_per_cell));
+                let cells_out = tensor.chunks_exact_mut(nodes_per_cell);
+                let cells_out = cells_out.zip(vel.chunks_exact_mut(nodes_per_cell));
+                let v = v.chunks_exact(points_per_cell);
+                for (((w, q), v), (tensor, vel)) in cells_in.zip(v).zip(cells_out) {
+                    weighted_cell::<D>(w, (q, v), (tensor, vel));
+                }
+                return;
+            }
+            // point by point: each point's state, mass and weights are read once and added
+            // to its cell's node sums, each node's in point order (the order of the
+            // per-node formula, so the sums are the same bit for bit; tested)
             let s = &shape[points_range.start * nodes_per_cell..points_range.end * nodes_per_cell];
             for j in 0..cells {
                 let cell = j * points_per_cell..(j + 1) * points_per_cell;
@@ -282,8 +370,11 @@ pub(crate) fn shapes<const D: usize>(
 }
 
 /// The volume term's weights of every cell, `K_ab = Σ_α V_α S_bα ∇S_aα` over the cell's
-/// points `α` (in point order from zero), `2^D × 2^D` per cell, row `a` after row, from the
-/// points' shape values `shape` and gradients `gradient` (`2^D` per point) and volumes.
+/// points `α` (in point order from zero), `(2^D - 1) × 2^D` per cell, row `a` after row,
+/// from the points' shape values `shape` and gradients `gradient` (`2^D` per point) and
+/// volumes. The last node's row is not stored: `Σ_a K_ab = Σ_α V_α S_bα Σ_a ∇S_aα = 0`
+/// (the partition of unity), so its terms are minus the others' sum
+/// (`DgmpmSolver::rates_of_cell`).
 ///
 /// With linear elasticity the volume term of node `a` (paper eq. 15),
 /// `-Σ_α V_α σ_h(X_α) ∇S_aα` with `σ_h(X_α) = Σ_b S_bα σ_b` (and `v_h ⊗ ∇S_aα` likewise),
@@ -298,13 +389,14 @@ pub(crate) fn volume_weights<const D: usize>(
 ) -> Vec<Vector<D>> {
     let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
     let cells = volume.len() / points_per_cell;
-    let per_cell = nodes_per_cell * nodes_per_cell;
+    let rows = nodes_per_cell - 1;
+    let per_cell = rows * nodes_per_cell;
     let mut weights = vec![Vector::<D>::zeros(); cells * per_cell];
     for (c, k) in weights.chunks_mut(per_cell).enumerate() {
         for p in c * points_per_cell..(c + 1) * points_per_cell {
             let s = &shape[p * nodes_per_cell..(p + 1) * nodes_per_cell];
             let g = &gradient[p * nodes_per_cell..(p + 1) * nodes_per_cell];
-            for a in 0..nodes_per_cell {
+            for a in 0..rows {
                 let vg = g[a] * volume[p];
                 for b in 0..nodes_per_cell {
                     k[a * nodes_per_cell + b] += vg * s[b];

@@ -1,7 +1,11 @@
-//! Phase 1 (`particles_to_nodes`, point by point) equals the per-node formula
+//! Phase 1 (`particles_to_nodes`) equals the per-node formula
 //! `M_i = Σ_α S_iα m_α`, `q_i = Σ_α S_iα m_α q_α / M_i` (paper eq. 17), each sum taken
-//! node by node in point order, bit for bit: 1D with 3 points per cell, 2D with 4 and 9,
-//! 3D with 8, on states a few steps into a loaded run (so every point differs).
+//! node by node in point order: point by point (`cell_sums`) bit for bit, and with the
+//! mapping weights `W_αi = S_iα m_α / M_i` (`mapping_weights`) the masses bit for bit and
+//! the fields to round-off (the division by `M_i` comes before the sum, so each term is
+//! rounded once more: 1e-13 of the peak is checked, a few 1e-16 measured): 1D with 3 points
+//! per cell, 2D with 4 and 9, 3D with 8, on states a few steps into a loaded run (so every
+//! point differs).
 use crate::{Dgmpm, StepPath};
 use impact_core::method::MethodKind;
 use impact_core::{Grid, Method, Problem, Scene, Tensor, Vector};
@@ -58,10 +62,39 @@ pub(super) fn loaded<const D: usize>(
     dgmpm
 }
 
+/// The largest difference of `a` and `b` over the largest entry of `b`.
+fn relative<T: Copy>(a: &[T], b: &[T], amax: impl Fn(T) -> f64, diff: impl Fn(T, T) -> T) -> f64 {
+    let peak = b.iter().map(|&x| amax(x)).fold(0.0, f64::max);
+    assert!(peak > 0.0);
+    let worst = a.iter().zip(b).map(|(&x, &y)| amax(diff(x, y)));
+    worst.fold(0.0, f64::max) / peak
+}
+
 fn check<const D: usize>(name: &str, cells: &[usize], points_per_cell: usize) {
     let mut dgmpm = loaded::<D>(name, cells, points_per_cell);
     assert_ne!(dgmpm.solver.step_path(), StepPath::SinglePoint);
+    assert!(!dgmpm.solver.mapping_weights.is_empty(), "{name}: weights");
     let (mass, tensor, velocity) = reference(&dgmpm);
+    // with the mapping weights (the step's phase 1)
+    dgmpm.solver.nodes.tensor.fill(Tensor::<D>::zeros());
+    dgmpm.solver.nodes.velocity.fill(Vector::<D>::zeros());
+    dgmpm.solver.particles_to_nodes(&dgmpm.state.points);
+    let nodes = &dgmpm.solver.nodes;
+    assert_eq!(nodes.mass, mass, "{name}: nodal masses");
+    let tensor_error = relative(&nodes.tensor, &tensor, |t| t.amax(), |x, y| x - y);
+    let velocity_error = relative(&nodes.velocity, &velocity, |v| v.amax(), |x, y| x - y);
+    println!("{name} {points_per_cell} ppc: weights against the sums {tensor_error:.1e} (stress), {velocity_error:.1e} (velocity) of the peak");
+    assert!(
+        tensor_error <= 1e-13,
+        "{name}: nodal stresses {tensor_error:e}"
+    );
+    assert!(
+        velocity_error <= 1e-13,
+        "{name}: nodal velocities {velocity_error:e}"
+    );
+    // point by point (without the weights): bit for bit
+    dgmpm.solver.mapping_weights.clear();
+    dgmpm.solver.nodes.mass.fill(0.0);
     dgmpm.solver.particles_to_nodes(&dgmpm.state.points);
     let nodes = &dgmpm.solver.nodes;
     assert_eq!(nodes.mass, mass, "{name}: nodal masses");
