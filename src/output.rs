@@ -109,6 +109,9 @@ pub struct FileWriter<'a, const D: usize> {
     pub pieces: Option<pieces::Pieces>,
     /// This rank's owned samples (the pieces' content).
     owned: Samples<D>,
+    /// Whether `samples` holds the measuring line's samples only (gathered on several
+    /// ranks, [`impact_core::comm_line::gather_line`]) rather than the whole body's.
+    line_only: bool,
 }
 
 impl<'a, const D: usize> FileWriter<'a, D> {
@@ -145,6 +148,7 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             keep: None,
             pieces: None,
             owned: Samples::default(),
+            line_only: false,
         }
     }
 
@@ -169,6 +173,7 @@ impl<'a, const D: usize> FileWriter<'a, D> {
 }
 
 mod fields;
+pub mod grid_pieces;
 pub mod pieces;
 mod samples;
 use fields::{pad3, reference_names, stress_components, tensor9, vtk_order, with_zz, AXES};
@@ -185,7 +190,11 @@ impl<const D: usize> FileWriter<'_, D> {
     fn profile(&mut self, index: usize, t: f64) -> anyhow::Result<()> {
         let s = &self.samples;
         let a = self.line.axis;
-        let mut order = line_samples(s, &self.line);
+        let mut order = if self.line_only {
+            (0..s.len()).collect()
+        } else {
+            line_samples(s, &self.line)
+        };
         order.sort_by(|&i, &j| s.reference[i][a].total_cmp(&s.reference[j][a]));
         let col = |f: &dyn Fn(usize) -> f64| order.iter().map(|&i| f(i)).collect::<Vec<f64>>();
         let x = col(&|i| s.reference[i][a]);
@@ -386,7 +395,7 @@ impl<const D: usize> FileWriter<'_, D> {
         .with_context(|| format!("writing {file}"))?;
         self.pvd_grid.push((t, file));
         #[cfg(feature = "hdf5")]
-        if let (Some(series), true) = (self.h5.as_mut(), frame != INITIAL) {
+        if let (Some(series), true, None) = (self.h5.as_mut(), frame != INITIAL, &self.pieces) {
             series.write_grid(&impact_io::h5::GridFrame {
                 points: &points,
                 connectivity: &connectivity,
@@ -397,6 +406,40 @@ impl<const D: usize> FileWriter<'_, D> {
             })?;
         }
         Ok(())
+    }
+}
+
+impl<const D: usize> FileWriter<'_, D> {
+    /// Whether the grid is written in pieces (several ranks, a point method: FEM's mesh
+    /// shares node layers between slabs and is still gathered, [`grid_pieces`]).
+    fn grid_in_pieces(method: &dyn Method<D>) -> bool {
+        method.comm().size() > 1 && method.config().kind() != impact_core::method::MethodKind::Fem
+    }
+
+    /// The samples of this output: every sample on one rank; on several, the measuring
+    /// line's only, gathered (the rest of the body stays on its ranks: the pieces) — the
+    /// whole body where the grid is still gathered (FEM).
+    fn gather(&mut self, method: &dyn Method<D>) {
+        self.line_only = Self::grid_in_pieces(method);
+        if self.line_only {
+            impact_core::comm_line::gather_line(
+                method,
+                &self.line,
+                &mut self.owned,
+                &mut self.samples,
+            );
+        } else {
+            method.sample_into(&mut self.samples);
+        }
+    }
+
+    /// The grid frame: one `.vtu`, or this rank's piece ([`grid_pieces`]).
+    fn grid_frame(&mut self, method: &dyn Method<D>, frame: &str, t: f64) -> anyhow::Result<()> {
+        if Self::grid_in_pieces(method) {
+            self.grid_piece(method, frame, t)
+        } else {
+            self.grid(method, frame, t)
+        }
     }
 }
 
@@ -419,7 +462,7 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         }
         // the collective steps first (gathered samples, this rank's piece), then the
         // writes, whose failure on one rank the caller makes every rank's (`pieces::agree`)
-        method.sample_into(&mut self.samples);
+        self.gather(method);
         let frame = format!("t{index}");
         let piece = self.owned_piece(method, &frame, t);
         self.profile(index, t)?;
@@ -427,7 +470,7 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
             self.write_frame(&frame, t, piece)?;
         }
         if self.files || (self.collect && D > 1) {
-            self.grid(method, &frame, t)?;
+            self.grid_frame(method, &frame, t)?;
         }
         Ok(())
     }
@@ -438,10 +481,10 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         if !self.files {
             return Ok(());
         }
-        method.sample_into(&mut self.samples);
+        self.gather(method);
         let piece = self.owned_piece(method, INITIAL, 0.0);
         self.write_frame(INITIAL, 0.0, piece)?;
-        self.grid(method, INITIAL, 0.0)?;
+        self.grid_frame(method, INITIAL, 0.0)?;
         Ok(())
     }
 }

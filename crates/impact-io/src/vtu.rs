@@ -282,6 +282,19 @@ pub fn write_pvtu(
     pieces: &[String],
     encoding: VtuEncoding,
 ) -> Result<(), IoError> {
+    write_pvtu_with_cells(path, point_arrays, &[], pieces, encoding)
+}
+
+/// [`write_pvtu`] with the cell arrays `cell_arrays` (name, components; `Float64`) too: the
+/// pieces of a grid split over ranks (no `PCellData` where `cell_arrays` is empty, so
+/// [`write_pvtu`]'s files are unchanged).
+pub fn write_pvtu_with_cells(
+    path: &Path,
+    point_arrays: &[(&str, usize)],
+    cell_arrays: &[(&str, usize)],
+    pieces: &[String],
+    encoding: VtuEncoding,
+) -> Result<(), IoError> {
     let compressor = match encoding {
         VtuEncoding::Binary => " header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\"",
         VtuEncoding::Ascii => "",
@@ -301,6 +314,16 @@ pub fn write_pvtu(
             )?;
         }
         writeln!(w, "    </PPointData>")?;
+        if !cell_arrays.is_empty() {
+            writeln!(w, "    <PCellData>")?;
+            for (name, components) in cell_arrays {
+                writeln!(
+                    w,
+                    "      <PDataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{components}\"/>"
+                )?;
+            }
+            writeln!(w, "    </PCellData>")?;
+        }
         writeln!(w, "    <PPoints>")?;
         writeln!(
             w,
