@@ -299,7 +299,6 @@ impl<const D: usize> FileWriter<'_, D> {
         let g = &self.grid;
         let s = &self.samples;
         let cells = g.cell_count();
-        let npc = Grid::<D>::NODES_PER_CELL;
         let mut stress = vec![impact_core::Tensor::<D>::zeros(); cells];
         let mut velocity = vec![Vector::<D>::zeros(); cells];
         let mut count = vec![0usize; cells];
@@ -341,7 +340,7 @@ impl<const D: usize> FileWriter<'_, D> {
             }
             points.extend_from_slice(&pad3(&x));
         }
-        let (order, cell_type) = vtk_order(D);
+        let (order, _) = vtk_order(D);
         let connectivity: Vec<usize> = (0..cells)
             .flat_map(|c| order.iter().map(move |&a| (c, a)))
             .map(|(c, a)| g.vertex_of(c, a))
@@ -356,55 +355,19 @@ impl<const D: usize> FileWriter<'_, D> {
             .as_ref()
             .map(|(v, _)| v.iter().flat_map(pad3).collect())
             .unwrap_or_default();
-        let mut point_data = Vec::new();
-        if !nodal_velocity.is_empty() {
-            point_data.push(DataArray {
-                name: "nodal_velocity",
-                components: 3,
-                values: &nodal_velocity,
-                units: "m/s",
-            });
-        }
         let file = format!("{}_grid_{frame}.vtu", self.method);
-        write_vtu(
-            &self.dir.join(&file),
-            &UnstructuredGrid {
-                points: &points,
-                connectivity: &connectivity,
-                nodes_per_cell: npc,
-                cell_type,
-                point_data,
-                cell_data: vec![
-                    DataArray {
-                        name: self.measure.array_name(),
-                        components: 9,
-                        values: &cell_stress,
-                        units: "Pa",
-                    },
-                    DataArray {
-                        name: "velocity",
-                        components: 3,
-                        values: &cell_velocity,
-                        units: "m/s",
-                    },
-                ],
-                time: Some(t),
-            },
-            self.encoding,
-        )
-        .with_context(|| format!("writing {file}"))?;
+        let arrays = GridArrays {
+            points: &points,
+            connectivity: &connectivity,
+            cell_stress: &cell_stress,
+            cell_velocity: &cell_velocity,
+            nodal_velocity: &nodal_velocity,
+        };
+        // (on several ranks the `.h5` series are the ranks' own: FEM's gathered mesh is not
+        // in them)
+        let h5 = self.pieces.is_none();
+        self.write_grid_arrays(&self.dir.join(&file), (frame, t), &arrays, h5)?;
         self.pvd_grid.push((t, file));
-        #[cfg(feature = "hdf5")]
-        if let (Some(series), true, None) = (self.h5.as_mut(), frame != INITIAL, &self.pieces) {
-            series.write_grid(&impact_io::h5::GridFrame {
-                points: &points,
-                connectivity: &connectivity,
-                nodes_per_cell: npc,
-                cell_stress: &cell_stress,
-                cell_velocity: &cell_velocity,
-                nodal_velocity: &nodal_velocity,
-            })?;
-        }
         Ok(())
     }
 }
@@ -433,6 +396,67 @@ impl<const D: usize> FileWriter<'_, D> {
         }
     }
 
+    /// `arrays` as the grid `.vtu` `path` (cell stress and velocity, the nodal velocity
+    /// where there is one) and, when `h5`, into the `.h5` series (output times only).
+    #[cfg_attr(not(feature = "hdf5"), allow(unused_variables))]
+    fn write_grid_arrays(
+        &mut self,
+        path: &Path,
+        (frame, t): (&str, f64),
+        arrays: &GridArrays,
+        h5: bool,
+    ) -> anyhow::Result<()> {
+        let mut point_data = Vec::new();
+        if !arrays.nodal_velocity.is_empty() {
+            point_data.push(DataArray {
+                name: "nodal_velocity",
+                components: 3,
+                values: arrays.nodal_velocity,
+                units: "m/s",
+            });
+        }
+        let cell_data = vec![
+            DataArray {
+                name: self.measure.array_name(),
+                components: 9,
+                values: arrays.cell_stress,
+                units: "Pa",
+            },
+            DataArray {
+                name: "velocity",
+                components: 3,
+                values: arrays.cell_velocity,
+                units: "m/s",
+            },
+        ];
+        let (_, cell_type) = vtk_order(D);
+        let grid = UnstructuredGrid {
+            points: arrays.points,
+            connectivity: arrays.connectivity,
+            nodes_per_cell: Grid::<D>::NODES_PER_CELL,
+            cell_type,
+            point_data,
+            cell_data,
+            time: Some(t),
+        };
+        let file = path
+            .file_name()
+            .map_or(String::new(), |f| f.display().to_string());
+        write_vtu(path, &grid, self.encoding).with_context(|| format!("writing {file}"))?;
+        #[cfg(feature = "hdf5")]
+        if let (Some(series), true, true) = (self.h5.as_mut(), frame != INITIAL, h5) {
+            series.write_grid(&impact_io::h5::GridFrame {
+                points: arrays.points,
+                connectivity: arrays.connectivity,
+                nodes_per_cell: Grid::<D>::NODES_PER_CELL,
+                cell_stress: arrays.cell_stress,
+                cell_velocity: arrays.cell_velocity,
+                nodal_velocity: arrays.nodal_velocity,
+            })?;
+        }
+        Ok(())
+    }
+
     /// The grid frame: one `.vtu`, or this rank's piece ([`grid_pieces`]).
     fn grid_frame(&mut self, method: &dyn Method<D>, frame: &str, t: f64) -> anyhow::Result<()> {
         if Self::grid_in_pieces(method) {
@@ -441,6 +465,16 @@ impl<const D: usize> FileWriter<'_, D> {
             self.grid(method, frame, t)
         }
     }
+}
+
+/// A grid frame's arrays ([`FileWriter::write_grid_arrays`]): points (3 per vertex), cells'
+/// vertices, per-cell 3×3 stress and velocity, per-vertex nodal velocity (empty but FEM).
+struct GridArrays<'a> {
+    points: &'a [f64],
+    connectivity: &'a [usize],
+    cell_stress: &'a [f64],
+    cell_velocity: &'a [f64],
+    nodal_velocity: &'a [f64],
 }
 
 impl<const D: usize> Observer<D> for FileWriter<'_, D> {

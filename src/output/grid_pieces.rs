@@ -20,10 +20,9 @@
 //! samples and nodes ([`super::FileWriter::grid`]).
 use super::fields::{pad3, tensor9, vtk_order, with_zz};
 use super::FileWriter;
-use anyhow::Context;
 use impact_core::comm::RankBox;
 use impact_core::{Method, Tensor, Vector};
-use impact_io::vtu::{write_pvtu_with_cells, write_vtu, DataArray, UnstructuredGrid};
+use impact_io::vtu::write_pvtu_with_cells;
 
 /// Rank `rank`'s grid piece of `method`'s `frame`.
 pub fn file(method: &str, frame: &str, rank: usize) -> String {
@@ -39,12 +38,12 @@ impl<const D: usize> BoxCells<D> {
     /// The local index of the global cell `idx`, if the box holds it.
     fn local(&self, idx: &[usize; D]) -> Option<usize> {
         let (mut local, mut stride) = (0, 1);
-        for k in 0..D {
-            if !self.owned[k].contains(&idx[k]) {
+        for (range, &i) in self.owned.iter().zip(idx) {
+            if !range.contains(&i) {
                 return None;
             }
-            local += (idx[k] - self.owned[k].start) * stride;
-            stride *= self.owned[k].len();
+            local += (i - range.start) * stride;
+            stride *= range.len();
         }
         Some(local)
     }
@@ -173,13 +172,13 @@ impl<const D: usize> FileWriter<'_, D> {
         for v in 0..vertices.count() {
             let idx = vertices.global(v);
             let (mut global, mut stride) = (0, 1);
-            for k in 0..D {
-                global += idx[k] * stride;
-                stride *= vertex_counts[k];
+            for (&i, &n) in idx.iter().zip(&vertex_counts) {
+                global += i * stride;
+                stride *= n;
             }
             points.extend_from_slice(&pad3(&g.vertex_position(global)));
         }
-        let (order, cell_type) = vtk_order(D);
+        let (order, _) = vtk_order(D);
         let mut connectivity = Vec::with_capacity(order.len() * cells.count());
         for l in 0..cells.count() {
             let idx = cells.global(l);
@@ -195,52 +194,21 @@ impl<const D: usize> FileWriter<'_, D> {
             .collect();
         let cell_velocity: Vec<f64> = velocity.iter().flat_map(pad3).collect();
         let name = file(&self.method, frame, pieces.rank);
-        let measure = self.measure.array_name();
-        write_vtu(
-            &pieces.dir.join(&name),
-            &UnstructuredGrid {
-                points: &points,
-                connectivity: &connectivity,
-                nodes_per_cell: impact_core::Grid::<D>::NODES_PER_CELL,
-                cell_type,
-                point_data: vec![],
-                cell_data: vec![
-                    DataArray {
-                        name: measure,
-                        components: 9,
-                        values: &cell_stress,
-                        units: "Pa",
-                    },
-                    DataArray {
-                        name: "velocity",
-                        components: 3,
-                        values: &cell_velocity,
-                        units: "m/s",
-                    },
-                ],
-                time: Some(t),
-            },
-            self.encoding,
-        )
-        .with_context(|| format!("writing {name}"))?;
+        let arrays = super::GridArrays {
+            points: &points,
+            connectivity: &connectivity,
+            cell_stress: &cell_stress,
+            cell_velocity: &cell_velocity,
+            nodal_velocity: &[],
+        };
+        self.write_grid_arrays(&pieces.dir.join(&name), (frame, t), &arrays, true)?;
         let names: Vec<String> = (0..pieces.ranks)
             .map(|r| file(&self.method, frame, r))
             .collect();
         let pvtu = format!("{}_grid_{frame}.pvtu", self.method);
-        let arrays = [(measure, 9), ("velocity", 3)];
-        write_pvtu_with_cells(&self.dir.join(&pvtu), &[], &arrays, &names, self.encoding)?;
+        let listed = [(self.measure.array_name(), 9), ("velocity", 3)];
+        write_pvtu_with_cells(&self.dir.join(&pvtu), &[], &listed, &names, self.encoding)?;
         self.pvd_grid.push((t, pvtu));
-        #[cfg(feature = "hdf5")]
-        if let (Some(series), true) = (self.h5.as_mut(), frame != super::INITIAL) {
-            series.write_grid(&impact_io::h5::GridFrame {
-                points: &points,
-                connectivity: &connectivity,
-                nodes_per_cell: impact_core::Grid::<D>::NODES_PER_CELL,
-                cell_stress: &cell_stress,
-                cell_velocity: &cell_velocity,
-                nodal_velocity: &[],
-            })?;
-        }
         Ok(())
     }
 }

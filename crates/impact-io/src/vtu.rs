@@ -306,23 +306,19 @@ pub fn write_pvtu_with_cells(
             "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\"{compressor}>"
         )?;
         writeln!(w, "  <PUnstructuredGrid GhostLevel=\"0\">")?;
-        writeln!(w, "    <PPointData>")?;
-        for (name, components) in point_arrays {
-            writeln!(
-                w,
-                "      <PDataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{components}\"/>"
-            )?;
-        }
-        writeln!(w, "    </PPointData>")?;
-        if !cell_arrays.is_empty() {
-            writeln!(w, "    <PCellData>")?;
-            for (name, components) in cell_arrays {
+        // (no `PCellData` without cell arrays: the samples' `.pvtu` as before)
+        for (tag, arrays) in [("PPointData", point_arrays), ("PCellData", cell_arrays)] {
+            if tag == "PCellData" && arrays.is_empty() {
+                continue;
+            }
+            writeln!(w, "    <{tag}>")?;
+            for (name, components) in arrays {
                 writeln!(
                     w,
                     "      <PDataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{components}\"/>"
                 )?;
             }
-            writeln!(w, "    </PCellData>")?;
+            writeln!(w, "    </{tag}>")?;
         }
         writeln!(w, "    <PPoints>")?;
         writeln!(
