@@ -2,7 +2,9 @@
 # The MPI checks (issue 27), run by scripts/test.sh after `cargo build --release --features mpi`:
 # DGMPM, MPM and FEM on bar and plate under `mpirun -np N`, N = 1..4, write the same fields
 # as the serial run (profiles, grid VTK files and the metrics of summary.json byte for byte,
-# and on one rank the samples' VTK files; on N > 1 ranks one piece per rank per frame, listed
+# and on one rank the samples' VTK files; on N > 1 ranks DGMPM's and MPM's grid in one piece
+# per rank whose cells are the serial grid's bit for bit, scripts/grid_pieces_check.py, and
+# one samples piece per rank per frame, listed
 # by a .pvtu that the .pvd lists: their arrays are compared with the serial file's by
 # scripts/crosscheck_pvtu.py; the relative energy error, of sums per rank then in rank
 # order, to 1e-12); MPM's updated frame on 1-3 ranks likewise; a bad input, an option that
@@ -32,7 +34,14 @@ for method in dgmpm mpm fem; do for scene in bar plate; do
     count=0
     samples=("$serial/${method}"_t*.vtu)
     [ "$n" = 1 ] || samples=()
-    for f in "$serial"/*.csv "${samples[@]}" "$serial/${method}"_grid_t*.vtu; do
+    grids=("$serial/${method}"_grid_t*.vtu)
+    if [ "$n" -gt 1 ] && [ "$method" != fem ]; then
+      # the point methods' grid in pieces: every cell the serial one, bit for bit
+      grids=()
+      python3 scripts/grid_pieces_check.py "$serial" "$out" "$method" "$n" >/dev/null ||
+        fail "$method $scene on $n ranks: the grid pieces differ from the serial grid files"
+    fi
+    for f in "$serial"/*.csv "${samples[@]}" "${grids[@]}"; do
       [ -f "$f" ] || continue
       cmp -s "$f" "$out/$(basename "$f")" || fail "$method $scene on $n ranks: $(basename "$f") differs from the serial run"
       count=$((count + 1))
@@ -81,12 +90,20 @@ PY
   echo "mpi: $scene ($method) on 1-4 ranks: fields equal to the serial run bit for bit, one piece per rank"
 done; done
 
-# same_as_serial LABEL SERIAL OUT METHOD: OUT's profiles and grid files are SERIAL's byte for
-# byte (at least three compared) and its metrics equal (the energies to 1e-12: sums in rank
-# order), step count included
+# same_as_serial LABEL SERIAL OUT METHOD RANKS: OUT's profiles are SERIAL's byte for byte, and
+# its grid files too on one rank or, on several, the pieces' cells the serial grid files'
+# bit for bit (scripts/grid_pieces_check.py; at least three files compared), and its metrics
+# equal (the energies to 1e-12: sums in rank order), step count included
 same_as_serial() {
-  local label=$1 serial=$2 out=$3 method=$4 count=0 f
-  for f in "$serial"/*.csv "$serial/${method}"_grid_t*.vtu; do
+  local label=$1 serial=$2 out=$3 method=$4 ranks=$5 count=0 f
+  local grids=("$serial/${method}"_grid_t*.vtu)
+  if [ "$ranks" -gt 1 ] && [ "$method" != fem ]; then
+    # the point methods' grid in pieces (FEM's mesh file stays whole)
+    grids=()
+    python3 scripts/grid_pieces_check.py "$serial" "$out" "$method" "$ranks" >/dev/null ||
+      fail "$label: the grid pieces differ from the serial grid files"
+  fi
+  for f in "$serial"/*.csv "${grids[@]}"; do
     [ -f "$f" ] || continue
     cmp -s "$f" "$out/$(basename "$f")" || fail "$label: $(basename "$f") differs from the serial run"
     count=$((count + 1))
@@ -140,7 +157,7 @@ for n in 1 2 3; do
   out="$work/ul-np$n"
   RAYON_NUM_THREADS=1 "${mpi[@]}" -np "$n" "$bin" run "$work/moving.toml" --method mpm --quiet --out "$out" \
     >"$out.log" 2>&1 || fail "mpm moving plate (updated frame) on $n ranks failed: $(tail -5 "$out.log")"
-  same_as_serial "mpm moving plate (updated frame) on $n ranks" "$serial" "$out" mpm
+  same_as_serial "mpm moving plate (updated frame) on $n ranks" "$serial" "$out" mpm "$n"
 done
 echo "mpi: a moving plate (mpm, updated frame, points migrating) on 1-3 ranks: the serial run's files"
 # boxes (--ranks-grid): DGMPM on the plate (2 x 2) and a small block (2 x 2 x 1) on 4 ranks,
@@ -156,7 +173,7 @@ for case in "dgmpm plate 2,2" "dgmpm block 2,2,1 --cells 16 --no-reference" "mpm
   # shellcheck disable=SC2086
   RAYON_NUM_THREADS=1 "${mpi[@]}" -np 4 "$bin" run "$scene" --method "$method" --ranks-grid "$grid" \
     --quiet --out "$out" $extra >"$out.log" 2>&1 || fail "$method $scene on boxes $grid failed: $(tail -5 "$out.log")"
-  same_as_serial "$method $scene on boxes $grid" "$serial" "$out" "$method"
+  same_as_serial "$method $scene on boxes $grid" "$serial" "$out" "$method" 4
   python3 - "$out/summary.json" "${grid//,/ × }" <<'PY' || fail "$method $scene on boxes $grid: summary.json"
 import json, sys
 rb, grid = json.load(open(sys.argv[1]))["runs"][0], sys.argv[2]

@@ -109,6 +109,9 @@ pub struct FileWriter<'a, const D: usize> {
     pub pieces: Option<pieces::Pieces>,
     /// This rank's owned samples (the pieces' content).
     owned: Samples<D>,
+    /// Whether `samples` holds the measuring line's samples only (gathered on several
+    /// ranks, [`impact_core::comm_line::gather_line`]) rather than the whole body's.
+    line_only: bool,
 }
 
 impl<'a, const D: usize> FileWriter<'a, D> {
@@ -145,6 +148,7 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             keep: None,
             pieces: None,
             owned: Samples::default(),
+            line_only: false,
         }
     }
 
@@ -169,6 +173,7 @@ impl<'a, const D: usize> FileWriter<'a, D> {
 }
 
 mod fields;
+pub mod grid_pieces;
 pub mod pieces;
 mod samples;
 use fields::{pad3, reference_names, stress_components, tensor9, vtk_order, with_zz, AXES};
@@ -185,7 +190,11 @@ impl<const D: usize> FileWriter<'_, D> {
     fn profile(&mut self, index: usize, t: f64) -> anyhow::Result<()> {
         let s = &self.samples;
         let a = self.line.axis;
-        let mut order = line_samples(s, &self.line);
+        let mut order = if self.line_only {
+            (0..s.len()).collect()
+        } else {
+            line_samples(s, &self.line)
+        };
         order.sort_by(|&i, &j| s.reference[i][a].total_cmp(&s.reference[j][a]));
         let col = |f: &dyn Fn(usize) -> f64| order.iter().map(|&i| f(i)).collect::<Vec<f64>>();
         let x = col(&|i| s.reference[i][a]);
@@ -290,7 +299,6 @@ impl<const D: usize> FileWriter<'_, D> {
         let g = &self.grid;
         let s = &self.samples;
         let cells = g.cell_count();
-        let npc = Grid::<D>::NODES_PER_CELL;
         let mut stress = vec![impact_core::Tensor::<D>::zeros(); cells];
         let mut velocity = vec![Vector::<D>::zeros(); cells];
         let mut count = vec![0usize; cells];
@@ -332,7 +340,7 @@ impl<const D: usize> FileWriter<'_, D> {
             }
             points.extend_from_slice(&pad3(&x));
         }
-        let (order, cell_type) = vtk_order(D);
+        let (order, _) = vtk_order(D);
         let connectivity: Vec<usize> = (0..cells)
             .flat_map(|c| order.iter().map(move |&a| (c, a)))
             .map(|(c, a)| g.vertex_of(c, a))
@@ -347,57 +355,126 @@ impl<const D: usize> FileWriter<'_, D> {
             .as_ref()
             .map(|(v, _)| v.iter().flat_map(pad3).collect())
             .unwrap_or_default();
+        let file = format!("{}_grid_{frame}.vtu", self.method);
+        let arrays = GridArrays {
+            points: &points,
+            connectivity: &connectivity,
+            cell_stress: &cell_stress,
+            cell_velocity: &cell_velocity,
+            nodal_velocity: &nodal_velocity,
+        };
+        // (on several ranks the `.h5` series are the ranks' own: FEM's gathered mesh is not
+        // in them)
+        let h5 = self.pieces.is_none();
+        self.write_grid_arrays(&self.dir.join(&file), (frame, t), &arrays, h5)?;
+        self.pvd_grid.push((t, file));
+        Ok(())
+    }
+}
+
+impl<const D: usize> FileWriter<'_, D> {
+    /// Whether the grid is written in pieces (several ranks, a point method: FEM's mesh
+    /// shares node layers between slabs and is still gathered, [`grid_pieces`]).
+    fn grid_in_pieces(method: &dyn Method<D>) -> bool {
+        method.comm().size() > 1 && method.config().kind() != impact_core::method::MethodKind::Fem
+    }
+
+    /// The samples of this output: every sample on one rank; on several, the measuring
+    /// line's only, gathered (the rest of the body stays on its ranks: the pieces) — the
+    /// whole body where the grid is still gathered (FEM).
+    fn gather(&mut self, method: &dyn Method<D>) {
+        self.line_only = Self::grid_in_pieces(method);
+        if self.line_only {
+            impact_core::comm_line::gather_line(
+                method,
+                &self.line,
+                &mut self.owned,
+                &mut self.samples,
+            );
+        } else {
+            method.sample_into(&mut self.samples);
+        }
+    }
+
+    /// `arrays` as the grid `.vtu` `path` (cell stress and velocity, the nodal velocity
+    /// where there is one) and, when `h5`, into the `.h5` series (output times only).
+    #[cfg_attr(not(feature = "hdf5"), allow(unused_variables))]
+    fn write_grid_arrays(
+        &mut self,
+        path: &Path,
+        (frame, t): (&str, f64),
+        arrays: &GridArrays,
+        h5: bool,
+    ) -> anyhow::Result<()> {
         let mut point_data = Vec::new();
-        if !nodal_velocity.is_empty() {
+        if !arrays.nodal_velocity.is_empty() {
             point_data.push(DataArray {
                 name: "nodal_velocity",
                 components: 3,
-                values: &nodal_velocity,
+                values: arrays.nodal_velocity,
                 units: "m/s",
             });
         }
-        let file = format!("{}_grid_{frame}.vtu", self.method);
-        write_vtu(
-            &self.dir.join(&file),
-            &UnstructuredGrid {
-                points: &points,
-                connectivity: &connectivity,
-                nodes_per_cell: npc,
-                cell_type,
-                point_data,
-                cell_data: vec![
-                    DataArray {
-                        name: self.measure.array_name(),
-                        components: 9,
-                        values: &cell_stress,
-                        units: "Pa",
-                    },
-                    DataArray {
-                        name: "velocity",
-                        components: 3,
-                        values: &cell_velocity,
-                        units: "m/s",
-                    },
-                ],
-                time: Some(t),
+        let cell_data = vec![
+            DataArray {
+                name: self.measure.array_name(),
+                components: 9,
+                values: arrays.cell_stress,
+                units: "Pa",
             },
-            self.encoding,
-        )
-        .with_context(|| format!("writing {file}"))?;
-        self.pvd_grid.push((t, file));
+            DataArray {
+                name: "velocity",
+                components: 3,
+                values: arrays.cell_velocity,
+                units: "m/s",
+            },
+        ];
+        let (_, cell_type) = vtk_order(D);
+        let grid = UnstructuredGrid {
+            points: arrays.points,
+            connectivity: arrays.connectivity,
+            nodes_per_cell: Grid::<D>::NODES_PER_CELL,
+            cell_type,
+            point_data,
+            cell_data,
+            time: Some(t),
+        };
+        let file = path
+            .file_name()
+            .map_or(String::new(), |f| f.display().to_string());
+        write_vtu(path, &grid, self.encoding).with_context(|| format!("writing {file}"))?;
         #[cfg(feature = "hdf5")]
-        if let (Some(series), true) = (self.h5.as_mut(), frame != INITIAL) {
+        if let (Some(series), true, true) = (self.h5.as_mut(), frame != INITIAL, h5) {
             series.write_grid(&impact_io::h5::GridFrame {
-                points: &points,
-                connectivity: &connectivity,
-                nodes_per_cell: npc,
-                cell_stress: &cell_stress,
-                cell_velocity: &cell_velocity,
-                nodal_velocity: &nodal_velocity,
+                points: arrays.points,
+                connectivity: arrays.connectivity,
+                nodes_per_cell: Grid::<D>::NODES_PER_CELL,
+                cell_stress: arrays.cell_stress,
+                cell_velocity: arrays.cell_velocity,
+                nodal_velocity: arrays.nodal_velocity,
             })?;
         }
         Ok(())
     }
+
+    /// The grid frame: one `.vtu`, or this rank's piece ([`grid_pieces`]).
+    fn grid_frame(&mut self, method: &dyn Method<D>, frame: &str, t: f64) -> anyhow::Result<()> {
+        if Self::grid_in_pieces(method) {
+            self.grid_piece(method, frame, t)
+        } else {
+            self.grid(method, frame, t)
+        }
+    }
+}
+
+/// A grid frame's arrays ([`FileWriter::write_grid_arrays`]): points (3 per vertex), cells'
+/// vertices, per-cell 3×3 stress and velocity, per-vertex nodal velocity (empty but FEM).
+struct GridArrays<'a> {
+    points: &'a [f64],
+    connectivity: &'a [usize],
+    cell_stress: &'a [f64],
+    cell_velocity: &'a [f64],
+    nodal_velocity: &'a [f64],
 }
 
 impl<const D: usize> Observer<D> for FileWriter<'_, D> {
@@ -419,7 +496,7 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         }
         // the collective steps first (gathered samples, this rank's piece), then the
         // writes, whose failure on one rank the caller makes every rank's (`pieces::agree`)
-        method.sample_into(&mut self.samples);
+        self.gather(method);
         let frame = format!("t{index}");
         let piece = self.owned_piece(method, &frame, t);
         self.profile(index, t)?;
@@ -427,7 +504,7 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
             self.write_frame(&frame, t, piece)?;
         }
         if self.files || (self.collect && D > 1) {
-            self.grid(method, &frame, t)?;
+            self.grid_frame(method, &frame, t)?;
         }
         Ok(())
     }
@@ -438,10 +515,10 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         if !self.files {
             return Ok(());
         }
-        method.sample_into(&mut self.samples);
+        self.gather(method);
         let piece = self.owned_piece(method, INITIAL, 0.0);
         self.write_frame(INITIAL, 0.0, piece)?;
-        self.grid(method, INITIAL, 0.0)?;
+        self.grid_frame(method, INITIAL, 0.0)?;
         Ok(())
     }
 }

@@ -8,9 +8,11 @@
 //! arrays are in every piece or in none (the test that every value is finite is reduced
 //! over the ranks, so the pieces agree with each other and with the serial file).
 //!
-//! What stays gathered to rank 0 (small, or not yet split): the CSV profiles, the metrics
-//! of `summary.json`, the grid's `.vtu` (`<method>_grid_<frame>.vtu`, cell averages of
-//! every sample) and the `.h5` series.
+//! The grid's cells are pieces too ([`super::grid_pieces`]; FEM's mesh is still gathered);
+//! the `.h5` series (feature `hdf5`) is one file per rank, `<method>_r<rank>.h5` with its
+//! `.xdmf`, of the rank's owned samples (and its grid piece's cells), in the shared staging
+//! folder. What is gathered: the measuring line's samples for the CSV profiles and the
+//! metrics of `summary.json` ([`impact_core::comm_line`]), and the figures' map plane.
 //!
 //! **One staging folder, published once.** Rank 0 opens the output folder's staging folder
 //! ([`impact_io::folder::OutputFolder`]) and sends its path to every rank
@@ -22,7 +24,6 @@
 //! (publishes) the folder only after the last [`agree`], when every rank has reported its
 //! pieces written; a rank killed before that leaves the staging folder unpublished.
 use super::FileWriter;
-use impact_core::method::Samples;
 use impact_core::Method;
 use impact_io::vtu::write_pvtu;
 use std::path::{Path, PathBuf};
@@ -99,7 +100,7 @@ impl<const D: usize> FileWriter<'_, D> {
         let name = Pieces::file(&self.method, frame, pieces.rank);
         std::mem::swap(&mut self.samples, &mut self.owned);
         let written =
-            self.write_sample_vtu(&pieces.dir.join(&name), frame, t, piece.reference, false);
+            self.write_sample_vtu(&pieces.dir.join(&name), frame, t, piece.reference, true);
         std::mem::swap(&mut self.samples, &mut self.owned);
         let arrays = written?;
         let names: Vec<String> = (0..pieces.ranks)
@@ -109,18 +110,6 @@ impl<const D: usize> FileWriter<'_, D> {
         let file = format!("{}_{frame}.pvtu", self.method);
         write_pvtu(&self.dir.join(&file), &listed, &names, self.encoding)?;
         self.pvd.push((t, file));
-        self.write_gathered_h5(frame, t)
-    }
-
-    /// The `.h5` series from the gathered samples (feature `hdf5`; rank 0's file).
-    fn write_gathered_h5(&mut self, frame: &str, t: f64) -> anyhow::Result<()> {
-        if cfg!(feature = "hdf5") {
-            let s: &Samples<D> = &self.samples;
-            let points: Vec<f64> = s.position.iter().flat_map(super::pad3).collect();
-            let stress: Vec<f64> = (0..s.len()).flat_map(|i| self.full_stress(i)).collect();
-            let velocity: Vec<f64> = s.velocity.iter().flat_map(super::pad3).collect();
-            self.write_h5(frame, t, &points, &stress, &velocity)?;
-        }
         Ok(())
     }
 }

@@ -119,7 +119,11 @@ impl<const D: usize> FileWriter<'_, D> {
         #[cfg(feature = "hdf5")]
         if frame != INITIAL {
             if self.h5.is_none() {
-                let path = self.dir.join(format!("{}.h5", self.method));
+                // on several ranks one series per rank, of its own samples ([`super::pieces`])
+                let path = match &self.pieces {
+                    Some(p) => p.dir.join(format!("{}_r{}.h5", self.method, p.rank)),
+                    None => self.dir.join(format!("{}.h5", self.method)),
+                };
                 let name = self.measure.array_name();
                 self.h5 = Some(impact_io::h5::TimeSeries::create(&path, name)?);
             }

@@ -6,19 +6,24 @@ use crate::comm::{Comm, CommError};
 use crate::method::{BadState, Samples};
 use crate::{Tensor, Vector};
 
-/// Every rank's samples `mine` (its own points, in order) gathered into `out` on every
-/// rank, in the global point order: `global_index[i]` is the global index of `mine`'s
-/// sample `i` (a box's own points are not one run of the global order), or, where
-/// `global_index` is empty on every rank, concatenated in rank order (a slab's own points
-/// are). The plastic strain and the out-of-plane stress are carried where `mine` has them
-/// (every rank alike: one model).
+/// Every rank's samples `mine` (its own points, in order, or a subset of them in order)
+/// gathered into `out` on every rank, in the global point order: `global_index[i]` is the
+/// global index of `mine`'s sample `i` (a box's own points are not one run of the global
+/// order; the gathered samples are sorted by it), or, where `global_index` is empty on
+/// every rank, concatenated in rank order (a slab's own points are). The plastic strain and the out-of-plane stress are carried where any rank's `mine`
+/// has them (one model: every rank alike, but a rank may hold no sample of a subset).
 pub fn gather_samples<const D: usize>(
     comm: &dyn Comm,
     mine: &Samples<D>,
     global_index: &[usize],
     out: &mut Samples<D>,
 ) {
-    let (plastic, zz) = (!mine.plastic_strain.is_empty(), !mine.stress_zz.is_empty());
+    // (a rank may hold none of a subset: the optional arrays are carried where any rank has
+    // them, every rank alike)
+    let flags = [!mine.plastic_strain.is_empty(), !mine.stress_zz.is_empty()];
+    let flags = comm.all_gather(&flags.map(|f| f64::from(u8::from(f))));
+    let any = |k: usize| flags.iter().skip(k).step_by(2).any(|&f| f != 0.0);
+    let (plastic, zz) = (any(0), any(1));
     let width = 4 * D + D * D + usize::from(plastic) + usize::from(zz);
     let mut packed = Vec::with_capacity(mine.len() * width);
     for i in 0..mine.len() {
@@ -40,9 +45,7 @@ pub fn gather_samples<const D: usize>(
     let indices = comm.all_gather(&global_index.iter().map(|&i| i as f64).collect::<Vec<_>>());
     let mut slot: Vec<usize> = (0..chunks.len()).collect();
     if indices.len() == chunks.len() {
-        for (k, &g) in indices.iter().enumerate() {
-            slot[g as usize] = k;
-        }
+        slot.sort_unstable_by(|&a, &b| indices[a].total_cmp(&indices[b]));
     }
     out.clear();
     for s in slot.into_iter().map(|k| chunks[k]) {

@@ -86,6 +86,9 @@ macro_rules! reduced_over_ranks {
                 out,
             );
         }
+        fn owned_sample_order(&self) -> &[usize] {
+            self.sample_order()
+        }
         fn check_finite(&self) -> Result<(), $crate::method::BadState<D>> {
             $crate::comm_gather::first_bad(self.comm.as_ref(), self.local.check_finite())
         }

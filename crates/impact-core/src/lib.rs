@@ -21,6 +21,7 @@ pub mod comm;
 pub mod comm_box;
 pub mod comm_gather;
 pub mod comm_halo;
+pub mod comm_line;
 pub mod comm_method;
 pub mod comm_migrate;
 mod comm_thread;

@@ -130,6 +130,14 @@ pub trait Method<const D: usize>: Send {
     fn owned_samples_into(&self, out: &mut Samples<D>) {
         self.sample_into(out);
     }
+    /// The global index of each of [`Self::owned_samples_into`]'s samples (in the order
+    /// [`Self::sample_into`] gives the whole body's), or empty where the ranks' owned
+    /// samples concatenated in rank order are already the global order (one rank, slabs):
+    /// what puts a subset of the owned samples gathered from every rank (the measuring
+    /// line's, [`crate::comm_line`]) in the global order.
+    fn owned_sample_order(&self) -> &[usize] {
+        &[]
+    }
     /// The ranks this method is split over, for the reductions of
     /// [`Self::owned_samples_into`]'s values: one rank ([`SerialComm`]) by default.
     fn comm(&self) -> &dyn Comm {

@@ -16,6 +16,7 @@
 //! Profiles, errors and fronts are measured along the measuring line ([`MeasureLine`]):
 //! the normal stress along it at the samples whose region it crosses. The exact solutions
 //! above are plane waves along x, measured along x.
+use crate::comm_line::gather_line;
 pub use crate::converged::Converged;
 use crate::exact::{
     BarExact, ElastoplasticWave, Front, NoFront, PlaneWave, StandingWave, SvkBarExact,
@@ -311,9 +312,20 @@ impl Reference {
         line: &MeasureLine,
         interior: Option<&Interior<D>>,
     ) -> Profile {
+        self.profile_at(samples, line_samples(samples, line), t, line.axis, interior)
+    }
+
+    /// [`Self::profile`] of the samples `on_line` of `samples` (the line's axis `a`).
+    fn profile_at<const D: usize>(
+        &self,
+        samples: &Samples<D>,
+        on_line: impl IntoIterator<Item = usize>,
+        t: f64,
+        a: usize,
+        interior: Option<&Interior<D>>,
+    ) -> Profile {
         let mut p = Profile::default();
-        let a = line.axis;
-        for i in line_samples(samples, line) {
+        for i in on_line {
             let (x, h) = (samples.reference[i], samples.half_size[i]);
             if interior.is_some_and(|box_| !box_.holds(&x, &h)) {
                 continue;
@@ -350,7 +362,12 @@ impl Reference {
 
     /// All metrics of `method` at time `t` along `line` (`samples` is a reusable buffer;
     /// front widths in cells of the grid's size along the line); with `interior`, the
-    /// profile keeps to the samples in it (the energy stays the whole body's).
+    /// profile keeps to the samples in it (the energy stays the whole body's). On one rank
+    /// every sample is taken ([`Method::sample_into`]); on several, only the line's samples
+    /// are gathered, with the body's extent and volume reduced
+    /// ([`crate::comm_line::gather_line`]): the same profile and metrics bit for bit (the
+    /// volume of the standing mode's energy to round-off, like the energy itself), on every
+    /// rank.
     pub fn evaluate<const D: usize, M: Method<D> + ?Sized>(
         &self,
         method: &M,
@@ -358,8 +375,18 @@ impl Reference {
         (t, line, dx): (f64, &MeasureLine, f64),
         interior: Option<&Interior<D>>,
     ) -> TimeMetrics {
-        method.sample_into(samples);
-        let profile = self.profile(samples, t, line, interior);
+        let (profile, body) = if method.comm().size() == 1 {
+            method.sample_into(samples);
+            (self.profile(samples, t, line, interior), None)
+        } else {
+            let mut owned = Samples::default();
+            let body = gather_line(method, line, &mut owned, samples);
+            let on_line = 0..samples.len();
+            let profile = self.profile_at(samples, on_line, t, line.axis, interior);
+            (profile, Some(body))
+        };
+        let work_scale = || body.map_or_else(|| Self::work_scale(samples), |b| b.cross_section());
+        let volume = || body.map_or_else(|| total_volume(samples), |b| b.volume);
         // a front without a jump (a zero load) has nothing to measure
         let front = self.front(t).and_then(|f| {
             if f.behind != f.ahead {
@@ -384,11 +411,11 @@ impl Reference {
         // initial state, whose energy the method holds at t = 0); the standing mode (no
         // load) keeps its constant energy
         let expected = match self {
-            Reference::Bar(b) => Some(b.energy(t) * Self::work_scale(samples)),
+            Reference::Bar(b) => Some(b.energy(t) * work_scale()),
             Reference::SvkBar(_) | Reference::Elastoplastic(_) => {
-                self.work(t).map(|w| w * Self::work_scale(samples))
+                self.work(t).map(|w| w * work_scale())
             }
-            Reference::Standing(w) => Some(w.energy(total_volume(samples))),
+            Reference::Standing(w) => Some(w.energy(volume())),
             Reference::Plane(_) => None,
             Reference::Converged(_) => self.work(t).map(|w| w + method.initial_energy()),
         }

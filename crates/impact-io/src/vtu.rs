@@ -282,6 +282,19 @@ pub fn write_pvtu(
     pieces: &[String],
     encoding: VtuEncoding,
 ) -> Result<(), IoError> {
+    write_pvtu_with_cells(path, point_arrays, &[], pieces, encoding)
+}
+
+/// [`write_pvtu`] with the cell arrays `cell_arrays` (name, components; `Float64`) too: the
+/// pieces of a grid split over ranks (no `PCellData` where `cell_arrays` is empty, so
+/// [`write_pvtu`]'s files are unchanged).
+pub fn write_pvtu_with_cells(
+    path: &Path,
+    point_arrays: &[(&str, usize)],
+    cell_arrays: &[(&str, usize)],
+    pieces: &[String],
+    encoding: VtuEncoding,
+) -> Result<(), IoError> {
     let compressor = match encoding {
         VtuEncoding::Binary => " header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\"",
         VtuEncoding::Ascii => "",
@@ -293,14 +306,20 @@ pub fn write_pvtu(
             "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\"{compressor}>"
         )?;
         writeln!(w, "  <PUnstructuredGrid GhostLevel=\"0\">")?;
-        writeln!(w, "    <PPointData>")?;
-        for (name, components) in point_arrays {
-            writeln!(
-                w,
-                "      <PDataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{components}\"/>"
-            )?;
+        // (no `PCellData` without cell arrays: the samples' `.pvtu` as before)
+        for (tag, arrays) in [("PPointData", point_arrays), ("PCellData", cell_arrays)] {
+            if tag == "PCellData" && arrays.is_empty() {
+                continue;
+            }
+            writeln!(w, "    <{tag}>")?;
+            for (name, components) in arrays {
+                writeln!(
+                    w,
+                    "      <PDataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{components}\"/>"
+                )?;
+            }
+            writeln!(w, "    </{tag}>")?;
         }
-        writeln!(w, "    </PPointData>")?;
         writeln!(w, "    <PPoints>")?;
         writeln!(
             w,

@@ -416,6 +416,9 @@ impl<const D: usize> Method<D> for MigratingMpm<D> {
         self.local.sample_into(&mut mine);
         gather_samples(self.comm.as_ref(), &mine, self.owned_ids(), out);
     }
+    fn owned_sample_order(&self) -> &[usize] {
+        self.owned_ids()
+    }
     impact_core::reduced_sums_over_ranks!();
     fn check_finite(&self) -> Result<(), BadState<D>> {
         let local = match &self.failure {
