@@ -2,7 +2,7 @@
 //! fixed time; each run is a separate `impact run --no-files` process, so its wall time
 //! (stepping only), steps and peak memory (`VmHWM`) are its own. Under `mpirun` (several
 //! ranks) each run is the same study run in this process instead, split over the ranks like
-//! `impact run` ([`run_ranked`]); rank 0 alone prints and writes. Errors are relative L1 of
+//! `impact run` (`run_ranked`); rank 0 alone prints and writes. Errors are relative L1 of
 //! σ_xx (Π for SVK) against the scene's reference: exact for `bar`, `svk-bar` and
 //! `plate-wave`; for `plate`, each run's converged reference (DGMPM on a grid 8× finer,
 //! with FEM's on the same grid for the spread beside each error, `l1_spread`; stated in the

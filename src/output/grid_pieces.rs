@@ -17,7 +17,7 @@
 //!
 //! FEM's grid file is its mesh deformed by the nodal displacement with the nodal velocity
 //! (whose node layers the slabs share): it is still written whole by rank 0 from gathered
-//! samples and nodes ([`super::FileWriter::grid`]).
+//! samples and nodes (`FileWriter::grid`).
 use super::fields::{pad3, tensor9, vtk_order, with_zz};
 use super::FileWriter;
 use impact_core::comm::RankBox;

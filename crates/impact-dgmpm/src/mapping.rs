@@ -141,7 +141,7 @@ impl<const D: usize> DgmpmSolver<D> {
     /// (Saint-Venant–Kirchhoff). On [`StepPath::SinglePoint`] (and [`StepPath::FusedNodal`]
     /// with one point per cell) the map is the identity
     /// (`q_i = q_p`) and only the masses are weighed. With several points per cell and the
-    /// cells' mapping weights `W_αi = S_iα m_α / M_i` ([`Self::mapping_weights`], formed
+    /// cells' mapping weights `W_αi = S_iα m_α / M_i` (`mapping_weights`, formed
     /// once with the fixed masses `M_i`: the points never move in the grid of this total
     /// Lagrangian scheme) each node's field is the small dense product
     /// `q_i = Σ_α W_αi q_α` (`weighted_cell`): no mass sums and no division per step, and

@@ -10,7 +10,7 @@
 //! 2. [`MpmSolver::grid_update`]: `p_i += Δt f_i`; prescribed velocities are imposed on
 //!    their nodes; symmetry edges zero the normal component.
 //! 3. [`MpmSolver::grid_to_particles`]: `v_p += Δt Σ_i N_ip f_i/m_i` (FLIP, the default;
-//!    the transfer is an option, [`MpmTransfer`]: PIC `v_p = Σ_i N_ip p_i/m_i`, a blend of
+//!    the transfer is an option, [`MpmTransfer`](impact_core::method::MpmTransfer): PIC `v_p = Σ_i N_ip p_i/m_i`, a blend of
 //!    the two, or APIC with an affine velocity per point, `affine.rs`) and
 //!    `x_p += Δt Σ_i N_ip p_i/m_i`.
 //! 4. MUSL only ([`MpmSolver::remap_momentum`]): `p_i = Σ_p N_ip m_p v_p^{n+1}` again.
