@@ -11,7 +11,8 @@
 # is not decomposed (CPDI in MPM's updated frame), a
 # blow-up and a folder that one rank cannot write stop every rank with one message and a
 # non-zero exit. Boxes (--ranks-grid): DGMPM on the 2 x 2 plate and the 2 x 2 x 1 block,
-# DGMPM, MPM and FEM on the 2 x 2 plate, byte for byte; MPM's updated frame refuses them.
+# DGMPM, MPM (both frames: the moving plate in the updated one) and FEM on the 2 x 2 plate,
+# byte for byte.
 # Usage: scripts/mpi_check.sh [path/to/impact]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -160,10 +161,17 @@ for n in 1 2 3; do
   same_as_serial "mpm moving plate (updated frame) on $n ranks" "$serial" "$out" mpm "$n"
 done
 echo "mpi: a moving plate (mpm, updated frame, points migrating) on 1-3 ranks: the serial run's files"
+# the moving plate on 2 x 2 boxes (--ranks-grid 2,2): points migrate across the cut between
+# the lower and the upper boxes (diagonal motion through the boxes' corners is in
+# crates/impact-mpm/tests/migrate.rs); the serial run's files byte for byte
+out="$work/ul-boxes-np4"
+RAYON_NUM_THREADS=1 "${mpi[@]}" -np 4 "$bin" run "$work/moving.toml" --method mpm --ranks-grid 2,2 --quiet \
+  --out "$out" >"$out.log" 2>&1 || fail "mpm moving plate (updated frame) on boxes 2,2 failed: $(tail -5 "$out.log")"
+same_as_serial "mpm moving plate (updated frame) on boxes 2,2" "$serial" "$out" mpm 4
+echo "mpi: a moving plate (mpm, updated frame, points migrating) on 4 ranks as boxes 2,2: the serial run's files"
 # boxes (--ranks-grid): DGMPM on the plate (2 x 2) and a small block (2 x 2 x 1) on 4 ranks,
 # MPM (total Lagrangian) and FEM on the plate (2 x 2), write the serial files byte for byte
-# (profiles, grid files; metrics to the energy's round-off); MPM's updated frame refuses
-# boxes with one message (below, expect_failure)
+# (profiles, grid files; metrics to the energy's round-off)
 for case in "dgmpm plate 2,2" "dgmpm block 2,2,1 --cells 16 --no-reference" "mpm plate 2,2" "fem plate 2,2"; do
   read -r method scene grid extra <<<"$case"
   serial="$work/boxes-$method-$scene-serial"
@@ -270,7 +278,6 @@ expect_failure_of() { # code pattern mpirun-args...
 expect_failure 2 "courant.*7" run plate --method dgmpm --courant 7
 expect_failure 2 "CPDI in the updated Lagrangian frame.*does not run on 3 ranks" run plate --method mpm --frame updated-lagrangian --shape cpdi
 expect_failure 3 "blew up" run plate --method dgmpm --courant 1.5 --allow-unstable
-expect_failure 2 "MPM in the updated Lagrangian frame on the rank grid 3,1 (boxes)" run plate --method mpm --frame updated-lagrangian --ranks-grid 3,1
 expect_failure 2 "ranks-grid 2,2: its product is 4 but the run has 3 ranks" run plate --method dgmpm --ranks-grid 2,2
 echo "mpi: a bad input, an undecomposed option and a blow-up stop all 3 ranks with one message"
 # a failure on some ranks only: rank 0 cannot make its output folder (under /proc); ranks 1

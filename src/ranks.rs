@@ -7,10 +7,10 @@
 //! the end (so every rank makes the same collective calls in the same order). Only
 //! [`crate::run::run_method`]'s runs and `bench convergence`'s levels
 //! ([`crate::convergence`]) are decomposed ([`build_ranked`]): DGMPM, MPM and FEM
-//! in slabs along the last axis ([`impact_dgmpm::slab`], [`impact_mpm::slab`],
-//! [`impact_fem::slab`]; MPM's updated frame with points migrating between the slabs,
-//! [`impact_mpm::migrate`], CPDI there refused on more than one rank), or DGMPM, MPM
-//! (total Lagrangian) and FEM in boxes of the rank grid `--ranks-grid` ([`set_rank_grid`]).
+//! in slabs along the last axis or in boxes of the rank grid `--ranks-grid`
+//! ([`set_rank_grid`]; [`impact_dgmpm::slab`], [`impact_mpm::slab`], [`impact_fem::slab`];
+//! MPM's updated frame with points migrating between the boxes, [`impact_mpm::migrate`],
+//! CPDI there refused on more than one rank).
 //! The converged references are computed whole on every rank (no collective calls, so a
 //! cache hit on one rank and a miss on another cannot desynchronise them).
 use impact_core::comm::{Comm, CommError, RankGrid, SerialComm};
@@ -71,18 +71,11 @@ pub fn init() -> Result<Guard, CommError> {
     Ok(None)
 }
 
-/// Refuse the rank grid (`--ranks-grid`) of a `dim`-dimensional run of `methods` before
-/// any run starts: one that does not fit the rank count or the dimension, or boxes for a
-/// configuration that runs in slabs only (MPM's updated frame: its points migrate between
-/// slabs only, [`impact_mpm::migrate`]); DGMPM, MPM (total Lagrangian) and FEM run on boxes.
-pub fn check_rank_grid(dim: usize, configs: &[MethodConfig]) -> Result<(), CommError> {
-    let grid = rank_grid();
-    grid.parts(dim, size())?;
-    for config in configs {
-        if config.mpm().map(|o| o.frame) == Some(MpmFrame::UpdatedLagrangian) {
-            grid.slabs_only("MPM in the updated Lagrangian frame", dim, size())?;
-        }
-    }
+/// Refuse the rank grid (`--ranks-grid`) of a `dim`-dimensional run before any run
+/// starts: one that does not fit the rank count or the dimension. Every method runs on
+/// boxes (DGMPM, MPM in both frames, FEM).
+pub fn check_rank_grid(dim: usize) -> Result<(), CommError> {
+    rank_grid().parts(dim, size())?;
     Ok(())
 }
 
@@ -103,11 +96,9 @@ pub fn build_ranked<const D: usize>(
             problem, config, comm, &grid,
         )?)),
         MethodKind::Mpm if config.mpm().map(|o| o.frame) == Some(MpmFrame::UpdatedLagrangian) => {
-            // points migrate between slabs only (`impact_mpm::migrate`)
-            grid.slabs_only("MPM in the updated Lagrangian frame", D, comm.size())
-                .map_err(CoreError::from)?;
-            Ok(Box::new(impact_mpm::migrate::MigratingMpm::<D>::new(
-                problem, config, comm,
+            // points migrate between the boxes (`impact_mpm::migrate`)
+            Ok(Box::new(impact_mpm::migrate::MigratingMpm::<D>::on_grid(
+                problem, config, comm, &grid,
             )?))
         }
         MethodKind::Mpm => Ok(Box::new(impact_mpm::slab::SlabMpm::<D>::on_grid(

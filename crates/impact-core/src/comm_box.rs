@@ -91,30 +91,6 @@ impl RankGrid {
     }
 }
 
-impl RankGrid {
-    /// Refuse this grid for `method`, which runs in slabs along the last axis only, where
-    /// it is not slabs on a `dim`-dimensional grid of `ranks` ranks (a grid that does not
-    /// fit the rank count is refused first, [`Self::parts`]).
-    pub fn slabs_only(&self, method: &str, dim: usize, ranks: usize) -> Result<(), CommError> {
-        let parts = self.parts(dim, ranks)?;
-        if self.is_slabs(dim) {
-            return Ok(());
-        }
-        let text = |v: &[usize]| v.iter().map(usize::to_string).collect::<Vec<_>>().join(",");
-        let mut slabs = vec![1; dim];
-        slabs[dim - 1] = ranks;
-        Err(CommError::Unsupported {
-            what: format!("{method} on the rank grid {} (boxes)", text(&parts)),
-            ranks,
-            allowed: format!(
-                "{method} runs in slabs along the last axis only: leave --ranks-grid out or \
-                 give 1 part on every axis but the last ({})",
-                text(&slabs)
-            ),
-        })
-    }
-}
-
 /// One rank's share of a grid split over a grid of ranks (module doc). Cell indices are
 /// global unless named `local` (indices into the stored box).
 #[derive(Debug, Clone, PartialEq, Eq)]

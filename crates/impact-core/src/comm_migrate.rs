@@ -1,4 +1,4 @@
-//! What a point method needs to move points between slab ranks ([`crate::comm`]) when the
+//! What a point method needs to move points between ranks ([`crate::comm`]) when the
 //! points move through the grid (MPM's updated Lagrangian frame, issue 27): messages of a
 //! length the receiver does not know ([`exchange_varying`]), and every per-point array of
 //! [`MaterialPoints`] as one list of columns ([`point_columns`]), from which a point's row
@@ -9,28 +9,25 @@ use crate::comm::Comm;
 use crate::points::MaterialPoints;
 use crate::{Tensor, Vector};
 
-/// [`Comm::exchange`] with messages of any length: each rank first sends the lengths of
-/// its two messages (one value each way per neighbour), then the messages, into
-/// `from_lower` and `from_upper` (resized; emptied where there is no neighbour). Two
-/// rounds of the fixed-length exchange, so every [`Comm`] (serial, threads, MPI) has it
-/// without a method of its own. Returns the bytes this rank sent.
+/// [`Comm::exchange`] with the `neighbours` along one axis (lower, upper; `None` where
+/// there is none) with messages of any length: each rank first sends the lengths of its
+/// two messages (one value each way per neighbour), then the messages, into `from_lower`
+/// and `from_upper` (resized; emptied where there is no neighbour). Two rounds of the
+/// fixed-length exchange, so every [`Comm`] (serial, threads, MPI) has it without a method
+/// of its own. Returns the bytes this rank sent.
 pub fn exchange_varying(
     comm: &dyn Comm,
+    neighbours: [Option<usize>; 2],
     to_lower: &[f64],
     to_upper: &[f64],
     from_lower: &mut Vec<f64>,
     from_upper: &mut Vec<f64>,
 ) -> usize {
     let (low, high) = (
-        usize::from(comm.rank() > 0),
-        usize::from(comm.rank() + 1 < comm.size()),
+        usize::from(neighbours[0].is_some()),
+        usize::from(neighbours[1].is_some()),
     );
     let (mut length_low, mut length_high) = ([0.0], [0.0]);
-    // the slab's neighbours along the last axis (the rank grid `1 × … × N`)
-    let neighbours = [
-        comm.rank().checked_sub(1),
-        (comm.rank() + 1 < comm.size()).then(|| comm.rank() + 1),
-    ];
     comm.exchange(
         neighbours,
         &[to_lower.len() as f64][..low],
@@ -164,8 +161,10 @@ mod tests {
                 let to_lower = vec![r as f64; r];
                 let to_upper = vec![10.0 + r as f64; 2 * r + 1];
                 let (mut from_lower, mut from_upper) = (vec![7.0], vec![7.0]);
+                let neighbours = [r.checked_sub(1), (r + 1 < ranks).then_some(r + 1)];
                 exchange_varying(
                     comm.as_ref(),
+                    neighbours,
                     &to_lower,
                     &to_upper,
                     &mut from_lower,

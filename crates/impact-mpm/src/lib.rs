@@ -76,6 +76,7 @@ mod grid_update;
 mod loads;
 mod method;
 pub mod migrate;
+mod migrate_rows;
 pub mod shape;
 pub mod slab;
 use build::Place;

@@ -1,30 +1,42 @@
-//! MPM in the updated Lagrangian frame on slabs (issue 27): points move through the grid,
-//! so a rank's points change. [`MigratingMpm`] is the [`Method`] of one rank.
+//! MPM in the updated Lagrangian frame on a rank's box (issue 27): points move through the
+//! grid, so a rank's points change. [`MigratingMpm`] is the [`Method`] of one rank.
 //!
-//! **Ownership by the current cell.** A rank owns the points whose current cell's layer
-//! (along the last axis; a point beyond the body's grid counts in its first or last layer)
-//! is one of its own layers (a [`RankBox`] of the slab rank grid `1 × … × N`), and stores besides them its neighbours' points in
-//! its halo layers: the whole body's points cut to its stored layers, as the total
-//! Lagrangian slab (`slab.rs`, whose module doc shows why the own points are then exact
-//! after a step: the stencils are evaluated at the step's start, so the argument holds for
-//! the current cells). CPDI is refused on several ranks here: its domains deform with the
-//! body and may reach past the halo that argument sizes.
+//! **Ownership by the current cell.** A rank owns the points whose current cell (along
+//! every axis; a point beyond the body's grid counts in its first or last cell there) lies
+//! in its own box (a [`RankBox`] of the rank grid, `--ranks-grid px,py[,pz]`; the slabs
+//! `1 × … × N` are the special case, on the same code path), and stores besides them its
+//! neighbours' points in its halo cells: the whole body's points cut to its stored box, as
+//! the total Lagrangian box (`slab.rs`, whose module doc shows why the own points are then
+//! exact after a step: the stencils are evaluated at the step's start, so the argument
+//! holds for the current cells). CPDI is refused on several ranks here: its domains deform
+//! with the body and may reach past the halo that argument sizes.
 //!
-//! **After each step** ([`MigratingMpm::step`]), two exchanges with the neighbours, each of
-//! messages of any length (`impact_core::comm_migrate::exchange_varying`):
-//! 1. migration: each own point whose cell left the own layers goes to the neighbour owning
-//!    its new layer, with its whole state: one row of every per-point array of
+//! **After each step** ([`MigratingMpm::step`]), two rounds of exchanges with the
+//! neighbours, axis by axis, each of messages of any length
+//! (`impact_core::comm_migrate::exchange_varying`):
+//! 1. migration: along axis 0, then 1, …, each point held as own whose cell along that axis
+//!    left the own range goes to the neighbour along it owning that cell, with its whole
+//!    state: one row of every per-point array of
 //!    [`MaterialPoints`](impact_core::points::MaterialPoints) (`impact_core::comm_migrate::point_columns`, a list that does not
 //!    compile when a field is added to the struct and not to it), APIC's affine velocity
-//!    and the point's global number;
-//! 2. halo: each rank sends its (new) own points in a neighbour's stored layers to it; the
-//!    stored points become the lower halo, the own points and the upper halo, each in the
-//!    global order, and the nodal constraints' point lists, the loads and the weights'
+//!    and the point's global number; what arrives is held as own and routed along the next
+//!    axes. A point crossing an edge or a corner of the box reaches its owner in up to `D`
+//!    hops within the step's `D` exchanges (a point received along axis `k` lies in the
+//!    own range along the axes before `k`: its sender's, which are this rank's);
+//! 2. halo: along axis 0, 1, …, each rank sends the rows it holds (its own points and the
+//!    halo received along the earlier axes) whose cell along that axis lies in the
+//!    neighbour's stored range there: the earlier axes' halo travels on, which fills the
+//!    stored box's edges and corners, as the total Lagrangian box's exchange
+//!    (`impact_core::comm_box`). The stored points become the own points in the global
+//!    order, then the halo; the nodal constraints' point lists, the loads and the weights'
 //!    buffers follow.
 //!
 //! A point moves less than a cell per step at a stable Courant number; one that moves more
-//! layers than the halo (or to a rank that is no neighbour) is kept where it is and the run
-//! fails at its next check with the step, the time and the point ([`Method::check_finite`]).
+//! cells along an axis than the halo is reported: the run fails at its next check with the
+//! step, the time and the point ([`Method::check_finite`]); it is sent on only where a
+//! neighbour owns its cell and kept where it is otherwise. The parts hold at least `halo`
+//! cells along a split axis ([`RankBox::new`]), so a point moving at most `halo` cells
+//! along an axis lands in the own range or the neighbour's there.
 //!
 //! **Bit for bit.** The scatters add a node's points layer by layer (by the layer of their
 //! stencil's base node), and within a layer in the order of `Place::scatter_order` (here:
@@ -32,82 +44,46 @@
 //! the stress updates are per point, and the loads are applied in the whole body's order.
 //! So the own points are formed by the same operations on the same bits as on one rank,
 //! and the samples (gathered, then put in the global order) equal the one-rank run's bit
-//! for bit (`tests/migrate.rs`); the energy and momentum are sums in rank order, equal to
-//! round-off; the point count and the mass are exact.
+//! for bit on slabs and boxes (`tests/migrate.rs`); the energy and momentum are sums in
+//! rank order, equal to round-off; the point count and the mass are exact.
 //!
 //! Building reads the whole body once on every rank (its loads and prescribed point
 //! velocities, listed by global number, travel with nothing: every rank holds the list).
 use crate::edges::SurfaceLoad;
+use crate::migrate_rows::{columns, Buffers, Cells, Neighbour, Received, COLUMNS};
 use crate::slab::halo_layers;
-use crate::{Mpm, MpmState};
+use crate::Mpm;
 use impact_core::comm::{Comm, CommError, RankBox, RankGrid};
 use impact_core::comm_gather::{first_bad, gather_samples, hottest_place};
-use impact_core::comm_migrate::{exchange_varying, point_columns, Column};
+use impact_core::comm_migrate::Column;
 use impact_core::method::{BadState, Method, MethodConfig, MpmShape, Samples};
 use impact_core::{Constraint, CoreError, Problem, Vector};
 use std::sync::Arc;
 
-/// Columns of a point's row: its global number, the 12 arrays of `MaterialPoints`, the
-/// affine velocity.
-const COLUMNS: usize = 14;
-
-/// The messages of one rank's migration, kept between steps (no allocation once grown).
-/// The body's layers of cells along the last axis, which decide a point's owner.
-#[derive(Debug, Clone, Copy)]
-struct Layers {
-    /// The body's lower edge (m).
-    origin: f64,
-    /// Cell size (m).
-    spacing: f64,
-    /// Number of layers.
-    count: usize,
-}
-
-impl Layers {
-    /// The layer of the cell of a point whose last coordinate is `x`; beyond the body, its
-    /// first or last layer.
-    fn of(&self, x: f64) -> usize {
-        (((x - self.origin) / self.spacing).floor() as usize).min(self.count - 1)
-    }
-}
-
-#[derive(Debug, Default)]
-struct Buffers {
-    keep: Vec<f64>,
-    send_low: Vec<f64>,
-    send_high: Vec<f64>,
-    receive_low: Vec<f64>,
-    receive_high: Vec<f64>,
-    own: Vec<f64>,
-    /// `(global number, source buffer, row)` of the own rows, sorted.
-    order: Vec<(usize, usize, usize)>,
-}
-
-/// MPM in the updated Lagrangian frame on one rank's slab, points migrating (module doc).
+/// MPM in the updated Lagrangian frame on one rank's box, points migrating (module doc).
 #[derive(Debug)]
 pub struct MigratingMpm<const D: usize> {
-    /// The slab's solver (own points and halo).
+    /// The box's solver (own points, then the halo).
     pub local: Mpm<D>,
     comm: Arc<dyn Comm>,
-    slab: RankBox,
-    /// The neighbours' slabs (below, above).
-    neighbours: [Option<RankBox>; 2],
+    rank_box: RankBox,
+    /// Per axis, the neighbours along it (low, high).
+    neighbours: [[Option<Neighbour>; 2]; D],
     /// Global number of each stored point.
     ids: Vec<usize>,
     /// Which columns travel (the arrays the model fills).
     present: [bool; COLUMNS],
-    /// Floats per row, and where the position's last coordinate is in it.
+    /// Floats per row.
     width: usize,
-    last_coordinate: usize,
-    /// The body's layers of cells along the last axis.
-    layers: Layers,
+    /// The body's cells, which decide a point's owner.
+    cells_of: Cells<D>,
     /// The whole body's loads and prescribed point velocities (by global number).
     loads: Vec<SurfaceLoad<D>>,
     constraints: Vec<Constraint>,
     /// Local index of each global number (valid where `ids` agrees).
     local_of: Vec<usize>,
-    /// The own points' layers at the step's start.
-    before: Vec<usize>,
+    /// The own points' cells at the step's start.
+    before: Vec<[usize; D]>,
     buffers: Buffers,
     migrated: usize,
     bytes: usize,
@@ -117,46 +93,24 @@ pub struct MigratingMpm<const D: usize> {
     initial_energy: f64,
 }
 
-/// The row columns of a rank's stored state: the global numbers, the points' arrays, APIC's
-/// affine velocities (the state is destructured without `..`: a per-point array added to
-/// [`MpmState`] does not compile until it is listed here).
-fn columns<'a, const D: usize>(
-    ids: &'a mut Vec<usize>,
-    state: &'a mut MpmState<D>,
-) -> [Column<'a, D>; COLUMNS] {
-    let MpmState {
-        points,
-        affine,
-        work: _,
-        impulse: _,
-        initial_energy: _,
-    } = state;
-    let [c0, c1, c2, c3, c4, c5, c6, c7, c8, c9, c10, c11] = point_columns(points);
-    [
-        Column::Index(ids),
-        c0,
-        c1,
-        c2,
-        c3,
-        c4,
-        c5,
-        c6,
-        c7,
-        c8,
-        c9,
-        c10,
-        c11,
-        Column::Tensor(affine),
-    ]
-}
-
 impl<const D: usize> MigratingMpm<D> {
-    /// This rank's share of `problem` (module doc). Refused: a configuration that is not
-    /// MPM in the updated frame, CPDI on several ranks, more ranks than the halo allows.
+    /// This rank's slab of `problem` (the automatic rank grid `1 × … × N`): [`Self::on_grid`].
     pub fn new(
         problem: &Problem<D>,
         config: MethodConfig,
         comm: Arc<dyn Comm>,
+    ) -> Result<Self, CoreError> {
+        Self::on_grid(problem, config, comm, &RankGrid::automatic())
+    }
+
+    /// This rank's box of `problem` on `rank_grid` (module doc). Refused: a configuration
+    /// that is not MPM in the updated frame, CPDI on several ranks, a rank grid that is not
+    /// one for the ranks or whose parts hold fewer cells than the halo.
+    pub fn on_grid(
+        problem: &Problem<D>,
+        config: MethodConfig,
+        comm: Arc<dyn Comm>,
+        rank_grid: &RankGrid,
     ) -> Result<Self, CoreError> {
         let options = *config.mpm().ok_or_else(|| CoreError::Unsupported {
             method: "mpm".into(),
@@ -173,67 +127,77 @@ impl<const D: usize> MigratingMpm<D> {
             .into());
         }
         problem.check_config(&config)?;
-        let layers = problem.grid.cells[D - 1];
-        let (ranks, rank, halo) = (comm.size(), comm.rank(), halo_layers(&options));
-        let cells = &problem.grid.cells;
-        let slabs = RankGrid::automatic();
-        let slab = RankBox::new(cells, &slabs, ranks, rank, halo)?;
+        let grid = &problem.grid;
+        let rank_box =
+            RankBox::for_rank(&grid.cells, rank_grid, comm.as_ref(), halo_layers(&options))?;
         let whole = Mpm::build(problem, config, None)?;
-        let mut local = Mpm::build(problem, config, Some(&slab))?;
-        let per_layer = whole.state.points.len() / layers;
-        let first = slab.stored[D - 1].start * per_layer;
-        let mut ids: Vec<usize> = (first..first + local.state.points.len()).collect();
+        let mut local = Mpm::build(problem, config, Some(&rank_box))?;
+        // the box's points are its stored cells' seeding, cell by cell (`build.rs`)
+        let per_cell = whole.state.points.len() / grid.cell_count();
+        let mut ids: Vec<usize> = (0..local.state.points.len())
+            .map(|p| rank_box.global_cell(p / per_cell) * per_cell + p % per_cell)
+            .collect();
         let present = columns(&mut ids, &mut local.state).map(|c| !c.is_empty());
         let widths = columns(&mut ids, &mut local.state).map(|c| c.width());
         let width = (0..COLUMNS)
             .filter(|&k| present[k])
             .map(|k| widths[k])
             .sum();
-        // the position is column 2, after the number (1) and the reference (D)
-        let last_coordinate = 1 + D + D - 1;
         let initial_energy = comm.all_reduce_sum(local.state.initial_energy);
-        let neighbour =
-            |r: Option<usize>| r.and_then(|r| RankBox::new(cells, &slabs, ranks, r, halo).ok());
+        let neighbours = std::array::from_fn(|axis| {
+            rank_box
+                .neighbours(axis)
+                .map(|rank| Neighbour::along(&rank_box, rank, axis))
+        });
         let mut m = Self {
-            neighbours: [
-                neighbour(rank.checked_sub(1)),
-                neighbour((rank + 1 < ranks).then_some(rank + 1)),
-            ],
+            neighbours,
             local_of: vec![0; whole.state.points.len()],
             loads: whole.solver.loads,
             constraints: whole.solver.point_constraints,
-            layers: Layers {
-                origin: problem.grid.origin[D - 1],
-                spacing: problem.grid.spacing[D - 1],
-                count: layers,
+            cells_of: Cells {
+                origin: std::array::from_fn(|k| grid.origin[k]),
+                spacing: std::array::from_fn(|k| grid.spacing[k]),
+                count: grid.cells,
             },
             local,
             comm,
-            slab,
+            rank_box,
             ids,
             present,
             width,
-            last_coordinate,
             before: Vec::new(),
             buffers: Buffers::default(),
             migrated: 0,
             bytes: 0,
             steps: 0,
             failure: None,
-            cells: problem.grid.cell_count(),
+            cells: grid.cell_count(),
             initial_energy,
         };
-        let (below, own) = (
-            m.slab.halo_width(D - 1, 0) * per_layer,
-            m.slab.owned[D - 1].len() * per_layer,
-        );
-        m.install(below..below + own);
+        // the stored points split by their cells into own (in the global order) and halo
+        let b = &mut m.buffers;
+        b.keep.clear();
+        b.halo.clear();
+        let stored = m.ids.len();
+        let cols = columns(&mut m.ids, &mut m.local.state);
+        let mut row = Vec::with_capacity(width);
+        for i in 0..stored {
+            row.clear();
+            for (c, _) in cols.iter().zip(present).filter(|(_, p)| *p) {
+                c.pack(i, &mut row);
+            }
+            let cell = m.cells_of.of_row(&row);
+            let own = (0..D).all(|k| m.rank_box.owned[k].contains(&cell[k]));
+            if own { &mut b.keep } else { &mut b.halo }.extend_from_slice(&row);
+        }
+        b.sort_own(width);
+        m.store();
         Ok(m)
     }
 
-    /// The slab this rank stores.
-    pub fn slab(&self) -> &RankBox {
-        &self.slab
+    /// The box this rank stores.
+    pub fn rank_box(&self) -> &RankBox {
+        &self.rank_box
     }
 
     /// The global numbers of the own points (in the order of `local`'s own points).
@@ -247,103 +211,101 @@ impl<const D: usize> MigratingMpm<D> {
         self.bytes
     }
 
-    /// Points this rank has sent to a neighbour's ownership since the start.
+    /// Hops of points from this rank to a neighbour since the start (a point crossing a
+    /// box's edge or corner counts once per axis it crossed).
     pub fn migrated(&self) -> usize {
         self.migrated
     }
 
-    /// Move the own points that left the own layers to their new owners, then refresh the
+    /// Move the own points that left the own box to their new owners, then refresh the
     /// halo (module doc). `t` is the time reached.
     fn migrate(&mut self, t: f64) {
-        let (w, halo, layers) = (self.width, self.slab.halo, self.layers);
+        let (w, halo, cells_of) = (self.width, self.rank_box.halo, self.cells_of);
         let owned = self.local.owned_points();
-        let own_layers = self.slab.owned[D - 1].clone();
-        // where each own point goes: 0 kept, 1 below, 2 above
         let b = &mut self.buffers;
         b.keep.clear();
-        b.send_low.clear();
-        b.send_high.clear();
-        for (k, i) in owned.clone().enumerate() {
-            let x = self.local.state.points.position[i][D - 1];
-            let layer = layers.of(x);
-            let moved = layer.abs_diff(self.before[k]);
-            let destination = if moved > halo {
-                if self.failure.is_none() {
-                    self.failure = Some(BadState {
-                        place: self.local.state.points.reference[i],
-                        reason: format!(
-                            "step {}, t = {t:e}: material point {} moved {moved} layers of \
-                             cells in one step, more than the halo of {halo} layers between \
-                             ranks (an unstable step: lower the Courant number)",
-                            self.steps, self.ids[i]
-                        ),
-                    });
-                }
-                &mut b.keep
-            } else if layer < own_layers.start {
-                &mut b.send_low
-            } else if layer >= own_layers.end {
-                &mut b.send_high
-            } else {
-                &mut b.keep
-            };
-            let cols = columns(&mut self.ids, &mut self.local.state);
+        let cols = columns(&mut self.ids, &mut self.local.state);
+        for (k, i) in owned.enumerate() {
+            let start = b.keep.len();
             for (c, _) in cols.iter().zip(self.present).filter(|(_, p)| *p) {
-                c.pack(i, destination);
+                c.pack(i, &mut b.keep);
+            }
+            let cell = cells_of.of_row(&b.keep[start..]);
+            let (axis, moved) = (0..D)
+                .map(|along| (along, cell[along].abs_diff(self.before[k][along])))
+                .fold((0, 0), |m, e| if e.1 > m.1 { e } else { m });
+            if moved > halo && self.failure.is_none() {
+                self.failure = Some(BadState {
+                    place: Vector::<D>::from_column_slice(&b.keep[start + 1..start + 1 + D]),
+                    reason: format!(
+                        "step {}, t = {t:e}: material point {} moved {moved} cells along \
+                         axis {axis} in one step, more than the halo of {halo} cells \
+                         between ranks (an unstable step: lower the Courant number)",
+                        self.steps, b.keep[start] as usize
+                    ),
+                });
             }
         }
-        self.migrated += (b.send_low.len() + b.send_high.len()) / w;
-        self.bytes = exchange_varying(
-            self.comm.as_ref(),
-            &b.send_low,
-            &b.send_high,
-            &mut b.receive_low,
-            &mut b.receive_high,
-        );
-        // the own points in the global order
-        b.order.clear();
-        for (source, rows) in [&b.keep, &b.receive_low, &b.receive_high]
-            .into_iter()
-            .enumerate()
-        {
-            let rows = rows.chunks_exact(w).enumerate();
-            b.order
-                .extend(rows.map(|(k, row)| (row[0] as usize, source, k)));
+        // migration, axis by axis: a point goes to the neighbour owning its cell
+        self.bytes = 0;
+        for (axis, [low, high]) in self.neighbours.iter().enumerate() {
+            if self.rank_box.parts[axis] == 1 {
+                continue;
+            }
+            let own = &self.rank_box.owned[axis];
+            b.send_low.clear();
+            b.send_high.clear();
+            b.staying.clear();
+            for row in b.keep.chunks_exact(w) {
+                let cell = cells_of.of_row(row)[axis];
+                let owns =
+                    |n: &Option<Neighbour>| n.as_ref().is_some_and(|n| n.owned.contains(&cell));
+                let destination = if cell < own.start && owns(low) {
+                    &mut b.send_low
+                } else if cell >= own.end && owns(high) {
+                    &mut b.send_high
+                } else {
+                    &mut b.staying
+                };
+                destination.extend_from_slice(row);
+            }
+            self.migrated += (b.send_low.len() + b.send_high.len()) / w;
+            let neighbours = self.rank_box.neighbours(axis);
+            self.bytes += b.exchange(self.comm.as_ref(), neighbours, Received::Staying);
+            std::mem::swap(&mut b.keep, &mut b.staying);
         }
-        b.order.sort_unstable();
-        b.own.clear();
-        for &(_, source, k) in &b.order {
-            let rows = [&b.keep, &b.receive_low, &b.receive_high][source];
-            b.own.extend_from_slice(&rows[k * w..(k + 1) * w]);
-        }
-        // the halo: own points in a neighbour's stored layers
-        b.send_low.clear();
-        b.send_high.clear();
-        for row in b.own.chunks_exact(w) {
-            let layer = layers.of(row[self.last_coordinate]);
-            for (send, neighbour) in [&mut b.send_low, &mut b.send_high]
-                .into_iter()
-                .zip(&self.neighbours)
-            {
-                if neighbour
-                    .as_ref()
-                    .is_some_and(|n| n.stored[D - 1].contains(&layer))
+        b.sort_own(w);
+        // the halo, axis by axis: the rows held in a neighbour's stored range
+        b.halo.clear();
+        for (axis, neighbours) in self.neighbours.iter().enumerate() {
+            if self.rank_box.parts[axis] == 1 {
+                continue;
+            }
+            b.send_low.clear();
+            b.send_high.clear();
+            for row in b.own.chunks_exact(w).chain(b.halo.chunks_exact(w)) {
+                let cell = cells_of.of_row(row)[axis];
+                for (send, neighbour) in [&mut b.send_low, &mut b.send_high]
+                    .into_iter()
+                    .zip(neighbours)
                 {
-                    send.extend_from_slice(row);
+                    if neighbour.as_ref().is_some_and(|n| n.stored.contains(&cell)) {
+                        send.extend_from_slice(row);
+                    }
                 }
             }
+            let neighbours = self.rank_box.neighbours(axis);
+            self.bytes += b.exchange(self.comm.as_ref(), neighbours, Received::Halo);
         }
-        self.bytes += exchange_varying(
-            self.comm.as_ref(),
-            &b.send_low,
-            &b.send_high,
-            &mut b.receive_low,
-            &mut b.receive_high,
-        );
-        // stored: the halo below, the own points, the halo above
+        self.store();
+    }
+
+    /// Unpack the own rows, then the halo's, into the stored points, and install them.
+    fn store(&mut self) {
+        let (b, w) = (&self.buffers, self.width);
         let mut cols = columns(&mut self.ids, &mut self.local.state);
         cols.iter_mut().for_each(Column::clear);
-        for rows in [&b.receive_low, &b.own, &b.receive_high] {
+        for rows in [&b.own, &b.halo] {
             for row in rows.chunks_exact(w) {
                 let mut at = 0;
                 for (c, _) in cols.iter_mut().zip(self.present).filter(|(_, p)| *p) {
@@ -352,8 +314,8 @@ impl<const D: usize> MigratingMpm<D> {
                 }
             }
         }
-        let (below, own) = (b.receive_low.len() / w, b.own.len() / w);
-        self.install(below..below + own);
+        let own = b.own.len() / w;
+        self.install(0..own);
     }
 
     /// Point the solver at the stored points: `owned` (local indices) are its own; the
@@ -402,10 +364,11 @@ impl<const D: usize> Method<D> for MigratingMpm<D> {
     fn step(&mut self, t: f64, dt: f64) {
         let owned = self.local.owned_points();
         self.before.clear();
-        for i in owned {
-            let layer = self.layers.of(self.local.state.points.position[i][D - 1]);
-            self.before.push(layer);
-        }
+        let position = &self.local.state.points.position;
+        let cells_of = self.cells_of;
+        self.before.extend(
+            owned.map(|i| std::array::from_fn(|axis| cells_of.along(axis, position[i][axis]))),
+        );
         self.local.step(t, dt);
         self.steps += 1;
         self.migrate(t + dt);

@@ -6,8 +6,8 @@
 //! once per step (axis by axis, which also fills the halo's edges and corners:
 //! `impact_core::comm_box`). Total Lagrangian frame only (the default): a point never
 //! changes cell, so a cell's points stay on their rank. The updated Lagrangian frame, whose
-//! points migrate between ranks, is [`crate::migrate::MigratingMpm`]'s (on slabs); this
-//! wrapper refuses it on more than one rank ([`CommError::Unsupported`]).
+//! points migrate between ranks, is [`crate::migrate::MigratingMpm`]'s (on slabs and
+//! boxes); this wrapper refuses it on more than one rank ([`CommError::Unsupported`]).
 //!
 //! **Why the halo makes the own points exact.** A node's sums read the points whose
 //! stencil covers it, and a point's update reads the nodes of its stencil. A point of cell

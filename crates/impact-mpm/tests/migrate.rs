@@ -1,11 +1,11 @@
-//! MPM in the updated Lagrangian frame on 1 to 4 slab ranks ([`MigratingMpm`], ranks as
-//! threads through [`ThreadComm`]), points crossing the rank faces, equals the one-rank
-//! run: the sampled fields (gathered in the global order) bit for bit, every point owned
+//! MPM in the updated Lagrangian frame on 1 to 4 slab ranks and on boxes (2 × 2, 1 × 3,
+//! 3 × 1; [`MigratingMpm`], ranks as threads through [`ThreadComm`]), points crossing the
+//! rank faces (and, on boxes, the corners), equals the one-rank run: the sampled fields (gathered in the global order) bit for bit, every point owned
 //! by exactly one rank with its mass unchanged, energy and momentum to round-off (sums in
 //! rank order). J2's history and APIC's affine velocity travel with their points (a field
 //! left behind would change the fields after the crossing). A point that jumps past the
 //! halo in one step fails the run with the step and the point; CPDI is refused.
-use impact_core::comm::ThreadComm;
+use impact_core::comm::{RankGrid, ThreadComm};
 use impact_core::method::{
     MethodConfig, MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate,
 };
@@ -18,17 +18,29 @@ fn scene(name: &str) -> Scene {
     Scene::builtin(name).unwrap()
 }
 
+/// How a comparison's points are kicked (`kick`).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Kick {
+    Shear,
+    Scrambled,
+    Diagonal,
+}
+
 /// `problem`'s points kicked along the last axis by `speed · (½ + X₀/L₀)` (a shear across
 /// the cut faces in 2D, a rigid translation on top of the impact in 1D), as every run of a
-/// comparison gets it; with `scrambled`, every other column of cells (along the first axis)
+/// comparison gets it (`Kick::Shear`); with `Kick::Scrambled`, every other column of cells (along the first axis)
 /// by `speed`, the others not at all: a column overtakes its neighbours by more than a
 /// cell, so points of one layer sharing nodes are no longer in the order of their numbers
 /// along the cut axis (the scatters must add them in the global order, not in a rank's
 /// stored one).
-fn kick<const D: usize>(m: &mut dyn Method<D>, speed: f64, length: f64, scrambled: bool) {
+fn kick<const D: usize>(m: &mut dyn Method<D>, speed: f64, length: f64, kind: Kick) {
     m.perturb_velocity(&mut |_, x| {
         let mut v = Vector::<D>::zeros();
-        v[D - 1] = if scrambled {
+        if kind == Kick::Diagonal {
+            // the whole plate along the diagonal, through the faces along both axes
+            return Vector::<D>::from_element(speed);
+        }
+        v[D - 1] = if kind == Kick::Scrambled {
             speed * ((x[0] / length * 33.0).floor() % 2.0) // the plate's 33 columns
         } else if D == 1 {
             speed
@@ -39,8 +51,8 @@ fn kick<const D: usize>(m: &mut dyn Method<D>, speed: f64, length: f64, scramble
     });
 }
 
-/// `scene` in the updated frame, edited by `edit`, on 1..=4 ranks for `steps` steps, against
-/// one rank: bit for bit, points and masses conserved, points really migrating.
+/// `scene` in the updated frame, edited by `edit`, on 1..=4 slab ranks for `steps` steps,
+/// against one rank ([`check_on`]).
 fn check<const D: usize>(
     label: &str,
     scene: &Scene,
@@ -48,13 +60,34 @@ fn check<const D: usize>(
     steps: usize,
     scrambled: bool,
 ) {
+    let kind = if scrambled {
+        Kick::Scrambled
+    } else {
+        Kick::Shear
+    };
+    let slabs: Vec<(usize, RankGrid)> = (1..=4).map(|n| (n, RankGrid::automatic())).collect();
+    check_on::<D>(label, scene, edit, steps, kind, &slabs);
+}
+
+/// `scene` in the updated frame, edited by `edit`, kicked as `kind`, on each `(ranks, rank
+/// grid)` for `steps` steps, against one rank: bit for bit, points and masses conserved,
+/// energy and momentum to round-off (`assert_matches_serial`), points really migrating.
+/// Returns, per rank grid, the global numbers of each rank's own points at the end.
+fn check_on<const D: usize>(
+    label: &str,
+    scene: &Scene,
+    edit: impl Fn(&mut MethodConfig),
+    steps: usize,
+    kind: Kick,
+    grids: &[(usize, RankGrid)],
+) -> Vec<Vec<Vec<usize>>> {
     let problem = Problem::<D>::from_scene(scene).unwrap();
     let mut config = scene.method_config(MethodKind::Mpm);
     config.mpm_mut().unwrap().frame = MpmFrame::UpdatedLagrangian;
     edit(&mut config);
     let (speed, length) = (0.12 * problem.max_wave_speed(), scene.domain.length[0]);
     let mut one = Mpm::<D>::new(&problem, config).unwrap();
-    kick::<D>(&mut one, speed, length, scrambled);
+    kick::<D>(&mut one, speed, length, kind);
     let serial = RunEnd::after_steps(&mut one, steps);
     let s = &serial.samples;
     let finite = |x: &[f64]| x.iter().all(|v| v.is_finite());
@@ -66,10 +99,12 @@ fn check<const D: usize>(
     let peak = s.stress.iter().fold(0.0f64, |m, x| m.max(x.amax()));
     assert!(peak > 1e5, "{label}: the wave must be there");
     let total_mass: f64 = one.state.points.mass.iter().sum();
-    for ranks in 1..=4 {
+    let mut owners = Vec::new();
+    for (ranks, grid) in grids {
+        let ranks = *ranks;
         let ends = ThreadComm::on_ranks(ranks, |comm| {
-            let mut m = MigratingMpm::<D>::new(&problem, config, comm).unwrap();
-            kick::<D>(&mut m, speed, length, scrambled);
+            let mut m = MigratingMpm::<D>::on_grid(&problem, config, comm, grid).unwrap();
+            kick::<D>(&mut m, speed, length, kind);
             let end = RunEnd::after_steps(&mut m, steps);
             let own = m.local.owned_points();
             let masses: Vec<(usize, f64)> = (m.owned_ids().iter().copied())
@@ -77,7 +112,7 @@ fn check<const D: usize>(
                 .collect();
             (end, masses, m.migrated())
         });
-        let at = format!("{label}, {ranks} ranks");
+        let at = format!("{label}, {ranks} ranks ({grid:?})");
         let migrated: usize = ends.iter().map(|e| e.2).sum();
         assert!(
             ranks == 1 || migrated > 0,
@@ -95,7 +130,13 @@ fn check<const D: usize>(
         assert_eq!(mass, total_mass, "{at}: Σ m");
         let runs: Vec<RunEnd<D>> = ends.iter().map(|e| e.0.clone()).collect();
         assert_matches_serial(&at, &serial, &runs, true);
+        owners.push(
+            ends.iter()
+                .map(|e| e.1.iter().map(|m| m.0).collect())
+                .collect(),
+        );
     }
+    owners
 }
 
 #[test]
@@ -198,6 +239,67 @@ fn scrambled_points_are_added_in_the_global_order() {
     );
 }
 
+/// Boxes: the plate moving along the diagonal (at 0.12 of the wave speed, about two cells
+/// in 40 steps), its points crossing the faces along both axes and the boxes' corners, on
+/// 2 × 2, 1 × 3 (the slabs) and 3 × 1 ranks, hats and quadratic B-splines (a halo of 6
+/// cells) under MUSL (under USL the serial run itself blows up: a node losing its last
+/// point), and J2 with APIC (quadratic B-splines: with hats the serial run blows up too):
+/// bit for bit against one rank. On 2 × 2, points of rank 0's box end on rank 3 (across
+/// the corner).
+#[test]
+fn a_diagonally_moving_plate_migrates_between_boxes_and_equals_one_rank() {
+    let grids = [
+        (4, RankGrid(vec![2, 2])),
+        (3, RankGrid(vec![1, 3])),
+        (3, RankGrid(vec![3, 1])),
+    ];
+    let mut plate = scene("plate");
+    plate.domain.cells = vec![40, 30];
+    let owners = check_on::<2>(
+        "moving plate, MUSL",
+        &plate,
+        |c| c.mpm_mut().unwrap().stress_update = StressUpdate::Musl,
+        40,
+        Kick::Diagonal,
+        &grids,
+    );
+    // the points seeded in rank 0's own cells (below 20 × 15) that rank 3 owns at the end
+    let per_cell = plate.method_config(MethodKind::Mpm).points_per_cell;
+    let across_the_corner = owners[0][3]
+        .iter()
+        .filter(|&&id| (id / per_cell % 40) < 20 && (id / per_cell / 40) < 15)
+        .count();
+    assert!(
+        across_the_corner > 0,
+        "no point crossed the corner from rank 0 to rank 3"
+    );
+    check_on::<2>(
+        "moving plate, quadratic B-splines, MUSL",
+        &plate,
+        |c| {
+            let o = c.mpm_mut().unwrap();
+            o.shape = MpmShape::Bspline2;
+            o.stress_update = StressUpdate::Musl;
+        },
+        40,
+        Kick::Diagonal,
+        &grids,
+    );
+    check_on::<2>(
+        "moving ep-plate, APIC, quadratic B-splines, MUSL",
+        &scene("ep-plate"),
+        |c| {
+            let o = c.mpm_mut().unwrap();
+            o.transfer = MpmTransfer::Apic;
+            o.shape = MpmShape::Bspline2;
+            o.stress_update = StressUpdate::Musl;
+        },
+        40,
+        Kick::Diagonal,
+        &grids,
+    );
+}
+
 /// J2's plastic history and APIC's affine velocity cross with their points.
 #[test]
 fn plastic_history_and_apic_migrate_with_their_points() {
@@ -210,8 +312,9 @@ fn plastic_history_and_apic_migrate_with_their_points() {
     );
 }
 
-/// A point kicked past the halo in one step stops the run with the step and the point, on
-/// every rank; CPDI is refused on several ranks.
+/// A point kicked past the halo in one step (along the last axis on slabs, the diagonal on
+/// 2 × 2 boxes) stops the run with the step and the point, on every rank; CPDI is refused
+/// on several ranks.
 #[test]
 fn a_jump_past_the_halo_fails_and_cpdi_is_refused() {
     let plate = scene("plate");
@@ -226,12 +329,26 @@ fn a_jump_past_the_halo_fails_and_cpdi_is_refused() {
         m.step(0.0, dt);
         m.check_finite().unwrap_err()
     });
-    let reason = &reports[0].reason;
-    assert!(
-        reason.contains("step 1,") && reason.contains("material point") && reason.contains("halo"),
-        "{reason}"
-    );
-    assert!(reports.iter().all(|r| r == &reports[0]), "{reports:?}");
+    let boxes = ThreadComm::on_ranks(4, |comm| {
+        let mut m =
+            MigratingMpm::<2>::on_grid(&problem, config, comm, &RankGrid(vec![2, 2])).unwrap();
+        m.perturb_velocity(&mut |i, _| {
+            Vector::<2>::from_element(if i == 400 { fast } else { 0.0 })
+        });
+        let dt = m.stable_dt();
+        m.step(0.0, dt);
+        m.check_finite().unwrap_err()
+    });
+    for reports in [reports, boxes] {
+        let reason = &reports[0].reason;
+        assert!(
+            reason.contains("step 1,")
+                && reason.contains("material point")
+                && reason.contains("halo"),
+            "{reason}"
+        );
+        assert!(reports.iter().all(|r| r == &reports[0]), "{reports:?}");
+    }
     config.mpm_mut().unwrap().shape = MpmShape::Cpdi;
     let message = refusal_on_ranks(2, |comm| MigratingMpm::<2>::new(&problem, config, comm));
     assert!(
@@ -240,7 +357,8 @@ fn a_jump_past_the_halo_fails_and_cpdi_is_refused() {
     );
 }
 
-/// A NaN planted in one point is reported by every rank, once, as one rank reports it.
+/// A NaN planted in one point is reported by every rank, once, as one rank reports it, on
+/// slabs and on 2 × 2 boxes.
 #[test]
 fn a_blowup_on_one_rank_is_seen_by_every_rank() {
     let plate = scene("plate");
@@ -251,11 +369,13 @@ fn a_blowup_on_one_rank_is_seen_by_every_rank() {
     let bad = serial.state.points.len() - 40; // in the last rank's slab
     serial.state.points.velocity[bad][1] = f64::NAN;
     let expected = serial.check_finite().unwrap_err();
-    let reports = blowup_on_ranks(3, bad, |comm| {
-        MigratingMpm::<2>::new(&problem, config, comm).unwrap()
-    });
-    assert!(
-        reports.iter().all(|state| state == &expected),
-        "{reports:?}"
-    );
+    for (ranks, grid) in [(3, RankGrid::automatic()), (4, RankGrid(vec![2, 2]))] {
+        let reports = blowup_on_ranks(ranks, bad, |comm| {
+            MigratingMpm::<2>::on_grid(&problem, config, comm, &grid).unwrap()
+        });
+        assert!(
+            reports.iter().all(|state| state == &expected),
+            "{grid:?}: {reports:?}"
+        );
+    }
 }
