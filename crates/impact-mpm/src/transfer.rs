@@ -263,7 +263,10 @@ impl<const D: usize> MpmSolver<D> {
         let lead = self.place.first_layer % period;
         let run_block = |first: isize, sums: &mut Band<'_, D>| {
             let clamp = |k: isize| k.clamp(0, layers as isize) as usize;
-            run(starts[clamp(first)]..starts[clamp(first + block as isize)], sums);
+            run(
+                starts[clamp(first)]..starts[clamp(first + block as isize)],
+                sums,
+            );
         };
         for colour in 0..2 {
             // this colour's first band at or above local layer 0, and below it the tail of
