@@ -107,15 +107,36 @@ impl<const D: usize> Weights<'_, D> {
     /// fused gather, for the hats' and quadratic stencils of 2D and 3D: 4, 8, 9, 27 nodes;
     /// the loops over the row then have a constant trip count and unroll), 0 where it did
     /// not (the count read at run time). The same operations in the same order either way.
+    /// The stencil's `offsets` come sliced to the same `nodes` entries, so that a zip of the
+    /// three has the constant trip count too.
     #[inline]
-    fn row<const N: usize>(&self, p: usize, offset: usize) -> (&[f64], &[Vector<D>], usize) {
+    fn row<const N: usize>(&self, p: usize, offset: usize) -> Row<'_, D> {
         let nodes = if N == 0 { self.offsets.len() } else { N };
         let first = p * self.stride;
-        (
-            &self.shape[first..first + nodes],
-            &self.gradient[first..first + nodes],
-            self.bases[p] - offset,
-        )
+        Row {
+            offsets: &self.offsets[..nodes],
+            shape: &self.shape[first..first + nodes],
+            gradient: &self.gradient[first..first + nodes],
+            base: self.bases[p] - offset,
+        }
+    }
+}
+
+/// One point's stencil ([`Weights::row`]): node `base + offsets[a]` has the shape value
+/// `shape[a]` and gradient `gradient[a]`.
+struct Row<'a, const D: usize> {
+    offsets: &'a [usize],
+    shape: &'a [f64],
+    gradient: &'a [Vector<D>],
+    base: usize,
+}
+
+impl<const D: usize> Row<'_, D> {
+    /// The stencil's nodes `(i, N_ip, ∇N_ip)` in the order of the local nodes.
+    #[inline]
+    fn nodes(&self) -> impl Iterator<Item = (usize, f64, &Vector<D>)> + '_ {
+        let stencil = self.offsets.iter().zip(self.shape).zip(self.gradient);
+        stencil.map(|((o, &s), g)| (self.base + o, s, g))
     }
 }
 
@@ -135,9 +156,9 @@ fn add_mass_and_momentum<const D: usize>(
     } else {
         weights.centre(p)
     };
-    let (shape, _, base) = weights.row::<0>(p, sums.offset);
-    for (a, o) in weights.offsets.iter().enumerate() {
-        let (i, w) = (base + o, shape[a] * mass);
+    let row = weights.row::<0>(p, sums.offset);
+    for (a, (i, s, _)) in row.nodes().enumerate() {
+        let w = s * mass;
         sums.mass[i] += w;
         if affine.is_empty() {
             sums.momentum[i] += velocity * w;
@@ -178,7 +199,23 @@ impl<const D: usize> MpmSolver<D> {
             gradient: &self.shape_gradient,
             steps: &self.stencil.steps,
         };
-        let contribution = |p: usize, sums: &mut Band<'_, D>| contribution(&weights, p, sums);
+        // the one place the contribution is called: the point loop and the contribution
+        // compile into one function (called per range of points, not per point), so the
+        // captured arrays are loaded once per range
+        let run = |points: std::ops::Range<usize>, sums: &mut Band<'_, D>| {
+            // the three sums sliced to one length: a node's index checked against the
+            // mass proves it for the momentum and force (one bounds check per node, not 3)
+            let nodes = sums.mass.len();
+            let mut sums = Band {
+                mass: &mut *sums.mass,
+                momentum: &mut sums.momentum[..nodes],
+                force: &mut sums.force[..nodes],
+                offset: sums.offset,
+            };
+            for k in points {
+                contribution(&weights, point_at(k), &mut sums);
+            }
+        };
         let nodes = &mut self.nodes;
         // the sums `fill` names start from zero
         let zero = |mass: &mut [f64], momentum: &mut [Vector<D>], force: &mut [Vector<D>]| {
@@ -212,9 +249,7 @@ impl<const D: usize> MpmSolver<D> {
             };
             for layer in 0..layers {
                 zero_to(&mut sums, (layer + width).min(layers));
-                for k in starts[layer]..starts[layer + 1] {
-                    contribution(point_at(k), &mut sums);
-                }
+                run(starts[layer]..starts[layer + 1], &mut sums);
             }
             zero_to(&mut sums, layers);
             return;
@@ -228,9 +263,10 @@ impl<const D: usize> MpmSolver<D> {
         let lead = self.place.first_layer % period;
         let run_block = |first: isize, sums: &mut Band<'_, D>| {
             let clamp = |k: isize| k.clamp(0, layers as isize) as usize;
-            for k in starts[clamp(first)]..starts[clamp(first + block as isize)] {
-                contribution(point_at(k), sums);
-            }
+            run(
+                starts[clamp(first)]..starts[clamp(first + block as isize)],
+                sums,
+            );
         };
         for colour in 0..2 {
             // this colour's first band at or above local layer 0, and below it the tail of
@@ -310,9 +346,8 @@ impl<const D: usize> MpmSolver<D> {
                 add_mass_and_momentum(weights, p, sums, points, affine);
                 if with_internal {
                     let stress = points.stress[p] * points.volume[p];
-                    let (_, gradient, base) = weights.row::<0>(p, sums.offset);
-                    for (o, g) in weights.offsets.iter().zip(gradient) {
-                        sums.force[base + o] -= stress * g;
+                    for (i, _, g) in weights.row::<0>(p, sums.offset).nodes() {
+                        sums.force[i] -= stress * g;
                     }
                 }
             }),
@@ -331,10 +366,8 @@ impl<const D: usize> MpmSolver<D> {
             let (mass, velocity) = (points.mass[p], points.velocity[p]);
             // V_p σ_p formed once per point
             let stress = points.stress[p] * points.volume[p];
-            let (shape, gradient, base) = weights.row::<N>(p, sums.offset);
-            let stencil = weights.offsets.iter().zip(shape).zip(gradient);
-            for ((o, s), g) in stencil {
-                let (i, w) = (base + o, s * mass);
+            for (i, s, g) in weights.row::<N>(p, sums.offset).nodes() {
+                let w = s * mass;
                 sums.mass[i] += w;
                 sums.momentum[i] += velocity * w;
                 sums.force[i] -= stress * g;
@@ -351,9 +384,8 @@ impl<const D: usize> MpmSolver<D> {
         };
         self.scatter(fill, |weights, p, sums| {
             let stress = points.stress[p] * points.volume[p];
-            let (_, gradient, base) = weights.row::<0>(p, sums.offset);
-            for (o, g) in weights.offsets.iter().zip(gradient) {
-                sums.force[base + o] -= stress * g;
+            for (i, _, g) in weights.row::<0>(p, sums.offset).nodes() {
+                sums.force[i] -= stress * g;
             }
         });
     }

@@ -58,12 +58,8 @@ impl<const D: usize> MpmSolver<D> {
         update: PointVelocity,
         dt: f64,
     ) {
-        let npc = if N == 0 { self.stencil.nodes } else { N };
         let stride = self.weight_stride;
-        let offsets = &self.stencil.offsets[..npc];
         let nodes = &self.nodes;
-        let (inv_mass, momentum, force) =
-            (&nodes.inv_mass[..], &nodes.momentum[..], &nodes.force[..]);
         let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
         let parts = (
             (
@@ -80,6 +76,20 @@ impl<const D: usize> MpmSolver<D> {
             1,
             parts,
             |r, ((velocity, position), (stress, volume))| {
+                // the node count taken here, in the chunk's kernel, from `N` itself: a
+                // count captured from outside is a load from the closure's environment at
+                // run time (`for_each_chunk` is not inlined), and the node loop would not
+                // unroll
+                let npc = if N == 0 { self.stencil.nodes } else { N };
+                let offsets = &self.stencil.offsets[..npc];
+                // the nodal arrays sliced to one length, here in the kernel: a node's index
+                // checked against `1/m` proves it for the momentum and force (one bounds
+                // check per node, not 3)
+                let inv_mass = &nodes.inv_mass[..];
+                let (momentum, force) = (
+                    &nodes.momentum[..inv_mass.len()],
+                    &nodes.force[..inv_mass.len()],
+                );
                 let points = velocity.iter_mut().zip(position.iter_mut());
                 for (j, (vp, xp)) in points.enumerate() {
                     let p = r * CHUNK + j;
