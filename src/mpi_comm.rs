@@ -1,5 +1,6 @@
 //! [`MpiComm`]: [`Comm`] over MPI (rsmpi on the system's MPI library; the `mpi` feature).
 //! Variable-length all-gathers (`MPI_Allgatherv`, after an `MPI_Allgather` of the
+//! lengths), the gather to rank 0 alone (`MPI_Gatherv`, after an `MPI_Gather` of the
 //! lengths), the neighbours' exchange along an axis by non-blocking sends and blocking receives,
 //! `MPI_Barrier` and `MPI_Abort`. MPI is initialised with `MPI_THREAD_SERIALIZED`: the
 //! controller calls from one of rayon's workers, never two at once (a mutex holds the
@@ -66,14 +67,7 @@ impl MpiComm {
         let world = self.world();
         let mut lengths = vec![0 as Count; self.size];
         world.all_gather_into(&(local.len() as Count), &mut lengths[..]);
-        let displs: Vec<Count> = lengths
-            .iter()
-            .scan(0, |acc, &n| {
-                let at = *acc;
-                *acc += n;
-                Some(at)
-            })
-            .collect();
+        let displs = offsets(&lengths);
         let total: usize = lengths.iter().map(|&n| n as usize).sum();
         out.clear();
         out.resize(total, T::default());
@@ -98,6 +92,27 @@ impl Comm for MpiComm {
     }
     fn all_gather_bytes(&self, local: &[u8], out: &mut Vec<u8>, counts: &mut Vec<usize>) {
         self.gather_varcount(local, out, counts);
+    }
+    fn gather_to_root_into(&self, local: &[f64], out: &mut Vec<f64>, counts: &mut Vec<usize>) {
+        let world = self.world();
+        let root = world.process_at_rank(0);
+        out.clear();
+        counts.clear();
+        let length = local.len() as Count;
+        if self.rank != 0 {
+            root.gather_into(&length);
+            root.gather_varcount_into(local);
+            return;
+        }
+        let mut lengths = vec![0 as Count; self.size];
+        root.gather_into_root(&length, &mut lengths[..]);
+        let displs = offsets(&lengths);
+        out.resize(lengths.iter().map(|&n| n as usize).sum(), 0.0);
+        {
+            let mut partition = PartitionMut::new(&mut out[..], &lengths[..], &displs[..]);
+            root.gather_varcount_into_root(local, &mut partition);
+        }
+        counts.extend(lengths.iter().map(|&n| n as usize));
     }
     fn exchange(
         &self,
@@ -130,4 +145,16 @@ impl Comm for MpiComm {
     fn abort(&self, code: i32) -> ! {
         self.world().abort(code)
     }
+}
+
+/// Where each rank's part starts in the concatenation of parts of `lengths`.
+fn offsets(lengths: &[Count]) -> Vec<Count> {
+    lengths
+        .iter()
+        .scan(0, |acc, &n| {
+            let at = *acc;
+            *acc += n;
+            Some(at)
+        })
+        .collect()
 }

@@ -13,11 +13,10 @@
 //! grid's quadrilaterals or hexahedra: `impact_io::h5`); per run `summary.json`, `stress.png` (profiles at up to three times)
 //! and, in 2D, `stress_map.png` (σ_xx colour map per method at the last output time).
 use crate::run::{Observer, RunRecord};
-use anyhow::Context;
 use impact_core::method::Samples;
 use impact_core::reference::{line_samples, Reference, TimeMetrics};
-use impact_core::{Grid, Method, StressMeasure, Vector};
-use impact_io::vtu::{write_pvd, write_vtu, DataArray, UnstructuredGrid, VtuEncoding};
+use impact_core::{Grid, Method, StressMeasure};
+use impact_io::vtu::{write_pvd, VtuEncoding};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -173,10 +172,11 @@ impl<'a, const D: usize> FileWriter<'a, D> {
 }
 
 mod fields;
+mod grid_file;
 pub mod grid_pieces;
 pub mod pieces;
 mod samples;
-use fields::{pad3, reference_names, stress_components, tensor9, vtk_order, with_zz, AXES};
+use fields::{reference_names, stress_components, tensor9, with_zz, AXES};
 
 impl<const D: usize> FileWriter<'_, D> {
     /// The profile along the measuring line ([`impact_core::line`]): kept for the figures
@@ -292,93 +292,6 @@ impl<const D: usize> FileWriter<'_, D> {
         Some((stress, velocity))
     }
 
-    /// The grid cells with the averages of their samples (DGMPM, MPM: the Eulerian grid),
-    /// or the FEM mesh with nodal velocity and element stress (deformed by `u`): σ_xx kept
-    /// for the maps at output times, the `.vtu` written when files are.
-    fn grid(&mut self, method: &dyn Method<D>, frame: &str, t: f64) -> anyhow::Result<()> {
-        let g = &self.grid;
-        let s = &self.samples;
-        let cells = g.cell_count();
-        let mut stress = vec![impact_core::Tensor::<D>::zeros(); cells];
-        let mut velocity = vec![Vector::<D>::zeros(); cells];
-        let mut count = vec![0usize; cells];
-        for i in 0..s.len() {
-            if let Some((c, _)) = g.locate(&s.reference[i]) {
-                stress[c] += s.stress[i];
-                velocity[c] += s.velocity[i];
-                count[c] += 1;
-            }
-        }
-        let plane = crate::plane::MapPlane::of(g, &self.line);
-        let mut map = vec![f64::NAN; plane.map_or(0, |p| p.grid(g).cell_count())];
-        for c in 0..cells {
-            if count[c] > 0 {
-                stress[c] /= count[c] as f64;
-                velocity[c] /= count[c] as f64;
-                if let Some(k) = plane.and_then(|p| p.cell_in_plane(g, c)) {
-                    map[k] = stress[c][(0, 0)];
-                }
-            }
-        }
-        // maps are drawn in 2D and 3D (the plane through the measuring line)
-        // the kept frame of this output time (none yet at the initial frame)
-        if let Some(last) = self.keep.as_mut().and_then(|k| k.last_mut()) {
-            last.map.clone_from(&map);
-        }
-        if self.collect && D > 1 && frame != INITIAL {
-            self.maps.push((t, map));
-        }
-        if !self.files {
-            return Ok(());
-        }
-        let nodal = method.mesh_nodal_fields();
-        let mut points: Vec<f64> = Vec::with_capacity(3 * g.vertex_count());
-        for v in 0..g.vertex_count() {
-            let mut x = g.vertex_position(v);
-            if let Some((_, u)) = &nodal {
-                x += u[v];
-            }
-            points.extend_from_slice(&pad3(&x));
-        }
-        let (order, _) = vtk_order(D);
-        let connectivity: Vec<usize> = (0..cells)
-            .flat_map(|c| order.iter().map(move |&a| (c, a)))
-            .map(|(c, a)| g.vertex_of(c, a))
-            .collect();
-        let zz = self.plane_strain;
-        let cell_stress: Vec<f64> = stress
-            .iter()
-            .flat_map(|t| with_zz(tensor9(t), t, zz))
-            .collect();
-        let cell_velocity: Vec<f64> = velocity.iter().flat_map(pad3).collect();
-        let nodal_velocity: Vec<f64> = nodal
-            .as_ref()
-            .map(|(v, _)| v.iter().flat_map(pad3).collect())
-            .unwrap_or_default();
-        let file = format!("{}_grid_{frame}.vtu", self.method);
-        let arrays = GridArrays {
-            points: &points,
-            connectivity: &connectivity,
-            cell_stress: &cell_stress,
-            cell_velocity: &cell_velocity,
-            nodal_velocity: &nodal_velocity,
-        };
-        // (on several ranks the `.h5` series are the ranks' own: FEM's gathered mesh is not
-        // in them)
-        let h5 = self.pieces.is_none();
-        self.write_grid_arrays(&self.dir.join(&file), (frame, t), &arrays, h5)?;
-        self.pvd_grid.push((t, file));
-        Ok(())
-    }
-}
-
-impl<const D: usize> FileWriter<'_, D> {
-    /// Whether the grid is written in pieces (several ranks, a point method: FEM's mesh
-    /// shares node layers between slabs and is still gathered, [`grid_pieces`]).
-    fn grid_in_pieces(method: &dyn Method<D>) -> bool {
-        method.comm().size() > 1 && method.config().kind() != impact_core::method::MethodKind::Fem
-    }
-
     /// The samples of this output: every sample on one rank; on several, the measuring
     /// line's only, gathered (the rest of the body stays on its ranks: the pieces) — the
     /// whole body where the grid is still gathered (FEM).
@@ -395,86 +308,6 @@ impl<const D: usize> FileWriter<'_, D> {
             method.sample_into(&mut self.samples);
         }
     }
-
-    /// `arrays` as the grid `.vtu` `path` (cell stress and velocity, the nodal velocity
-    /// where there is one) and, when `h5`, into the `.h5` series (output times only).
-    #[cfg_attr(not(feature = "hdf5"), allow(unused_variables))]
-    fn write_grid_arrays(
-        &mut self,
-        path: &Path,
-        (frame, t): (&str, f64),
-        arrays: &GridArrays,
-        h5: bool,
-    ) -> anyhow::Result<()> {
-        let mut point_data = Vec::new();
-        if !arrays.nodal_velocity.is_empty() {
-            point_data.push(DataArray {
-                name: "nodal_velocity",
-                components: 3,
-                values: arrays.nodal_velocity,
-                units: "m/s",
-            });
-        }
-        let cell_data = vec![
-            DataArray {
-                name: self.measure.array_name(),
-                components: 9,
-                values: arrays.cell_stress,
-                units: "Pa",
-            },
-            DataArray {
-                name: "velocity",
-                components: 3,
-                values: arrays.cell_velocity,
-                units: "m/s",
-            },
-        ];
-        let (_, cell_type) = vtk_order(D);
-        let grid = UnstructuredGrid {
-            points: arrays.points,
-            connectivity: arrays.connectivity,
-            nodes_per_cell: Grid::<D>::NODES_PER_CELL,
-            cell_type,
-            point_data,
-            cell_data,
-            time: Some(t),
-        };
-        let file = path
-            .file_name()
-            .map_or(String::new(), |f| f.display().to_string());
-        write_vtu(path, &grid, self.encoding).with_context(|| format!("writing {file}"))?;
-        #[cfg(feature = "hdf5")]
-        if let (Some(series), true, true) = (self.h5.as_mut(), frame != INITIAL, h5) {
-            series.write_grid(&impact_io::h5::GridFrame {
-                points: arrays.points,
-                connectivity: arrays.connectivity,
-                nodes_per_cell: Grid::<D>::NODES_PER_CELL,
-                cell_stress: arrays.cell_stress,
-                cell_velocity: arrays.cell_velocity,
-                nodal_velocity: arrays.nodal_velocity,
-            })?;
-        }
-        Ok(())
-    }
-
-    /// The grid frame: one `.vtu`, or this rank's piece ([`grid_pieces`]).
-    fn grid_frame(&mut self, method: &dyn Method<D>, frame: &str, t: f64) -> anyhow::Result<()> {
-        if Self::grid_in_pieces(method) {
-            self.grid_piece(method, frame, t)
-        } else {
-            self.grid(method, frame, t)
-        }
-    }
-}
-
-/// A grid frame's arrays ([`FileWriter::write_grid_arrays`]): points (3 per vertex), cells'
-/// vertices, per-cell 3×3 stress and velocity, per-vertex nodal velocity (empty but FEM).
-struct GridArrays<'a> {
-    points: &'a [f64],
-    connectivity: &'a [usize],
-    cell_stress: &'a [f64],
-    cell_velocity: &'a [f64],
-    nodal_velocity: &'a [f64],
 }
 
 impl<const D: usize> Observer<D> for FileWriter<'_, D> {

@@ -355,7 +355,8 @@ pub fn run_study_keeping<const D: usize>(
     }
     let written = || -> anyhow::Result<()> {
         impact_io::write_json(&dir.join("summary.json"), &summary)?;
-        if !options.no_files {
+        // (rank 0 alone holds the map plane: the other ranks draw nothing)
+        if !options.no_files && crate::ranks::is_root() {
             write_figures(study.name(), &problem, reference.as_ref(), dir, &collected)?;
         }
         write_provenance(study, options, &done, &summary, dir, &clock)

@@ -13,12 +13,14 @@
 //! rank: every rank sends the few samples whose reference cell is not its own (one
 //! all-gather of those only: `(global index, cell, σ, v)`), and every rank sorts what lands
 //! in its box by global index before adding. The figures' map plane
-//! ([`crate::plane::MapPlane`]) is gathered from the boxes' cells in the plane only.
+//! ([`crate::plane::MapPlane`]) is gathered from the boxes' cells in the plane only, and to
+//! rank 0 only (`Comm::gather_to_root_into`): rank 0 alone draws the figures, so the other
+//! ranks keep no map (in 2D the plane is the whole grid: 16 B per cell of it).
 //!
 //! FEM's grid file is its mesh deformed by the nodal displacement with the nodal velocity
 //! (whose node layers the slabs share): it is still written whole by rank 0 from gathered
 //! samples and nodes (`FileWriter::grid`).
-use super::fields::{pad3, tensor9, vtk_order, with_zz};
+use super::fields::{pad3, vtk_order};
 use super::FileWriter;
 use impact_core::comm::RankBox;
 use impact_core::{Method, Tensor, Vector};
@@ -143,8 +145,9 @@ impl<const D: usize> FileWriter<'_, D> {
         method.owned_samples_into(&mut self.owned);
         let (stress, velocity, count) = self.box_averages(method, &cells);
         let global_cell = |l: usize| g.cell_index(cells.global(l));
-        // the map plane: (plane cell, σ_xx) of the box's sampled cells in it, gathered
-        if D > 1 {
+        // the map plane: (plane cell, σ_xx) of the box's sampled cells in it, gathered to
+        // rank 0 (the other ranks keep no map), at the output times the figures draw
+        if D > 1 && self.collect && frame != super::INITIAL {
             let plane = crate::plane::MapPlane::of(&g, &self.line);
             let mut mine = Vec::new();
             for l in (0..cells.count()).filter(|&l| count[l] > 0) {
@@ -152,11 +155,13 @@ impl<const D: usize> FileWriter<'_, D> {
                     mine.extend([k as f64, stress[l][(0, 0)]]);
                 }
             }
-            let mut map = vec![f64::NAN; plane.map_or(0, |p| p.grid(&g).cell_count())];
-            for entry in comm.all_gather(&mine).chunks_exact(2) {
-                map[entry[0] as usize] = entry[1];
-            }
-            if self.collect && frame != super::INITIAL {
+            let (mut gathered, mut counts) = (Vec::new(), Vec::new());
+            comm.gather_to_root_into(&mine, &mut gathered, &mut counts);
+            if comm.is_root() {
+                let mut map = vec![f64::NAN; plane.map_or(0, |p| p.grid(&g).cell_count())];
+                for entry in gathered.chunks_exact(2) {
+                    map[entry[0] as usize] = entry[1];
+                }
                 self.maps.push((t, map));
             }
         }
@@ -187,14 +192,9 @@ impl<const D: usize> FileWriter<'_, D> {
                 connectivity.push(vertices.local(&corner).unwrap_or_default());
             }
         }
-        let zz = self.plane_strain;
-        let cell_stress: Vec<f64> = stress
-            .iter()
-            .flat_map(|t| with_zz(tensor9(t), t, zz))
-            .collect();
-        let cell_velocity: Vec<f64> = velocity.iter().flat_map(pad3).collect();
+        let (cell_stress, cell_velocity) = self.cell_arrays(&stress, &velocity);
         let name = file(&self.method, frame, pieces.rank);
-        let arrays = super::GridArrays {
+        let arrays = super::grid_file::GridArrays {
             points: &points,
             connectivity: &connectivity,
             cell_stress: &cell_stress,

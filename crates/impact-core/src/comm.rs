@@ -80,6 +80,12 @@ pub trait Comm: Send + Sync + std::fmt::Debug {
     fn all_gather_into(&self, local: &[f64], out: &mut Vec<f64>, counts: &mut Vec<usize>);
     /// Every rank's `local` bytes concatenated in rank order into `out`, with the lengths.
     fn all_gather_bytes(&self, local: &[u8], out: &mut Vec<u8>, counts: &mut Vec<usize>);
+    /// Every rank's `local` values concatenated in rank order into `out` **on rank 0 only**
+    /// (`counts[r]` is rank `r`'s length there); on the other ranks `out` and `counts` are
+    /// left empty. For what rank 0 alone writes or draws (the figures' map plane): the
+    /// other ranks send their part and receive nothing, where an all-gather would give each
+    /// of them the whole.
+    fn gather_to_root_into(&self, local: &[f64], out: &mut Vec<f64>, counts: &mut Vec<usize>);
     /// Halo exchange along one axis with the `neighbours` (lower, upper; `None` where
     /// there is none): send `to_lower` to the lower and `to_upper` to the upper one,
     /// receive `from_lower` from the lower and `from_upper` from the upper one (lengths
@@ -193,6 +199,9 @@ impl Comm for SerialComm {
         counts.clear();
         counts.push(local.len());
     }
+    fn gather_to_root_into(&self, local: &[f64], out: &mut Vec<f64>, counts: &mut Vec<usize>) {
+        self.all_gather_into(local, out, counts);
+    }
     fn exchange(&self, _: [Option<usize>; 2], _: &[f64], _: &[f64], _: &mut [f64], _: &mut [f64]) {}
     fn barrier(&self) {}
     fn abort(&self, code: i32) -> ! {
@@ -217,5 +226,8 @@ mod tests {
         assert!(c.first_error(None).is_none());
         let e = c.first_error(Some("bad")).unwrap();
         assert_eq!(e.to_string(), "rank 0: bad");
+        let (mut out, mut counts) = (vec![9.0], vec![7]);
+        c.gather_to_root_into(&[1.5, -2.0], &mut out, &mut counts);
+        assert_eq!((out, counts), (vec![1.5, -2.0], vec![2]));
     }
 }

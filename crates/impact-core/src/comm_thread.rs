@@ -146,6 +146,21 @@ impl Comm for ThreadComm {
     fn all_gather_bytes(&self, local: &[u8], out: &mut Vec<u8>, counts: &mut Vec<usize>) {
         self.all_gather_parts(local, (Payload::Bytes, Payload::bytes), out, counts);
     }
+    fn gather_to_root_into(&self, local: &[f64], out: &mut Vec<f64>, counts: &mut Vec<usize>) {
+        out.clear();
+        counts.clear();
+        if self.rank != 0 {
+            self.send(0, Payload::Floats(local.to_vec()));
+            return;
+        }
+        counts.push(local.len());
+        out.extend_from_slice(local);
+        for r in 1..self.size {
+            let part = self.floats(r);
+            counts.push(part.len());
+            out.extend_from_slice(&part);
+        }
+    }
     fn exchange(
         &self,
         [lower, upper]: [Option<usize>; 2],
@@ -180,7 +195,8 @@ mod tests {
     use super::*;
 
     /// Four threads: sums in rank order, min/max, the halo exchange and the first error
-    /// agree on every rank.
+    /// agree on every rank; the gather to the root gives rank 0 the parts in rank order and
+    /// the other ranks nothing.
     #[test]
     fn thread_ranks_reduce_and_exchange() {
         let results: Vec<_> = std::thread::scope(|s| {
@@ -208,13 +224,22 @@ mod tests {
                             above.first().copied().unwrap_or(f64::NAN),
                         );
                         let err = c.first_error((c.rank() >= 2).then_some("boom"));
-                        (sum, lo, hi, below, above, err)
+                        // rank r sends r copies of r: only rank 0 receives them
+                        let (mut rooted, mut counts) = (vec![f64::NAN], vec![9]);
+                        c.gather_to_root_into(&vec![r; c.rank()], &mut rooted, &mut counts);
+                        (sum, lo, hi, below, above, err, (rooted, counts))
                     })
                 })
                 .collect();
             handles.into_iter().map(|h| h.join().unwrap()).collect()
         });
-        for (rank, (sum, lo, hi, below, above, err)) in results.into_iter().enumerate() {
+        for (rank, (sum, lo, hi, below, above, err, rooted)) in results.into_iter().enumerate() {
+            if rank == 0 {
+                let whole = vec![1.0, 2.0, 2.0, 3.0, 3.0, 3.0];
+                assert_eq!(rooted, (whole, vec![0, 1, 2, 3]));
+            } else {
+                assert_eq!(rooted, (vec![], vec![]));
+            }
             assert_eq!(sum, ((0.1 + 0.2) + 0.30000000000000004) + 0.4);
             assert_eq!((lo, hi), (0.0, 3.0));
             if rank > 0 {

@@ -48,6 +48,7 @@ pub mod reference;
 pub mod scene;
 pub mod scheme_order;
 pub mod slab_method;
+pub mod time_metrics;
 
 pub use error::{CoreError, SceneError};
 pub use grid::Grid;
