@@ -294,7 +294,8 @@ impl<const D: usize> FileWriter<'_, D> {
 
     /// The samples of this output: every sample on one rank; on several, the measuring
     /// line's only, gathered (the rest of the body stays on its ranks: the pieces) — the
-    /// whole body where the grid is still gathered (FEM).
+    /// whole body where the grid is still gathered (FEM) — and this rank's owned samples in
+    /// `owned`, formed once for the pieces of the frame and of the grid.
     fn gather(&mut self, method: &dyn Method<D>) {
         self.line_only = Self::grid_in_pieces(method);
         if self.line_only {
@@ -306,6 +307,9 @@ impl<const D: usize> FileWriter<'_, D> {
             );
         } else {
             method.sample_into(&mut self.samples);
+            if self.pieces.is_some() {
+                method.owned_samples_into(&mut self.owned);
+            }
         }
     }
 }
@@ -331,7 +335,7 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         // writes, whose failure on one rank the caller makes every rank's (`pieces::agree`)
         self.gather(method);
         let frame = format!("t{index}");
-        let piece = self.owned_piece(method, &frame, t);
+        let piece = self.owned_piece(&frame, t);
         self.profile(index, t)?;
         if self.files {
             self.write_frame(&frame, t, piece)?;
@@ -349,7 +353,7 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
             return Ok(());
         }
         self.gather(method);
-        let piece = self.owned_piece(method, INITIAL, 0.0);
+        let piece = self.owned_piece(INITIAL, 0.0);
         self.write_frame(INITIAL, 0.0, piece)?;
         self.grid_frame(method, INITIAL, 0.0)?;
         Ok(())

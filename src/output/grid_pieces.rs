@@ -142,7 +142,7 @@ impl<const D: usize> FileWriter<'_, D> {
         let cells = BoxCells::<D> {
             owned: std::array::from_fn(|k| owner.owned[k].clone()),
         };
-        method.owned_samples_into(&mut self.owned);
+        // (`owned` holds this rank's owned samples: `FileWriter::gather`)
         let (stress, velocity, count) = self.box_averages(method, &cells);
         let global_cell = |l: usize| g.cell_index(cells.global(l));
         // the map plane: (plane cell, σ_xx) of the box's sampled cells in it, gathered to

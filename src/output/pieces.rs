@@ -1,6 +1,6 @@
 //! Per-rank pieces of the samples frames (issue 27). On one rank a frame's samples are one
 //! `<method>_<frame>.vtu`, listed by `<method>.pvd` (unchanged). On `N > 1` ranks every
-//! rank writes its owned samples ([`Method::owned_samples_into`]) as
+//! rank writes its owned samples ([`Method::owned_samples_into`](impact_core::Method::owned_samples_into)) as
 //! `<method>_<frame>_r<rank>.vtu` into rank 0's staging folder, rank 0 writes
 //! `<method>_<frame>.pvtu` listing the `N` pieces in rank order (so a reader's
 //! concatenation is the global sample order, the serial file's), and `<method>.pvd` lists
@@ -24,7 +24,6 @@
 //! (publishes) the folder only after the last [`agree`], when every rank has reported its
 //! pieces written; a rank killed before that leaves the staging folder unpublished.
 use super::FileWriter;
-use impact_core::Method;
 use impact_io::vtu::write_pvtu;
 use std::path::{Path, PathBuf};
 
@@ -66,14 +65,9 @@ impl<const D: usize> FileWriter<'_, D> {
     /// This rank's owned samples and their reference solution, agreed over the ranks
     /// (collective: every rank calls it at every frame); `None` on one rank or without
     /// files.
-    pub(super) fn owned_piece(
-        &mut self,
-        method: &dyn Method<D>,
-        frame: &str,
-        t: f64,
-    ) -> Option<Piece> {
+    pub(super) fn owned_piece(&mut self, frame: &str, t: f64) -> Option<Piece> {
         self.pieces.as_ref().filter(|_| self.files)?;
-        method.owned_samples_into(&mut self.owned);
+        // (`owned` holds this rank's owned samples: `FileWriter::gather`)
         std::mem::swap(&mut self.samples, &mut self.owned);
         let reference = self.reference_values(frame, t);
         std::mem::swap(&mut self.samples, &mut self.owned);
