@@ -122,7 +122,8 @@ PY
 
 # MPM in the updated Lagrangian frame, points migrating between the slabs: an
 # elastic-plastic plate impacted on its left edge while moving up (the cut axis) at 250-450
-# m/s, so every point crosses one or two cell faces, rank faces too; the profiles, the grid
+# m/s and right at 20-320 m/s (MUSL), so every point crosses one or two cell faces, rank
+# faces too (on boxes along both axes); the profiles, the grid
 # files and the metrics equal the serial run's byte for byte on 1-3 ranks (the energies to
 # 1e-12: sums in rank order)
 cat >"$work/moving.toml" <<'TOML'
@@ -145,12 +146,13 @@ right = { kind = "free" }
 bottom = { kind = "free" }
 top = { kind = "free" }
 [initial]
-velocity = ["0", "250 + 50*x"]
+velocity = ["20 + 100*y", "250 + 50*x"]
 [time]
 output_transits = [10, 20, 29]
 [mpm]
 courant = 0.5
 frame = "updated-lagrangian"
+stress_update = "musl"
 TOML
 serial="$work/ul-serial"
 RAYON_NUM_THREADS=1 "$bin" run "$work/moving.toml" --method mpm --quiet --out "$serial" >/dev/null
@@ -161,9 +163,9 @@ for n in 1 2 3; do
   same_as_serial "mpm moving plate (updated frame) on $n ranks" "$serial" "$out" mpm "$n"
 done
 echo "mpi: a moving plate (mpm, updated frame, points migrating) on 1-3 ranks: the serial run's files"
-# the moving plate on 2 x 2 boxes (--ranks-grid 2,2): points migrate across the cut between
-# the lower and the upper boxes (diagonal motion through the boxes' corners is in
-# crates/impact-mpm/tests/migrate.rs); the serial run's files byte for byte
+# the moving plate on 2 x 2 boxes (--ranks-grid 2,2): points migrate across the cuts
+# between the lower and the upper boxes and between the left and the right ones, some
+# through the boxes' corners; the serial run's files byte for byte
 out="$work/ul-boxes-np4"
 RAYON_NUM_THREADS=1 "${mpi[@]}" -np 4 "$bin" run "$work/moving.toml" --method mpm --ranks-grid 2,2 --quiet \
   --out "$out" >"$out.log" 2>&1 || fail "mpm moving plate (updated frame) on boxes 2,2 failed: $(tail -5 "$out.log")"

@@ -100,6 +100,34 @@ impl<const D: usize> Column<'_, D> {
         }
     }
 
+    /// Keep the first `len` points (keeping the capacity).
+    pub fn truncate(&mut self, len: usize) {
+        match self {
+            Column::Scalar(v) => v.truncate(len),
+            Column::Index(v) => v.truncate(len),
+            Column::Vector(v) => v.truncate(len),
+            Column::Tensor(v) => v.truncate(len),
+        }
+    }
+
+    /// Remove point `i`, the last point taking its place (`Vec::swap_remove`).
+    pub fn swap_remove(&mut self, i: usize) {
+        match self {
+            Column::Scalar(v) => {
+                v.swap_remove(i);
+            }
+            Column::Index(v) => {
+                v.swap_remove(i);
+            }
+            Column::Vector(v) => {
+                v.swap_remove(i);
+            }
+            Column::Tensor(v) => {
+                v.swap_remove(i);
+            }
+        }
+    }
+
     /// Remove every point (keeping the capacity).
     pub fn clear(&mut self) {
         match self {

@@ -10,8 +10,9 @@
 //! (the same bits as one rank's: a box's own origin would round `(x − x_0)/h` differently)
 //! and their base node `Σ_k b_k s_k` (whole per-axis index `b_k`, box stride `s_k`) is moved
 //! to the box by `node_offset = Σ_k first_node_k s_k`, which is the box's number of the node
-//! `b − first_node` (linear in `b`). Loads, constraints and the empty-node walls, found on
-//! the whole grid, are moved node by node ([`Place::local_node`], [`Place::whole_node`]).
+//! `b − first_node` (linear in `b`). The nodal constraints and the empty-node walls are
+//! found on the stored nodes only, each at its place in the whole grid
+//! ([`Place::whole_node`]; a mirror node moved back by [`Place::local_node`]).
 use crate::edges::{edge_conditions, node_constraints, point_constraints};
 use crate::{shape, EmptyNodes, Mpm, MpmSolver, MpmState, NodeSums, PADDING};
 use impact_core::comm::RankBox;
@@ -106,9 +107,9 @@ impl<const D: usize> Mpm<D> {
     /// only the stored cells' points, seeded from the whole grid's origin and global cell
     /// indices (the same bits as one rank's, in memory that shrinks with the ranks), the
     /// edge conditions of the whole body's edges only (found on the points by position: a
-    /// cut face is no edge), the nodal constraints found on the whole padded grid and moved
-    /// to the stored nodes, and the empty-node floor, the shared row of weights and the
-    /// serial/parallel choice of the whole body (`slab.rs`).
+    /// cut face is no edge), the nodal constraints found on the stored nodes, and the
+    /// empty-node floor, the shared row of weights and the serial/parallel choice of the
+    /// whole body (`slab.rs`).
     pub(crate) fn build(
         problem: &Problem<D>,
         config: MethodConfig,
@@ -196,23 +197,8 @@ impl<const D: usize> Mpm<D> {
             whole,
         };
         let (loads, velocity_edges) = edge_conditions(problem, &points);
-        let (mut node_constraints, mut mirror_constraints, on_walls) =
-            node_constraints(&place.whole, &velocity_edges);
-        node_constraints
-            .retain_mut(|c| place.local_node(c.carrier).map(|v| c.carrier = v).is_some());
-        // a padding node whose mirror is not stored is read by no stored point
-        mirror_constraints.retain_mut(|c| {
-            match (place.local_node(c.node), place.local_node(c.mirror)) {
-                (Some(node), Some(mirror)) => {
-                    (c.node, c.mirror) = (node, mirror);
-                    true
-                }
-                _ => false,
-            }
-        });
-        let walls = (0..node_count)
-            .map(|v| on_walls[place.whole_node(v)])
-            .collect();
+        let (node_constraints, mirror_constraints, walls) =
+            node_constraints(&place, &velocity_edges);
         let empty = EmptyNodes::new(lightest, config.points_per_cell, walls);
         let np = points.len();
         let point_constraints = point_constraints(&body, &points, &velocity_edges);

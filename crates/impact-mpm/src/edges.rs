@@ -14,6 +14,7 @@
 //! (Steffen, Kirby & Berzins 2008 discuss the loss of accuracy at boundaries; the
 //! reflection is the ghost-node treatment of finite differences, LeVeque 2002 §7.3).
 //! The wall's own node layer is held at `V` as before.
+use crate::build::Place;
 use crate::PADDING;
 use impact_core::points::MaterialPoints;
 use impact_core::problem::Boundary;
@@ -80,43 +81,69 @@ pub(crate) fn edge_conditions<const D: usize>(
     problem: &Problem<D>,
     points: &MaterialPoints<D>,
 ) -> (Vec<SurfaceLoad<D>>, Vec<VelocityEdge>) {
-    let body = &problem.grid;
     let mut loads = Vec::new();
-    let mut velocity_edges = Vec::new();
-    let upper = body.upper();
+    for l in 0..D {
+        for side in 0..2 {
+            face_loads(problem, (l, side), points, &mut loads);
+        }
+    }
+    (loads, velocity_edges(problem))
+}
+
+/// Appends to `loads` the surface loads of the face `(axis, side)` (0: low, 1: high) if it
+/// is a pressure edge: on the points of `points` whose domain touches it, in proportion to
+/// the share of their face the segment covers (`Load::coverage`), force `-p A n` at the
+/// domain's edge midpoint. Only points of the face's cell layer can touch it.
+pub(crate) fn face_loads<const D: usize>(
+    problem: &Problem<D>,
+    (l, side): (usize, usize),
+    points: &MaterialPoints<D>,
+    loads: &mut Vec<SurfaceLoad<D>>,
+) {
+    let body = &problem.grid;
+    let Boundary::Pressure(load) = problem.boundaries[l][side] else {
+        return;
+    };
+    let sign = if side == 0 { -1.0 } else { 1.0 };
+    let edge = if side == 0 {
+        body.origin[l]
+    } else {
+        body.upper()[l]
+    };
+    let outward = Vector::<D>::from_fn(|k, _| if k == l { sign } else { 0.0 });
+    for p in 0..points.len() {
+        let x = points.reference[p];
+        let h = points.half_size[p];
+        if ((x[l] + sign * h[l]) - edge).abs() > 1e-9 * body.spacing[l] {
+            continue;
+        }
+        let share = load.coverage(l, &x, &h);
+        if share <= 0.0 {
+            continue;
+        }
+        let area: f64 = Grid::<D>::tangent_axes(l).map(|k| 2.0 * h[k]).product();
+        let mut offset = Vector::<D>::zeros();
+        offset[l] = sign * h[l];
+        loads.push(SurfaceLoad {
+            point: p,
+            offset,
+            force: outward * (-load.value * area * share),
+            history: load.history,
+        });
+    }
+}
+
+/// The velocity and symmetry edges of `problem`, face by face (axis, then low and high).
+pub(crate) fn velocity_edges<const D: usize>(problem: &Problem<D>) -> Vec<VelocityEdge> {
+    let body = &problem.grid;
+    let mut edges = Vec::new();
     for l in 0..D {
         for side in 0..2 {
             let sign = if side == 0 { -1.0 } else { 1.0 };
-            let edge = if side == 0 { body.origin[l] } else { upper[l] };
-            let outward = Vector::<D>::from_fn(|k, _| if k == l { sign } else { 0.0 });
             let node_layer = PADDING + side * body.cells[l];
             match problem.boundaries[l][side] {
-                Boundary::Free => {}
-                Boundary::Pressure(load) => {
-                    // points whose domain touches the edge carry its load, in proportion to
-                    // the share of their face the segment covers (`Load::coverage`)
-                    for p in 0..points.len() {
-                        let x = points.reference[p];
-                        let h = points.half_size[p];
-                        if ((x[l] + sign * h[l]) - edge).abs() > 1e-9 * body.spacing[l] {
-                            continue;
-                        }
-                        let share = load.coverage(l, &x, &h);
-                        if share <= 0.0 {
-                            continue;
-                        }
-                        let area: f64 = Grid::<D>::tangent_axes(l).map(|k| 2.0 * h[k]).product();
-                        let mut offset = Vector::<D>::zeros();
-                        offset[l] = sign * h[l];
-                        loads.push(SurfaceLoad {
-                            point: p,
-                            offset,
-                            force: outward * (-load.value * area * share),
-                            history: load.history,
-                        });
-                    }
-                }
-                Boundary::Velocity { load, bonded } => velocity_edges.push(VelocityEdge {
+                Boundary::Free | Boundary::Pressure(_) => {}
+                Boundary::Velocity { load, bonded } => edges.push(VelocityEdge {
                     axis: l,
                     node_layer,
                     load: Load {
@@ -126,7 +153,7 @@ pub(crate) fn edge_conditions<const D: usize>(
                     symmetry: false,
                     bonded,
                 }),
-                Boundary::Symmetry => velocity_edges.push(VelocityEdge {
+                Boundary::Symmetry => edges.push(VelocityEdge {
                     axis: l,
                     node_layer,
                     load: Load::step(0.0),
@@ -136,40 +163,50 @@ pub(crate) fn edge_conditions<const D: usize>(
             }
         }
     }
-    (loads, velocity_edges)
+    edges
 }
 
-/// The prescribed nodal velocity components of the velocity and symmetry edges: every
-/// node of the edge's layer inside its segment, and the mirror constraints of the padding
-/// layers beyond it (module doc); and per node the number of mirror planes (wall layers of
-/// those edges) it lies on (`crate::EmptyNodes`). A nodal value is imposed or not: the patch
-/// is tested at the node's position under either `cover` rule, reflected into the body
-/// across the symmetry planes the node lies beyond ([`unfolded`]).
+/// The prescribed nodal velocity components of the velocity and symmetry edges on the
+/// nodes `place` stores (numbered as it numbers them): every node of the edge's layer
+/// inside its segment, and the mirror constraints of the padding layers beyond it (module
+/// doc) whose mirror node is stored too (a padding node whose mirror is not stored is read
+/// by no stored point); and per stored node the number of mirror planes (wall layers of
+/// those edges) it lies on (`crate::EmptyNodes`). A nodal value is imposed or not: the
+/// patch is tested at the node's position on the whole padded grid under either `cover`
+/// rule, reflected into the body across the symmetry planes the node lies beyond
+/// ([`unfolded`]). The stored nodes keep the whole grid's relative order, so the lists are
+/// the whole grid's restricted to them, in its order.
 pub(crate) fn node_constraints<const D: usize>(
-    grid: &Grid<D>,
+    place: &Place<D>,
     edges: &[VelocityEdge],
 ) -> (Vec<Constraint>, Vec<MirrorConstraint>, Vec<u8>) {
+    let grid = &place.whole;
     let counts = grid.vertex_counts();
+    let stored: usize = place.node_counts.iter().product();
     let mut walls = Vec::new();
     let mut mirrors = Vec::new();
-    let mut on_walls = vec![0u8; grid.vertex_count()];
+    let mut on_walls = vec![0u8; stored];
     for e in edges {
         let stride: usize = counts[..e.axis].iter().product();
-        for v in 0..grid.vertex_count() {
+        for local in 0..stored {
+            let v = place.whole_node(local);
             let along = (0..e.axis).fold(v, |rest, k| rest / counts[k]) % counts[e.axis];
-            let position = unfolded(grid, edges, v);
             let beyond = e.beyond(along);
-            if !(along == e.node_layer || beyond) || !e.load.acts_on(e.axis, &position) {
+            if !(along == e.node_layer || beyond) {
+                continue;
+            }
+            let position = unfolded(grid, edges, v);
+            if !e.load.acts_on(e.axis, &position) {
                 continue;
             }
             let constraint = |axis: usize, value: f64| Constraint {
-                carrier: v,
+                carrier: local,
                 axis,
                 value,
                 history: e.load.history,
             };
             if !beyond {
-                on_walls[v] += 1;
+                on_walls[local] += 1;
                 walls.extend(
                     e.components::<D>()
                         .map(|(axis, value)| constraint(axis, value)),
@@ -178,11 +215,13 @@ pub(crate) fn node_constraints<const D: usize>(
             }
             // the interior node as far inside as this one is beyond
             let mirror_along = 2 * e.node_layer - along;
-            let mirror = v - along * stride + mirror_along * stride;
+            let Some(mirror) = place.local_node(v - along * stride + mirror_along * stride) else {
+                continue;
+            };
             for axis in 0..D {
                 let odd = axis == e.axis || e.bonded;
                 mirrors.push(MirrorConstraint {
-                    node: v,
+                    node: local,
                     mirror,
                     axis,
                     sign: if odd { -1.0 } else { 1.0 },
@@ -214,6 +253,16 @@ fn unfolded<const D: usize>(grid: &Grid<D>, edges: &[VelocityEdge], v: usize) ->
 }
 
 impl VelocityEdge {
+    /// The face it lies on: `(axis, side)`, side 0 the low face, 1 the high one.
+    pub(crate) fn face(&self) -> (usize, usize) {
+        (self.axis, usize::from(self.node_layer != PADDING))
+    }
+
+    /// Whether it prescribes the velocity of the points touching it (not a symmetry edge).
+    pub(crate) fn holds_points(&self) -> bool {
+        !self.symmetry
+    }
+
     /// Whether a node with index `along` on the edge's axis lies beyond the edge's wall
     /// layer (outside the body).
     fn beyond(&self, along: usize) -> bool {

@@ -72,6 +72,7 @@ mod affine;
 mod build;
 mod cpdi;
 mod edges;
+mod face_lists;
 mod grid_update;
 mod loads;
 mod method;

@@ -63,51 +63,14 @@ impl<const D: usize> Method<D> for Mpm<D> {
         self.state.impulse
     }
     fn check_finite(&self) -> Result<(), BadState<D>> {
-        let p = &self.state.points;
-        let finite = |i: usize| {
-            p.stress[i].iter().all(|x| x.is_finite())
-                && p.velocity[i].iter().all(|x| x.is_finite())
-                && p.position[i].iter().all(|x| x.is_finite())
-        };
-        let admissible = |i: usize| match self.solver.model {
-            Model::Svk(svk) => svk.admissible(&p.deformation[i], self.solver.wave_speed),
-            _ => true,
-        };
-        let moving = self.solver.options.frame == MpmFrame::UpdatedLagrangian;
-        // the stencil, not just the point: a smooth stencil needs nodes around it
-        let fits = |i: usize| {
-            !moving
-                || match p.domain.get(i) {
-                    Some(domain) => {
-                        self.solver
-                            .stencil
-                            .fits_domain(&self.solver.grid, &p.position[i], domain)
-                    }
-                    None => self.solver.stencil.fits(&self.solver.grid, &p.position[i]),
-                }
-        };
-        let ok = |i: usize| finite(i) && admissible(i) && fits(i);
-        let Some(i) = self
+        let ok = |i: usize| self.point_failure(i).is_none();
+        let first = self
             .owned_point_runs()
             .iter()
-            .find_map(|own| first_failing(own.len(), |j| ok(own.start + j)).map(|j| own.start + j))
-        else {
-            return Ok(());
-        };
-        let reason = if !finite(i) {
-            "non-finite stress, velocity or position at a material point".into()
-        } else if !admissible(i) {
-            impact_core::material::Svk::inadmissible_reason(&p.deformation[i])
-        } else {
-            format!(
-                "material point's stencil left the background grid (x = {:?})",
-                p.position[i].as_slice()
-            )
-        };
-        Err(BadState {
-            place: p.reference[i],
-            reason,
-        })
+            .find_map(|own| first_failing(own.len(), |j| ok(own.start + j)).map(|j| own.start + j));
+        first
+            .and_then(|i| self.point_failure(i))
+            .map_or(Ok(()), Err)
     }
     fn hottest_place(&self) -> Vector<D> {
         let p = &self.state.points;
@@ -128,6 +91,49 @@ impl<const D: usize> Method<D> for Mpm<D> {
 }
 
 impl<const D: usize> Mpm<D> {
+    /// What is wrong with point `i`, if anything: a non-finite stress, velocity or
+    /// position, an inadmissible deformation (Saint-Venant–Kirchhoff), or (updated frame)
+    /// a stencil that left the background grid.
+    pub(crate) fn point_failure(&self, i: usize) -> Option<BadState<D>> {
+        let p = &self.state.points;
+        let finite = p.stress[i].iter().all(|x| x.is_finite())
+            && p.velocity[i].iter().all(|x| x.is_finite())
+            && p.position[i].iter().all(|x| x.is_finite());
+        let admissible = || match self.solver.model {
+            Model::Svk(svk) => svk.admissible(&p.deformation[i], self.solver.wave_speed),
+            _ => true,
+        };
+        let moving = self.solver.options.frame == MpmFrame::UpdatedLagrangian;
+        // the stencil, not just the point: a smooth stencil needs nodes around it
+        let fits = || {
+            !moving
+                || match p.domain.get(i) {
+                    Some(domain) => {
+                        self.solver
+                            .stencil
+                            .fits_domain(&self.solver.grid, &p.position[i], domain)
+                    }
+                    None => self.solver.stencil.fits(&self.solver.grid, &p.position[i]),
+                }
+        };
+        let reason = if !finite {
+            "non-finite stress, velocity or position at a material point".into()
+        } else if !admissible() {
+            impact_core::material::Svk::inadmissible_reason(&p.deformation[i])
+        } else if !fits() {
+            format!(
+                "material point's stencil left the background grid (x = {:?})",
+                p.position[i].as_slice()
+            )
+        } else {
+            return None;
+        };
+        Some(BadState {
+            place: p.reference[i],
+            reason,
+        })
+    }
+
     /// The points this solver owns, a run per row of own cells in order: all of them on
     /// one rank, a slab's own layers' points (one run), a box's own rows (`crate::slab`);
     /// the diagnostics and samples cover these.

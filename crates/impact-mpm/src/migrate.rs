@@ -13,23 +13,28 @@
 //!
 //! **After each step** ([`MigratingMpm::step`]), two rounds of exchanges with the
 //! neighbours, axis by axis, each of messages of any length
-//! (`impact_core::comm_migrate::exchange_varying`):
+//! (`impact_core::comm_migrate::exchange_varying`); the own points stay where they are in
+//! the stored arrays, and only those that leave or arrive are copied:
 //! 1. migration: along axis 0, then 1, …, each point held as own whose cell along that axis
-//!    left the own range goes to the neighbour along it owning that cell, with its whole
-//!    state: one row of every per-point array of
-//!    [`MaterialPoints`](impact_core::points::MaterialPoints) (`impact_core::comm_migrate::point_columns`, a list that does not
-//!    compile when a field is added to the struct and not to it), APIC's affine velocity
-//!    and the point's global number; what arrives is held as own and routed along the next
-//!    axes. A point crossing an edge or a corner of the box reaches its owner in up to `D`
-//!    hops within the step's `D` exchanges (a point received along axis `k` lies in the
+//!    left the own range (found among the own points whose cell left the own box, listed
+//!    in one pass over the cells) goes to the neighbour along it owning that cell, with
+//!    its whole state: one row of every per-point array of
+//!    [`MaterialPoints`](impact_core::points::MaterialPoints)
+//!    (`impact_core::comm_migrate::point_columns`, a list that does not compile when a
+//!    field is added to the struct and not to it), APIC's affine velocity and the point's
+//!    global number; what arrives is appended to the own points and routed along the next
+//!    axes, and a point sent away is removed, the last own point taking its place (the own
+//!    points are then in no particular order). A point crossing an edge or a corner of the
+//!    box reaches its owner in up to `D` hops within the step's `D` exchanges (a point received along axis `k` lies in the
 //!    own range along the axes before `k`: its sender's, which are this rank's);
 //! 2. halo: along axis 0, 1, …, each rank sends the rows it holds (its own points and the
 //!    halo received along the earlier axes) whose cell along that axis lies in the
 //!    neighbour's stored range there: the earlier axes' halo travels on, which fills the
 //!    stored box's edges and corners, as the total Lagrangian box's exchange
-//!    (`impact_core::comm_box`). The stored points become the own points in the global
-//!    order, then the halo; the nodal constraints' point lists, the loads and the weights'
-//!    buffers follow.
+//!    (`impact_core::comm_box`). The stored points are the own points, then the halo; the
+//!    scatter order (the stored points sorted by global number), the nodal constraints'
+//!    point lists, the loads (found by binary search of the sorted numbers: no rank holds
+//!    an index of every point) and the weights' buffers follow.
 //!
 //! A point moves less than a cell per step at a stable Courant number; one that moves more
 //! cells along an axis than the halo is reported: the run fails at its next check with the
@@ -42,15 +47,19 @@
 //! stencil's base node), and within a layer in the order of `Place::scatter_order` (here:
 //! the global order); one rank adds them in its own order, the global one. The gathers and
 //! the stress updates are per point, and the loads are applied in the whole body's order.
+//! The first failing point and the hottest one are looked for among the own points in the
+//! global order too (as one rank's, and a slab's before the own points were unordered).
 //! So the own points are formed by the same operations on the same bits as on one rank,
 //! and the samples (gathered, then put in the global order) equal the one-rank run's bit
 //! for bit on slabs and boxes (`tests/migrate.rs`); the energy and momentum are sums in
 //! rank order, equal to round-off; the point count and the mass are exact.
 //!
-//! Building reads the whole body once on every rank (its loads and prescribed point
-//! velocities, listed by global number, travel with nothing: every rank holds the list).
+//! Building seeds the rank's stored box only, and the cell layers of the body's loaded and
+//! held faces: the loads and prescribed point velocities acting on points, listed by
+//! global number (`face_lists.rs`), travel with nothing: every rank holds the lists, a
+//! face's worth of points.
 use crate::edges::SurfaceLoad;
-use crate::migrate_rows::{columns, Buffers, Cells, Neighbour, Received, COLUMNS};
+use crate::migrate_rows::{columns, Buffers, Cells, Neighbour, COLUMNS};
 use crate::slab::halo_layers;
 use crate::Mpm;
 use impact_core::comm::{Comm, CommError, RankBox, RankGrid};
@@ -80,16 +89,20 @@ pub struct MigratingMpm<const D: usize> {
     /// The whole body's loads and prescribed point velocities (by global number).
     loads: Vec<SurfaceLoad<D>>,
     constraints: Vec<Constraint>,
-    /// Local index of each global number (valid where `ids` agrees).
-    local_of: Vec<usize>,
-    /// The own points' cells at the step's start.
-    before: Vec<[usize; D]>,
+    /// The own points' cells (at the step's start, then after it while migrating).
+    own_cells: Vec<[usize; D]>,
+    /// The own points whose cell lies outside the own box, with that cell, while
+    /// migrating.
+    leaving: Vec<(usize, [usize; D])>,
+    /// The own points sent away in this step's migration.
+    sent: Vec<usize>,
     buffers: Buffers,
     migrated: usize,
     bytes: usize,
     steps: usize,
     failure: Option<BadState<D>>,
     cells: usize,
+    points: usize,
     initial_energy: f64,
 }
 
@@ -130,10 +143,11 @@ impl<const D: usize> MigratingMpm<D> {
         let grid = &problem.grid;
         let rank_box =
             RankBox::for_rank(&grid.cells, rank_grid, comm.as_ref(), halo_layers(&options))?;
-        let whole = Mpm::build(problem, config, None)?;
+        let (loads, constraints) = crate::face_lists::by_global_number(problem, &config)?;
         let mut local = Mpm::build(problem, config, Some(&rank_box))?;
         // the box's points are its stored cells' seeding, cell by cell (`build.rs`)
-        let per_cell = whole.state.points.len() / grid.cell_count();
+        let stored_cells: usize = rank_box.stored.iter().map(|r| r.len()).product();
+        let per_cell = local.state.points.len() / stored_cells;
         let mut ids: Vec<usize> = (0..local.state.points.len())
             .map(|p| rank_box.global_cell(p / per_cell) * per_cell + p % per_cell)
             .collect();
@@ -151,9 +165,8 @@ impl<const D: usize> MigratingMpm<D> {
         });
         let mut m = Self {
             neighbours,
-            local_of: vec![0; whole.state.points.len()],
-            loads: whole.solver.loads,
-            constraints: whole.solver.point_constraints,
+            loads,
+            constraints,
             cells_of: Cells {
                 origin: std::array::from_fn(|k| grid.origin[k]),
                 spacing: std::array::from_fn(|k| grid.spacing[k]),
@@ -165,21 +178,24 @@ impl<const D: usize> MigratingMpm<D> {
             ids,
             present,
             width,
-            before: Vec::new(),
+            own_cells: Vec::new(),
+            leaving: Vec::new(),
+            sent: Vec::new(),
             buffers: Buffers::default(),
             migrated: 0,
             bytes: 0,
             steps: 0,
             failure: None,
             cells: grid.cell_count(),
+            points: per_cell * grid.cell_count(),
             initial_energy,
         };
-        // the stored points split by their cells into own (in the global order) and halo
-        let b = &mut m.buffers;
-        b.keep.clear();
+        // the stored points split by their cells into own (in the global order: the box's
+        // cells in order) and halo
+        let (b, stored) = (&mut m.buffers, m.ids.len());
         b.halo.clear();
-        let stored = m.ids.len();
-        let cols = columns(&mut m.ids, &mut m.local.state);
+        b.send_low.clear();
+        let mut cols = columns(&mut m.ids, &mut m.local.state);
         let mut row = Vec::with_capacity(width);
         for i in 0..stored {
             row.clear();
@@ -187,11 +203,17 @@ impl<const D: usize> MigratingMpm<D> {
                 c.pack(i, &mut row);
             }
             let cell = m.cells_of.of_row(&row);
-            let own = (0..D).all(|k| m.rank_box.owned[k].contains(&cell[k]));
-            if own { &mut b.keep } else { &mut b.halo }.extend_from_slice(&row);
+            if (0..D).all(|k| m.rank_box.owned[k].contains(&cell[k])) {
+                b.send_low.extend_from_slice(&row);
+                m.own_cells.push(cell);
+            } else {
+                b.halo.extend_from_slice(&row);
+            }
         }
-        b.sort_own(width);
-        m.store();
+        cols.iter_mut().for_each(Column::clear);
+        push_rows(&mut cols, present, &b.send_low, width);
+        let own = m.own_cells.len();
+        m.store_halo(own);
         Ok(m)
     }
 
@@ -217,64 +239,112 @@ impl<const D: usize> MigratingMpm<D> {
         self.migrated
     }
 
-    /// Move the own points that left the own box to their new owners, then refresh the
-    /// halo (module doc). `t` is the time reached.
-    fn migrate(&mut self, t: f64) {
-        let (w, halo, cells_of) = (self.width, self.rank_box.halo, self.cells_of);
-        let owned = self.local.owned_points();
-        let b = &mut self.buffers;
-        b.keep.clear();
-        let cols = columns(&mut self.ids, &mut self.local.state);
-        for (k, i) in owned.enumerate() {
-            let start = b.keep.len();
-            for (c, _) in cols.iter().zip(self.present).filter(|(_, p)| *p) {
-                c.pack(i, &mut b.keep);
-            }
-            let cell = cells_of.of_row(&b.keep[start..]);
+    /// The own points in the order of their global numbers (the scatter order without the
+    /// halo).
+    fn own_in_global_order(&self) -> impl Iterator<Item = usize> + '_ {
+        let own = self.local.owned_points().end;
+        let order = &self.local.solver.place.scatter_order;
+        order.iter().copied().filter(move |&p| p < own)
+    }
+
+    /// The own points' cells now, and those of them outside the own box (`leaving`); an
+    /// own point that moved more cells along an axis than the halo is the run's failure.
+    fn find_leaving(&mut self, t: f64) {
+        let (halo, cells_of) = (self.rank_box.halo, self.cells_of);
+        let position = &self.local.state.points.position;
+        self.leaving.clear();
+        for (i, cell) in self.own_cells.iter_mut().enumerate() {
+            let now: [usize; D] = std::array::from_fn(|k| cells_of.along(k, position[i][k]));
             let (axis, moved) = (0..D)
-                .map(|along| (along, cell[along].abs_diff(self.before[k][along])))
+                .map(|along| (along, now[along].abs_diff(cell[along])))
                 .fold((0, 0), |m, e| if e.1 > m.1 { e } else { m });
             if moved > halo && self.failure.is_none() {
                 self.failure = Some(BadState {
-                    place: Vector::<D>::from_column_slice(&b.keep[start + 1..start + 1 + D]),
+                    place: self.local.state.points.reference[i],
                     reason: format!(
                         "step {}, t = {t:e}: material point {} moved {moved} cells along \
                          axis {axis} in one step, more than the halo of {halo} cells \
                          between ranks (an unstable step: lower the Courant number)",
-                        self.steps, b.keep[start] as usize
+                        self.steps, self.ids[i]
                     ),
                 });
             }
+            *cell = now;
+            if !(0..D).all(|k| self.rank_box.owned[k].contains(&now[k])) {
+                self.leaving.push((i, now));
+            }
         }
+    }
+
+    /// Move the own points that left the own box to their new owners, then refresh the
+    /// halo (module doc). `t` is the time reached.
+    fn migrate(&mut self, t: f64) {
+        let own = self.local.owned_points().end;
+        let w = self.width;
+        let mut cols = columns(&mut self.ids, &mut self.local.state);
+        cols.iter_mut().for_each(|c| c.truncate(own));
+        drop(cols);
+        self.find_leaving(t);
         // migration, axis by axis: a point goes to the neighbour owning its cell
+        let b = &mut self.buffers;
+        let mut cols = columns(&mut self.ids, &mut self.local.state);
+        let present = self.present;
         self.bytes = 0;
+        self.sent.clear();
         for (axis, [low, high]) in self.neighbours.iter().enumerate() {
             if self.rank_box.parts[axis] == 1 {
                 continue;
             }
-            let own = &self.rank_box.owned[axis];
+            let range = &self.rank_box.owned[axis];
             b.send_low.clear();
             b.send_high.clear();
-            b.staying.clear();
-            for row in b.keep.chunks_exact(w) {
-                let cell = cells_of.of_row(row)[axis];
-                let owns =
-                    |n: &Option<Neighbour>| n.as_ref().is_some_and(|n| n.owned.contains(&cell));
-                let destination = if cell < own.start && owns(low) {
+            let sent = &mut self.sent;
+            self.leaving.retain(|&(i, cell)| {
+                let c = cell[axis];
+                let owns = |n: &Option<Neighbour>| n.as_ref().is_some_and(|n| n.owned.contains(&c));
+                let send = if c < range.start && owns(low) {
                     &mut b.send_low
-                } else if cell >= own.end && owns(high) {
+                } else if c >= range.end && owns(high) {
                     &mut b.send_high
                 } else {
-                    &mut b.staying
+                    return true;
                 };
-                destination.extend_from_slice(row);
-            }
+                for (column, _) in cols.iter().zip(present).filter(|(_, p)| *p) {
+                    column.pack(i, send);
+                }
+                sent.push(i);
+                false
+            });
             self.migrated += (b.send_low.len() + b.send_high.len()) / w;
             let neighbours = self.rank_box.neighbours(axis);
-            self.bytes += b.exchange(self.comm.as_ref(), neighbours, Received::Staying);
-            std::mem::swap(&mut b.keep, &mut b.staying);
+            self.bytes += b.exchange(self.comm.as_ref(), neighbours);
+            // what arrives is own, routed on along the next axes where it lies outside
+            for received in [&b.receive_low, &b.receive_high] {
+                push_rows(&mut cols, present, received, w);
+            }
+            for row in b
+                .receive_low
+                .chunks_exact(w)
+                .chain(b.receive_high.chunks_exact(w))
+            {
+                let i = self.own_cells.len();
+                let cell = self.cells_of.of_row(row);
+                self.own_cells.push(cell);
+                if !(0..D).all(|k| self.rank_box.owned[k].contains(&cell[k])) {
+                    self.leaving.push((i, cell));
+                }
+            }
         }
-        b.sort_own(w);
+        // the points sent away, the last ones first: each takes the last own point's place
+        self.sent.sort_unstable();
+        for &i in self.sent.iter().rev() {
+            cols.iter_mut()
+                .zip(present)
+                .filter(|(_, p)| *p)
+                .for_each(|(c, _)| c.swap_remove(i));
+            self.own_cells.swap_remove(i);
+        }
+        let own = self.own_cells.len();
         // the halo, axis by axis: the rows held in a neighbour's stored range
         b.halo.clear();
         for (axis, neighbours) in self.neighbours.iter().enumerate() {
@@ -283,38 +353,35 @@ impl<const D: usize> MigratingMpm<D> {
             }
             b.send_low.clear();
             b.send_high.clear();
-            for row in b.own.chunks_exact(w).chain(b.halo.chunks_exact(w)) {
-                let cell = cells_of.of_row(row)[axis];
-                for (send, neighbour) in [&mut b.send_low, &mut b.send_high]
-                    .into_iter()
-                    .zip(neighbours)
-                {
-                    if neighbour.as_ref().is_some_and(|n| n.stored.contains(&cell)) {
+            let sends = [&mut b.send_low, &mut b.send_high];
+            for (send, neighbour) in sends.into_iter().zip(neighbours) {
+                let Some(n) = neighbour else { continue };
+                for (i, cell) in self.own_cells.iter().enumerate() {
+                    if n.stored.contains(&cell[axis]) {
+                        for (column, _) in cols.iter().zip(present).filter(|(_, p)| *p) {
+                            column.pack(i, send);
+                        }
+                    }
+                }
+                for row in b.halo.chunks_exact(w) {
+                    if n.stored.contains(&self.cells_of.of_row(row)[axis]) {
                         send.extend_from_slice(row);
                     }
                 }
             }
             let neighbours = self.rank_box.neighbours(axis);
-            self.bytes += b.exchange(self.comm.as_ref(), neighbours, Received::Halo);
+            self.bytes += b.exchange(self.comm.as_ref(), neighbours);
+            b.halo.extend_from_slice(&b.receive_low);
+            b.halo.extend_from_slice(&b.receive_high);
         }
-        self.store();
+        drop(cols);
+        self.store_halo(own);
     }
 
-    /// Unpack the own rows, then the halo's, into the stored points, and install them.
-    fn store(&mut self) {
-        let (b, w) = (&self.buffers, self.width);
+    /// Append the halo's rows after the `own` points, and install them.
+    fn store_halo(&mut self, own: usize) {
         let mut cols = columns(&mut self.ids, &mut self.local.state);
-        cols.iter_mut().for_each(Column::clear);
-        for rows in [&b.own, &b.halo] {
-            for row in rows.chunks_exact(w) {
-                let mut at = 0;
-                for (c, _) in cols.iter_mut().zip(self.present).filter(|(_, p)| *p) {
-                    c.push(&row[at..at + c.width()]);
-                    at += c.width();
-                }
-            }
-        }
-        let own = b.own.len() / w;
+        push_rows(&mut cols, self.present, &self.buffers.halo, self.width);
         self.install(0..own);
     }
 
@@ -324,13 +391,6 @@ impl<const D: usize> MigratingMpm<D> {
     fn install(&mut self, owned: std::ops::Range<usize>) {
         let count = self.ids.len();
         let ids = &self.ids;
-        for (p, &id) in ids.iter().enumerate() {
-            self.local_of[id] = p;
-        }
-        let here = |id: usize| {
-            let p = self.local_of[id];
-            (p < count && ids[p] == id).then_some(p)
-        };
         let solver = &mut self.local.solver;
         // (one run, its buffer kept: no allocation in the step)
         solver.place.owned_runs.clear();
@@ -339,6 +399,10 @@ impl<const D: usize> MigratingMpm<D> {
         order.clear();
         order.extend(0..count);
         order.sort_unstable_by_key(|&p| ids[p]);
+        let order = &solver.place.scatter_order;
+        // the stored point of global number `id`, by binary search of the sorted numbers
+        let here =
+            |id: usize| (order.binary_search_by_key(&id, |&p| ids[p]).ok()).map(|k| order[k]);
         solver.loads.clear();
         solver.loads.extend(
             self.loads
@@ -360,15 +424,24 @@ impl<const D: usize> MigratingMpm<D> {
     }
 }
 
+/// Append `rows` (of `width` floats, the `present` columns' values in turn) to the columns.
+fn push_rows<const D: usize>(
+    cols: &mut [Column<'_, D>; COLUMNS],
+    present: [bool; COLUMNS],
+    rows: &[f64],
+    width: usize,
+) {
+    for row in rows.chunks_exact(width) {
+        let mut at = 0;
+        for (c, _) in cols.iter_mut().zip(present).filter(|(_, p)| *p) {
+            c.push(&row[at..at + c.width()]);
+            at += c.width();
+        }
+    }
+}
+
 impl<const D: usize> Method<D> for MigratingMpm<D> {
     fn step(&mut self, t: f64, dt: f64) {
-        let owned = self.local.owned_points();
-        self.before.clear();
-        let position = &self.local.state.points.position;
-        let cells_of = self.cells_of;
-        self.before.extend(
-            owned.map(|i| std::array::from_fn(|axis| cells_of.along(axis, position[i][axis]))),
-        );
         self.local.step(t, dt);
         self.steps += 1;
         self.migrate(t + dt);
@@ -386,14 +459,20 @@ impl<const D: usize> Method<D> for MigratingMpm<D> {
     fn check_finite(&self) -> Result<(), BadState<D>> {
         let local = match &self.failure {
             Some(failure) => Err(failure.clone()),
-            None => self.local.check_finite(),
+            // the first failing own point in the global order, as one rank's
+            None => self.local.check_finite().map_err(|any| {
+                (self.own_in_global_order())
+                    .find_map(|i| self.local.point_failure(i))
+                    .unwrap_or(any)
+            }),
         };
         first_bad(self.comm.as_ref(), local)
     }
     fn hottest_place(&self) -> Vector<D> {
         let p = &self.local.state.points;
-        let mine = p
-            .hottest_in(self.local.owned_points())
+        // the last of equals in the global order, as one rank's
+        let mine = (self.own_in_global_order())
+            .max_by(|&a, &b| p.velocity[a].norm().total_cmp(&p.velocity[b].norm()))
             .map(|i| (p.velocity[i].norm(), p.reference[i]));
         hottest_place(self.comm.as_ref(), mine)
     }
@@ -401,7 +480,7 @@ impl<const D: usize> Method<D> for MigratingMpm<D> {
         self.cells
     }
     fn updates_per_step(&self) -> usize {
-        self.local_of.len()
+        self.points
     }
     fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
         let ids = &self.ids;

@@ -106,68 +106,25 @@ impl Neighbour {
 /// grown).
 #[derive(Debug, Default)]
 pub(crate) struct Buffers {
-    /// The own points' rows while they are routed (then in any order).
-    pub keep: Vec<f64>,
-    /// The rows staying after one axis's routing.
-    pub staying: Vec<f64>,
     pub send_low: Vec<f64>,
     pub send_high: Vec<f64>,
     pub receive_low: Vec<f64>,
     pub receive_high: Vec<f64>,
-    /// The own points' rows in the global order.
-    pub own: Vec<f64>,
     /// The halo's rows (the neighbours' points in the stored box), in the order received.
     pub halo: Vec<f64>,
-    /// `(global number, row in keep)` of the own rows, sorted.
-    pub order: Vec<(usize, usize)>,
-}
-
-/// Where [`Buffers::exchange`] appends the rows received.
-#[derive(Debug, Clone, Copy)]
-pub(crate) enum Received {
-    /// To the own points being routed (migration).
-    Staying,
-    /// To the halo.
-    Halo,
 }
 
 impl Buffers {
     /// Send `send_low` and `send_high` to the `neighbours` along one axis (lower, upper)
-    /// and append what they send, the lower's rows first, to `into`. Returns the bytes
-    /// sent.
-    pub fn exchange(
-        &mut self,
-        comm: &dyn Comm,
-        neighbours: [Option<usize>; 2],
-        into: Received,
-    ) -> usize {
-        let bytes = exchange_varying(
+    /// and receive theirs into `receive_low` and `receive_high`. Returns the bytes sent.
+    pub fn exchange(&mut self, comm: &dyn Comm, neighbours: [Option<usize>; 2]) -> usize {
+        exchange_varying(
             comm,
             neighbours,
             &self.send_low,
             &self.send_high,
             &mut self.receive_low,
             &mut self.receive_high,
-        );
-        let rows = match into {
-            Received::Staying => &mut self.staying,
-            Received::Halo => &mut self.halo,
-        };
-        rows.extend_from_slice(&self.receive_low);
-        rows.extend_from_slice(&self.receive_high);
-        bytes
-    }
-
-    /// `keep`'s rows (of `width` floats) into `own`, in the order of their global numbers.
-    pub fn sort_own(&mut self, width: usize) {
-        self.order.clear();
-        let rows = self.keep.chunks_exact(width).enumerate();
-        self.order.extend(rows.map(|(k, row)| (row[0] as usize, k)));
-        self.order.sort_unstable();
-        self.own.clear();
-        for &(_, k) in &self.order {
-            self.own
-                .extend_from_slice(&self.keep[k * width..(k + 1) * width]);
-        }
+        )
     }
 }

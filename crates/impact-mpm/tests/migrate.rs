@@ -1,6 +1,7 @@
 //! MPM in the updated Lagrangian frame on 1 to 4 slab ranks and on boxes (2 × 2, 1 × 3,
-//! 3 × 1; [`MigratingMpm`], ranks as threads through [`ThreadComm`]), points crossing the
-//! rank faces (and, on boxes, the corners), equals the one-rank run: the sampled fields (gathered in the global order) bit for bit, every point owned
+//! 3 × 1; the 3D block on 2 × 2 × 1 and 1 × 2 × 2; [`MigratingMpm`], ranks as threads
+//! through [`ThreadComm`]), points crossing the rank faces (and, on boxes, the corners),
+//! equals the one-rank run: the sampled fields (gathered in the global order) bit for bit, every point owned
 //! by exactly one rank with its mass unchanged, energy and momentum to round-off (sums in
 //! rank order). J2's history and APIC's affine velocity travel with their points (a field
 //! left behind would change the fields after the crossing). A point that jumps past the
@@ -298,6 +299,43 @@ fn a_diagonally_moving_plate_migrates_between_boxes_and_equals_one_rank() {
         Kick::Diagonal,
         &grids,
     );
+}
+
+/// 3D boxes: the block (its impactor patch holding the points of the x.low face) moving
+/// along the diagonal (the same velocity along every axis, through the faces along both
+/// split axes and the boxes' edges), 12 × 12 × 12 cells, on 2 × 2 × 1 and 1 × 2 × 2 ranks,
+/// hats under MUSL: bit for bit against one rank, every point owned once with its mass,
+/// energy and momentum to round-off. On both grids points of rank 0's box end on rank 3
+/// (across the boxes' common edge).
+#[test]
+fn a_diagonally_moving_block_migrates_between_boxes_and_equals_one_rank() {
+    let mut block = scene("block");
+    block.domain.cells = vec![12, 12, 12];
+    let grids = [(4, RankGrid(vec![2, 2, 1])), (4, RankGrid(vec![1, 2, 2]))];
+    let owners = check_on::<3>(
+        "moving block, MUSL",
+        &block,
+        |c| c.mpm_mut().unwrap().stress_update = StressUpdate::Musl,
+        40,
+        Kick::Diagonal,
+        &grids,
+    );
+    let per_cell = block.method_config(MethodKind::Mpm).points_per_cell;
+    let cell = |id: usize| {
+        let c = id / per_cell;
+        [c % 12, c / 12 % 12, c / 144]
+    };
+    for (owners, (_, grid)) in owners.iter().zip(&grids) {
+        // seeded in rank 0's own cells (the lower half along each split axis)
+        let in_rank_0 = |id: &&usize| {
+            let c = cell(**id);
+            (0..3).all(|k| grid.0[k] == 1 || c[k] < 6)
+        };
+        assert!(
+            owners[3].iter().filter(in_rank_0).count() > 0,
+            "{grid:?}: no point crossed the edge from rank 0 to rank 3"
+        );
+    }
 }
 
 /// J2's plastic history and APIC's affine velocity cross with their points.
