@@ -110,6 +110,16 @@ impl<const D: usize> Column<'_, D> {
         }
     }
 
+    /// Exchange points `a` and `b`.
+    pub fn swap(&mut self, a: usize, b: usize) {
+        match self {
+            Column::Scalar(v) => v.swap(a, b),
+            Column::Index(v) => v.swap(a, b),
+            Column::Vector(v) => v.swap(a, b),
+            Column::Tensor(v) => v.swap(a, b),
+        }
+    }
+
     /// Remove point `i`, the last point taking its place (`Vec::swap_remove`).
     pub fn swap_remove(&mut self, i: usize) {
         match self {

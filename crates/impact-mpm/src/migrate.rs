@@ -190,30 +190,22 @@ impl<const D: usize> MigratingMpm<D> {
             points: per_cell * grid.cell_count(),
             initial_energy,
         };
-        // the stored points split by their cells into own (in the global order: the box's
-        // cells in order) and halo
-        let (b, stored) = (&mut m.buffers, m.ids.len());
-        b.halo.clear();
-        b.send_low.clear();
-        let mut cols = columns(&mut m.ids, &mut m.local.state);
-        let mut row = Vec::with_capacity(width);
+        // the stored points split in place by their cells into own (first, in the global
+        // order: the box's cells in order) and halo (after them, in any order)
+        let stored = m.ids.len();
         for i in 0..stored {
-            row.clear();
-            for (c, _) in cols.iter().zip(present).filter(|(_, p)| *p) {
-                c.pack(i, &mut row);
-            }
-            let cell = m.cells_of.of_row(&row);
+            let x = m.local.state.points.position[i];
+            let cell: [usize; D] = std::array::from_fn(|k| m.cells_of.along(k, x[k]));
             if (0..D).all(|k| m.rank_box.owned[k].contains(&cell[k])) {
-                b.send_low.extend_from_slice(&row);
+                let own = m.own_cells.len();
+                let mut cols = columns(&mut m.ids, &mut m.local.state);
+                (cols.iter_mut().zip(present).filter(|(_, p)| *p))
+                    .for_each(|(c, _)| c.swap(own, i));
                 m.own_cells.push(cell);
-            } else {
-                b.halo.extend_from_slice(&row);
             }
         }
-        cols.iter_mut().for_each(Column::clear);
-        push_rows(&mut cols, present, &b.send_low, width);
         let own = m.own_cells.len();
-        m.store_halo(own);
+        m.install(0..own);
         Ok(m)
     }
 
