@@ -273,9 +273,10 @@ impl<const D: usize> MigratingMpm<D> {
     fn migrate(&mut self, t: f64) {
         let own = self.local.owned_points().end;
         let w = self.width;
-        let mut cols = columns(&mut self.ids, &mut self.local.state);
-        cols.iter_mut().for_each(|c| c.truncate(own));
-        drop(cols);
+        // the halo is sent again below: dropped
+        columns(&mut self.ids, &mut self.local.state)
+            .iter_mut()
+            .for_each(|c| c.truncate(own));
         self.find_leaving(t);
         // migration, axis by axis: a point goes to the neighbour owning its cell
         let b = &mut self.buffers;
@@ -366,7 +367,6 @@ impl<const D: usize> MigratingMpm<D> {
             b.halo.extend_from_slice(&b.receive_low);
             b.halo.extend_from_slice(&b.receive_high);
         }
-        drop(cols);
         self.store_halo(own);
     }
 
