@@ -96,6 +96,10 @@ pub struct Stencil<const D: usize> {
     pub nodes: usize,
     /// Linear index offset of local node `a` (first axis fastest) from the base node.
     pub offsets: Vec<usize>,
+    /// Linear index offset of each row's first node from the base node: a row is `width`
+    /// consecutive nodes along the first axis (stride 1), local nodes `r·width ..
+    /// (r + 1)·width`, so `offsets[r·width + c] = row_offsets[r] + c`.
+    pub(crate) row_offsets: Vec<usize>,
     /// Linear index stride of each axis.
     pub(crate) strides: [usize; D],
     /// Position of local node `a` relative to the base node, `(k_0 h_0, …)` for its
@@ -128,12 +132,14 @@ impl<const D: usize> Stencil<D> {
                     sum + local * strides[k]
                 })
             })
-            .collect();
+            .collect::<Vec<usize>>();
+        let row_offsets = offsets.iter().step_by(width).copied().collect();
         let mut stencil = Self {
             shape,
             width,
             nodes,
             offsets,
+            row_offsets,
             strides,
             steps: Vec::new(),
             half: 0.5 / points_per_axis.max(1) as f64,
