@@ -18,9 +18,9 @@ impl<const D: usize> MpmSolver<D> {
             None => self.gather_affine::<false>(points, affine, dt),
             Some(update) => {
                 let gather = match self.stencil.width {
-                    2 => Self::gather::<false, 2>,
-                    3 => Self::gather::<false, 3>,
-                    _ => Self::gather::<false, 4>,
+                    2 => Self::gather::<false, 2, 0>,
+                    3 => Self::gather::<false, 3, 0>,
+                    _ => Self::gather::<false, 4, 0>,
                 };
                 gather(self, points, update, dt)
             }
@@ -41,10 +41,15 @@ impl<const D: usize> MpmSolver<D> {
         match PointVelocity::of(&self.options) {
             None => self.gather_affine::<true>(points, affine, dt),
             Some(update) => {
-                let fused = match self.stencil.width {
-                    2 => Self::gather::<true, 2>,
-                    3 => Self::gather::<true, 3>,
-                    _ => Self::gather::<true, 4>,
+                // the hats' rows unrolled (4 or 8 nodes); the wider stencils loop over their
+                // rows (unrolled, 9 nodes' values and gradients spill from the registers:
+                // more instructions a point)
+                let fused = match (self.stencil.width, self.stencil.nodes) {
+                    (2, 4) => Self::gather::<true, 2, 4>,
+                    (2, 8) => Self::gather::<true, 2, 8>,
+                    (2, _) => Self::gather::<true, 2, 0>,
+                    (3, _) => Self::gather::<true, 3, 0>,
+                    _ => Self::gather::<true, 4, 0>,
                 };
                 fused(self, points, update, dt)
             }
@@ -55,11 +60,12 @@ impl<const D: usize> MpmSolver<D> {
     }
 
     /// The gather of phase 3 and, with `STRESS`, phase 5 (small strain), for the transfers
-    /// without an affine part, for a stencil of rows of `W` nodes (its `width`): each row
-    /// of `W` consecutive nodes is sliced once from the nodal arrays (one bounds check per
-    /// row, not per node; `Weights::rows`), and its nodes are read in the stencil's order,
-    /// so the sums take the same operations in the same order as node by node.
-    pub(crate) fn gather<const STRESS: bool, const W: usize>(
+    /// without an affine part, for a stencil of rows of `W` nodes (its `width`) and `N`
+    /// nodes (0: the count read at run time; fixed, the loop over the rows unrolls): each
+    /// row of `W` consecutive nodes is sliced once from the nodal arrays (one bounds check
+    /// per row, not per node; `Weights::rows`), and its nodes are read in the stencil's
+    /// order, so the sums take the same operations in the same order as node by node.
+    pub(crate) fn gather<const STRESS: bool, const W: usize, const N: usize>(
         &self,
         points: &mut MaterialPoints<D>,
         update: PointVelocity,
@@ -87,8 +93,9 @@ impl<const D: usize> MpmSolver<D> {
                 // the stencil's rows taken here, in the chunk's kernel: a count captured
                 // from outside is a load from the closure's environment at run time
                 // (`for_each_chunk` is not inlined)
-                let rows = &self.stencil.row_offsets[..];
-                let npc = rows.len() * W;
+                let all_rows = &self.stencil.row_offsets[..];
+                let npc = if N == 0 { all_rows.len() * W } else { N };
+                let rows = &all_rows[..npc / W];
                 // the nodal arrays sliced to one length, here in the kernel: a row checked
                 // against `1/m` is proved for the momentum and force (one bounds check per
                 // row, not 3)
