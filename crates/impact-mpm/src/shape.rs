@@ -399,6 +399,28 @@ mod tests {
         }
     }
 
+    /// The rows the scatter and gather read (`row_offsets`): `width` consecutive nodes
+    /// each, together the stencil's nodes in its order, in 2D and 3D.
+    #[test]
+    fn rows_of_consecutive_nodes_cover_the_stencil_in_order() {
+        fn check<const D: usize>(grid: &Grid<D>) {
+            for shape in MpmShape::ALL {
+                let stencil = Stencil::new(grid, shape, 2);
+                assert_eq!(stencil.row_offsets.len() * stencil.width, stencil.nodes);
+                for (a, &offset) in stencil.offsets.iter().enumerate() {
+                    let (row, column) = (a / stencil.width, a % stencil.width);
+                    assert_eq!(offset, stencil.row_offsets[row] + column, "{shape:?} {a}");
+                }
+            }
+        }
+        check(&grid2());
+        check(&Grid::<3> {
+            origin: Vector::<3>::zeros(),
+            spacing: Vector::<3>::new(0.1, 0.075, 0.05),
+            cells: [20, 16, 14],
+        });
+    }
+
     /// The derivative of each 1D weight agrees with a central difference.
     #[test]
     fn weight_derivatives_match_finite_differences() {
