@@ -106,10 +106,10 @@ impl<const D: usize> Weights<'_, D> {
     /// Point `p`'s stencil: its shape values and gradients (one row of `nodes` entries,
     /// sliced once: no bounds check per node) and its base node less `offset` (the
     /// band's first node), to which the stencil's `offsets` add.
-    /// `N`: the stencil's node count where the caller fixed it (the default scatter and the
-    /// fused gather, for the hats' and quadratic stencils of 2D and 3D: 4, 8, 9, 27 nodes;
-    /// the loops over the row then have a constant trip count and unroll), 0 where it did
-    /// not (the count read at run time). The same operations in the same order either way.
+    /// `N`: the stencil's node count where the caller fixed it (the loops over the row then
+    /// have a constant trip count and unroll), 0 where it did not (the count read at run
+    /// time; every caller now: the default scatter and the fused gather read the stencil by
+    /// rows, [`Weights::rows`]). The same operations in the same order either way.
     /// The stencil's `offsets` come sliced to the same `nodes` entries, so that a zip of the
     /// three has the constant trip count too.
     #[inline]
