@@ -96,6 +96,10 @@ pub struct Stencil<const D: usize> {
     pub nodes: usize,
     /// Linear index offset of local node `a` (first axis fastest) from the base node.
     pub offsets: Vec<usize>,
+    /// Linear index offset of each row's first node from the base node: a row is `width`
+    /// consecutive nodes along the first axis (stride 1), local nodes `r·width ..
+    /// (r + 1)·width`, so `offsets[r·width + c] = row_offsets[r] + c`.
+    pub(crate) row_offsets: Vec<usize>,
     /// Linear index stride of each axis.
     pub(crate) strides: [usize; D],
     /// Position of local node `a` relative to the base node, `(k_0 h_0, …)` for its
@@ -128,12 +132,14 @@ impl<const D: usize> Stencil<D> {
                     sum + local * strides[k]
                 })
             })
-            .collect();
+            .collect::<Vec<usize>>();
+        let row_offsets = offsets.iter().step_by(width).copied().collect();
         let mut stencil = Self {
             shape,
             width,
             nodes,
             offsets,
+            row_offsets,
             strides,
             steps: Vec::new(),
             half: 0.5 / points_per_axis.max(1) as f64,
@@ -391,6 +397,28 @@ mod tests {
                 assert!(tested > 60, "{shape:?}: {tested} points inside");
             }
         }
+    }
+
+    /// The rows the scatter and gather read (`row_offsets`): `width` consecutive nodes
+    /// each, together the stencil's nodes in its order, in 2D and 3D.
+    #[test]
+    fn rows_of_consecutive_nodes_cover_the_stencil_in_order() {
+        fn check<const D: usize>(grid: &Grid<D>) {
+            for shape in MpmShape::ALL {
+                let stencil = Stencil::new(grid, shape, 2);
+                assert_eq!(stencil.row_offsets.len() * stencil.width, stencil.nodes);
+                for (a, &offset) in stencil.offsets.iter().enumerate() {
+                    let (row, column) = (a / stencil.width, a % stencil.width);
+                    assert_eq!(offset, stencil.row_offsets[row] + column, "{shape:?} {a}");
+                }
+            }
+        }
+        check(&grid2());
+        check(&Grid::<3> {
+            origin: Vector::<3>::zeros(),
+            spacing: Vector::<3>::new(0.1, 0.075, 0.05),
+            cells: [20, 16, 14],
+        });
     }
 
     /// The derivative of each 1D weight agrees with a central difference.

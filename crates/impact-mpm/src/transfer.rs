@@ -70,6 +70,9 @@ struct Fill {
 struct Weights<'a, const D: usize> {
     stride: usize,
     offsets: &'a [usize],
+    /// The first node of each row of `width` consecutive nodes ([`crate::shape::Stencil`]'s
+    /// `row_offsets`).
+    row_offsets: &'a [usize],
     bases: &'a [usize],
     shape: &'a [f64],
     gradient: &'a [Vector<D>],
@@ -103,10 +106,10 @@ impl<const D: usize> Weights<'_, D> {
     /// Point `p`'s stencil: its shape values and gradients (one row of `nodes` entries,
     /// sliced once: no bounds check per node) and its base node less `offset` (the
     /// band's first node), to which the stencil's `offsets` add.
-    /// `N`: the stencil's node count where the caller fixed it (the default scatter and the
-    /// fused gather, for the hats' and quadratic stencils of 2D and 3D: 4, 8, 9, 27 nodes;
-    /// the loops over the row then have a constant trip count and unroll), 0 where it did
-    /// not (the count read at run time). The same operations in the same order either way.
+    /// `N`: the stencil's node count where the caller fixed it (the loops over the row then
+    /// have a constant trip count and unroll), 0 where it did not (the count read at run
+    /// time; every caller now: the default scatter and the fused gather read the stencil by
+    /// rows, [`Weights::rows`]). The same operations in the same order either way.
     /// The stencil's `offsets` come sliced to the same `nodes` entries, so that a zip of the
     /// three has the constant trip count too.
     #[inline]
@@ -120,6 +123,52 @@ impl<const D: usize> Weights<'_, D> {
             base: self.bases[p] - offset,
         }
     }
+}
+
+impl<const D: usize> Weights<'_, D> {
+    /// Point `p`'s stencil by rows of `W` consecutive nodes (the stencil's `width`): per
+    /// row, its first node less `offset` (the band's first node) and the row's `W` shape
+    /// values and gradients, in the order of the local nodes. `N`: the stencil's node
+    /// count where the caller fixed it (the loop over the rows then has a constant trip
+    /// count and unrolls), 0 where it did not (the count read at run time).
+    #[inline]
+    fn rows<const W: usize, const N: usize>(
+        &self,
+        p: usize,
+        offset: usize,
+    ) -> impl Iterator<Item = (usize, &[f64; W], &[Vector<D>; W])> + '_ {
+        let first = p * self.stride;
+        let nodes = if N == 0 {
+            self.row_offsets.len() * W
+        } else {
+            N
+        };
+        let shape = self.shape[first..first + nodes].as_chunks::<W>().0;
+        let gradient = self.gradient[first..first + nodes].as_chunks::<W>().0;
+        let base = self.bases[p] - offset;
+        let rows = self.row_offsets[..nodes / W]
+            .iter()
+            .zip(shape)
+            .zip(gradient);
+        rows.map(move |((o, s), g)| (base + o, s, g))
+    }
+}
+
+/// Nodes `first .. first + W` of a nodal array, one row of a stencil: checked once (the
+/// row's nodes are then indexed without a check).
+#[inline]
+fn node_row<T, const W: usize>(nodal: &[T], first: usize) -> &[T; W] {
+    nodal[first..first + W]
+        .try_into()
+        .expect("a row of W nodes")
+}
+
+/// [`node_row`], to add to.
+#[inline]
+fn node_row_mut<T, const W: usize>(nodal: &mut [T], first: usize) -> &mut [T; W] {
+    (&mut nodal[first..first + W])
+        .try_into()
+        .expect("a row of W nodes")
 }
 
 /// One point's stencil ([`Weights::row`]): node `base + offsets[a]` has the shape value
@@ -194,6 +243,7 @@ impl<const D: usize> MpmSolver<D> {
         let weights = Weights {
             stride: self.weight_stride,
             offsets: &self.stencil.offsets,
+            row_offsets: &self.stencil.row_offsets,
             bases: &self.point_base,
             shape: &self.shape,
             gradient: &self.shape_gradient,
@@ -333,12 +383,14 @@ impl<const D: usize> MpmSolver<D> {
         let plain = affine.is_empty();
         match (plain, with_internal) {
             (true, true) => {
-                let plain = match self.stencil.nodes {
-                    4 => Self::scatter_plain::<4>,
-                    8 => Self::scatter_plain::<8>,
-                    9 => Self::scatter_plain::<9>,
-                    27 => Self::scatter_plain::<27>,
-                    _ => Self::scatter_plain::<0>,
+                let plain = match (self.stencil.width, self.stencil.nodes) {
+                    (2, 4) => Self::scatter_plain::<2, 4>,
+                    (2, 8) => Self::scatter_plain::<2, 8>,
+                    (3, 9) => Self::scatter_plain::<3, 9>,
+                    (3, 27) => Self::scatter_plain::<3, 27>,
+                    (2, _) => Self::scatter_plain::<2, 0>,
+                    (3, _) => Self::scatter_plain::<3, 0>,
+                    _ => Self::scatter_plain::<4, 0>,
                 };
                 plain(self, points)
             }
@@ -355,8 +407,15 @@ impl<const D: usize> MpmSolver<D> {
     }
 
     /// Phase 1's sums without APIC, with the internal force (the default), for a stencil of
-    /// `N` nodes (`Weights::row`; 0: any).
-    fn scatter_plain<const N: usize>(&mut self, points: &MaterialPoints<D>) {
+    /// rows of `W` nodes (its `width`) and `N` nodes (`Weights::rows`; 0: any): each row of
+    /// the nodal sums is sliced once (one bounds check per row, not per node), its nodes
+    /// added in the stencil's order (each node's sums take the same operations in the same
+    /// order).
+    fn scatter_plain<const W: usize, const N: usize>(&mut self, points: &MaterialPoints<D>) {
+        assert_eq!(
+            self.stencil.width, W,
+            "the scatter's rows are the stencil's"
+        );
         let fill = Fill {
             mass: true,
             momentum: true,
@@ -366,11 +425,16 @@ impl<const D: usize> MpmSolver<D> {
             let (mass, velocity) = (points.mass[p], points.velocity[p]);
             // V_p σ_p formed once per point
             let stress = points.stress[p] * points.volume[p];
-            for (i, s, g) in weights.row::<N>(p, sums.offset).nodes() {
-                let w = s * mass;
-                sums.mass[i] += w;
-                sums.momentum[i] += velocity * w;
-                sums.force[i] -= stress * g;
+            for (first, shape, gradient) in weights.rows::<W, N>(p, sums.offset) {
+                let nodal_mass = node_row_mut::<f64, W>(sums.mass, first);
+                let momentum = node_row_mut::<Vector<D>, W>(sums.momentum, first);
+                let force = node_row_mut::<Vector<D>, W>(sums.force, first);
+                for c in 0..W {
+                    let w = shape[c] * mass;
+                    nodal_mass[c] += w;
+                    momentum[c] += velocity * w;
+                    force[c] -= stress * gradient[c];
+                }
             }
         });
     }

@@ -16,7 +16,14 @@ impl<const D: usize> MpmSolver<D> {
     ) {
         match PointVelocity::of(&self.options) {
             None => self.gather_affine::<false>(points, affine, dt),
-            Some(update) => self.gather::<false, 0>(points, update, dt),
+            Some(update) => {
+                let gather = match self.stencil.width {
+                    2 => Self::gather::<false, 2, 0>,
+                    3 => Self::gather::<false, 3, 0>,
+                    _ => Self::gather::<false, 4, 0>,
+                };
+                gather(self, points, update, dt)
+            }
         }
     }
 
@@ -34,14 +41,17 @@ impl<const D: usize> MpmSolver<D> {
         match PointVelocity::of(&self.options) {
             None => self.gather_affine::<true>(points, affine, dt),
             Some(update) => {
-                let fused = |nodes| match nodes {
-                    4 => Self::gather::<true, 4>,
-                    8 => Self::gather::<true, 8>,
-                    9 => Self::gather::<true, 9>,
-                    27 => Self::gather::<true, 27>,
-                    _ => Self::gather::<true, 0>,
+                // the hats' rows unrolled (4 or 8 nodes); the wider stencils loop over their
+                // rows (unrolled, 9 nodes' values and gradients spill from the registers:
+                // more instructions a point)
+                let fused = match (self.stencil.width, self.stencil.nodes) {
+                    (2, 4) => Self::gather::<true, 2, 4>,
+                    (2, 8) => Self::gather::<true, 2, 8>,
+                    (2, _) => Self::gather::<true, 2, 0>,
+                    (3, _) => Self::gather::<true, 3, 0>,
+                    _ => Self::gather::<true, 4, 0>,
                 };
-                fused(self.stencil.nodes)(self, points, update, dt)
+                fused(self, points, update, dt)
             }
         }
         if let Model::J2(j2) = self.model {
@@ -50,14 +60,18 @@ impl<const D: usize> MpmSolver<D> {
     }
 
     /// The gather of phase 3 and, with `STRESS`, phase 5 (small strain), for the transfers
-    /// without an affine part; `N`: the stencil's node count where fixed (`Weights::row`),
-    /// 0 otherwise.
-    pub(crate) fn gather<const STRESS: bool, const N: usize>(
+    /// without an affine part, for a stencil of rows of `W` nodes (its `width`) and `N`
+    /// nodes (0: the count read at run time; fixed, the loop over the rows unrolls): each
+    /// row of `W` consecutive nodes is sliced once from the nodal arrays (one bounds check
+    /// per row, not per node; `Weights::rows`), and its nodes are read in the stencil's
+    /// order, so the sums take the same operations in the same order as node by node.
+    pub(crate) fn gather<const STRESS: bool, const W: usize, const N: usize>(
         &self,
         points: &mut MaterialPoints<D>,
         update: PointVelocity,
         dt: f64,
     ) {
+        assert_eq!(self.stencil.width, W, "the gather's rows are the stencil's");
         let stride = self.weight_stride;
         let nodes = &self.nodes;
         let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
@@ -76,15 +90,15 @@ impl<const D: usize> MpmSolver<D> {
             1,
             parts,
             |r, ((velocity, position), (stress, volume))| {
-                // the node count taken here, in the chunk's kernel, from `N` itself: a
-                // count captured from outside is a load from the closure's environment at
-                // run time (`for_each_chunk` is not inlined), and the node loop would not
-                // unroll
-                let npc = if N == 0 { self.stencil.nodes } else { N };
-                let offsets = &self.stencil.offsets[..npc];
-                // the nodal arrays sliced to one length, here in the kernel: a node's index
-                // checked against `1/m` proves it for the momentum and force (one bounds
-                // check per node, not 3)
+                // the stencil's rows taken here, in the chunk's kernel: a count captured
+                // from outside is a load from the closure's environment at run time
+                // (`for_each_chunk` is not inlined)
+                let all_rows = &self.stencil.row_offsets[..];
+                let npc = if N == 0 { all_rows.len() * W } else { N };
+                let rows = &all_rows[..npc / W];
+                // the nodal arrays sliced to one length, here in the kernel: a row checked
+                // against `1/m` is proved for the momentum and force (one bounds check per
+                // row, not 3)
                 let inv_mass = &nodes.inv_mass[..];
                 let (momentum, force) = (
                     &nodes.momentum[..inv_mass.len()],
@@ -94,19 +108,27 @@ impl<const D: usize> MpmSolver<D> {
                 for (j, (vp, xp)) in points.enumerate() {
                     let p = r * CHUNK + j;
                     let row = p * stride..p * stride + npc;
-                    let (shape, gradient) = (&self.shape[row.clone()], &self.shape_gradient[row]);
+                    let shape = self.shape[row.clone()].as_chunks::<W>().0;
+                    let gradient = self.shape_gradient[row].as_chunks::<W>().0;
                     let base = self.point_base[p];
                     let mut dv = Vector::<D>::zeros();
                     let mut v = Vector::<D>::zeros();
                     let mut l = Tensor::<D>::zeros();
-                    for ((o, &s), g) in offsets.iter().zip(shape).zip(gradient) {
-                        let i = base + o;
-                        let inv = inv_mass[i];
-                        let node_velocity = momentum[i] * inv;
-                        dv += force[i] * (s * dt * inv);
-                        v += node_velocity * s;
-                        if STRESS {
-                            l += node_velocity * g.transpose();
+                    for ((o, shape), gradient) in rows.iter().zip(shape).zip(gradient) {
+                        let first = base + o;
+                        let inv_mass = node_row::<f64, W>(inv_mass, first);
+                        let (momentum, force) = (
+                            node_row::<Vector<D>, W>(momentum, first),
+                            node_row::<Vector<D>, W>(force, first),
+                        );
+                        for c in 0..W {
+                            let (s, inv) = (shape[c], inv_mass[c]);
+                            let node_velocity = momentum[c] * inv;
+                            dv += force[c] * (s * dt * inv);
+                            v += node_velocity * s;
+                            if STRESS {
+                                l += node_velocity * gradient[c].transpose();
+                            }
                         }
                     }
                     match update {
