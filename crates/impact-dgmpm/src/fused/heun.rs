@@ -11,14 +11,14 @@
 //! the sums over the cell's faces `f = (m, s)` that hold node `i` (bit `m` of `i` is `s`),
 //! `s_f = +1` on a low face and `-1` on a high one, `w_m = (V_cell/Δx_m) 2/2^D`. The
 //! second stage reads only the averages of each side's `2^{D-1}` nodes (paper §4),
-//! `q¹_{l,h} = q_p + Δt (2/2^D) Σ_{i ∈ (l,h)} q̇_i`, which are linear in `(σ_p, v_p)` and the
-//! faces' fluxes with coefficients fixed by the (fixed) point:
-//! - `σ¹_{l,h} = σ_p + Δt ρ [C : sym(v_p ⊗ G_{l,h}) + Σ_f c_{l,h,f} F_f]`,
-//! - `v¹_{l,h} = v_p + Δt [σ_p G_{l,h} + Σ_f c_{l,h,f} F_f]`,
-//! - `G_{l,h} = -(2/2^D) V_p Σ_{i ∈ (l,h)} ∇S_i/M_i`,
-//!   `c_{l,h,(m,s)} = (2/2^D) s_f w_m Σ_{i ∈ (l,h), bit m of i = s} 1/M_i`
-//!   (zero for the opposite face `(l, 1-h)`, which holds none of the side's nodes; not
-//!   stored), formed once ([`DgmpmSolver::form_heun_weights`]).
+//! `q¹_{l,h} = q_p + Δt (2/2^D) Σ_{i ∈ (l,h)} q̇_i`. With the fixed weights
+//! `G_i = -V_p ∇S_i` and `κ_i = (2/2^D)/M_i` of each node (formed once,
+//! [`DgmpmSolver::form_heun_weights`]) and the faces' fluxes scaled once per cell,
+//! `P_{m,s} = s_f w_m Δt (ρ) F_{m,s}`, each node's share is
+//! `δσ_i = κ_i [C : sym(Δt ρ v_p ⊗ G_i) + Σ_m P_{m,i_m}]`,
+//! `δv_i = κ_i [Δt σ_p G_i + Σ_m P_{m,i_m}]` (`i_m` bit `m` of `i`), and each side state is
+//! `q_p` plus the shares of its `2^{D-1}` nodes: no division, no nodal field, the point's
+//! interpolation `Σ_i S_i q_p = q_p` not formed.
 //!
 //! **Stage 2.** With `Σ_i S_i = 1`, `Σ_i ∇S_i = 0` and each face's flux reaching its
 //! `2^{D-1}` nodes with weight `w_m`, `Σ_i S_i q̇_i` is the cell path's update
@@ -40,22 +40,29 @@ use super::{Band, UpdateConstants, BAND_ROWS, CHUNK};
 use crate::faces::Fields;
 use crate::riemann::axis::AxisConstants;
 use crate::riemann::{Conserved, FullState};
-use crate::{DgmpmSolver, StepPath, MAX_NODES};
+use crate::{DgmpmSolver, StepPath};
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
 use impact_core::{Grid, Tensor, Vector};
 
-/// Weights per side of a cell in [`DgmpmSolver::heun_weights`]: `G_{l,h}` (`D`) and the
-/// coefficients of the `2D - 1` faces that hold the side's nodes.
-const fn per_side(d: usize) -> usize {
-    3 * d - 1
+/// Weights per node of a cell in [`DgmpmSolver::heun_weights`]: `G_i` (`D`) and `κ_i`.
+const fn per_node(d: usize) -> usize {
+    d + 1
 }
 
-/// The step's constants of the Heun sweeps: the cell update's at `½Δt`, `Δt` and `Δt ρ`.
+/// Most sides a cell has (`2D`, 3D).
+const MAX_SIDES: usize = 6;
+
+/// The step's constants of the Heun sweeps: the cell update's at `½Δt`, `Δt`, `Δt ρ`, the
+/// faces' scales `(s_f w_m Δt ρ, s_f w_m Δt)` per axis and side, and the Lamé constants
+/// of `C : sym(·)` (`λ = 0`, `μ = E/2` in 1D: `C : ε = E ε`).
 struct HeunConstants<const D: usize> {
     half: UpdateConstants<D>,
     dt: f64,
     dt_rho: f64,
+    face_scale: [[(f64, f64); 2]; D],
+    lambda: f64,
+    mu: f64,
 }
 
 /// What one band of a Heun stage writes: stage 1 its cells' side states (`2D` per cell)
@@ -77,10 +84,11 @@ impl<const D: usize> DgmpmSolver<D> {
         self.path == StepPath::FusedNodal && self.fused_nodal_single() && self.inside
     }
 
-    /// Form the cells' weights `G_{l,h}` and `c_{l,h,f}` (module doc) from the shape
-    /// functions at the (fixed) points, their masses and volumes, and drop the shape
-    /// functions, where [`Self::heun_on_cells`]; one copy when every cell's are the same
-    /// (points at the same place in equal cells). Elsewhere the weights are dropped.
+    /// Form the nodes' weights `G_i = -V_p ∇S_i` and `κ_i = (2/2^D)/M_i` (module doc; `κ_i
+    /// = 0` at a node without mass, whose rates are zero) from the shape functions at the
+    /// (fixed) points, their masses and volumes, and drop the shape functions, where
+    /// [`Self::heun_on_cells`]; one cell's when every cell's are the same (points at the
+    /// same place in equal cells). Elsewhere the weights are dropped.
     pub(crate) fn form_heun_weights(&mut self, points: &MaterialPoints<D>) {
         if !self.heun_on_cells() {
             self.heun_weights = Vec::new();
@@ -91,41 +99,19 @@ impl<const D: usize> DgmpmSolver<D> {
         }
         let n = Grid::<D>::NODES_PER_CELL;
         let k = 2.0 / n as f64;
-        let face_weight: [f64; D] =
-            std::array::from_fn(|m| self.grid.cell_volume() / self.grid.spacing[m] * k);
-        let stride = 2 * D * per_side(D);
+        let stride = n * per_node(D);
         let mut weights = Vec::with_capacity(points.len() * stride);
         for c in 0..points.len() {
-            let (s, g) = (
-                &self.shape[c * n..(c + 1) * n],
-                &self.shape_gradient[c * n..],
-            );
             let mass = points.mass[c];
-            // 1/M_i (0 at a node without mass, whose rates are zero)
-            let inverse: [f64; MAX_NODES] = std::array::from_fn(|a| match a < n {
-                true if s[a] * mass > 0.0 => 1.0 / (s[a] * mass),
-                _ => 0.0,
-            });
-            for l in 0..D {
-                for h in 0..2 {
-                    let on_side = |a: &usize| (a >> l) & 1 == h;
-                    let gradient: Vector<D> =
-                        (0..n).filter(on_side).map(|a| g[a] * inverse[a]).sum();
-                    weights.extend((gradient * (-k * points.volume[c])).iter());
-                    for (m, weight) in face_weight.iter().enumerate() {
-                        for side in 0..2 {
-                            if m == l && side != h {
-                                continue;
-                            }
-                            let sum: f64 = (0..n)
-                                .filter(|a| on_side(a) && (a >> m) & 1 == side)
-                                .map(|a| inverse[a])
-                                .sum();
-                            let sign = if side == 0 { 1.0 } else { -1.0 };
-                            weights.push(k * sign * weight * sum);
-                        }
-                    }
-                }
+            for a in c * n..(c + 1) * n {
+                let gradient = self.shape_gradient[a] * -points.volume[c];
+                weights.extend(gradient.iter());
+                let nodal_mass = self.shape[a] * mass;
+                weights.push(if nodal_mass > 0.0 {
+                    k / nodal_mass
+                } else {
+                    0.0
+                });
             }
         }
         if weights
@@ -143,7 +129,7 @@ impl<const D: usize> DgmpmSolver<D> {
     /// The weights of cell `cell` (module doc).
     #[inline(always)]
     fn heun_weights_of(&self, cell: usize) -> &[f64] {
-        let stride = 2 * D * per_side(D);
+        let stride = Grid::<D>::NODES_PER_CELL * per_node(D);
         let start = match self.heun_weights.len() == stride {
             true => 0,
             false => cell * stride,
@@ -153,10 +139,18 @@ impl<const D: usize> DgmpmSolver<D> {
 
     /// The constants of a Heun step of `dt`.
     fn heun_constants(&self, dt: f64) -> HeunConstants<D> {
+        let dt_rho = dt * self.material.density;
+        let k = 2.0 / Grid::<D>::NODES_PER_CELL as f64;
         HeunConstants {
             half: self.update_constants(0.5 * dt),
             dt,
-            dt_rho: dt * self.material.density,
+            dt_rho,
+            face_scale: std::array::from_fn(|m| {
+                let w = self.grid.cell_volume() / self.grid.spacing[m] * k;
+                [(w * dt_rho, w * dt), (-w * dt_rho, -w * dt)]
+            }),
+            lambda: if D == 1 { 0.0 } else { self.elastic.lambda },
+            mu: self.elastic.mu,
         }
     }
 
@@ -240,10 +234,10 @@ impl<const D: usize> DgmpmSolver<D> {
     }
 
     /// One cell of a Heun stage (entry `local` of its band) from its faces' final fluxes
-    /// `[low, high]` per axis (module doc). Stage 1: the side states
-    /// `σ¹_{l,h} = σ_p + Δt ρ [C : sym(v_p ⊗ G_{l,h}) + Σ_f c_{l,h,f} F_f]`,
-    /// `v¹_{l,h} = v_p + Δt [σ_p G_{l,h} + Σ_f c_{l,h,f} F_f]` and `q_p + ½ Δq(F¹)`;
-    /// stage 2: `+ ½ Δq(F²)`, `Δq(F) = -Δt (ρV/m_p) Σ_l (F_l,high - F_l,low)/Δx_l`.
+    /// `[low, high]` per axis (module doc). Stage 1: the side states, `q_p` plus the shares
+    /// `δσ_i = κ_i [C : sym(Δt ρ v_p ⊗ G_i) + Σ_m P_{m,i_m}]`, `δv_i = κ_i [Δt σ_p G_i +
+    /// Σ_m P_{m,i_m}]` of the side's nodes, and `q_p + ½ Δq(F¹)`; stage 2: `+ ½ Δq(F²)`,
+    /// `Δq(F) = -Δt (ρV/m_p) Σ_l (F_l,high - F_l,low)/Δx_l`.
     #[inline(always)]
     fn heun_cell<const FIRST: bool>(
         &self,
@@ -269,34 +263,45 @@ impl<const D: usize> DgmpmSolver<D> {
         } = fields.cell(cell);
         next.0[local] = q + dq;
         next.1[local] = v + dv;
-        let w = self.heun_weights_of(cell);
-        let first_side = local * 2 * D;
-        for l in 0..D {
-            for h in 0..2 {
-                let side = 2 * l + h;
-                let w = &w[side * per_side(D)..(side + 1) * per_side(D)];
-                let g = Vector::<D>::from_fn(|k, _| w[k]);
-                let mut tensor = Tensor::<D>::zeros();
-                let mut momentum = Vector::<D>::zeros();
-                let mut j = D;
-                for (m, pair) in faces.iter().enumerate() {
-                    for (s, flux) in pair.iter().enumerate() {
-                        if m == l && s != h {
-                            continue;
-                        }
-                        tensor += flux.tensor * w[j];
-                        momentum += flux.momentum * w[j];
-                        j += 1;
-                    }
+        // P_{m,s}: the faces' fluxes with their node weights, signs and Δt (ρ)
+        let scaled: [[Conserved<D>; 2]; D] = std::array::from_fn(|m| {
+            std::array::from_fn(|s| {
+                let (tensor, momentum) = u.face_scale[m][s];
+                Conserved {
+                    tensor: faces[m][s].tensor * tensor,
+                    momentum: faces[m][s].momentum * momentum,
                 }
-                let gradient = v * g.transpose();
-                let volume = self
-                    .material
-                    .stress(&((gradient + gradient.transpose()) * 0.5));
-                sides.0[first_side + side] = q + (volume + tensor) * u.dt_rho;
-                sides.1[first_side + side] = v + (q * g + momentum) * u.dt;
+            })
+        });
+        let (v_rho, q_dt) = (v * u.dt_rho, q * u.dt);
+        let mut side_q = [q; MAX_SIDES];
+        let mut side_v = [v; MAX_SIDES];
+        let w = self.heun_weights_of(cell);
+        for (a, w) in w.chunks_exact(per_node(D)).enumerate() {
+            let g = Vector::<D>::from_fn(|k, _| w[k]);
+            // C : sym(Δt ρ v_p ⊗ G_i) = λ (Δt ρ v_p · G_i) 1 + μ (Δt ρ)(v_p ⊗ G_i + G_i ⊗ v_p)
+            let mut tensor =
+                Tensor::<D>::from_fn(|i, j| u.mu * (v_rho[i] * g[j] + v_rho[j] * g[i]));
+            let trace = u.lambda * v_rho.dot(&g);
+            for i in 0..D {
+                tensor[(i, i)] += trace;
+            }
+            let mut momentum = q_dt * g;
+            for (l, pair) in scaled.iter().enumerate() {
+                let p = &pair[(a >> l) & 1];
+                tensor += p.tensor;
+                momentum += p.momentum;
+            }
+            let (tensor, momentum) = (tensor * w[D], momentum * w[D]);
+            for l in 0..D {
+                let side = 2 * l + ((a >> l) & 1);
+                side_q[side] += tensor;
+                side_v[side] += momentum;
             }
         }
+        let first_side = local * 2 * D;
+        sides.0[first_side..first_side + 2 * D].copy_from_slice(&side_q[..2 * D]);
+        sides.1[first_side..first_side + 2 * D].copy_from_slice(&side_v[..2 * D]);
     }
 }
 
