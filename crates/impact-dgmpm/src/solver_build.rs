@@ -265,6 +265,12 @@ impl<const D: usize> DgmpmSolver<D> {
         self.path
     }
 
+    /// Whether RK2 runs as the Heun cell sweeps (`fused/heun.rs`: the fused nodal path at
+    /// one point per cell, every point strictly inside its cell).
+    pub fn heun_cells(&self) -> bool {
+        self.heun_on_cells()
+    }
+
     /// The tensor field of the points the scheme evolves: `σ` (linear elasticity) or `F`
     /// (Saint-Venant–Kirchhoff).
     pub(crate) fn point_tensor<'a>(&self, points: &'a MaterialPoints<D>) -> &'a [Tensor<D>] {
