@@ -126,11 +126,7 @@ fn main() {
         let runs: [(&str, &mut dyn Method<2>, usize); 4] = [
             ("plate 1000x750, fused path", &mut plate, plate_cells),
             ("plate 1000x750, cell path", &mut plate_cell, plate_cells),
-            (
-                "plate 1000x750, RK2, Heun cell sweeps",
-                &mut rk2,
-                rk2_cells,
-            ),
+            ("plate 1000x750, RK2, Heun cell sweeps", &mut rk2, rk2_cells),
             (
                 "plate 1000x750, RK2, nodal phases",
                 &mut rk2_phases,
