@@ -181,56 +181,45 @@ impl<const D: usize> DgmpmSolver<D> {
         first: bool,
         sweep: impl Fn(&Self, usize, &mut Band<D>, Fields<'_, D>, &[f64], HeunOut<'_, D>) + Sync,
     ) -> (f64, Vector<D>) {
-        let mut buffers = std::mem::take(&mut self.fused);
-        let mut nodes = std::mem::take(&mut self.nodes);
-        {
-            let this = &*self;
-            let MaterialPoints {
-                stress,
-                velocity,
-                mass,
-                ..
-            } = &*points;
-            let mass: &[f64] = mass;
-            let next = (
-                chunks(&mut buffers.next_tensor, cells_per_band),
-                chunks(&mut buffers.next_velocity, cells_per_band),
-            );
-            let bands = chunks(&mut buffers.bands, 1);
-            if first {
-                let fields = Fields::per_cell(stress, velocity);
-                let per_band = cells_per_band * 2 * D;
-                let sides = (
-                    chunks(&mut nodes.tensor, per_band),
-                    chunks(&mut nodes.velocity, per_band),
+        self.with_buffers(|this, buffers, nodes| {
+            {
+                let (tensor, velocity, mass) = (&points.stress, &points.velocity, &points.mass);
+                let next = (
+                    chunks(&mut buffers.next_tensor, cells_per_band),
+                    chunks(&mut buffers.next_velocity, cells_per_band),
                 );
-                let parts = (bands, next, sides);
-                for_each_chunk(this.parallel, 1, parts, |b, (band, next, sides)| {
-                    let out = HeunOut::First { sides, next };
-                    sweep(this, b, &mut band[0], fields, mass, out);
-                });
-            } else {
-                let fields = Fields::sides(&nodes.tensor, &nodes.velocity);
-                for_each_chunk(this.parallel, 1, (bands, next), |b, (band, next)| {
-                    sweep(
-                        this,
-                        b,
-                        &mut band[0],
-                        fields,
-                        mass,
-                        HeunOut::Second { next },
+                let bands = chunks(&mut buffers.bands, 1);
+                if first {
+                    let fields = Fields::per_cell(tensor, velocity);
+                    let per_band = cells_per_band * 2 * D;
+                    let sides = (
+                        chunks(&mut nodes.tensor, per_band),
+                        chunks(&mut nodes.velocity, per_band),
                     );
-                });
+                    let parts = (bands, next, sides);
+                    for_each_chunk(this.parallel, 1, parts, |b, (band, next, sides)| {
+                        let out = HeunOut::First { sides, next };
+                        sweep(this, b, &mut band[0], fields, mass, out);
+                    });
+                } else {
+                    let fields = Fields::sides(&nodes.tensor, &nodes.velocity);
+                    for_each_chunk(this.parallel, 1, (bands, next), |b, (band, next)| {
+                        sweep(
+                            this,
+                            b,
+                            &mut band[0],
+                            fields,
+                            mass,
+                            HeunOut::Second { next },
+                        );
+                    });
+                }
             }
-        }
-        if !first {
-            std::mem::swap(&mut points.stress, &mut buffers.next_tensor);
-            std::mem::swap(&mut points.velocity, &mut buffers.next_velocity);
-        }
-        self.nodes = nodes;
-        let totals = buffers.totals();
-        self.fused = buffers;
-        totals
+            if !first {
+                std::mem::swap(&mut points.stress, &mut buffers.next_tensor);
+                std::mem::swap(&mut points.velocity, &mut buffers.next_velocity);
+            }
+        })
     }
 
     /// One cell of a Heun stage (entry `local` of its band) from its faces' final fluxes

@@ -353,6 +353,24 @@ struct UpdateConstants<const D: usize> {
 }
 
 impl<const D: usize> DgmpmSolver<D> {
+    /// `run(solver, fused buffers, nodal fields)` with both taken out of the solver (the
+    /// nodal and Heun sweeps read the solver while they write them) and put back after;
+    /// returns the bands' power and force, added up.
+    fn with_buffers(
+        &mut self,
+        run: impl FnOnce(&Self, &mut FusedBuffers<D>, &mut crate::NodalFields<D>),
+    ) -> (f64, Vector<D>) {
+        let mut buffers = std::mem::take(&mut self.fused);
+        let mut nodes = std::mem::take(&mut self.nodes);
+        run(self, &mut buffers, &mut nodes);
+        self.nodes = nodes;
+        let totals = buffers.totals();
+        self.fused = buffers;
+        totals
+    }
+}
+
+impl<const D: usize> DgmpmSolver<D> {
     /// The Godunov flux of a boundary face ([`Self::linear_face_flux`]), its power and
     /// force added to `band`'s (kept out of the sweeps' inner loops).
     #[inline(never)]

@@ -138,10 +138,7 @@ impl<const D: usize> DgmpmSolver<D> {
         sweep: impl Fn(&Self, usize, &mut Band<D>, Fields<'_, D>, NodalIn<'_, D>, &mut NodalOut<'_, D>)
             + Sync,
     ) -> (f64, Vector<D>) {
-        let mut buffers = std::mem::take(&mut self.fused);
-        let mut nodes = std::mem::take(&mut self.nodes);
-        {
-            let this = &*self;
+        self.with_buffers(|this, buffers, nodes| {
             let MaterialPoints {
                 stress,
                 velocity,
@@ -187,19 +184,15 @@ impl<const D: usize> DgmpmSolver<D> {
                 };
                 this.run_bands(bands, fields, inputs, out, &sweep);
             }
-        }
-        if !stage.last && !stage.reads_points() {
-            if stage.start_weight == 0.0 && !nodes.start_tensor.is_empty() {
-                std::mem::swap(&mut nodes.start_tensor, &mut nodes.tensor);
-                std::mem::swap(&mut nodes.start_velocity, &mut nodes.velocity);
+            if !stage.last && !stage.reads_points() {
+                if stage.start_weight == 0.0 && !nodes.start_tensor.is_empty() {
+                    std::mem::swap(&mut nodes.start_tensor, &mut nodes.tensor);
+                    std::mem::swap(&mut nodes.start_velocity, &mut nodes.velocity);
+                }
+                std::mem::swap(&mut nodes.tensor, &mut buffers.next_tensor);
+                std::mem::swap(&mut nodes.velocity, &mut buffers.next_velocity);
             }
-            std::mem::swap(&mut nodes.tensor, &mut buffers.next_tensor);
-            std::mem::swap(&mut nodes.velocity, &mut buffers.next_velocity);
-        }
-        self.nodes = nodes;
-        let totals = buffers.totals();
-        self.fused = buffers;
-        totals
+        })
     }
 
     /// [`Self::nodal_bands`]' loop: `sweep` on every band with its chunk of the output
