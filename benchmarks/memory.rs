@@ -34,7 +34,7 @@ fn main() {
         o.integrator = Integrator::Rk2;
     }
     rk2.courant = 0.5;
-    configs.push(("dgmpm (RK2, CTU: fused nodal)", rk2));
+    configs.push(("dgmpm (RK2, CTU: Heun cell sweeps)", rk2));
     let mut four = scene.method_config(MethodKind::Dgmpm);
     four.points_per_cell = 4;
     configs.push(("dgmpm (Euler, 4 ppc: fused nodal)", four));

@@ -7,7 +7,7 @@
 //! 2. One DGMPM step on one thread (a rayon pool of 1), interleaved with the triad passes:
 //!    the 1000×750 plate at 1 point per cell (Euler, CTU, Courant 1) on the fused path
 //!    (the default) and on the phase-by-phase cell path, the bar at 10^6 cells on both,
-//!    and the 1000×750 plate with RK2 (Courant 0.5) on the fused nodal sweep (the default)
+//!    and the 1000×750 plate with RK2 (Courant 0.5) on the Heun cell sweeps (the default)
 //!    and on the phase-by-phase nodal path; median of 10 steps after 3 warm-up steps, in ns
 //!    per cell-update.
 //! 3. The bytes a 2D step must move per cell, counted from the code (each array read or
@@ -26,13 +26,13 @@
 //!      stay in cache: about 430 KB per band at 1000 cells a row);
 //!    - the fused path in 1D (`T` = `V` = 8 B): reads `T + V` and the mass (24), writes the
 //!      next `T + V` (16), updates the position (16): 56 B, 72 B with write-allocate;
-//!    - the fused nodal sweep, RK2, one point per cell (4 nodes per cell, `S` = 8 B a shape
-//!      value, `G` = 16 B a gradient; phase 1 is not run, phase 5 is in the second stage):
-//!      the first stage reads the point's `T + V` and mass (56), `4S + 4G` (96) and the
-//!      volume (8) and writes the nodes' `T + V` (`4·48` = 192); the second reads the
-//!      nodes' `T + V` (192), the point's `T + V` and mass (56), `4S + 4G` and the volume
-//!      (104) and writes the point's `T + V` in place (48); `move_points` 48: 800 B, 992 B
-//!      with write-allocate (the nodal write).
+//!    - RK2 at one point per cell, the Heun cell sweeps (`fused/heun.rs`; no nodal field,
+//!      the side-state weights one cell's copy on a uniform grid, in cache): the first
+//!      stage reads the point's `T + V` and mass (56) and writes the cells' four side
+//!      states (`4·48` = 192) and the next `T + V` (48); the second reads the side states
+//!      (192), the next `T + V` and the mass (56) and updates the next `T + V` in place
+//!      (48), swapped into the points; `move_points` 48: 640 B, 880 B with write-allocate
+//!      (the first stage's writes). (The fused nodal sweep before it: 800 B, 992 B.)
 //!
 //!    The roofline time is bytes / triad bandwidth.
 use impact_core::method::{Integrator, MethodKind};
@@ -47,8 +47,8 @@ const CELL_PATH_BYTES: (f64, f64) = (776.0, 920.0);
 /// The same for the fused path, in 2D and in 1D.
 const FUSED_PATH_BYTES: (f64, f64) = (136.0, 184.0);
 const FUSED_BAR_BYTES: (f64, f64) = (56.0, 72.0);
-/// The same for the fused nodal sweep with RK2 (2D, one point per cell).
-const FUSED_NODAL_RK2_BYTES: (f64, f64) = (800.0, 992.0);
+/// The same for RK2 at one point per cell (2D, the Heun cell sweeps).
+const FUSED_NODAL_RK2_BYTES: (f64, f64) = (640.0, 880.0);
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -122,14 +122,11 @@ fn main() {
         assert_eq!(plate.solver.step_path(), StepPath::Fused);
         assert_eq!(bar.solver.step_path(), StepPath::Fused);
         assert_eq!(rk2.solver.step_path(), StepPath::FusedNodal);
+        assert!(rk2.solver.heun_cells());
         let runs: [(&str, &mut dyn Method<2>, usize); 4] = [
             ("plate 1000x750, fused path", &mut plate, plate_cells),
             ("plate 1000x750, cell path", &mut plate_cell, plate_cells),
-            (
-                "plate 1000x750, RK2, fused nodal sweep",
-                &mut rk2,
-                rk2_cells,
-            ),
+            ("plate 1000x750, RK2, Heun cell sweeps", &mut rk2, rk2_cells),
             (
                 "plate 1000x750, RK2, nodal phases",
                 &mut rk2_phases,

@@ -16,6 +16,10 @@ pub(crate) struct Fields<'a, const D: usize> {
     velocity: &'a [Vector<D>],
     /// One value per cell (the cell path) instead of `2^D` nodes per cell.
     per_cell: bool,
+    /// The `2D` side states of each cell, stored cell by cell (side `2l + h` of axis `l`,
+    /// low `h = 0` or high `h = 1`) instead of its nodes: Heun's second stage at one point
+    /// per cell (`fused/heun.rs`).
+    sides: bool,
 }
 
 impl<'a, const D: usize> Fields<'a, D> {
@@ -26,6 +30,7 @@ impl<'a, const D: usize> Fields<'a, D> {
             tensor,
             velocity,
             per_cell: true,
+            sides: false,
         }
     }
 
@@ -36,6 +41,18 @@ impl<'a, const D: usize> Fields<'a, D> {
             tensor,
             velocity,
             per_cell: false,
+            sides: false,
+        }
+    }
+
+    /// `2D` side states per cell, stored cell by cell (`fused/heun.rs`).
+    #[inline]
+    pub(crate) fn sides(tensor: &'a [Tensor<D>], velocity: &'a [Vector<D>]) -> Self {
+        Self {
+            tensor,
+            velocity,
+            per_cell: false,
+            sides: true,
         }
     }
 
@@ -75,9 +92,17 @@ impl<'a, const D: usize> Fields<'a, D> {
         }
     }
 
-    /// The average of cell `c`'s nodes on its face normal to `l` (nodal fields).
+    /// The average of cell `c`'s nodes on its face normal to `l` (nodal fields), or the
+    /// stored side state (side fields).
     #[inline(always)]
     fn nodal_side(&self, c: usize, l: usize, high: bool) -> FullState<D> {
+        if self.sides {
+            let i = c * 2 * D + 2 * l + usize::from(high);
+            return FullState {
+                tensor: self.tensor[i],
+                velocity: self.velocity[i],
+            };
+        }
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
         let mut q = Tensor::<D>::zeros();
         let mut v = Vector::<D>::zeros();

@@ -38,8 +38,11 @@
 //! the same sweep, the face states read from the DG nodes and each cell's nodal rates and
 //! update formed from its four final fluxes (`DgmpmSolver::rates_of_cell`, shared with
 //! the phase path), phase 5 in the step's last stage, and with RK2 at one point per cell no
-//! phase 1 (the first stage reads the points) and a second stage that is a cell update
-//! (`fused/heun.rs`); no face or rate arrays. Tested equal to the nodal phases to 1e-13.
+//! phase 1 (the first stage reads the points); no face or rate arrays. With RK2 at one
+//! point per cell strictly inside its cell, both stages are cell sweeps: the first forms
+//! each cell's side states in closed form from its state and fluxes with fixed weights,
+//! the second is a cell update from the fluxes of those states (`fused/heun.rs`; no nodal
+//! field). Tested equal to the nodal phases to 1e-13.
 //!
 //! **Volume weights** (the nodal paths with linear elasticity and `2^D` points per cell or
 //! more): phase 3's volume term `-Σ_α V_α σ_h(X_α) ∇S_iα` is `-Σ_b σ_b K_ib` with the
@@ -249,6 +252,11 @@ pub struct DgmpmSolver<const D: usize> {
     /// after point (nodal paths with several points per cell; empty otherwise; the lumped
     /// masses `M_i` are then formed with them, once): [`mapping::mapping_weights`].
     pub(crate) mapping_weights: Vec<f64>,
+    /// RK2 at one point per cell strictly inside its cell on the fused nodal path: each
+    /// node's side-state weights `G_i = -V_p ∇S_i`, `κ_i = (2/2^D)/M_i` (`fused/heun.rs`),
+    /// `(D + 1) 2^D` per cell, or one cell's when all are equal (empty otherwise; the shape
+    /// functions are then dropped).
+    pub(crate) heun_weights: Vec<f64>,
     /// Whether every `S_iα > 0` (every point strictly inside its cell).
     pub(crate) inside: bool,
     pub(crate) nodes: NodalFields<D>,

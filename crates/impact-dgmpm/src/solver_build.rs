@@ -52,6 +52,7 @@ impl<const D: usize> DgmpmSolver<D> {
             shape_gradient,
             volume_weights: Vec::new(),
             mapping_weights: Vec::new(),
+            heun_weights: Vec::new(),
             inside,
             nodes: NodalFields::default(),
             face_flux: std::array::from_fn(|_| Vec::new()),
@@ -102,6 +103,7 @@ impl<const D: usize> DgmpmSolver<D> {
         solver.form_volume_weights(points);
         solver.allocate_buffers();
         solver.form_mapping_weights(points);
+        solver.form_heun_weights(points);
         Ok(solver)
     }
 
@@ -156,8 +158,14 @@ impl<const D: usize> DgmpmSolver<D> {
         let nodes = grid.cell_count() * Grid::<D>::NODES_PER_CELL;
         let fused_nodal = self.path == StepPath::FusedNodal;
         let rk2 = self.options.integrator == Integrator::Rk2;
-        // RK2 at one point per cell on the fused nodal sweep: nodal fields only
+        // RK2 at one point per cell on the fused nodal sweep: nodal fields only; on the
+        // Heun cell sweeps `2D` side states per cell there (`fused/heun.rs`)
         let single = fused_nodal && self.fused_nodal_single();
+        let heun = self.heun_on_cells();
+        let nodes = match heun {
+            true => grid.cell_count() * 2 * D,
+            false => nodes,
+        };
         // the start-of-step fields: RK2, and the increment update of the phase paths (the
         // fused sweep's single Euler stage reads its own input instead)
         let increment = self.options.update == PointUpdate::Increment;
@@ -175,10 +183,11 @@ impl<const D: usize> DgmpmSolver<D> {
         if self.path.fused() {
             // the next state: one per point on the cell path; per node between RK2's two
             // nodal stages unless the first writes in place (the last writes the points)
+            // (the Heun cell sweeps: one per cell, `q_p + ½ Δq(F¹)`)
             let layout = match (fused_nodal, rk2 && !single) {
                 (false, _) => fused::Layout::cell(ctu),
                 (true, true) => fused::Layout::nodal(Grid::<D>::NODES_PER_CELL, ctu),
-                (true, false) => fused::Layout::nodal(0, ctu),
+                (true, false) => fused::Layout::nodal(usize::from(heun), ctu),
             };
             if self.fused.layout() != Some(layout) {
                 self.fused = fused::FusedBuffers::new(grid.cells, layout);
@@ -247,12 +256,19 @@ impl<const D: usize> DgmpmSolver<D> {
         self.form_volume_weights(points);
         self.allocate_buffers();
         self.form_mapping_weights(points);
+        self.form_heun_weights(points);
         Ok(())
     }
 
     /// The path the step takes.
     pub fn step_path(&self) -> StepPath {
         self.path
+    }
+
+    /// Whether RK2 runs as the Heun cell sweeps (`fused/heun.rs`: the fused nodal path at
+    /// one point per cell, every point strictly inside its cell).
+    pub fn heun_cells(&self) -> bool {
+        self.heun_on_cells()
     }
 
     /// The tensor field of the points the scheme evolves: `σ` (linear elasticity) or `F`

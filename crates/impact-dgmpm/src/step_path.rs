@@ -15,7 +15,8 @@ pub enum StepPath {
     /// Phases 2-4 of each stage in one sweep over the cell rows ([`crate::fused`]): linear
     /// elasticity (no elastoplastic Riemann solver), 1D or 2D ([`Fusable::All`]), any
     /// points per cell, Euler or RK2; no face or rate arrays. Phases 1 and 5 as [`StepPath::SinglePoint`] with one
-    /// point per cell, as [`StepPath::Nodal`] otherwise.
+    /// point per cell, as [`StepPath::Nodal`] otherwise. RK2 at one point per cell with
+    /// every point strictly inside its cell: two cell sweeps, no nodal field (`fused/heun.rs`).
     FusedNodal,
     /// One point per cell strictly inside its cell, forward Euler: the step reduces exactly
     /// to the cell-centred Godunov update ([`crate::DgmpmSolver::cell_update`]); no nodal buffer.

@@ -8,7 +8,8 @@
 //! The fused nodal sweep ([`StepPath::FusedNodal`]) equals the phase-by-phase nodal paths
 //! ([`StepPath::SinglePoint`] at one point per cell, [`StepPath::Nodal`] otherwise) to
 //! 1e-13 on the same scenes with RK2, several points per cell and the increment update
-//! (with forward Euler, whose one stage also runs phase 5, and with RK2).
+//! (with forward Euler, whose one stage also runs phase 5, and with RK2). RK2 at one point
+//! per cell runs the Heun cell sweeps (`fused/heun.rs`, asserted), agreeing to round-off.
 use impact_core::method::{
     EdgeKind, EdgeTreatment, Integrator, LoadShape, MethodConfig, MethodKind, PointUpdate,
     SegmentCover, TransverseFlux,
@@ -34,8 +35,12 @@ fn compare<const D: usize>(
     let problem = Problem::<D>::from_scene(scene).unwrap();
     let mut config = scene.method_config(MethodKind::Dgmpm);
     edit(&mut config);
+    let rk2_single =
+        config.points_per_cell == 1 && config.dgmpm().unwrap().integrator == Integrator::Rk2;
     let mut fused = Dgmpm::<D>::new(&problem, config).unwrap();
     assert_eq!(fused.solver.step_path(), fused_path, "{}", scene.name);
+    // RK2 at one point per cell (points at the cells' centres): the Heun cell sweeps
+    assert_eq!(fused.solver.heun_cells(), rk2_single, "{}", scene.name);
     let mut cell = fused.clone();
     cell.solver
         .set_step_path(reference, &cell.state.points)
@@ -139,8 +144,7 @@ fn fused_plate_matches_the_cell_path() {
 }
 
 /// Grids one or two cells wide, where every face row or column is a boundary: both fused
-/// sweeps (forward Euler: the cell path's; RK2: the nodal one, whose second stage is a
-/// cell update, `fused/heun.rs`). The stress is compared relative to the larger of its
+/// sweeps (forward Euler: the cell path's; RK2: the Heun cell sweeps, `fused/heun.rs`). The stress is compared relative to the larger of its
 /// peak and `Z_p |v|_peak`: on the 1×1 grid the stress peak (2.8e5 Pa) is 800 times less
 /// than `Z_p |v|_peak`, the size of the nodal volume terms `C : sym(V v_h ⊗ ∇S_i)` that the
 /// phase path adds up and that cancel exactly in the cell update (`Σ_i ∇S_i = 0`), so the

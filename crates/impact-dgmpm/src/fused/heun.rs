@@ -1,81 +1,350 @@
-//! Heun's second stage at one point per cell on the fused nodal sweep, reduced to a cell
-//! update (1D and 2D, one source for both).
+//! Heun's RK2 at one point per cell strictly inside its cell, linear elasticity, on the
+//! fused sweeps: both stages as cell sweeps, no nodal rate and no nodal field (one source
+//! for every dimension; the sweeps run in 1D and 2D, where the fused nodal path applies).
 //!
-//! With one point per cell, every `S_i = S_i(X_p) > 0` (the point strictly inside its
-//! cell) and `M_i = S_i m_p`, the second stage's phases 3-5,
-//! `q_p ← Σ_i S_i [a q_p + (1 - a)(q¹_i + Δt q̇¹_i)]` (`a = ½`, `q¹_i` the first stage's
-//! nodal fields, `q̇¹_i` the rates at them), need no nodal rate:
+//! **Stage 1.** Phase 1 gives every node of the cell the point's state, `q_i = q_p`, and
+//! the lumped masses are `M_i = S_i m_p` (`S_i = S_i(X_p) > 0`). The stage's fluxes are
+//! then the cell path's (Godunov and CTU on the cells' states), and the nodal rates (paper
+//! eq. 14-16, `DgmpmSolver::rates_of_cell`) are
+//! `q̇_i = (ρ/M_i) [C : sym(-V_p v_p ⊗ ∇S_i) + Σ_f s_f w_f F_f]`,
+//! `v̇_i = (1/M_i) [-V_p σ_p ∇S_i + Σ_f s_f w_f F_f]` (momentum part of `F_f`),
+//! the sums over the cell's faces `f = (m, s)` that hold node `i` (bit `m` of `i` is `s`),
+//! `s_f = +1` on a low face and `-1` on a high one, `w_m = (V_cell/Δx_m) 2/2^D`. The
+//! second stage reads only the averages of each side's `2^{D-1}` nodes (paper §4),
+//! `q¹_{l,h} = q_p + Δt (2/2^D) Σ_{i ∈ (l,h)} q̇_i`. With the fixed weights
+//! `G_i = -V_p ∇S_i` and `κ_i = (2/2^D)/M_i` of each node (formed once,
+//! [`DgmpmSolver::form_heun_weights`]) and the faces' fluxes scaled once per cell,
+//! `P_{m,s} = s_f w_m Δt (ρ) F_{m,s}`, each node's share is
+//! `δσ_i = κ_i [C : sym(Δt ρ v_p ⊗ G_i) + Σ_m P_{m,i_m}]`,
+//! `δv_i = κ_i [Δt σ_p G_i + Σ_m P_{m,i_m}]` (`i_m` bit `m` of `i`), and each side state is
+//! `q_p` plus the shares of its `2^{D-1}` nodes: no division, no nodal field, the point's
+//! interpolation `Σ_i S_i q_p = q_p` not formed.
 //!
-//! - `Σ_i S_i q̇¹_i = (ρ/m_p) Σ_i [C : sym(-V_p v_h ⊗ ∇S_i) + Σ_f ∫_f S_i sym(v* ⊗ n)]`:
-//!   the volume terms sum to zero because `Σ_i ∇S_i = 0`, and each face's flux reaches its
-//!   `2^{D-1}` nodes with weight `|Γ_f| 2/2^D`, so
-//!   `Σ_i S_i q̇¹_i = -(ρV/m_p) Σ_l (F_l,high - F_l,low)/Δx_l` (momentum part without `ρ`),
-//!   the cell path's update ([`crate::cell_path`]) with the second stage's final fluxes;
-//! - `Σ_i S_i = 1`, so `q_p ← q_p + (1 - a)(Σ_i S_i (q¹_i - q_p) + Δt Σ_i S_i q̇¹_i)`.
+//! **Stage 2.** With `Σ_i S_i = 1`, `Σ_i ∇S_i = 0` and each face's flux reaching its
+//! `2^{D-1}` nodes with weight `w_m`, `Σ_i S_i q̇_i` is the cell path's update
+//! `-(ρV/m_p) Σ_l (F_l,high - F_l,low)/Δx_l` (momentum part without `ρ`) with the stage's
+//! fluxes. Phases 3-5 of Heun's second stage, `q_p ← Σ_i S_i [½ q_p + ½ (q¹_i + Δt q̇¹_i)]`,
+//! are therefore `q_p ← q_p + ½ Δq(F¹) + ½ Δq(F²)`, `Δq(F)` the cell path's increment
+//! with fluxes `F`: stage 1 stores `q_p + ½ Δq(F¹)` (in the fused buffers' next state),
+//! stage 2 solves its faces from the side states (Godunov, and under CTU the nodal
+//! sweep's fluctuations with the side terms `F_l(q¹_{C,low} - q¹_{C,high})`) and adds
+//! `½ Δq(F²)`; the next state is then swapped into the points. The increment update
+//! (`PointUpdate::Increment`) gives the same formula at one point per cell.
 //!
-//! The face fluxes of the stage are unchanged (the averages of each side's face nodes
-//! `q¹_i`, paper §4, and their CTU corrections); only the rates of the `2^D` nodes (the
-//! volume term's interpolation at the point and the `2^D` divisions by `M_i`) and the
-//! nodal update are gone. The increment update (`PointUpdate::Increment`) gives the same
-//! formula at one point per cell (`Σ_i S_i (q_i - q_p)` with `Σ_i S_i = 1`), so both take
-//! it. The sums are associated differently from the phase-by-phase path
-//! ([`crate::StepPath::SinglePoint`]): `Σ_i ∇S_i` and `Σ_i S_i - 1` are zero only to
-//! round-off, so the two agree to round-off (`tests/fused.rs`, 1e-13), not bit for bit.
-use super::nodal::{NodalIn, NodalOut};
-use super::UpdateConstants;
-use crate::riemann::Conserved;
-use crate::DgmpmSolver;
+//! The sums are associated differently from the phase-by-phase path
+//! ([`crate::StepPath::SinglePoint`]): `Σ_i ∇S_i`, `Σ_i S_i - 1` and `Σ_i S_i q_p - q_p` are
+//! zero only to round-off there, so the two agree to round-off (`tests/fused.rs`, 1e-13
+//! of the peaks), not bit for bit.
+use super::plane::Sweep2d;
+use super::{Band, UpdateConstants, BAND_ROWS, CHUNK};
+use crate::faces::Fields;
+use crate::riemann::axis::AxisConstants;
+use crate::riemann::{Conserved, FullState};
+use crate::{DgmpmSolver, StepPath};
+use impact_core::parallel::{chunks, for_each_chunk};
+use impact_core::points::MaterialPoints;
 use impact_core::{Grid, Tensor, Vector};
 
+/// Weights per node of a cell in [`DgmpmSolver::heun_weights`]: `G_i` (`D`) and `κ_i`.
+const fn per_node(d: usize) -> usize {
+    d + 1
+}
+
+/// Most sides a cell has (`2D`, 3D).
+const MAX_SIDES: usize = 6;
+
+/// The step's constants of the Heun sweeps: the cell update's at `½Δt`, `Δt`, `Δt ρ`, the
+/// faces' scales `(s_f w_m Δt ρ, s_f w_m Δt)` per axis and side, and the Lamé constants
+/// of `C : sym(·)` (`λ = 0`, `μ = E/2` in 1D: `C : ε = E ε`).
+struct HeunConstants<const D: usize> {
+    half: UpdateConstants<D>,
+    dt: f64,
+    dt_rho: f64,
+    face_scale: [[(f64, f64); 2]; D],
+    lambda: f64,
+    mu: f64,
+}
+
+/// What one band of a Heun stage writes: stage 1 its cells' side states (`2D` per cell)
+/// and `q_p + ½ Δq(F¹)`; stage 2 adds `½ Δq(F²)` to the latter.
+enum HeunOut<'a, const D: usize> {
+    First {
+        sides: (&'a mut [Tensor<D>], &'a mut [Vector<D>]),
+        next: (&'a mut [Tensor<D>], &'a mut [Vector<D>]),
+    },
+    Second {
+        next: (&'a mut [Tensor<D>], &'a mut [Vector<D>]),
+    },
+}
+
 impl<const D: usize> DgmpmSolver<D> {
-    /// Whether Heun's second stage takes the cell update ([`self`](self) module doc): one
-    /// point per cell, every point strictly inside its cell.
-    pub(super) fn heun_on_cells(&self) -> bool {
-        self.fused_nodal_single() && self.inside
+    /// Whether RK2 takes the Heun cell sweeps ([`self`](self) module doc): the fused nodal
+    /// path at one point per cell, every point strictly inside its cell.
+    pub(crate) fn heun_on_cells(&self) -> bool {
+        self.path == StepPath::FusedNodal && self.fused_nodal_single() && self.inside
     }
 
-    /// Heun's second stage for cell `cell` (entry `local` of its band's points) from its
-    /// faces' final fluxes `[low, high]` per axis, `start_weight` being `a`:
-    /// `q_p ← q_p + (1 - a)(Σ_i S_i (q¹_i - q_p) - Δt (ρV/m_p) Σ_l (F_l,high - F_l,low)/Δx_l)`
-    /// (velocity: `V/m_p`, no `ρ`). Reads the point's state before writing it.
+    /// Form the nodes' weights `G_i = -V_p ∇S_i` and `κ_i = (2/2^D)/M_i` (module doc; `κ_i
+    /// = 0` at a node without mass, whose rates are zero) from the shape functions at the
+    /// (fixed) points, their masses and volumes, and drop the shape functions, where
+    /// [`Self::heun_on_cells`]; one cell's when every cell's are the same (points at the
+    /// same place in equal cells). Elsewhere the weights are dropped.
+    pub(crate) fn form_heun_weights(&mut self, points: &MaterialPoints<D>) {
+        if !self.heun_on_cells() {
+            self.heun_weights = Vec::new();
+            return;
+        }
+        if !self.heun_weights.is_empty() {
+            return;
+        }
+        let n = Grid::<D>::NODES_PER_CELL;
+        let k = 2.0 / n as f64;
+        let stride = n * per_node(D);
+        let mut weights = Vec::with_capacity(points.len() * stride);
+        for c in 0..points.len() {
+            let mass = points.mass[c];
+            for a in c * n..(c + 1) * n {
+                let gradient = self.shape_gradient[a] * -points.volume[c];
+                weights.extend(gradient.iter());
+                let nodal_mass = self.shape[a] * mass;
+                weights.push(if nodal_mass > 0.0 {
+                    k / nodal_mass
+                } else {
+                    0.0
+                });
+            }
+        }
+        if weights
+            .chunks_exact(stride)
+            .all(|w| w == &weights[..stride])
+        {
+            weights.truncate(stride);
+        }
+        weights.shrink_to_fit();
+        self.heun_weights = weights;
+        self.shape = Vec::new();
+        self.shape_gradient = Vec::new();
+    }
+
+    /// The weights of cell `cell` (module doc).
     #[inline(always)]
-    pub(super) fn heun_cell_update(
+    fn heun_weights_of(&self, cell: usize) -> &[f64] {
+        let stride = Grid::<D>::NODES_PER_CELL * per_node(D);
+        let start = match self.heun_weights.len() == stride {
+            true => 0,
+            false => cell * stride,
+        };
+        &self.heun_weights[start..start + stride]
+    }
+
+    /// The constants of a Heun step of `dt`.
+    fn heun_constants(&self, dt: f64) -> HeunConstants<D> {
+        let dt_rho = dt * self.material.density;
+        let k = 2.0 / Grid::<D>::NODES_PER_CELL as f64;
+        HeunConstants {
+            half: self.update_constants(0.5 * dt),
+            dt,
+            dt_rho,
+            face_scale: std::array::from_fn(|m| {
+                let w = self.grid.cell_volume() / self.grid.spacing[m] * k;
+                [(w * dt_rho, w * dt), (-w * dt_rho, -w * dt)]
+            }),
+            lambda: if D == 1 { 0.0 } else { self.elastic.lambda },
+            mu: self.elastic.mu,
+        }
+    }
+
+    /// One stage of Heun's RK2 on the cell sweeps (`first`: stage 1; module doc). Returns
+    /// the power and the force of the boundary conditions.
+    pub(super) fn heun_stage(
+        &mut self,
+        points: &mut MaterialPoints<D>,
+        dt: f64,
+        first: bool,
+    ) -> (f64, Vector<D>) {
+        self.by_dimension(
+            points,
+            |_, _| unreachable!("internal: the Heun sweeps are 1D and 2D (Fusable::All)"),
+            |solver, points| solver.heun_sweep_2d(points, dt, first),
+            |solver, points| solver.heun_sweep_1d(points, dt, first),
+        )
+    }
+
+    /// Run `sweep(band index, band, face fields, point masses, output)` on every band:
+    /// stage 1 reads the points and writes the side states (into the nodal buffers, `2D`
+    /// per cell) and the next state; stage 2 reads the side states, updates the next state
+    /// in place and swaps it into the points. Returns the bands' power and force.
+    fn heun_bands(
+        &mut self,
+        points: &mut MaterialPoints<D>,
+        cells_per_band: usize,
+        first: bool,
+        sweep: impl Fn(&Self, usize, &mut Band<D>, Fields<'_, D>, &[f64], HeunOut<'_, D>) + Sync,
+    ) -> (f64, Vector<D>) {
+        self.with_buffers(|this, buffers, nodes| {
+            {
+                let (tensor, velocity, mass) = (&points.stress, &points.velocity, &points.mass);
+                let next = (
+                    chunks(&mut buffers.next_tensor, cells_per_band),
+                    chunks(&mut buffers.next_velocity, cells_per_band),
+                );
+                let bands = chunks(&mut buffers.bands, 1);
+                if first {
+                    let fields = Fields::per_cell(tensor, velocity);
+                    let per_band = cells_per_band * 2 * D;
+                    let sides = (
+                        chunks(&mut nodes.tensor, per_band),
+                        chunks(&mut nodes.velocity, per_band),
+                    );
+                    let parts = (bands, next, sides);
+                    for_each_chunk(this.parallel, 1, parts, |b, (band, next, sides)| {
+                        let out = HeunOut::First { sides, next };
+                        sweep(this, b, &mut band[0], fields, mass, out);
+                    });
+                } else {
+                    let fields = Fields::sides(&nodes.tensor, &nodes.velocity);
+                    for_each_chunk(this.parallel, 1, (bands, next), |b, (band, next)| {
+                        sweep(
+                            this,
+                            b,
+                            &mut band[0],
+                            fields,
+                            mass,
+                            HeunOut::Second { next },
+                        );
+                    });
+                }
+            }
+            if !first {
+                std::mem::swap(&mut points.stress, &mut buffers.next_tensor);
+                std::mem::swap(&mut points.velocity, &mut buffers.next_velocity);
+            }
+        })
+    }
+
+    /// One cell of a Heun stage (entry `local` of its band) from its faces' final fluxes
+    /// `[low, high]` per axis (module doc). Stage 1: the side states, `q_p` plus the shares
+    /// `δσ_i = κ_i [C : sym(Δt ρ v_p ⊗ G_i) + Σ_m P_{m,i_m}]`, `δv_i = κ_i [Δt σ_p G_i +
+    /// Σ_m P_{m,i_m}]` of the side's nodes, and `q_p + ½ Δq(F¹)`; stage 2: `+ ½ Δq(F²)`,
+    /// `Δq(F) = -Δt (ρV/m_p) Σ_l (F_l,high - F_l,low)/Δx_l`.
+    #[inline(always)]
+    fn heun_cell<const FIRST: bool>(
         &self,
-        u: &UpdateConstants<D>,
+        u: &HeunConstants<D>,
         (cell, local): (usize, usize),
         faces: [[&Conserved<D>; 2]; D],
-        inputs: NodalIn<'_, D>,
-        start_weight: f64,
-        out: &mut NodalOut<'_, D>,
+        (fields, mass): (Fields<'_, D>, f64),
+        out: &mut HeunOut<'_, D>,
     ) {
-        let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
-        let range = cell * nodes_per_cell..(cell + 1) * nodes_per_cell;
-        let (tensor, velocity) = match out {
-            NodalOut::Points { tensor, velocity } => (tensor, velocity),
-            NodalOut::Nodes { .. } => {
-                unreachable!("internal: Heun's second stage writes the points")
+        let (dq, dv) = Self::flux_increment(&u.half, faces, mass);
+        let (sides, next) = match out {
+            HeunOut::First { sides, next } if FIRST => (sides, next),
+            HeunOut::Second { next } if !FIRST => {
+                next.0[local] += dq;
+                next.1[local] += dv;
+                return;
             }
+            _ => unreachable!("internal: a Heun stage's output"),
         };
-        let (q0, v0) = (tensor[local], velocity[local]);
-        let (nq, nv) = inputs.nodes(range.clone());
-        let s = &self.shape[range];
-        // Σ_i S_i (q¹_i - q_p): the first stage's increment at the point
-        let mut dq = Tensor::<D>::zeros();
-        let mut dv = Vector::<D>::zeros();
-        for a in 0..nodes_per_cell {
-            dq += (nq[a] - q0) * s[a];
-            dv += (nv[a] - v0) * s[a];
+        let FullState {
+            tensor: q,
+            velocity: v,
+        } = fields.cell(cell);
+        next.0[local] = q + dq;
+        next.1[local] = v + dv;
+        // P_{m,s}: the faces' fluxes with their node weights, signs and Δt (ρ)
+        let scaled: [[Conserved<D>; 2]; D] = std::array::from_fn(|m| {
+            std::array::from_fn(|s| {
+                let (tensor, momentum) = u.face_scale[m][s];
+                Conserved {
+                    tensor: faces[m][s].tensor * tensor,
+                    momentum: faces[m][s].momentum * momentum,
+                }
+            })
+        });
+        let (v_rho, q_dt) = (v * u.dt_rho, q * u.dt);
+        let mut side_q = [q; MAX_SIDES];
+        let mut side_v = [v; MAX_SIDES];
+        let w = self.heun_weights_of(cell);
+        for (a, w) in w.chunks_exact(per_node(D)).enumerate() {
+            let g = Vector::<D>::from_fn(|k, _| w[k]);
+            // C : sym(Δt ρ v_p ⊗ G_i) = λ (Δt ρ v_p · G_i) 1 + μ (Δt ρ)(v_p ⊗ G_i + G_i ⊗ v_p)
+            let mut tensor =
+                Tensor::<D>::from_fn(|i, j| u.mu * (v_rho[i] * g[j] + v_rho[j] * g[i]));
+            let trace = u.lambda * v_rho.dot(&g);
+            for i in 0..D {
+                tensor[(i, i)] += trace;
+            }
+            let mut momentum = q_dt * g;
+            for (l, pair) in scaled.iter().enumerate() {
+                let p = &pair[(a >> l) & 1];
+                tensor += p.tensor;
+                momentum += p.momentum;
+            }
+            let (tensor, momentum) = (tensor * w[D], momentum * w[D]);
+            for l in 0..D {
+                let side = 2 * l + ((a >> l) & 1);
+                side_q[side] += tensor;
+                side_v[side] += momentum;
+            }
         }
-        // -Σ_l (F_l,high - F_l,low)/Δx_l
-        let mut fq = Tensor::<D>::zeros();
-        let mut fm = Vector::<D>::zeros();
-        for (l, [low, high]) in faces.iter().enumerate() {
-            fq -= (high.tensor - low.tensor) * u.inv_spacing[l];
-            fm -= (high.momentum - low.momentum) * u.inv_spacing[l];
-        }
-        let inv_mass = 1.0 / inputs.point_mass(cell);
-        let weight = 1.0 - start_weight;
-        tensor[local] = q0 + (dq + fq * (u.tensor_scale * inv_mass)) * weight;
-        velocity[local] = v0 + (dv + fm * (u.velocity_scale * inv_mass)) * weight;
+        let first_side = local * 2 * D;
+        sides.0[first_side..first_side + 2 * D].copy_from_slice(&side_q[..2 * D]);
+        sides.1[first_side..first_side + 2 * D].copy_from_slice(&side_v[..2 * D]);
+    }
+}
+
+impl DgmpmSolver<2> {
+    /// A Heun stage in 2D: [`Self::band_2d`] on the cells' states (stage 1) or on the side
+    /// states (stage 2, the nodal sweep's fluctuations) with [`Self::heun_cell`].
+    fn heun_sweep_2d(
+        &mut self,
+        points: &mut MaterialPoints<2>,
+        dt: f64,
+        first: bool,
+    ) -> (f64, Vector<2>) {
+        let k: Sweep2d = self.sweep_2d_constants(dt);
+        let u = self.heun_constants(dt);
+        let cells_per_band = BAND_ROWS * self.grid.cells[0];
+        self.heun_bands(
+            points,
+            cells_per_band,
+            first,
+            |this, b, band, fields, mass, mut out| match first {
+                true => this.band_2d::<false>(b, band, fields, &k, |c, l, faces| {
+                    this.heun_cell::<true>(&u, (c, l), faces, (fields, mass[c]), &mut out)
+                }),
+                false => this.band_2d::<true>(b, band, fields, &k, |c, l, faces| {
+                    this.heun_cell::<false>(&u, (c, l), faces, (fields, mass[c]), &mut out)
+                }),
+            },
+        )
+    }
+}
+
+impl DgmpmSolver<1> {
+    /// A Heun stage in 1D: [`Self::walk_1d`] on the cells' states (stage 1) or on the side
+    /// states (stage 2) with [`Self::heun_cell`].
+    fn heun_sweep_1d(
+        &mut self,
+        points: &mut MaterialPoints<1>,
+        dt: f64,
+        first: bool,
+    ) -> (f64, Vector<1>) {
+        let constants = AxisConstants::new(&self.elastic);
+        let u = self.heun_constants(dt);
+        self.heun_bands(
+            points,
+            CHUNK,
+            first,
+            |this, b, band, fields, mass, mut out| match first {
+                true => this.walk_1d::<false>(b, band, fields, &constants, |c, l, faces| {
+                    this.heun_cell::<true>(&u, (c, l), faces, (fields, mass[c]), &mut out)
+                }),
+                false => this.walk_1d::<true>(b, band, fields, &constants, |c, l, faces| {
+                    this.heun_cell::<false>(&u, (c, l), faces, (fields, mass[c]), &mut out)
+                }),
+            },
+        )
     }
 }

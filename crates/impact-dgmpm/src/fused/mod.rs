@@ -35,8 +35,8 @@
 //! Files: this one (buffers, dispatch, the cell update), `plane.rs` (the 2D sweep and its
 //! face rows, for both), `bar.rs` (the 1D sweep), `block.rs` (the 3D sweep, donor-cell)
 //! and `block/ctu.rs` (its CTU), `nodal.rs` (the nodal stage: its dispatch, buffers, cell
-//! update and 1D sweep; 1D and 2D only) and `heun.rs` (RK2's second stage at one point per
-//! cell as a cell update).
+//! update and 1D sweep; 1D and 2D only) and `heun.rs` (RK2 at one point per cell strictly
+//! inside its cell: both stages as cell sweeps, no nodal field).
 use crate::faces::Fields;
 use crate::riemann::Conserved;
 use crate::{DgmpmSolver, StepPath, CHUNK};
@@ -304,6 +304,21 @@ impl<const D: usize> DgmpmSolver<D> {
         (q, v, mass): (&Tensor<D>, &Vector<D>, f64),
         next: (&mut Tensor<D>, &mut Vector<D>, &mut Vector<D>),
     ) {
+        let (dq, dv) = Self::flux_increment(u, faces, mass);
+        *next.0 = q + dq;
+        *next.1 = v + dv;
+        *next.2 += *next.1 * u.dt;
+    }
+
+    /// The cell update's increment `-Δt (ρV/m) Σ_l (F_l,high - F_l,low)/Δx_l` (momentum
+    /// part `-Δt (V/m) Σ_l …`) of a cell of mass `mass` from its faces' final fluxes
+    /// `[low, high]` per axis, `Δt` being `u`'s.
+    #[inline(always)]
+    fn flux_increment(
+        u: &UpdateConstants<D>,
+        faces: [[&Conserved<D>; 2]; D],
+        mass: f64,
+    ) -> (Tensor<D>, Vector<D>) {
         let mut dq = Tensor::<D>::zeros();
         let mut dm = Vector::<D>::zeros();
         for (l, [low, high]) in faces.iter().enumerate() {
@@ -311,9 +326,10 @@ impl<const D: usize> DgmpmSolver<D> {
             dm -= (high.momentum - low.momentum) * u.inv_spacing[l];
         }
         let inv_mass = 1.0 / mass;
-        *next.0 = q + dq * (u.tensor_scale * inv_mass);
-        *next.1 = v + dm * (u.velocity_scale * inv_mass);
-        *next.2 += *next.1 * u.dt;
+        (
+            dq * (u.tensor_scale * inv_mass),
+            dm * (u.velocity_scale * inv_mass),
+        )
     }
 
     /// The constants of [`Self::update_cell`] for a step of `dt`.
@@ -334,6 +350,24 @@ struct UpdateConstants<const D: usize> {
     tensor_scale: f64,
     velocity_scale: f64,
     dt: f64,
+}
+
+impl<const D: usize> DgmpmSolver<D> {
+    /// `run(solver, fused buffers, nodal fields)` with both taken out of the solver (the
+    /// nodal and Heun sweeps read the solver while they write them) and put back after;
+    /// returns the bands' power and force, added up.
+    fn with_buffers(
+        &mut self,
+        run: impl FnOnce(&Self, &mut FusedBuffers<D>, &mut crate::NodalFields<D>),
+    ) -> (f64, Vector<D>) {
+        let mut buffers = std::mem::take(&mut self.fused);
+        let mut nodes = std::mem::take(&mut self.nodes);
+        run(self, &mut buffers, &mut nodes);
+        self.nodes = nodes;
+        let totals = buffers.totals();
+        self.fused = buffers;
+        totals
+    }
 }
 
 impl<const D: usize> DgmpmSolver<D> {

@@ -27,8 +27,9 @@
 //! from the point where a stage needs them (the second stage reads a point's state before
 //! it writes it). No nodal mass, start or next buffer is allocated.
 //!
-//! Heun's second stage at one point per cell strictly inside its cell is a cell update
-//! from the stage's final fluxes (`heun.rs`): no nodal rate there.
+//! With every point strictly inside its cell, RK2 at one point per cell takes the Heun
+//! cell sweeps instead (`heun.rs`): side states in closed form, no nodal rate and no
+//! nodal field.
 //!
 //! Tested against the phase-by-phase nodal paths to 1e-13.
 use super::{Band, FusedBuffers, CHUNK};
@@ -89,23 +90,6 @@ impl Stage {
     }
 }
 
-impl<'a, const D: usize> NodalIn<'a, D> {
-    /// The nodal fields of the nodes `range`.
-    #[inline(always)]
-    pub(super) fn nodes(
-        &self,
-        range: std::ops::Range<usize>,
-    ) -> (&'a [Tensor<D>], &'a [Vector<D>]) {
-        (&self.tensor[range.clone()], &self.velocity[range])
-    }
-
-    /// The mass of the point of `cell` (one point per cell).
-    #[inline(always)]
-    pub(super) fn point_mass(&self, cell: usize) -> f64 {
-        self.point_mass[cell]
-    }
-}
-
 impl<const D: usize> DgmpmSolver<D> {
     /// Whether the fused nodal path forms its nodes from the points without phase 1 (RK2
     /// at one point per cell; module doc of `fused::nodal`).
@@ -124,6 +108,9 @@ impl<const D: usize> DgmpmSolver<D> {
         last: bool,
     ) -> (f64, Vector<D>) {
         debug_assert_eq!(self.path, StepPath::FusedNodal);
+        if self.heun_on_cells() {
+            return self.heun_stage(points, dt, start_weight == 0.0);
+        }
         let stage = Stage {
             dt,
             start_weight,
@@ -151,10 +138,7 @@ impl<const D: usize> DgmpmSolver<D> {
         sweep: impl Fn(&Self, usize, &mut Band<D>, Fields<'_, D>, NodalIn<'_, D>, &mut NodalOut<'_, D>)
             + Sync,
     ) -> (f64, Vector<D>) {
-        let mut buffers = std::mem::take(&mut self.fused);
-        let mut nodes = std::mem::take(&mut self.nodes);
-        {
-            let this = &*self;
+        self.with_buffers(|this, buffers, nodes| {
             let MaterialPoints {
                 stress,
                 velocity,
@@ -200,19 +184,15 @@ impl<const D: usize> DgmpmSolver<D> {
                 };
                 this.run_bands(bands, fields, inputs, out, &sweep);
             }
-        }
-        if !stage.last && !stage.reads_points() {
-            if stage.start_weight == 0.0 && !nodes.start_tensor.is_empty() {
-                std::mem::swap(&mut nodes.start_tensor, &mut nodes.tensor);
-                std::mem::swap(&mut nodes.start_velocity, &mut nodes.velocity);
+            if !stage.last && !stage.reads_points() {
+                if stage.start_weight == 0.0 && !nodes.start_tensor.is_empty() {
+                    std::mem::swap(&mut nodes.start_tensor, &mut nodes.tensor);
+                    std::mem::swap(&mut nodes.start_velocity, &mut nodes.velocity);
+                }
+                std::mem::swap(&mut nodes.tensor, &mut buffers.next_tensor);
+                std::mem::swap(&mut nodes.velocity, &mut buffers.next_velocity);
             }
-            std::mem::swap(&mut nodes.tensor, &mut buffers.next_tensor);
-            std::mem::swap(&mut nodes.velocity, &mut buffers.next_velocity);
-        }
-        self.nodes = nodes;
-        let totals = buffers.totals();
-        self.fused = buffers;
-        totals
+        })
     }
 
     /// [`Self::nodal_bands`]' loop: `sweep` on every band with its chunk of the output
@@ -363,25 +343,17 @@ impl DgmpmSolver<2> {
     fn nodal_sweep_2d(&mut self, points: &mut MaterialPoints<2>, stage: Stage) -> (f64, Vector<2>) {
         let nx = self.grid.cells[0];
         let k = self.sweep_2d_constants(stage.dt);
-        let u = self.update_constants(stage.dt);
         let cells_per_band = super::BAND_ROWS * nx;
-        let on_cells = stage.last && self.heun_on_cells();
         self.nodal_bands(
             points,
             cells_per_band,
             stage,
             |this, b, band, fields, inputs, out| {
-                // the four kinds of stage, each compiled apart
+                // the three kinds of stage, each compiled apart
                 match (stage.reads_points(), stage.single) {
                     (true, _) => this.band_2d::<false>(b, band, fields, &k, |c, l, faces| {
                         this.nodal_cell_update::<true>((c, l), faces, inputs, stage, out)
                     }),
-                    (false, true) if on_cells => {
-                        this.band_2d::<true>(b, band, fields, &k, |c, l, faces| {
-                            let a = stage.start_weight;
-                            this.heun_cell_update(&u, (c, l), faces, inputs, a, out)
-                        })
-                    }
                     (false, true) => this.band_2d::<true>(b, band, fields, &k, |c, l, faces| {
                         this.nodal_cell_update::<true>((c, l), faces, inputs, stage, out)
                     }),
@@ -395,61 +367,68 @@ impl DgmpmSolver<2> {
 }
 
 impl DgmpmSolver<1> {
-    /// The 1D nodal sweep: each chunk of cells solves its low face (node 1 of the cell
-    /// below against its node 0, or the two cells' states when read from the points), then
-    /// per cell its high face and the update.
+    /// The 1D nodal sweep: [`Self::walk_1d`] with the nodal update, the face states from
+    /// the nodes (or, read from the points, the cells' states).
     fn nodal_sweep_1d(&mut self, points: &mut MaterialPoints<1>, stage: Stage) -> (f64, Vector<1>) {
         let constants = AxisConstants::new(&self.elastic);
-        let count = self.grid.cells[0];
-        let u = self.update_constants(stage.dt);
-        let on_cells = stage.last && self.heun_on_cells();
         self.nodal_bands(
             points,
             CHUNK,
             stage,
             |this, b, band, fields, inputs, out| {
-                let start = b * CHUNK;
-                let len = CHUNK.min(count - start);
-                band.power = 0.0;
-                band.force = Vector::<1>::zeros();
-                let face = |left: usize| {
-                    let (l, r) = match stage.reads_points() {
-                        true => (fields.cell(left), fields.cell(left + 1)),
-                        false => (
-                            fields.at::<true>(left, 0, true),
-                            fields.at::<true>(left + 1, 0, false),
-                        ),
-                    };
-                    axis_flux_1d(&l, &r, &constants)
-                };
-                // the chunk's low face is counted by the chunk below it (or here at the bar's end)
-                let mut low = match start {
-                    0 => this.boundary_flux(0, [0], fields, band),
-                    _ => face(start - 1),
-                };
-                for j in 0..len {
-                    let cell = start + j;
-                    let high = match cell + 1 < count {
-                        true => face(cell),
-                        false => this.boundary_flux(0, [count], fields, band),
-                    };
-                    let faces = [[&low, &high]];
-                    match stage.single {
-                        true if on_cells => {
-                            let a = stage.start_weight;
-                            this.heun_cell_update(&u, (cell, j), faces, inputs, a, out)
-                        }
-                        true => {
-                            this.nodal_cell_update::<true>((cell, j), faces, inputs, stage, out)
-                        }
-                        false => {
-                            this.nodal_cell_update::<false>((cell, j), faces, inputs, stage, out)
-                        }
-                    }
-                    low = high;
+                let c = &constants;
+                match (stage.reads_points(), stage.single) {
+                    (true, _) => this.walk_1d::<false>(b, band, fields, c, |cell, j, faces| {
+                        this.nodal_cell_update::<true>((cell, j), faces, inputs, stage, out)
+                    }),
+                    (false, true) => this.walk_1d::<true>(b, band, fields, c, |cell, j, faces| {
+                        this.nodal_cell_update::<true>((cell, j), faces, inputs, stage, out)
+                    }),
+                    (false, false) => this.walk_1d::<true>(b, band, fields, c, |cell, j, faces| {
+                        this.nodal_cell_update::<false>((cell, j), faces, inputs, stage, out)
+                    }),
                 }
             },
         )
+    }
+
+    /// The 1D sweep of chunk `b` (the 1D nodal sweep's and the Heun sweeps'): it solves
+    /// its low face (`NODAL`: node 1 of the cell below against its node 0, or side
+    /// states; otherwise the two cells' states), then per cell its high face and
+    /// `update(cell, index in the chunk, [[low, high]])`. Boundary faces add their power
+    /// and force to the band's.
+    pub(super) fn walk_1d<const NODAL: bool>(
+        &self,
+        b: usize,
+        band: &mut Band<1>,
+        fields: Fields<'_, 1>,
+        constants: &AxisConstants,
+        mut update: impl FnMut(usize, usize, [[&Conserved<1>; 2]; 1]),
+    ) {
+        let count = self.grid.cells[0];
+        let start = b * CHUNK;
+        let len = CHUNK.min(count - start);
+        band.power = 0.0;
+        band.force = Vector::<1>::zeros();
+        let face = |left: usize| {
+            let l = fields.at::<NODAL>(left, 0, true);
+            let r = fields.at::<NODAL>(left + 1, 0, false);
+            axis_flux_1d(&l, &r, constants)
+        };
+        // the chunk's low face is counted by the chunk below it (or here at the bar's end)
+        let mut low = match start {
+            0 => self.boundary_flux(0, [0], fields, band),
+            _ => face(start - 1),
+        };
+        for j in 0..len {
+            let cell = start + j;
+            let high = match cell + 1 < count {
+                true => face(cell),
+                false => self.boundary_flux(0, [count], fields, band),
+            };
+            update(cell, j, [[&low, &high]]);
+            low = high;
+        }
     }
 }
 
