@@ -88,7 +88,11 @@ fn read_vtu(path: &Path) -> Vtu {
                 .collect(),
             _ => raw.iter().map(|&b| u64::from(b)).collect(),
         };
-        let components = node.attribute("NumberOfComponents").unwrap().parse().unwrap();
+        let components = node
+            .attribute("NumberOfComponents")
+            .unwrap()
+            .parse()
+            .unwrap();
         let section = node.parent().unwrap().tag_name().name().to_string();
         let name = node.attribute("Name").unwrap().to_string();
         sections.insert((section, name), (components, values));
@@ -102,7 +106,11 @@ fn read_vtu(path: &Path) -> Vtu {
     let mut cells = Vec::new();
     let mut from = 0;
     for end in take("Cells", "offsets") {
-        cells.push((from..end as usize).map(|k| connectivity[k] as usize).collect());
+        cells.push(
+            (from..end as usize)
+                .map(|k| connectivity[k] as usize)
+                .collect(),
+        );
         from = end as usize;
     }
     let of = |section: &str| {
@@ -259,7 +267,14 @@ fn pieces_equal_the_serial_files(name: &str, ranks: usize, rank_grid: RankGrid) 
     let root = tmp(&format!("fem-pieces-{name}-{ranks}-{}", rank_grid.0.len()));
     let serial = root.join("serial");
     let mut fem = Fem::<2>::new(&problem, config).unwrap();
-    write_frames(&problem, &mut fem, &serial, None, &RankGrid::automatic(), None);
+    write_frames(
+        &problem,
+        &mut fem,
+        &serial,
+        None,
+        &RankGrid::automatic(),
+        None,
+    );
     let shared = root.join("split");
     let received = ThreadComm::on_ranks(ranks, |comm| {
         let rank = comm.rank();
@@ -267,8 +282,7 @@ fn pieces_equal_the_serial_files(name: &str, ranks: usize, rank_grid: RankGrid) 
             inner: comm,
             received: AtomicUsize::new(0),
         });
-        let mut m =
-            SlabFem::<2>::on_grid(&problem, config, counting.clone(), &rank_grid).unwrap();
+        let mut m = SlabFem::<2>::on_grid(&problem, config, counting.clone(), &rank_grid).unwrap();
         // rank 0 writes into the shared folder, the others into their own (as `impact run`)
         let own = match rank {
             0 => shared.clone(),
@@ -328,7 +342,10 @@ fn pieces_equal_the_serial_files(name: &str, ranks: usize, rank_grid: RankGrid) 
         assert_eq!(joined.len(), whole.len(), "{label}, {frame}: cell count");
         for (key, cell) in &whole {
             let piece = joined.get(key);
-            assert!(piece.is_some(), "{label}, {frame}: a serial cell in no piece");
+            assert!(
+                piece.is_some(),
+                "{label}, {frame}: a serial cell in no piece"
+            );
             assert!(piece == Some(cell), "{label}, {frame}: a cell differs");
             moving += usize::from(cell.0.iter().any(|(_, v)| v.iter().any(|&b| b != 0)));
         }
