@@ -184,17 +184,18 @@ impl Comm for Counting {
         self.inner.gather_to_root_into(local, out, counts);
         self.add(8 * out.len().saturating_sub(local.len()));
     }
+    /// (the halo of a step: counted, though no output exchanges one)
     fn exchange(
         &self,
-        neighbours: [Option<usize>; 2],
-        to_lower: &[f64],
-        to_upper: &[f64],
-        from_lower: &mut [f64],
-        from_upper: &mut [f64],
+        sides: [Option<usize>; 2],
+        to_low: &[f64],
+        to_high: &[f64],
+        from_low: &mut [f64],
+        from_high: &mut [f64],
     ) {
-        (self.inner).exchange(neighbours, to_lower, to_upper, from_lower, from_upper);
+        (self.inner).exchange(sides, to_low, to_high, from_low, from_high);
         let bytes = |n: Option<usize>, b: &[f64]| n.map_or(0, |_| 8 * b.len());
-        self.add(bytes(neighbours[0], from_lower) + bytes(neighbours[1], from_upper));
+        self.add(bytes(sides[0], from_low) + bytes(sides[1], from_high));
     }
     fn barrier(&self) {
         self.inner.barrier();
