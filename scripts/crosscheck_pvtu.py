@@ -94,3 +94,73 @@ def test_pieces_concatenated_equal_the_serial_frames(mpi_ok, tmp_path, scene, ra
         np.testing.assert_array_equal(np.asarray(merged.points), np.asarray(reference.points))
         for name in reference.point_data:
             np.testing.assert_array_equal(np.asarray(merged[name]), np.asarray(reference[name]))
+
+
+def grid_cells(f, step):
+    """The grid cells of `step` of an impact `.h5` series, keyed by their corners'
+    positions (bits, sorted): each with its cell arrays and its corners' nodal velocity
+    (FEM), as bits, so that equal is bit for bit."""
+    group = f[step]
+    points = group["grid_points"][:].view(np.uint64)
+    connectivity = f["grid_connectivity"][:]
+    stress = group["grid_cauchy_stress"][:].view(np.uint64)
+    velocity = group["grid_velocity"][:].view(np.uint64)
+    nodal = group["grid_nodal_velocity"][:].view(np.uint64) if "grid_nodal_velocity" in group else None
+    cells = {}
+    for c, vertices in enumerate(connectivity):
+        corners = sorted(
+            (tuple(points[v]), () if nodal is None else tuple(nodal[v])) for v in vertices
+        )
+        key = tuple(p for p, _ in corners)
+        assert key not in cells, f"{step}: cell {c} twice"
+        cells[key] = (tuple(stress[c]), tuple(velocity[c]), tuple(corners))
+    return cells
+
+
+@pytest.mark.skipif(os.environ.get("IMPACT_HAS_HDF5") != "1", reason="impact built without the hdf5 feature")
+@pytest.mark.parametrize("ranks", [2, 3])
+@pytest.mark.parametrize("method", ["dgmpm", "fem"])
+def test_hdf5_grid_pieces_together_equal_the_serial_grid(mpi_ok, tmp_path, method, ranks):
+    """With the `hdf5` feature every rank's `<method>_r<rank>.h5` holds its grid piece
+    (FEM: its owned elements and their nodes, the node layer of a cut in both pieces
+    beside it): at every step the pieces' cells together are the serial `.h5`'s, bit for
+    bit, each in one piece; each rank's `<method>_r<rank>_grid.xdmf` describes its piece
+    (meshio reads it: its cells and, for FEM, its nodes' velocity)."""
+    import h5py
+
+    serial = tmp_path / "serial"
+    split = tmp_path / f"np{ranks}"
+    run("plate", serial, method=method)
+    run("plate", split, ranks=ranks, method=method)
+    assert not (split / f"{method}.h5").exists()
+    with h5py.File(serial / f"{method}.h5", "r") as whole:
+        steps = sorted(k for k in whole if k.startswith("step_"))
+        assert len(steps) >= 3, steps
+        pieces = [h5py.File(split / f"{method}_r{r}.h5", "r") for r in range(ranks)]
+        try:
+            for step in steps:
+                want = grid_cells(whole, step)
+                got = {}
+                for r, piece in enumerate(pieces):
+                    part = grid_cells(piece, step)
+                    assert part, f"rank {r}: no cell at {step}"
+                    assert not got.keys() & part.keys(), f"rank {r}: a cell of another piece"
+                    got.update(part)
+                assert got.keys() == want.keys(), f"{step}: the pieces' cells are not the grid's"
+                assert got == want, f"{step}: a cell differs"
+            for r, piece in enumerate(pieces):
+                cells = piece["grid_connectivity"].shape[0]
+                vertices = piece["step_0/grid_points"].shape[0]
+                with meshio.xdmf.TimeSeriesReader(split / f"{method}_r{r}_grid.xdmf") as reader:
+                    points, blocks = reader.read_points_cells()
+                    assert reader.num_steps == len(steps)
+                    assert blocks[0].type == "quad" and len(blocks[0].data) == cells
+                    assert len(points) == vertices
+                    _, point_data, cell_data = reader.read_data(len(steps) - 1)
+                    last = piece[steps[-1]]
+                    np.testing.assert_array_equal(cell_data["cauchy_stress"][0], last["grid_cauchy_stress"][:])
+                    if method == "fem":
+                        np.testing.assert_array_equal(point_data["nodal_velocity"], last["grid_nodal_velocity"][:])
+        finally:
+            for piece in pieces:
+                piece.close()

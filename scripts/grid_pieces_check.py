@@ -6,7 +6,9 @@ For every `<method>_grid_<frame>.vtu` of the serial run, the split run has no su
 `<method>_grid_<frame>.pvtu` listing `<method>_grid_<frame>_r<r>.vtu` for r = 0..RANKS-1 in
 rank order, and `<method>_grid.pvd` lists the `.pvtu`. Every serial cell is in exactly one
 piece, found by its corner coordinates (the pieces' vertices are the serial grid's, bit for
-bit), and its cell arrays (stress, velocity) are the serial cell's bit for bit. Reads the
+bit: FEM's deformed by the nodal displacement), and its cell arrays (stress, velocity) and
+its corners' point arrays (FEM's nodal velocity; the node layer of a cut is in the pieces
+on both sides) are the serial cell's bit for bit. Reads the
 files with the standard library only (impact's VTU: raw appended data, zlib blocks with a
 UInt64 header, or ASCII), so it runs under plain `python3`.
 """
@@ -16,11 +18,17 @@ import sys
 import zlib
 from pathlib import Path
 
-TYPES = {"Float64": ("d", 8), "Int64": ("q", 8), "UInt8": ("B", 1)}
+# (Float64 read as its bits, so that equal means bit for bit: -0.0 is not 0.0, NaN is NaN)
+TYPES = {"Float64": ("Q", 8), "Int64": ("q", 8), "UInt8": ("B", 1)}
+
+
+def float_bits(text):
+    return struct.unpack("<Q", struct.pack("<d", float(text)))[0]
 
 
 def read_vtu(path):
-    """The points, the cells (tuples of vertex indices) and the cell arrays of a VTU."""
+    """The points, the cells (tuples of vertex indices), the cell and the point arrays of a
+    VTU."""
     data = path.read_bytes()
     head, _, appended = data.partition(b'<AppendedData encoding="raw">')
     if appended:
@@ -46,7 +54,7 @@ def read_vtu(path):
                 pos += s
             values = list(struct.unpack(f"<{len(raw) // size}{code}", raw))
         else:
-            conv = float if code == "d" else int
+            conv = float_bits if code == "Q" else int
             values = [conv(v) for v in m.group(5).split()]
         arrays[(section, attrs["Name"])] = (values, int(attrs.get("NumberOfComponents", 1)))
     points = arrays[("Points", "Points")][0]
@@ -54,22 +62,26 @@ def read_vtu(path):
     connectivity = arrays[("Cells", "connectivity")][0]
     offsets = [0] + arrays[("Cells", "offsets")][0]
     cells = [tuple(connectivity[a:b]) for a, b in zip(offsets, offsets[1:])]
-    cell_data = {
-        name: [tuple(v[c * k : (c + 1) * k]) for c in range(len(cells))]
-        for (sec, name), (v, k) in arrays.items()
-        if sec == "CellData"
-    }
-    return points, cells, cell_data
+    def split(section, count):
+        return {
+            name: [tuple(v[i * k : (i + 1) * k]) for i in range(count)]
+            for (sec, name), (v, k) in arrays.items()
+            if sec == section
+        }
+
+    return points, cells, split("CellData", len(cells)), split("PointData", len(points))
 
 
 def keyed(path):
-    """Each cell's arrays by its corners' coordinates (sorted)."""
-    points, cells, data = read_vtu(path)
+    """Each cell's arrays and its corners' point arrays by its corners' coordinates (sorted)."""
+    points, cells, data, point_data = read_vtu(path)
     out = {}
     for c, cell in enumerate(cells):
         key = tuple(sorted(points[v] for v in cell))
         assert key not in out, f"{path.name}: cell {c} twice"
         out[key] = {name: values[c] for name, values in data.items()}
+        corners = sorted((points[v], tuple(point_data[n][v] for n in sorted(point_data))) for v in cell)
+        out[key]["corners"] = tuple(corners)
     return out
 
 

@@ -2,8 +2,9 @@
 # The MPI checks (issue 27), run by scripts/test.sh after `cargo build --release --features mpi`:
 # DGMPM, MPM and FEM on bar and plate under `mpirun -np N`, N = 1..4, write the same fields
 # as the serial run (profiles, grid VTK files and the metrics of summary.json byte for byte,
-# and on one rank the samples' VTK files; on N > 1 ranks DGMPM's and MPM's grid in one piece
-# per rank whose cells are the serial grid's bit for bit, scripts/grid_pieces_check.py, and
+# and on one rank the samples' VTK files; on N > 1 ranks the grid in one piece per rank
+# whose cells (FEM's: with their deformed corners and nodal velocity) are the serial grid's
+# bit for bit, scripts/grid_pieces_check.py, and
 # one samples piece per rank per frame, listed
 # by a .pvtu that the .pvd lists: their arrays are compared with the serial file's by
 # scripts/crosscheck_pvtu.py; the relative energy error, of sums per rank then in rank
@@ -36,8 +37,8 @@ for method in dgmpm mpm fem; do for scene in bar plate; do
     samples=("$serial/${method}"_t*.vtu)
     [ "$n" = 1 ] || samples=()
     grids=("$serial/${method}"_grid_t*.vtu)
-    if [ "$n" -gt 1 ] && [ "$method" != fem ]; then
-      # the point methods' grid in pieces: every cell the serial one, bit for bit
+    if [ "$n" -gt 1 ]; then
+      # the grid in pieces: every cell the serial one, bit for bit
       grids=()
       python3 scripts/grid_pieces_check.py "$serial" "$out" "$method" "$n" >/dev/null ||
         fail "$method $scene on $n ranks: the grid pieces differ from the serial grid files"
@@ -98,8 +99,8 @@ done; done
 same_as_serial() {
   local label=$1 serial=$2 out=$3 method=$4 ranks=$5 count=0 f
   local grids=("$serial/${method}"_grid_t*.vtu)
-  if [ "$ranks" -gt 1 ] && [ "$method" != fem ]; then
-    # the point methods' grid in pieces (FEM's mesh file stays whole)
+  if [ "$ranks" -gt 1 ]; then
+    # the grid in pieces
     grids=()
     python3 scripts/grid_pieces_check.py "$serial" "$out" "$method" "$ranks" >/dev/null ||
       fail "$label: the grid pieces differ from the serial grid files"

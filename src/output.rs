@@ -111,6 +111,9 @@ pub struct FileWriter<'a, const D: usize> {
     /// Whether `samples` holds the measuring line's samples only (gathered on several
     /// ranks, [`impact_core::comm_line::gather_line`]) rather than the whole body's.
     line_only: bool,
+    /// How the ranks split the grid (`--ranks-grid`, [`crate::ranks::rank_grid`]): which
+    /// cells this rank's grid piece holds ([`grid_pieces`]).
+    pub rank_grid: impact_core::comm::RankGrid,
 }
 
 impl<'a, const D: usize> FileWriter<'a, D> {
@@ -148,6 +151,7 @@ impl<'a, const D: usize> FileWriter<'a, D> {
             pieces: None,
             owned: Samples::default(),
             line_only: false,
+            rank_grid: crate::ranks::rank_grid(),
         }
     }
 
@@ -293,9 +297,9 @@ impl<const D: usize> FileWriter<'_, D> {
     }
 
     /// The samples of this output: every sample on one rank; on several, the measuring
-    /// line's only, gathered (the rest of the body stays on its ranks: the pieces) — the
-    /// whole body where the grid is still gathered (FEM) — and this rank's owned samples in
-    /// `owned`, formed once for the pieces of the frame and of the grid.
+    /// line's only, gathered (the rest of the body stays on its ranks: the pieces), and
+    /// this rank's owned samples in `owned`, formed once for the pieces of the frame and of
+    /// the grid.
     fn gather(&mut self, method: &dyn Method<D>) {
         self.line_only = Self::grid_in_pieces(method);
         if self.line_only {
@@ -335,7 +339,7 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
         // writes, whose failure on one rank the caller makes every rank's (`pieces::agree`)
         self.gather(method);
         let frame = format!("t{index}");
-        let piece = self.owned_piece(&frame, t);
+        let piece = self.owned_piece(method.comm(), &frame, t);
         self.profile(index, t)?;
         if self.files {
             self.write_frame(&frame, t, piece)?;
@@ -353,7 +357,7 @@ impl<const D: usize> Observer<D> for FileWriter<'_, D> {
             return Ok(());
         }
         self.gather(method);
-        let piece = self.owned_piece(INITIAL, 0.0);
+        let piece = self.owned_piece(method.comm(), INITIAL, 0.0);
         self.write_frame(INITIAL, 0.0, piece)?;
         self.grid_frame(method, INITIAL, 0.0)?;
         Ok(())

@@ -1,7 +1,8 @@
-//! The grid file of an output frame ([`super::FileWriter`]): on one rank (and for FEM's
-//! gathered mesh) the whole grid as one `.vtu`, each cell with the average of its samples
-//! (DGMPM, MPM: the Eulerian grid) or the FEM mesh deformed by the nodal displacement with
-//! the nodal velocity; on several ranks the point methods' pieces ([`super::grid_pieces`]).
+//! The grid file of an output frame ([`super::FileWriter`]): on one rank the whole grid as
+//! one `.vtu`, each cell with the average of its samples (DGMPM, MPM: the Eulerian grid) or
+//! the FEM mesh deformed by the nodal displacement with the nodal velocity; on several
+//! ranks one piece per rank, every method's ([`super::grid_pieces`]: nothing gathered but
+//! the figures' map plane, to rank 0).
 //! Both write their arrays through [`FileWriter::write_grid_arrays`] (`.vtu`, and the
 //! `.h5` series with the `hdf5` feature).
 use super::fields::{pad3, tensor9, vtk_order, with_zz};
@@ -51,7 +52,8 @@ impl<const D: usize> FileWriter<'_, D> {
         if !self.files {
             return Ok(());
         }
-        let nodal = method.mesh_nodal_fields();
+        // (one rank: the piece is the whole mesh)
+        let nodal = method.piece_nodal_fields();
         let mut points: Vec<f64> = Vec::with_capacity(3 * g.vertex_count());
         for v in 0..g.vertex_count() {
             let mut x = g.vertex_position(v);
@@ -78,28 +80,24 @@ impl<const D: usize> FileWriter<'_, D> {
             cell_velocity: &cell_velocity,
             nodal_velocity: &nodal_velocity,
         };
-        // (on several ranks the `.h5` series are the ranks' own: FEM's gathered mesh is not
-        // in them)
-        let h5 = self.pieces.is_none();
-        self.write_grid_arrays(&self.dir.join(&file), (frame, t), &arrays, h5)?;
+        self.write_grid_arrays(&self.dir.join(&file), (frame, t), &arrays)?;
         self.pvd_grid.push((t, file));
         Ok(())
     }
-    /// Whether the grid is written in pieces (several ranks, a point method: FEM's mesh
-    /// shares node layers between slabs and is still gathered, [`super::grid_pieces`]).
+    /// Whether the grid is written in pieces (several ranks, [`super::grid_pieces`]).
     pub(super) fn grid_in_pieces(method: &dyn Method<D>) -> bool {
-        method.comm().size() > 1 && method.config().kind() != impact_core::method::MethodKind::Fem
+        method.comm().size() > 1
     }
 
     /// `arrays` as the grid `.vtu` `path` (cell stress and velocity, the nodal velocity
-    /// where there is one) and, when `h5`, into the `.h5` series (output times only).
+    /// where there is one) and into the `.h5` series (output times only; on several ranks
+    /// the rank's own series, of its piece).
     #[cfg_attr(not(feature = "hdf5"), allow(unused_variables))]
     pub(super) fn write_grid_arrays(
         &mut self,
         path: &Path,
         (frame, t): (&str, f64),
         arrays: &GridArrays,
-        h5: bool,
     ) -> anyhow::Result<()> {
         let mut point_data = Vec::new();
         if !arrays.nodal_velocity.is_empty() {
@@ -139,7 +137,7 @@ impl<const D: usize> FileWriter<'_, D> {
             .map_or(String::new(), |f| f.display().to_string());
         write_vtu(path, &grid, self.encoding).with_context(|| format!("writing {file}"))?;
         #[cfg(feature = "hdf5")]
-        if let (Some(series), true, true) = (self.h5.as_mut(), frame != INITIAL, h5) {
+        if let (Some(series), true) = (self.h5.as_mut(), frame != INITIAL) {
             series.write_grid(&impact_io::h5::GridFrame {
                 points: arrays.points,
                 connectivity: arrays.connectivity,

@@ -17,9 +17,16 @@
 //! rank 0 only (`Comm::gather_to_root_into`): rank 0 alone draws the figures, so the other
 //! ranks keep no map (in 2D the plane is the whole grid: 16 B per cell of it).
 //!
-//! FEM's grid file is its mesh deformed by the nodal displacement with the nodal velocity
-//! (whose node layers the slabs share): it is still written whole by rank 0 from gathered
-//! samples and nodes (`FileWriter::grid`).
+//! **FEM.** The grid file is the mesh deformed by the nodal displacement, with the nodal
+//! velocity and the element stress and velocity (the element-centre samples, one per
+//! cell). A rank's piece is its owned elements and their nodes: per axis the node layers
+//! `[a, b]` of its element layers `[a, b)`, so the node layer `b` of a cut is in the pieces
+//! of both ranks beside it (as the `.pvtu` readers expect of pieces that share a face). The
+//! rank holds that layer as halo, whose state is its owner's bit for bit (received after
+//! every step, `impact_fem::slab`), so its piece's points and nodal velocity are the serial
+//! file's at those nodes, from the rank's own memory ([`Method::piece_nodal_fields`]): no
+//! mesh is gathered. The point methods' pieces have the same vertex box, undeformed and
+//! without nodal data.
 use super::fields::{pad3, vtk_order};
 use super::FileWriter;
 use impact_core::comm::RankBox;
@@ -137,8 +144,7 @@ impl<const D: usize> FileWriter<'_, D> {
     ) -> anyhow::Result<()> {
         let comm = method.comm();
         let g = self.grid.clone();
-        let rank_grid = crate::ranks::rank_grid();
-        let owner = RankBox::new(&g.cells, &rank_grid, comm.size(), comm.rank(), 0)?;
+        let owner = RankBox::new(&g.cells, &self.rank_grid, comm.size(), comm.rank(), 0)?;
         let cells = BoxCells::<D> {
             owned: std::array::from_fn(|k| owner.owned[k].clone()),
         };
@@ -168,10 +174,20 @@ impl<const D: usize> FileWriter<'_, D> {
         let Some(pieces) = self.pieces.clone().filter(|_| self.files) else {
             return Ok(());
         };
-        // the box's vertices (x fastest), at the whole grid's vertex positions
+        // the box's vertices (x fastest), at the whole grid's vertex positions, FEM's
+        // moved by their displacement (the nodes of its owned elements, in this order)
         let vertices = BoxCells::<D> {
             owned: std::array::from_fn(|k| owner.owned[k].start..owner.owned[k].end + 1),
         };
+        let nodal = method.piece_nodal_fields();
+        if let Some((v, _)) = &nodal {
+            anyhow::ensure!(
+                v.len() == vertices.count(),
+                "internal: {} nodes in the piece's nodal fields, {} in its box",
+                v.len(),
+                vertices.count()
+            );
+        }
         let vertex_counts = g.vertex_counts();
         let mut points = Vec::with_capacity(3 * vertices.count());
         for v in 0..vertices.count() {
@@ -181,7 +197,11 @@ impl<const D: usize> FileWriter<'_, D> {
                 global += i * stride;
                 stride *= n;
             }
-            points.extend_from_slice(&pad3(&g.vertex_position(global)));
+            let mut x = g.vertex_position(global);
+            if let Some((_, u)) = &nodal {
+                x += u[v];
+            }
+            points.extend_from_slice(&pad3(&x));
         }
         let (order, _) = vtk_order(D);
         let mut connectivity = Vec::with_capacity(order.len() * cells.count());
@@ -193,21 +213,35 @@ impl<const D: usize> FileWriter<'_, D> {
             }
         }
         let (cell_stress, cell_velocity) = self.cell_arrays(&stress, &velocity);
+        let nodal_velocity: Vec<f64> = nodal
+            .as_ref()
+            .map(|(v, _)| v.iter().flat_map(pad3).collect())
+            .unwrap_or_default();
         let name = file(&self.method, frame, pieces.rank);
         let arrays = super::grid_file::GridArrays {
             points: &points,
             connectivity: &connectivity,
             cell_stress: &cell_stress,
             cell_velocity: &cell_velocity,
-            nodal_velocity: &[],
+            nodal_velocity: &nodal_velocity,
         };
-        self.write_grid_arrays(&pieces.dir.join(&name), (frame, t), &arrays, true)?;
+        self.write_grid_arrays(&pieces.dir.join(&name), (frame, t), &arrays)?;
         let names: Vec<String> = (0..pieces.ranks)
             .map(|r| file(&self.method, frame, r))
             .collect();
         let pvtu = format!("{}_grid_{frame}.pvtu", self.method);
         let listed = [(self.measure.array_name(), 9), ("velocity", 3)];
-        write_pvtu_with_cells(&self.dir.join(&pvtu), &[], &listed, &names, self.encoding)?;
+        let point_listed: &[(&str, usize)] = match nodal {
+            Some(_) => &[("nodal_velocity", 3)],
+            None => &[],
+        };
+        write_pvtu_with_cells(
+            &self.dir.join(&pvtu),
+            point_listed,
+            &listed,
+            &names,
+            self.encoding,
+        )?;
         self.pvd_grid.push((t, pvtu));
         Ok(())
     }

@@ -8,7 +8,7 @@
 //! arrays are in every piece or in none (the test that every value is finite is reduced
 //! over the ranks, so the pieces agree with each other and with the serial file).
 //!
-//! The grid's cells are pieces too ([`super::grid_pieces`]; FEM's mesh is still gathered);
+//! The grid's cells are pieces too ([`super::grid_pieces`], FEM's mesh included);
 //! the `.h5` series (feature `hdf5`) is one file per rank, `<method>_r<rank>.h5` with its
 //! `.xdmf`, of the rank's owned samples (and its grid piece's cells), in the shared staging
 //! folder. What is gathered: the measuring line's samples for the CSV profiles and the
@@ -62,10 +62,15 @@ pub(super) struct Piece {
 }
 
 impl<const D: usize> FileWriter<'_, D> {
-    /// This rank's owned samples and their reference solution, agreed over the ranks
-    /// (collective: every rank calls it at every frame); `None` on one rank or without
-    /// files.
-    pub(super) fn owned_piece(&mut self, frame: &str, t: f64) -> Option<Piece> {
+    /// This rank's owned samples and their reference solution, agreed over the ranks of
+    /// `comm` (the method's; collective: every rank calls it at every frame); `None` on one
+    /// rank or without files.
+    pub(super) fn owned_piece(
+        &mut self,
+        comm: &dyn impact_core::comm::Comm,
+        frame: &str,
+        t: f64,
+    ) -> Option<Piece> {
         self.pieces.as_ref().filter(|_| self.files)?;
         // (`owned` holds this rank's owned samples: `FileWriter::gather`)
         std::mem::swap(&mut self.samples, &mut self.owned);
@@ -74,7 +79,7 @@ impl<const D: usize> FileWriter<'_, D> {
         let finite = reference
             .as_ref()
             .is_none_or(|(s, v)| s.iter().chain(v).all(|x| x.is_finite()));
-        let everywhere = !crate::ranks::comm().any(!finite);
+        let everywhere = !comm.any(!finite);
         Some(Piece {
             reference: reference.filter(|_| everywhere),
         })

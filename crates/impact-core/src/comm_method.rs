@@ -1,21 +1,8 @@
 //! What the slab solvers of the method crates (which may not depend on each other) share
 //! beyond [`crate::comm_gather`] (samples, first failure, hottest place) and
-//! [`crate::comm_halo`] (the point methods' halo): nodal vectors gathered in rank order,
-//! the buffers of a nodal halo exchange ([`HaloBuffers`]) and the [`Method`](crate::Method)
+//! [`crate::comm_halo`] (the point methods' halo): the buffers of a nodal halo exchange ([`HaloBuffers`]) and the [`Method`](crate::Method)
 //! values that are a local method's reduced over the ranks ([`crate::reduced_over_ranks!`]).
 use crate::comm::Comm;
-use crate::Vector;
-
-/// Every rank's vectors `mine`, in rank order (on every rank).
-pub fn gather_vectors<const D: usize>(
-    comm: &(impl Comm + ?Sized),
-    mine: &[Vector<D>],
-) -> Vec<Vector<D>> {
-    let packed: Vec<f64> = mine.iter().flat_map(|v| v.iter().copied()).collect();
-    (comm.all_gather(&packed).chunks_exact(D))
-        .map(Vector::<D>::from_column_slice)
-        .collect()
-}
 
 /// The messages of a halo exchange along one axis with its two neighbours, allocated once:
 /// what goes to and comes from the lower and the upper neighbour.

@@ -148,9 +148,13 @@ pub trait Method<const D: usize>: Send {
     fn bytes_exchanged_per_step(&self) -> usize {
         0
     }
-    /// Nodal velocities and displacements of a conforming mesh on the body's grid, for the
-    /// methods that have one (FEM); `None` for the point methods. Called at outputs only.
-    fn mesh_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {
+    /// Nodal velocities and displacements of this rank's piece of a conforming mesh on the
+    /// body's grid, for the methods that have one (FEM); `None` for the point methods. The
+    /// piece is the nodes of the rank's owned elements: per axis the node layers `[a, b]`
+    /// of its owned element layers `[a, b)` (the nodes it shares with the neighbour above
+    /// included), in the global lexicographic order within that box (axis 0 fastest):
+    /// every node of the mesh on one rank. Called at outputs only; no communication.
+    fn piece_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {
         None
     }
 }

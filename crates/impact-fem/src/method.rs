@@ -162,9 +162,11 @@ impl<const D: usize> Method<D> for Fem<D> {
     fn updates_per_step(&self) -> usize {
         self.solver.grid.cell_count()
     }
-    /// The owned nodes' (every node on one rank), in order.
-    fn mesh_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {
-        let nodes = || self.solver.place.owned_node_iter();
+    /// The owned elements' nodes (every node on one rank), in order: the owned nodes and
+    /// the halo layer above a cut, whose state is its owner's (received after each step,
+    /// `slab.rs`), so the same bits as the owner's and one rank's.
+    fn piece_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {
+        let nodes = || self.solver.place.piece_node_iter();
         let velocity = nodes()
             .map(|i| self.solver.full_velocity(&self.state, i))
             .collect();

@@ -30,6 +30,10 @@ pub(crate) struct Place<const D: usize> {
     pub(crate) owned_nodes: Vec<Range<usize>>,
     /// The owned elements (local indices) as runs of consecutive elements, in order.
     pub(crate) owned_elements: Vec<Range<usize>>,
+    /// The nodes of the owned elements (local indices: per axis the node layers
+    /// `[a, b]` of the owned element layers `[a, b)`, the owned nodes plus the layer `b`
+    /// of the cut above) as runs, in order: the rank's piece of the mesh at outputs.
+    piece_nodes: Vec<Range<usize>>,
 }
 
 impl<const D: usize> Place<D> {
@@ -47,12 +51,15 @@ impl<const D: usize> Place<D> {
         });
         let stored_counts: [usize; D] = std::array::from_fn(|k| stored[k].len());
         let node_counts = stored_counts.map(|n| n + 1);
+        let piece_node_axes: [Range<usize>; D] =
+            std::array::from_fn(|k| owned_elements[k].start..owned_elements[k].end + 1);
         Self {
             global: global.clone(),
             offset: std::array::from_fn(|k| stored[k].start),
             stored: stored_counts,
             owned_nodes: runs(&owned_node_axes, &node_counts),
             owned_elements: runs(&owned_elements, &stored_counts),
+            piece_nodes: runs(&piece_node_axes, &node_counts),
             owned_node_axes,
         }
     }
@@ -130,6 +137,11 @@ impl<const D: usize> Place<D> {
     /// The owned nodes in order (local indices).
     pub(crate) fn owned_node_iter(&self) -> impl Iterator<Item = usize> + '_ {
         self.owned_nodes.iter().flat_map(Clone::clone)
+    }
+
+    /// The nodes of the owned elements in order (local indices; every node on one rank).
+    pub(crate) fn piece_node_iter(&self) -> impl Iterator<Item = usize> + '_ {
+        self.piece_nodes.iter().flat_map(Clone::clone)
     }
 
     /// The owned elements in order (local indices).

@@ -56,14 +56,15 @@
 //!
 //! Diagnostics are reduced over the owned nodes and elements only: energy, work, momentum
 //! and impulse per rank, then added in rank order ([`impact_core::comm`]), so they differ
-//! from one rank's sums by round-off (`Σ_r Σ_{i∈r}` against `Σ_i`). Samples and the nodal
-//! fields of the mesh are gathered to every rank and put in the global order (on slabs the
-//! rank order already is), so outputs equal the serial ones.
+//! from one rank's sums by round-off (`Σ_r Σ_{i∈r}` against `Σ_i`). Samples are gathered to
+//! every rank (`Method::sample_into`) and put in the global order (on slabs the rank order
+//! already is); the mesh's nodal fields are never gathered: each rank gives those of its
+//! owned elements' nodes (`Method::piece_nodal_fields`, the halo layer above a cut
+//! included, whose state is its owner's), its piece of the grid file.
 use crate::node_halo::NodeHalo;
 use crate::Fem;
 use impact_core::comm::{Comm, RankBox, RankGrid};
 use impact_core::comm_gather::hottest_place;
-use impact_core::comm_method::gather_vectors;
 use impact_core::method::{Method, MethodConfig};
 use impact_core::{CoreError, Grid, Problem, Vector};
 use std::ops::Range;
@@ -83,10 +84,9 @@ pub struct SlabFem<const D: usize> {
     global_cells: usize,
     initial_energy: f64,
     halo: NodeHalo,
-    /// The global index of each own sample (owned element), and of each owned node, in
-    /// order; both empty on slabs, whose rank order is the global order.
+    /// The global index of each own sample (owned element), in order; empty on slabs,
+    /// whose rank order is the global order.
     sample_order: Vec<usize>,
-    node_order: Vec<usize>,
 }
 
 impl<const D: usize> SlabFem<D> {
@@ -115,13 +115,12 @@ impl<const D: usize> SlabFem<D> {
         let owned: [Range<usize>; D] = std::array::from_fn(|k| rank_box.owned[k].clone());
         let local = Fem::on_box(problem, config, &stored, &owned)?;
         let initial_energy = comm.all_reduce_sum(local.state.initial_energy);
-        let (sample_order, node_order) = if rank_box.is_slabs() {
-            (Vec::new(), Vec::new())
+        let sample_order = if rank_box.is_slabs() {
+            Vec::new()
         } else {
             let place = &local.solver.place;
             let elements = place.owned_element_iter().map(|c| place.global_element(c));
-            let nodes = place.owned_node_iter().map(|i| place.global_node(i));
-            (elements.collect(), nodes.collect())
+            elements.collect()
         };
         let mut on_box = Self {
             local,
@@ -131,7 +130,6 @@ impl<const D: usize> SlabFem<D> {
             global_cells: global.cell_count(),
             initial_energy,
             sample_order,
-            node_order,
         };
         // `a^0` of the halo's nodes next to the cut faces from their owners
         on_box.exchange_halo();
@@ -158,22 +156,6 @@ impl<const D: usize> SlabFem<D> {
         self.halo
             .exchange(self.comm.as_ref(), &mut self.local.state);
     }
-
-    /// Every rank's owned nodal vectors `mine` in the global node order (on every rank).
-    fn gather_nodal(&self, mine: &[Vector<D>]) -> Vec<Vector<D>> {
-        let comm = self.comm.as_ref();
-        let all = gather_vectors(comm, mine);
-        if self.rank_box.is_slabs() {
-            return all;
-        }
-        // (indices below 2^53 travel exactly as f64)
-        let order: Vec<f64> = self.node_order.iter().map(|&i| i as f64).collect();
-        let mut global = vec![Vector::<D>::zeros(); all.len()];
-        for (v, g) in all.into_iter().zip(comm.all_gather(&order)) {
-            global[g as usize] = v;
-        }
-        global
-    }
 }
 
 impl<const D: usize> Method<D> for SlabFem<D> {
@@ -194,12 +176,9 @@ impl<const D: usize> Method<D> for SlabFem<D> {
     fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {
         self.local.perturb_velocity(kick);
     }
-    fn mesh_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {
-        let (velocity, displacement) = self.local.mesh_nodal_fields()?;
-        Some((
-            self.gather_nodal(&velocity),
-            self.gather_nodal(&displacement),
-        ))
+    /// This rank's piece: its owned elements' nodes (no communication).
+    fn piece_nodal_fields(&self) -> Option<(Vec<Vector<D>>, Vec<Vector<D>>)> {
+        self.local.piece_nodal_fields()
     }
 }
 

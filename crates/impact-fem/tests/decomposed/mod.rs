@@ -2,6 +2,7 @@
 //! split as a rank grid says, compared with the one-rank run. (Each test file uses part.)
 #![allow(dead_code)]
 use impact_core::comm::{RankGrid, ThreadComm};
+use impact_core::comm_box::lexicographic;
 use impact_core::method::{MethodConfig, MethodKind};
 use impact_core::slab_method::owned_in_rank_order;
 use impact_core::{Method, Problem, Samples, Scene, Vector};
@@ -29,11 +30,14 @@ pub fn scene(name: &str) -> Scene {
     Scene::parse_file(&path).unwrap()
 }
 
-/// What a run ends with: samples, the mesh's nodal fields and the global sums.
+/// What a run ends with: samples, the nodal fields of its piece of the mesh (the owned
+/// elements' nodes) and the global sums.
 pub struct End<const D: usize> {
     samples: Samples<D>,
     owned: Samples<D>,
     nodal: (Vec<Vector<D>>, Vec<Vector<D>>),
+    /// The global index of each node of `nodal` (filled in by the caller).
+    piece_nodes: Vec<usize>,
     energy: f64,
     work: f64,
     momentum: Vector<D>,
@@ -47,7 +51,8 @@ pub fn finish<const D: usize>(m: &dyn Method<D>) -> End<D> {
     End {
         samples,
         owned,
-        nodal: m.mesh_nodal_fields().unwrap(),
+        nodal: m.piece_nodal_fields().unwrap(),
+        piece_nodes: Vec::new(),
         energy: m.energy(),
         work: m.external_work(),
         momentum: m.momentum(),
@@ -99,12 +104,21 @@ pub fn same<T: PartialEq + std::fmt::Debug>(ranked: &[T], serial: &[T], what: &s
     }
 }
 
+/// The global indices of the nodes of the elements `owned` (per axis) of a mesh of `cells`
+/// elements per axis, in lexicographic order (axis 0 fastest): a rank's piece of the mesh.
+pub fn piece_nodes(owned: &[std::ops::Range<usize>], cells: &[usize]) -> Vec<usize> {
+    let nodes: Vec<_> = owned.iter().map(|r| r.start..r.end + 1).collect();
+    let counts: Vec<usize> = cells.iter().map(|n| n + 1).collect();
+    lexicographic(&nodes, &counts)
+}
+
 pub fn relative(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(1e-300)
 }
 
 /// Compare the runs on each of `grids` (rank grid, rank count) with the serial run after
-/// `n` steps: samples and nodal fields bit for bit in the global order, every sample owned
+/// `n` steps: samples bit for bit in the global order, each rank's piece of the nodal fields
+/// (its owned elements' nodes) the serial nodes' bit for bit, every node in a piece, every sample owned
 /// once (on slabs: the own samples in rank order are the whole body's), sums to 1e-12
 /// relative, the momentum balance as on one rank.
 pub fn check_on<const D: usize>(
@@ -140,12 +154,19 @@ pub fn check_on<const D: usize>(
             let mut m = SlabFem::<D>::on_grid(&problem, config, comm, grid).unwrap();
             take_path(&mut m.local, path);
             steps(&mut m, n);
-            finish(&m)
+            let mut end = finish(&m);
+            end.piece_nodes = piece_nodes(&m.rank_box().owned, &problem.grid.cells);
+            end
         });
         let on = format!("{label}, rank grid {:?} on {ranks} ranks", grid.0);
         let owned: Vec<_> = ends.iter().map(|e| &e.owned).collect();
         let count: usize = owned.iter().map(|o| o.len()).sum();
         assert_eq!(count, s.len(), "{on}: every element owned once");
+        let mut covered = vec![false; serial.nodal.0.len()];
+        for &i in ends.iter().flat_map(|e| &e.piece_nodes) {
+            covered[i] = true;
+        }
+        assert!(covered.iter().all(|&c| c), "{on}: a node in no piece");
         if grid.is_slabs(D) {
             assert!(
                 owned_in_rank_order(&owned, s),
@@ -166,15 +187,18 @@ pub fn check_on<const D: usize>(
             same(&e.velocity, &s.velocity, &format!("{at}: velocity"));
             same(&e.plastic_strain, &s.plastic_strain, &format!("{at}: ε̄"));
             same(&e.stress_zz, &s.stress_zz, &format!("{at}: σ_zz"));
+            let at_piece = |all: &[Vector<D>]| -> Vec<Vector<D>> {
+                end.piece_nodes.iter().map(|&i| all[i]).collect()
+            };
             same(
                 &end.nodal.0,
-                &serial.nodal.0,
-                &format!("{at}: nodal velocity"),
+                &at_piece(&serial.nodal.0),
+                &format!("{at}: nodal velocity of the piece"),
             );
             same(
                 &end.nodal.1,
-                &serial.nodal.1,
-                &format!("{at}: nodal displacement"),
+                &at_piece(&serial.nodal.1),
+                &format!("{at}: nodal displacement of the piece"),
             );
             let tol = 1e-12;
             assert!(relative(end.energy, serial.energy) < tol, "{at}: energy");
