@@ -37,7 +37,8 @@ impl<const D: usize> DgmpmSolver<D> {
     /// Heun's second stage for cell `cell` (entry `local` of its band's points) from its
     /// faces' final fluxes `[low, high]` per axis, `start_weight` being `a`:
     /// `q_p ← q_p + (1 - a)(Σ_i S_i (q¹_i - q_p) - Δt (ρV/m_p) Σ_l (F_l,high - F_l,low)/Δx_l)`
-    /// (velocity: `V/m_p`, no `ρ`). Reads the point's state before writing it.
+    /// (velocity: `V/m_p`, no `ρ`), and the move `x ← x + Δt v`. Reads the point's state
+    /// before writing it.
     #[inline(always)]
     pub(super) fn heun_cell_update(
         &self,
@@ -50,8 +51,12 @@ impl<const D: usize> DgmpmSolver<D> {
     ) {
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
         let range = cell * nodes_per_cell..(cell + 1) * nodes_per_cell;
-        let (tensor, velocity) = match out {
-            NodalOut::Points { tensor, velocity } => (tensor, velocity),
+        let (tensor, velocity, position) = match out {
+            NodalOut::Points {
+                tensor,
+                velocity,
+                position,
+            } => (tensor, velocity, position),
             NodalOut::Nodes { .. } => {
                 unreachable!("internal: Heun's second stage writes the points")
             }
@@ -77,5 +82,6 @@ impl<const D: usize> DgmpmSolver<D> {
         let weight = 1.0 - start_weight;
         tensor[local] = q0 + (dq + fq * (u.tensor_scale * inv_mass)) * weight;
         velocity[local] = v0 + (dv + fm * (u.velocity_scale * inv_mass)) * weight;
+        position[local] += velocity[local] * u.dt;
     }
 }
