@@ -310,10 +310,13 @@ impl<const D: usize> DgmpmSolver<D> {
             }
         }
         if !fused {
-            // (the fused nodal sweep ran phase 5 in its last stage)
+            // (the fused nodal sweep ran phase 5 and the move in its last stage)
             self.nodes_to_particles(&mut state.points);
         }
         self.plastic_correction(&mut state.points);
-        self.move_points(&mut state.points, dt);
+        // (Heun's cell sweeps at one point per cell write no nodal output: moved here)
+        if !fused || self.heun_on_cells() {
+            self.move_points(&mut state.points, dt);
+        }
     }
 }

@@ -72,8 +72,11 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
     }
     fn check_finite(&self) -> Result<(), BadState<D>> {
         let p = &self.state.points;
+        // every component finite, without a branch per component: `x·0` is ±0 for a finite
+        // `x` and NaN for ±∞ or NaN, so the sum of the products is 0 exactly when all are
         let finite = |i: usize| {
-            p.stress[i].iter().all(|x| x.is_finite()) && p.velocity[i].iter().all(|x| x.is_finite())
+            let (stress, velocity) = (p.stress[i].iter(), p.velocity[i].iter());
+            stress.chain(velocity).fold(0.0, |sum, x| sum + x * 0.0) == 0.0
         };
         let admissible = |i: usize| match self.solver.physics {
             Physics::Svk { svk, .. } => svk.admissible(&p.deformation[i], self.solver.wave_speed),

@@ -35,7 +35,7 @@
 use super::{Band, FusedBuffers, CHUNK};
 use crate::faces::Fields;
 use crate::integrator::stage_update;
-use crate::mapping::point_from_nodes;
+use crate::mapping::points_of_cell;
 use crate::riemann::axis::{axis_flux_1d, AxisConstants};
 use crate::riemann::Conserved;
 use crate::{DgmpmSolver, StepPath, MAX_NODES};
@@ -45,7 +45,9 @@ use impact_core::points::MaterialPoints;
 use impact_core::{Grid, Tensor, Vector};
 
 /// Where one band's stage update goes: the new nodal fields (`2^D` entries per cell), or
-/// in the step's last stage the band's points (phase 5 in the sweep).
+/// in the step's last stage the band's points (phase 5 in the sweep) and their positions,
+/// moved there with the new velocity (`x ← x + Δt v`, the arithmetic of
+/// `DgmpmSolver::move_points`, which the fused nodal path then does not run).
 pub(super) enum NodalOut<'a, const D: usize> {
     Nodes {
         tensor: &'a mut [Tensor<D>],
@@ -54,6 +56,7 @@ pub(super) enum NodalOut<'a, const D: usize> {
     Points {
         tensor: &'a mut [Tensor<D>],
         velocity: &'a mut [Vector<D>],
+        position: &'a mut [Vector<D>],
     },
 }
 
@@ -142,6 +145,7 @@ impl<const D: usize> DgmpmSolver<D> {
             let MaterialPoints {
                 stress,
                 velocity,
+                position,
                 volume,
                 mass,
                 ..
@@ -149,6 +153,8 @@ impl<const D: usize> DgmpmSolver<D> {
             let bands = &mut buffers.bands;
             let nodal_per_band = cells_per_band * Grid::<D>::NODES_PER_CELL;
             let point_per_band = cells_per_band * this.points_per_cell;
+            // the positions' chunks match the bands in every stage (moved in the last)
+            let position = (&mut position[..], point_per_band);
             if stage.reads_points() {
                 // RK2's first stage at one point per cell: the points in, the nodes out
                 let inputs = NodalIn {
@@ -162,7 +168,8 @@ impl<const D: usize> DgmpmSolver<D> {
                 };
                 let fields = Fields::per_cell(stress, velocity);
                 let out = (&mut nodes.tensor[..], &mut nodes.velocity[..]);
-                this.run_bands(bands, fields, inputs, (out, nodal_per_band, false), &sweep);
+                let out = (out, nodal_per_band, false);
+                this.run_bands(bands, fields, inputs, out, position, &sweep);
             } else {
                 let inputs = NodalIn {
                     volume,
@@ -182,7 +189,7 @@ impl<const D: usize> DgmpmSolver<D> {
                         false,
                     ),
                 };
-                this.run_bands(bands, fields, inputs, out, &sweep);
+                this.run_bands(bands, fields, inputs, out, position, &sweep);
             }
             if !stage.last && !stage.reads_points() {
                 if stage.start_weight == 0.0 && !nodes.start_tensor.is_empty() {
@@ -196,7 +203,8 @@ impl<const D: usize> DgmpmSolver<D> {
     }
 
     /// [`Self::nodal_bands`]' loop: `sweep` on every band with its chunk of the output
-    /// (`per_band` entries; the points' if `to_points`, else nodal fields).
+    /// (`per_band` entries; the points' if `to_points`, else nodal fields) and of the
+    /// points' positions (`position.1` per band; moved only with the points' output).
     #[allow(clippy::type_complexity)]
     fn run_bands(
         &self,
@@ -208,20 +216,31 @@ impl<const D: usize> DgmpmSolver<D> {
             usize,
             bool,
         ),
+        position: (&mut [Vector<D>], usize),
         sweep: &(impl Fn(&Self, usize, &mut Band<D>, Fields<'_, D>, NodalIn<'_, D>, &mut NodalOut<'_, D>)
               + Sync),
     ) {
         let parts = (
             chunks(bands, 1),
             (chunks(tensor, per_band), chunks(velocity, per_band)),
+            chunks(position.0, position.1),
         );
-        for_each_chunk(self.parallel, 1, parts, |b, (band, (tensor, velocity))| {
-            let mut out = match to_points {
-                true => NodalOut::Points { tensor, velocity },
-                false => NodalOut::Nodes { tensor, velocity },
-            };
-            sweep(self, b, &mut band[0], fields, inputs, &mut out);
-        });
+        for_each_chunk(
+            self.parallel,
+            1,
+            parts,
+            |b, (band, (tensor, velocity), position)| {
+                let mut out = match to_points {
+                    true => NodalOut::Points {
+                        tensor,
+                        velocity,
+                        position,
+                    },
+                    false => NodalOut::Nodes { tensor, velocity },
+                };
+                sweep(self, b, &mut band[0], fields, inputs, &mut out);
+            },
+        );
     }
 
     /// Phases 3-4 of cell `cell` (entry `local` of its band) from its faces' final fluxes
@@ -253,9 +272,13 @@ impl<const D: usize> DgmpmSolver<D> {
         let point_state = match (SINGLE, inputs.points, &*out) {
             (false, ..) => None,
             (true, Some((q, v)), _) => Some((q[cell], v[cell])),
-            (true, None, NodalOut::Points { tensor, velocity }) => {
-                Some((tensor[local], velocity[local]))
-            }
+            (
+                true,
+                None,
+                NodalOut::Points {
+                    tensor, velocity, ..
+                },
+            ) => Some((tensor[local], velocity[local])),
             (true, None, NodalOut::Nodes { .. }) => None,
         };
         if let Some((q, v)) = point_state {
@@ -312,25 +335,28 @@ impl<const D: usize> DgmpmSolver<D> {
                 tensor[out.clone()].copy_from_slice(&new_q[..nodes_per_cell]);
                 velocity[out].copy_from_slice(&new_v[..nodes_per_cell]);
             }
-            NodalOut::Points { tensor, velocity } => {
+            NodalOut::Points {
+                tensor,
+                velocity,
+                position,
+            } => {
                 let per_cell = self.points_per_cell;
                 let increment = (self.options.update == PointUpdate::Increment)
                     .then(|| starts.unwrap_or((q, v)));
                 let new = (&new_q[..nodes_per_cell], &new_v[..nodes_per_cell]);
-                for k in 0..per_cell {
-                    let (point, entry) = (cell * per_cell + k, local * per_cell + k);
-                    let s = &self.shape[point * nodes_per_cell..(point + 1) * nodes_per_cell];
-                    let (pq, pv) = point_from_nodes(s, new, increment);
-                    match increment {
-                        Some(_) => {
-                            tensor[entry] += pq;
-                            velocity[entry] += pv;
-                        }
-                        None => {
-                            tensor[entry] = pq;
-                            velocity[entry] = pv;
-                        }
-                    }
+                let shapes =
+                    cell * per_cell * nodes_per_cell..(cell + 1) * per_cell * nodes_per_cell;
+                let entries = local * per_cell..(local + 1) * per_cell;
+                let points = (
+                    &mut tensor[entries.clone()],
+                    &mut velocity[entries.clone()],
+                    &mut position[entries],
+                );
+                let shapes = &self.shape[shapes];
+                match per_cell {
+                    4 => points_of_cell::<D, 4>(shapes, new, increment, points, dt),
+                    2 => points_of_cell::<D, 2>(shapes, new, increment, points, dt),
+                    _ => points_of_cell::<D, 0>(shapes, new, increment, points, dt),
                 }
             }
         }
