@@ -60,13 +60,13 @@
 //! face's worth of points.
 use crate::edges::SurfaceLoad;
 use crate::migrate_rows::{columns, Buffers, Cells, Neighbour, COLUMNS};
-use crate::slab::halo_layers;
-use crate::Mpm;
-use impact_core::comm::{Comm, CommError, RankBox, RankGrid};
+use crate::slab::{halo_layers, CPDI_DOMAIN_REACH};
+use crate::{Mpm, PADDING};
+use impact_core::comm::{Comm, RankBox, RankGrid};
 use impact_core::comm_gather::{first_bad, gather_samples, hottest_place};
 use impact_core::comm_migrate::Column;
-use impact_core::method::{BadState, Method, MethodConfig, MpmShape, Samples};
-use impact_core::{Constraint, CoreError, Problem, Vector};
+use impact_core::method::{BadState, Method, MethodConfig, Samples};
+use impact_core::{Constraint, CoreError, Problem, Tensor, Vector};
 use std::sync::Arc;
 
 /// MPM in the updated Lagrangian frame on one rank's box, points migrating (module doc).
@@ -129,16 +129,6 @@ impl<const D: usize> MigratingMpm<D> {
             method: "mpm".into(),
             message: "not an MPM configuration".into(),
         })?;
-        if options.shape == MpmShape::Cpdi && comm.size() > 1 {
-            return Err(CommError::Unsupported {
-                what: "MPM with CPDI in the updated Lagrangian frame".into(),
-                ranks: comm.size(),
-                allowed: "its deformed domains may reach past the halo; run it on one rank, \
-                          or another shape (hats, GIMP, B-splines) on several"
-                    .into(),
-            }
-            .into());
-        }
         problem.check_config(&config)?;
         let grid = &problem.grid;
         let rank_box =
@@ -243,7 +233,8 @@ impl<const D: usize> MigratingMpm<D> {
     /// own point that moved more cells along an axis than the halo is the run's failure.
     fn find_leaving(&mut self, t: f64) {
         let (halo, cells_of) = (self.rank_box.halo, self.cells_of);
-        let position = &self.local.state.points.position;
+        let points = &self.local.state.points;
+        let position = &points.position;
         self.leaving.clear();
         for (i, cell) in self.own_cells.iter_mut().enumerate() {
             let now: [usize; D] = std::array::from_fn(|k| cells_of.along(k, position[i][k]));
@@ -260,6 +251,24 @@ impl<const D: usize> MigratingMpm<D> {
                         self.steps, self.ids[i]
                     ),
                 });
+            }
+            if let (Some(domain), None) = (points.domain.get(i), &self.failure) {
+                self.failure =
+                    domain_past_halo(&self.local.solver, (&position[i], domain), now, &cells_of)
+                        .map(|(axis, below)| BadState {
+                            place: points.reference[i],
+                            reason: format!(
+                                "step {}, t = {t:e}: material point {} at x = {:?}: its CPDI \
+                         domain's stencil starts {below} cells below the point's cell along \
+                         axis {axis}, where the halo of {halo} cells between ranks covers \
+                         0 to {CPDI_DOMAIN_REACH} (a domain stretched or sheared by the \
+                         flow: run on fewer ranks along axis {axis}, or with another shape: \
+                         hats, GIMP, B-splines)",
+                                self.steps,
+                                self.ids[i],
+                                position[i].as_slice()
+                            ),
+                        });
             }
             *cell = now;
             if !(0..D).all(|k| self.rank_box.owned[k].contains(&now[k])) {
@@ -414,6 +423,32 @@ impl<const D: usize> MigratingMpm<D> {
             .shape_gradient
             .resize(count * nodes, Vector::<D>::zeros());
     }
+}
+
+/// Where the next step's CPDI stencil of the point at `x` with `domain`, whose cell is
+/// `cell`, starts outside the cells the halo covers (module doc): along the first such axis,
+/// `(axis, cells below the point's cell)`, for a start more than [`CPDI_DOMAIN_REACH`]
+/// cells below it or above it. Axes along which the point lies beyond the body's grid are
+/// skipped (a physical edge there, no cut), and so is a stencil that does not fit the grid
+/// (`check_finite` reports it).
+fn domain_past_halo<const D: usize>(
+    solver: &crate::MpmSolver<D>,
+    (x, domain): (&Vector<D>, &Tensor<D>),
+    cell: [usize; D],
+    cells_of: &Cells<D>,
+) -> Option<(usize, isize)> {
+    let start = solver
+        .stencil
+        .domain_start(&solver.place.whole, x, domain)?;
+    (0..D).find_map(|k| {
+        let u = (x[k] - cells_of.origin[k]) / cells_of.spacing[k];
+        if !(0.0..cells_of.count[k] as f64).contains(&u) {
+            return None;
+        }
+        // the whole padded grid's node `start` is the body's node `start − PADDING`
+        let below = cell[k] as isize - (start[k] as isize - PADDING as isize);
+        (!(0..=CPDI_DOMAIN_REACH as isize).contains(&below)).then_some((k, below))
+    })
 }
 
 /// Append `rows` (of `width` floats, the `present` columns' values in turn) to the columns.

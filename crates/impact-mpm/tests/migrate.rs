@@ -5,12 +5,13 @@
 //! by exactly one rank with its mass unchanged, energy and momentum to round-off (sums in
 //! rank order). J2's history and APIC's affine velocity travel with their points (a field
 //! left behind would change the fields after the crossing). A point that jumps past the
-//! halo in one step fails the run with the step and the point; CPDI is refused.
+//! halo in one step fails the run with the step and the point; CPDI's domains, deforming
+//! with the flow, cross with their points, and one stretched past the halo fails the run.
 use impact_core::comm::{RankGrid, ThreadComm};
 use impact_core::method::{
     MethodConfig, MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate,
 };
-use impact_core::slab_method::{assert_matches_serial, blowup_on_ranks, refusal_on_ranks, RunEnd};
+use impact_core::slab_method::{assert_matches_serial, blowup_on_ranks, RunEnd};
 use impact_core::{Method, Problem, Scene, Vector};
 use impact_mpm::migrate::MigratingMpm;
 use impact_mpm::Mpm;
@@ -351,10 +352,9 @@ fn plastic_history_and_apic_migrate_with_their_points() {
 }
 
 /// A point kicked past the halo in one step (along the last axis on slabs, the diagonal on
-/// 2 × 2 boxes) stops the run with the step and the point, on every rank; CPDI is refused
-/// on several ranks.
+/// 2 × 2 boxes) stops the run with the step and the point, on every rank.
 #[test]
-fn a_jump_past_the_halo_fails_and_cpdi_is_refused() {
+fn a_jump_past_the_halo_fails() {
     let plate = scene("plate");
     let problem = Problem::<2>::from_scene(&plate).unwrap();
     let mut config = plate.method_config(MethodKind::Mpm);
@@ -387,12 +387,88 @@ fn a_jump_past_the_halo_fails_and_cpdi_is_refused() {
         );
         assert!(reports.iter().all(|r| r == &reports[0]), "{reports:?}");
     }
-    config.mpm_mut().unwrap().shape = MpmShape::Cpdi;
-    let message = refusal_on_ranks(2, |comm| MigratingMpm::<2>::new(&problem, config, comm));
-    assert!(
-        message.contains("CPDI") && message.contains("2 ranks"),
-        "{message}"
-    );
+}
+
+/// CPDI (2 × 2 points per cell, MUSL: a halo of 8 cells) on the plate moving along the
+/// diagonal, 40 × 30 cells, its points and their deforming domains crossing the faces, on
+/// 2 and 3 slabs and 2 × 2 boxes: bit for bit against one rank, every point owned once with
+/// its mass, energy and momentum to round-off; and under USL (a halo of 4 cells).
+#[test]
+fn cpdi_in_the_updated_frame_migrates_and_equals_one_rank() {
+    let grids = [
+        (2, RankGrid::automatic()),
+        (3, RankGrid::automatic()),
+        (4, RankGrid(vec![2, 2])),
+    ];
+    let mut plate = scene("plate");
+    plate.domain.cells = vec![40, 30];
+    for update in [StressUpdate::Musl, StressUpdate::Usl] {
+        check_on::<2>(
+            &format!("moving plate, CPDI, 2 × 2 points per cell, {update:?}"),
+            &plate,
+            |c| {
+                c.points_per_cell = 4;
+                let o = c.mpm_mut().unwrap();
+                o.shape = MpmShape::Cpdi;
+                o.stress_update = update;
+            },
+            40,
+            Kick::Diagonal,
+            &grids,
+        );
+    }
+}
+
+/// A CPDI domain stretched past what the halo covers (one point's domain made 1.6 cells
+/// tall: its stencil starts 2 cells below the point's cell) fails the run after the step
+/// on every rank with the same message naming the step, the point and the remedy, on 2
+/// slabs and on 2 × 2 boxes; one rank runs the same domain without failing.
+#[test]
+fn a_cpdi_domain_stretched_past_the_halo_fails_on_every_rank() {
+    let mut plate = scene("plate");
+    plate.domain.cells = vec![20, 20];
+    let problem = Problem::<2>::from_scene(&plate).unwrap();
+    let mut config = plate.method_config(MethodKind::Mpm);
+    config.points_per_cell = 4;
+    let o = config.mpm_mut().unwrap();
+    o.frame = MpmFrame::UpdatedLagrangian;
+    o.shape = MpmShape::Cpdi;
+    o.stress_update = StressUpdate::Usl;
+    // a point of the cell (10, 10), in the middle of the plate
+    let target = (10 * 20 + 10) * 4;
+    let tall = 1.6 * problem.grid.spacing[1];
+    let stretch = |ids: &[usize], m: &mut Mpm<2>| {
+        if let Some(i) = ids.iter().position(|&id| id == target) {
+            m.state.points.domain[i][(1, 1)] = tall;
+        }
+    };
+    let mut one = Mpm::<2>::new(&problem, config).unwrap();
+    let ids: Vec<usize> = (0..one.state.points.len()).collect();
+    stretch(&ids, &mut one);
+    let dt = one.stable_dt();
+    one.step(0.0, dt);
+    let serial = one.check_finite();
+    assert!(serial.is_ok(), "one rank takes the domain: {serial:?}");
+    for (ranks, grid) in [(2, RankGrid::automatic()), (4, RankGrid(vec![2, 2]))] {
+        let reports = ThreadComm::on_ranks(ranks, |comm| {
+            let mut m = MigratingMpm::<2>::on_grid(&problem, config, comm, &grid).unwrap();
+            let ids = m.owned_ids().to_vec();
+            stretch(&ids, &mut m.local);
+            let dt = m.stable_dt();
+            m.step(0.0, dt);
+            m.check_finite().unwrap_err()
+        });
+        let reason = &reports[0].reason;
+        assert!(
+            reason.contains("step 1,")
+                && reason.contains(&format!("material point {target} at x = "))
+                && reason.contains("CPDI domain's stencil starts 2 cells below")
+                && reason.contains("halo of 4 cells")
+                && reason.contains("fewer ranks along axis 1"),
+            "{grid:?}: {reason}"
+        );
+        assert!(reports.iter().all(|r| r == &reports[0]), "{reports:?}");
+    }
 }
 
 /// A NaN planted in one point is reported by every rank, once, as one rank reports it, on
