@@ -61,12 +61,12 @@
 use crate::edges::SurfaceLoad;
 use crate::migrate_rows::{columns, Buffers, Cells, Neighbour, COLUMNS};
 use crate::slab::{halo_layers, CPDI_DOMAIN_REACH};
-use crate::{Mpm, PADDING};
+use crate::Mpm;
 use impact_core::comm::{Comm, RankBox, RankGrid};
 use impact_core::comm_gather::{first_bad, gather_samples, hottest_place};
 use impact_core::comm_migrate::Column;
 use impact_core::method::{BadState, Method, MethodConfig, Samples};
-use impact_core::{Constraint, CoreError, Problem, Tensor, Vector};
+use impact_core::{Constraint, CoreError, Problem, Vector};
 use std::sync::Arc;
 
 /// MPM in the updated Lagrangian frame on one rank's box, points migrating (module doc).
@@ -253,22 +253,22 @@ impl<const D: usize> MigratingMpm<D> {
                 });
             }
             if let (Some(domain), None) = (points.domain.get(i), &self.failure) {
-                self.failure =
-                    domain_past_halo(&self.local.solver, (&position[i], domain), now, &cells_of)
-                        .map(|(axis, below)| BadState {
-                            place: points.reference[i],
-                            reason: format!(
-                                "step {}, t = {t:e}: material point {} at x = {:?}: its CPDI \
+                self.failure = cells_of
+                    .cpdi_stencil_past_halo(&self.local.solver, &position[i], domain, now)
+                    .map(|(axis, below)| BadState {
+                        place: points.reference[i],
+                        reason: format!(
+                            "step {}, t = {t:e}: material point {} at x = {:?}: its CPDI \
                          domain's stencil starts {below} cells below the point's cell along \
                          axis {axis}, where the halo of {halo} cells between ranks covers \
                          0 to {CPDI_DOMAIN_REACH} (a domain stretched or sheared by the \
                          flow: run on fewer ranks along axis {axis}, or with another shape: \
                          hats, GIMP, B-splines)",
-                                self.steps,
-                                self.ids[i],
-                                position[i].as_slice()
-                            ),
-                        });
+                            self.steps,
+                            self.ids[i],
+                            position[i].as_slice()
+                        ),
+                    });
             }
             *cell = now;
             if !(0..D).all(|k| self.rank_box.owned[k].contains(&now[k])) {
@@ -423,32 +423,6 @@ impl<const D: usize> MigratingMpm<D> {
             .shape_gradient
             .resize(count * nodes, Vector::<D>::zeros());
     }
-}
-
-/// Where the next step's CPDI stencil of the point at `x` with `domain`, whose cell is
-/// `cell`, starts outside the cells the halo covers (module doc): along the first such axis,
-/// `(axis, cells below the point's cell)`, for a start more than [`CPDI_DOMAIN_REACH`]
-/// cells below it or above it. Axes along which the point lies beyond the body's grid are
-/// skipped (a physical edge there, no cut), and so is a stencil that does not fit the grid
-/// (`check_finite` reports it).
-fn domain_past_halo<const D: usize>(
-    solver: &crate::MpmSolver<D>,
-    (x, domain): (&Vector<D>, &Tensor<D>),
-    cell: [usize; D],
-    cells_of: &Cells<D>,
-) -> Option<(usize, isize)> {
-    let start = solver
-        .stencil
-        .domain_start(&solver.place.whole, x, domain)?;
-    (0..D).find_map(|k| {
-        let u = (x[k] - cells_of.origin[k]) / cells_of.spacing[k];
-        if !(0.0..cells_of.count[k] as f64).contains(&u) {
-            return None;
-        }
-        // the whole padded grid's node `start` is the body's node `start − PADDING`
-        let below = cell[k] as isize - (start[k] as isize - PADDING as isize);
-        (!(0..=CPDI_DOMAIN_REACH as isize).contains(&below)).then_some((k, below))
-    })
 }
 
 /// Append `rows` (of `width` floats, the `present` columns' values in turn) to the columns.
