@@ -8,8 +8,26 @@
 //! neighbours' points in its halo cells: the whole body's points cut to its stored box, as
 //! the total Lagrangian box (`slab.rs`, whose module doc shows why the own points are then
 //! exact after a step: the stencils are evaluated at the step's start, so the argument
-//! holds for the current cells). CPDI is refused on several ranks here: its domains deform
-//! with the body and may reach past the halo that argument sizes.
+//! holds for the current cells).
+//!
+//! **CPDI's deforming domains** (`cpdi.rs`: `R ← (I + Δt ∇v) R`): a point's stencil, 4
+//! nodes per axis from the node below its domain's lowest corner, may start below the
+//! point's cell `j`, at `j − a`. A missing point beyond a lower cut at `s` (cell `< s`,
+//! start `≤` its cell) spoils nodes up to `s + 2`, read by the stored points of cells up to
+//! `s + 2 + a`; beyond an upper cut at `e` (start `≥ e − a`), nodes from `e − a`, read by
+//! the points from cell `e − a − 3`: `3 + a` cells a round. The halo is sized for
+//! `a ≤` [`CPDI_DOMAIN_REACH`](crate::slab::CPDI_DOMAIN_REACH)` = 1` (`halo_layers`:
+//! `rounds × 4`), every domain the stencil holds: a domain is symmetric about its point,
+//! `x ± e` along an axis, and 3 cells from `first = ⌊x − e⌋` hold `x + e` only if
+//! `x − first < 1.5`, so `j − first ≤ 1`; a larger domain leaves the stencil and fails the
+//! run as on one rank ("stencil left the background grid"). The point's cell (body grid)
+//! and the corner (padded grid) round separately, so after each step every own point's next
+//! stencil start is checked (`Cells::cpdi_stencil_past_halo`; an axis along which the point
+//! lies beyond the body's grid, with no cut, is skipped): one outside `j − 1 ..= j` fails
+//! the run at its next check with the step, the time, the point's global number and
+//! position, the cells below, the halo and what to do (fewer ranks along that axis, or
+//! another shape), as a point moving past the halo does (below). The domains travel with
+//! their points (a column of the rows) and in the halo.
 //!
 //! **After each step** ([`MigratingMpm::step`]), two rounds of exchanges with the
 //! neighbours, axis by axis, each of messages of any length
@@ -44,7 +62,8 @@
 //! along an axis lands in the own range or the neighbour's there.
 //!
 //! **Bit for bit.** The scatters add a node's points layer by layer (by the layer of their
-//! stencil's base node), and within a layer in the order of `Place::scatter_order` (here:
+//! stencil's base node, found on the whole padded grid from the point's position and, with
+//! CPDI, its domain: the same bits on every rank), and within a layer in the order of `Place::scatter_order` (here:
 //! the global order); one rank adds them in its own order, the global one. The gathers and
 //! the stress updates are per point, and the loads are applied in the whole body's order.
 //! The first failing point and the hottest one are looked for among the own points in the
@@ -59,8 +78,8 @@
 //! global number (`face_lists.rs`), travel with nothing: every rank holds the lists, a
 //! face's worth of points.
 use crate::edges::SurfaceLoad;
-use crate::migrate_rows::{columns, Buffers, Cells, Neighbour, COLUMNS};
-use crate::slab::{halo_layers, CPDI_DOMAIN_REACH};
+use crate::migrate_rows::{columns, cpdi_reach_reason, Buffers, Cells, Neighbour, COLUMNS};
+use crate::slab::halo_layers;
 use crate::Mpm;
 use impact_core::comm::{Comm, RankBox, RankGrid};
 use impact_core::comm_gather::{first_bad, gather_samples, hottest_place};
@@ -117,8 +136,8 @@ impl<const D: usize> MigratingMpm<D> {
     }
 
     /// This rank's box of `problem` on `rank_grid` (module doc). Refused: a configuration
-    /// that is not MPM in the updated frame, CPDI on several ranks, a rank grid that is not
-    /// one for the ranks or whose parts hold fewer cells than the halo.
+    /// that is not MPM in the updated frame, a rank grid that is not one for the ranks or
+    /// whose parts hold fewer cells than the halo.
     pub fn on_grid(
         problem: &Problem<D>,
         config: MethodConfig,
@@ -253,22 +272,18 @@ impl<const D: usize> MigratingMpm<D> {
                 });
             }
             if let (Some(domain), None) = (points.domain.get(i), &self.failure) {
-                self.failure = cells_of
-                    .cpdi_stencil_past_halo(&self.local.solver, &position[i], domain, now)
-                    .map(|(axis, below)| BadState {
-                        place: points.reference[i],
-                        reason: format!(
-                            "step {}, t = {t:e}: material point {} at x = {:?}: its CPDI \
-                         domain's stencil starts {below} cells below the point's cell along \
-                         axis {axis}, where the halo of {halo} cells between ranks covers \
-                         0 to {CPDI_DOMAIN_REACH} (a domain stretched or sheared by the \
-                         flow: run on fewer ranks along axis {axis}, or with another shape: \
-                         hats, GIMP, B-splines)",
-                            self.steps,
-                            self.ids[i],
-                            position[i].as_slice()
-                        ),
-                    });
+                let past =
+                    cells_of.cpdi_stencil_past_halo(&self.local.solver, &position[i], domain, now);
+                self.failure = past.map(|reach| BadState {
+                    place: points.reference[i],
+                    reason: cpdi_reach_reason(
+                        (self.steps, t),
+                        self.ids[i],
+                        &position[i],
+                        reach,
+                        halo,
+                    ),
+                });
             }
             *cell = now;
             if !(0..D).all(|k| self.rank_box.owned[k].contains(&now[k])) {

@@ -104,6 +104,27 @@ impl<const D: usize> Cells<D> {
     }
 }
 
+/// Why the run fails when an own point's next CPDI stencil starts `below` cells below its
+/// cell along `axis` (`reach`, from [`Cells::cpdi_stencil_past_halo`]) after step `step`
+/// at time `t`: the point's global number `id` and position `x`, the reach, the `halo`
+/// and what to do.
+pub(crate) fn cpdi_reach_reason<const D: usize>(
+    (step, t): (usize, f64),
+    id: usize,
+    x: &Vector<D>,
+    (axis, below): (usize, isize),
+    halo: usize,
+) -> String {
+    format!(
+        "step {step}, t = {t:e}: material point {id} at x = {:?}: its CPDI domain's stencil \
+         starts {below} cells below the point's cell along axis {axis}, where the halo of \
+         {halo} cells between ranks covers 0 to {CPDI_DOMAIN_REACH} (a domain stretched or \
+         sheared by the flow: run on fewer ranks along axis {axis}, or with another shape: \
+         hats, GIMP, B-splines)",
+        x.as_slice()
+    )
+}
+
 /// A neighbour along one axis: along that axis, the cells it owns and stores (along the
 /// other axes its box is this rank's).
 #[derive(Debug, Clone)]
@@ -205,5 +226,13 @@ mod tests {
         // too large for the stencil: check_finite's failure
         let tall = Tensor::<2>::new(0.25 * h[0], 0.0, 0.0, 1.6 * h[1]);
         assert_eq!(check(&x, &tall, [10, 10]), None);
+        let reason = super::cpdi_reach_reason((7, 0.5), 1234, &x, (1, 2), 4);
+        assert!(
+            reason.starts_with("step 7, t = 5e-1: material point 1234 at x = [")
+                && reason.contains("starts 2 cells below the point's cell along axis 1")
+                && reason.contains("halo of 4 cells between ranks covers 0 to 1")
+                && reason.contains("fewer ranks along axis 1"),
+            "{reason}"
+        );
     }
 }
