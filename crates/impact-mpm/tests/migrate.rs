@@ -419,6 +419,31 @@ fn cpdi_in_the_updated_frame_migrates_and_equals_one_rank() {
     }
 }
 
+/// CPDI's domains sheared hard: every other column of cells kicked along the cut axis
+/// (`Kick::Scrambled`), so the domains at the columns' sides shear and their stencils
+/// start below their cells, on 2 and 3 slabs and 2 × 2 boxes, MUSL: bit for bit.
+#[test]
+fn sheared_cpdi_domains_migrate_and_equal_one_rank() {
+    let grids = [
+        (2, RankGrid::automatic()),
+        (3, RankGrid::automatic()),
+        (4, RankGrid(vec![2, 2])),
+    ];
+    check_on::<2>(
+        "scrambled plate, CPDI, 2 × 2 points per cell, MUSL",
+        &scene("plate"),
+        |c| {
+            c.points_per_cell = 4;
+            let o = c.mpm_mut().unwrap();
+            o.shape = MpmShape::Cpdi;
+            o.stress_update = StressUpdate::Musl;
+        },
+        30,
+        Kick::Scrambled,
+        &grids,
+    );
+}
+
 /// A CPDI domain stretched past what the halo covers: a domain whose CPDI stencil fits
 /// starts at most one cell below its point's cell (it is symmetric about the point and the
 /// stencil spans 3 cells), which the halo covers, so a larger one leaves the stencil. One
