@@ -15,7 +15,10 @@
 //! point's cell `j`, at `j − a`. A missing point beyond a lower cut at `s` (cell `< s`,
 //! start `≤` its cell) spoils nodes up to `s + 2`, read by the stored points of cells up to
 //! `s + 2 + a`; beyond an upper cut at `e` (start `≥ e − a`), nodes from `e − a`, read by
-//! the points from cell `e − a − 3`: `3 + a` cells a round. The halo is sized for
+//! the points from cell `e − a − 3`: `3 + a` cells a round (counting the stencil's nodes,
+//! zero weights included, as `slab.rs` does; by the weighing nodes alone 3 would do, and
+//! `tests/migrate.rs` passes with `rounds × 3` too, but a spoiled value times a zero weight
+//! may still flip a zero's sign or carry a non-finite value). The halo is sized for
 //! `a ≤` [`CPDI_DOMAIN_REACH`](crate::slab::CPDI_DOMAIN_REACH)` = 1` (`halo_layers`:
 //! `rounds × 4`), every domain the stencil holds: a domain is symmetric about its point,
 //! `x ± e` along an axis, and 3 cells from `first = ⌊x − e⌋` hold `x + e` only if

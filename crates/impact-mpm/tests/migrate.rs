@@ -26,6 +26,16 @@ enum Kick {
     Shear,
     Scrambled,
     Diagonal,
+    /// `Diagonal`, every CPDI domain made 1.8 cells tall along the last axis: each point's
+    /// stencil starts a cell below its cell and its 4 nodes along that axis weigh.
+    TallDomains,
+}
+
+/// Every point's CPDI domain made 1.8 cells tall along the last axis (`Kick::TallDomains`).
+fn make_tall<const D: usize>(m: &mut Mpm<D>, spacing: f64) {
+    for r in &mut m.state.points.domain {
+        r[(D - 1, D - 1)] = 0.9 * spacing;
+    }
 }
 
 /// `problem`'s points kicked along the last axis by `speed · (½ + X₀/L₀)` (a shear across
@@ -38,7 +48,7 @@ enum Kick {
 fn kick<const D: usize>(m: &mut dyn Method<D>, speed: f64, length: f64, kind: Kick) {
     m.perturb_velocity(&mut |_, x| {
         let mut v = Vector::<D>::zeros();
-        if kind == Kick::Diagonal {
+        if kind == Kick::Diagonal || kind == Kick::TallDomains {
             // the whole plate along the diagonal, through the faces along both axes
             return Vector::<D>::from_element(speed);
         }
@@ -90,6 +100,10 @@ fn check_on<const D: usize>(
     let (speed, length) = (0.12 * problem.max_wave_speed(), scene.domain.length[0]);
     let mut one = Mpm::<D>::new(&problem, config).unwrap();
     kick::<D>(&mut one, speed, length, kind);
+    let spacing = problem.grid.spacing[D - 1];
+    if kind == Kick::TallDomains {
+        make_tall(&mut one, spacing);
+    }
     let serial = RunEnd::after_steps(&mut one, steps);
     let s = &serial.samples;
     let finite = |x: &[f64]| x.iter().all(|v| v.is_finite());
@@ -107,6 +121,9 @@ fn check_on<const D: usize>(
         let ends = ThreadComm::on_ranks(ranks, |comm| {
             let mut m = MigratingMpm::<D>::on_grid(&problem, config, comm, grid).unwrap();
             kick::<D>(&mut m, speed, length, kind);
+            if kind == Kick::TallDomains {
+                make_tall(&mut m.local, spacing);
+            }
             let end = RunEnd::after_steps(&mut m, steps);
             let own = m.local.owned_points();
             let masses: Vec<(usize, f64)> = (m.owned_ids().iter().copied())
@@ -392,7 +409,8 @@ fn a_jump_past_the_halo_fails() {
 /// CPDI (2 × 2 points per cell, MUSL: a halo of 8 cells) on the plate moving along the
 /// diagonal, 40 × 30 cells, its points and their deforming domains crossing the faces, on
 /// 2 and 3 slabs and 2 × 2 boxes: bit for bit against one rank, every point owned once with
-/// its mass, energy and momentum to round-off; and under USL (a halo of 4 cells).
+/// its mass, energy and momentum to round-off; under USL (a halo of 4 cells); and with
+/// every domain 1.8 cells tall (`Kick::TallDomains`) on 3 and 4 slabs and 2 × 2 boxes.
 #[test]
 fn cpdi_in_the_updated_frame_migrates_and_equals_one_rank() {
     let grids = [
@@ -417,6 +435,25 @@ fn cpdi_in_the_updated_frame_migrates_and_equals_one_rank() {
             &grids,
         );
     }
+    // every domain 1.8 cells tall: each stencil starts a cell below its point's cell and
+    // its 4 nodes along the cut axis weigh (the domains' reach the halo's extra cell is for)
+    check_on::<2>(
+        "moving plate, CPDI, domains 1.8 cells tall, USL",
+        &plate,
+        |c| {
+            c.points_per_cell = 4;
+            let o = c.mpm_mut().unwrap();
+            o.shape = MpmShape::Cpdi;
+            o.stress_update = StressUpdate::Usl;
+        },
+        40,
+        Kick::TallDomains,
+        &[
+            (3, RankGrid::automatic()),
+            (4, RankGrid::automatic()),
+            (4, RankGrid(vec![2, 2])),
+        ],
+    );
 }
 
 /// CPDI's domains sheared hard: every other column of cells kicked along the cut axis
