@@ -406,11 +406,22 @@ fn a_jump_past_the_halo_fails() {
     }
 }
 
+/// CPDI with 2 × 2 points per cell, stresses updated as `update`.
+fn cpdi(update: StressUpdate) -> impl Fn(&mut MethodConfig) {
+    move |c| {
+        c.points_per_cell = 4;
+        let o = c.mpm_mut().unwrap();
+        o.shape = MpmShape::Cpdi;
+        o.stress_update = update;
+    }
+}
+
 /// CPDI (2 × 2 points per cell, MUSL: a halo of 8 cells) on the plate moving along the
 /// diagonal, 40 × 30 cells, its points and their deforming domains crossing the faces, on
 /// 2 and 3 slabs and 2 × 2 boxes: bit for bit against one rank, every point owned once with
 /// its mass, energy and momentum to round-off; under USL (a halo of 4 cells); and with
-/// every domain 1.8 cells tall (`Kick::TallDomains`) on 3 and 4 slabs and 2 × 2 boxes.
+/// every domain 1.8 cells tall (`Kick::TallDomains`) on 3 and 4 slabs and 2 × 2 boxes;
+/// and the plate's domains sheared hard (`Kick::Scrambled`, 33 × 25 cells, MUSL).
 #[test]
 fn cpdi_in_the_updated_frame_migrates_and_equals_one_rank() {
     let grids = [
@@ -424,12 +435,7 @@ fn cpdi_in_the_updated_frame_migrates_and_equals_one_rank() {
         check_on::<2>(
             &format!("moving plate, CPDI, 2 × 2 points per cell, {update:?}"),
             &plate,
-            |c| {
-                c.points_per_cell = 4;
-                let o = c.mpm_mut().unwrap();
-                o.shape = MpmShape::Cpdi;
-                o.stress_update = update;
-            },
+            cpdi(update),
             40,
             Kick::Diagonal,
             &grids,
@@ -440,12 +446,7 @@ fn cpdi_in_the_updated_frame_migrates_and_equals_one_rank() {
     check_on::<2>(
         "moving plate, CPDI, domains 1.8 cells tall, USL",
         &plate,
-        |c| {
-            c.points_per_cell = 4;
-            let o = c.mpm_mut().unwrap();
-            o.shape = MpmShape::Cpdi;
-            o.stress_update = StressUpdate::Usl;
-        },
+        cpdi(StressUpdate::Usl),
         40,
         Kick::TallDomains,
         &[
@@ -454,27 +455,12 @@ fn cpdi_in_the_updated_frame_migrates_and_equals_one_rank() {
             (4, RankGrid(vec![2, 2])),
         ],
     );
-}
-
-/// CPDI's domains sheared hard: every other column of cells kicked along the cut axis
-/// (`Kick::Scrambled`), so the domains at the columns' sides shear and their stencils
-/// start below their cells, on 2 and 3 slabs and 2 × 2 boxes, MUSL: bit for bit.
-#[test]
-fn sheared_cpdi_domains_migrate_and_equal_one_rank() {
-    let grids = [
-        (2, RankGrid::automatic()),
-        (3, RankGrid::automatic()),
-        (4, RankGrid(vec![2, 2])),
-    ];
+    // domains sheared hard: every other column of cells kicked along the cut axis, so the
+    // domains at the columns' sides shear and their stencils start below their cells
     check_on::<2>(
         "scrambled plate, CPDI, 2 × 2 points per cell, MUSL",
         &scene("plate"),
-        |c| {
-            c.points_per_cell = 4;
-            let o = c.mpm_mut().unwrap();
-            o.shape = MpmShape::Cpdi;
-            o.stress_update = StressUpdate::Musl;
-        },
+        cpdi(StressUpdate::Musl),
         30,
         Kick::Scrambled,
         &grids,
@@ -484,7 +470,7 @@ fn sheared_cpdi_domains_migrate_and_equal_one_rank() {
 /// A CPDI domain stretched past what the halo covers: a domain whose CPDI stencil fits
 /// starts at most one cell below its point's cell (it is symmetric about the point and the
 /// stencil spans 3 cells), which the halo covers, so a larger one leaves the stencil. One
-/// point's domain made 3.2 cells tall fails the run after the step on every rank, on 2
+/// point's domain made 3.2 cells tall (past the stencil) fails the run after the step on every rank, on 2
 /// slabs and on 2 × 2 boxes, as one rank reports it (the same point and reason); no panic,
 /// no answer.
 #[test]
@@ -493,11 +479,8 @@ fn a_cpdi_domain_stretched_past_the_halo_fails_on_every_rank() {
     plate.domain.cells = vec![20, 20];
     let problem = Problem::<2>::from_scene(&plate).unwrap();
     let mut config = plate.method_config(MethodKind::Mpm);
-    config.points_per_cell = 4;
-    let o = config.mpm_mut().unwrap();
-    o.frame = MpmFrame::UpdatedLagrangian;
-    o.shape = MpmShape::Cpdi;
-    o.stress_update = StressUpdate::Usl;
+    config.mpm_mut().unwrap().frame = MpmFrame::UpdatedLagrangian;
+    cpdi(StressUpdate::Usl)(&mut config);
     // a point of the cell (10, 10), in the middle of the plate, on rank 1 of 2 slabs and
     // rank 3 of 2 × 2 boxes
     let target = (10 * 20 + 10) * 4;
