@@ -8,9 +8,8 @@
 # one samples piece per rank per frame, listed
 # by a .pvtu that the .pvd lists: their arrays are compared with the serial file's by
 # scripts/crosscheck_pvtu.py; the relative energy error, of sums per rank then in rank
-# order, to 1e-12); MPM's updated frame on 1-3 ranks likewise; a bad input, an option that
-# is not decomposed (CPDI in MPM's updated frame), a
-# blow-up and a folder that one rank cannot write stop every rank with one message and a
+# order, to 1e-12); MPM's updated frame on 1-3 ranks likewise (CPDI there on 2); a bad
+# input, a blow-up and a folder that one rank cannot write stop every rank with one message and a
 # non-zero exit. Boxes (--ranks-grid): DGMPM on the 2 x 2 plate and the 2 x 2 x 1 block,
 # DGMPM, MPM (both frames: the moving plate in the updated one) and FEM on the 2 x 2 plate,
 # byte for byte.
@@ -172,6 +171,15 @@ RAYON_NUM_THREADS=1 "${mpi[@]}" -np 4 "$bin" run "$work/moving.toml" --method mp
   --out "$out" >"$out.log" 2>&1 || fail "mpm moving plate (updated frame) on boxes 2,2 failed: $(tail -5 "$out.log")"
 same_as_serial "mpm moving plate (updated frame) on boxes 2,2" "$serial" "$out" mpm 4
 echo "mpi: a moving plate (mpm, updated frame, points migrating) on 4 ranks as boxes 2,2: the serial run's files"
+# CPDI in the updated frame: the moving plate's domains deform with it and cross the cut
+# with their points (a halo of 8 cells under MUSL); 2 ranks write the serial run's files
+serial="$work/ul-cpdi-serial"
+RAYON_NUM_THREADS=1 "$bin" run "$work/moving.toml" --method mpm --shape cpdi --quiet --out "$serial" >/dev/null
+out="$work/ul-cpdi-np2"
+RAYON_NUM_THREADS=1 "${mpi[@]}" -np 2 "$bin" run "$work/moving.toml" --method mpm --shape cpdi --quiet \
+  --out "$out" >"$out.log" 2>&1 || fail "mpm moving plate (updated frame, CPDI) on 2 ranks failed: $(tail -5 "$out.log")"
+same_as_serial "mpm moving plate (updated frame, CPDI) on 2 ranks" "$serial" "$out" mpm 2
+echo "mpi: a moving plate (mpm, updated frame, CPDI, domains migrating) on 2 ranks: the serial run's files"
 # boxes (--ranks-grid): DGMPM on the plate (2 x 2) and a small block (2 x 2 x 1) on 4 ranks,
 # MPM (total Lagrangian) and FEM on the plate (2 x 2), write the serial files byte for byte
 # (profiles, grid files; metrics to the energy's round-off)
@@ -279,10 +287,9 @@ expect_failure_of() { # code pattern mpirun-args...
   [ "$rc" = "$code" ] || fail "$*: exit code $rc, not $code: $(cat "$work/fail.err")"
 }
 expect_failure 2 "courant.*7" run plate --method dgmpm --courant 7
-expect_failure 2 "CPDI in the updated Lagrangian frame.*does not run on 3 ranks" run plate --method mpm --frame updated-lagrangian --shape cpdi
 expect_failure 3 "blew up" run plate --method dgmpm --courant 1.5 --allow-unstable
 expect_failure 2 "ranks-grid 2,2: its product is 4 but the run has 3 ranks" run plate --method dgmpm --ranks-grid 2,2
-echo "mpi: a bad input, an undecomposed option and a blow-up stop all 3 ranks with one message"
+echo "mpi: a bad input and a blow-up stop all 3 ranks with one message"
 # a failure on some ranks only: rank 0 cannot make its output folder (under /proc); ranks 1
 # and 2 cannot make their scratch folders (TMPDIR under /proc, MPMD launch) while rank 0 can
 expect_failure_of 2 "rank 0: .*impact-out" -np 3 "$bin" run plate --method dgmpm --quiet --out /proc/impact-out

@@ -10,7 +10,7 @@
 //! in slabs along the last axis or in boxes of the rank grid `--ranks-grid`
 //! ([`set_rank_grid`]; [`impact_dgmpm::slab`], [`impact_mpm::slab`], [`impact_fem::slab`];
 //! MPM's updated frame with points migrating between the boxes, [`impact_mpm::migrate`],
-//! CPDI there refused on more than one rank).
+//! CPDI included).
 //! The converged references are computed whole on every rank (no collective calls, so a
 //! cache hit on one rank and a miss on another cannot desynchronise them).
 use impact_core::comm::{Comm, CommError, RankGrid, SerialComm};

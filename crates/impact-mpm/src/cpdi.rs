@@ -24,7 +24,7 @@ const MAX_CORNERS: usize = 8;
 impl<const D: usize> Stencil<D> {
     /// The stencil's first node along each axis for the domain `domain` around `x`, if
     /// all its corners' hats lie on the grid.
-    fn domain_start(
+    pub(crate) fn domain_start(
         &self,
         grid: &Grid<D>,
         x: &Vector<D>,

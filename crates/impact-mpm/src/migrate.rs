@@ -8,8 +8,29 @@
 //! neighbours' points in its halo cells: the whole body's points cut to its stored box, as
 //! the total Lagrangian box (`slab.rs`, whose module doc shows why the own points are then
 //! exact after a step: the stencils are evaluated at the step's start, so the argument
-//! holds for the current cells). CPDI is refused on several ranks here: its domains deform
-//! with the body and may reach past the halo that argument sizes.
+//! holds for the current cells).
+//!
+//! **CPDI's deforming domains** (`cpdi.rs`: `R ← (I + Δt ∇v) R`): a point's stencil, 4
+//! nodes per axis from the node below its domain's lowest corner, may start below the
+//! point's cell `j`, at `j − a`. A missing point beyond a lower cut at `s` (cell `< s`,
+//! start `≤` its cell) spoils nodes up to `s + 2`, read by the stored points of cells up to
+//! `s + 2 + a`; beyond an upper cut at `e` (start `≥ e − a`), nodes from `e − a`, read by
+//! the points from cell `e − a − 3`: `3 + a` cells a round (counting the stencil's nodes,
+//! zero weights included, as `slab.rs` does; by the weighing nodes alone 3 would do, and
+//! `tests/migrate.rs` passes with `rounds × 3` too, but a spoiled value times a zero weight
+//! may still flip a zero's sign or carry a non-finite value). The halo is sized for
+//! `a ≤` [`CPDI_DOMAIN_REACH`](crate::slab::CPDI_DOMAIN_REACH)` = 1` (`halo_layers`:
+//! `rounds × 4`), every domain the stencil holds: a domain is symmetric about its point,
+//! `x ± e` along an axis, and 3 cells from `first = ⌊x − e⌋` hold `x + e` only if
+//! `x − first < 1.5`, so `j − first ≤ 1`; a larger domain leaves the stencil and fails the
+//! run as on one rank ("stencil left the background grid"). The point's cell (body grid)
+//! and the corner (padded grid) round separately, so after each step every own point's next
+//! stencil start is checked (`Cells::cpdi_stencil_past_halo`; an axis along which the point
+//! lies beyond the body's grid, with no cut, is skipped): one outside `j − 1 ..= j` fails
+//! the run at its next check with the step, the time, the point's global number and
+//! position, the cells below, the halo and what to do (fewer ranks along that axis, or
+//! another shape), as a point moving past the halo does (below). The domains travel with
+//! their points (a column of the rows) and in the halo.
 //!
 //! **After each step** ([`MigratingMpm::step`]), two rounds of exchanges with the
 //! neighbours, axis by axis, each of messages of any length
@@ -44,7 +65,8 @@
 //! along an axis lands in the own range or the neighbour's there.
 //!
 //! **Bit for bit.** The scatters add a node's points layer by layer (by the layer of their
-//! stencil's base node), and within a layer in the order of `Place::scatter_order` (here:
+//! stencil's base node, found on the whole padded grid from the point's position and, with
+//! CPDI, its domain: the same bits on every rank), and within a layer in the order of `Place::scatter_order` (here:
 //! the global order); one rank adds them in its own order, the global one. The gathers and
 //! the stress updates are per point, and the loads are applied in the whole body's order.
 //! The first failing point and the hottest one are looked for among the own points in the
@@ -59,13 +81,13 @@
 //! global number (`face_lists.rs`), travel with nothing: every rank holds the lists, a
 //! face's worth of points.
 use crate::edges::SurfaceLoad;
-use crate::migrate_rows::{columns, Buffers, Cells, Neighbour, COLUMNS};
+use crate::migrate_rows::{columns, cpdi_reach_reason, Buffers, Cells, Neighbour, COLUMNS};
 use crate::slab::halo_layers;
 use crate::Mpm;
-use impact_core::comm::{Comm, CommError, RankBox, RankGrid};
+use impact_core::comm::{Comm, RankBox, RankGrid};
 use impact_core::comm_gather::{first_bad, gather_samples, hottest_place};
 use impact_core::comm_migrate::Column;
-use impact_core::method::{BadState, Method, MethodConfig, MpmShape, Samples};
+use impact_core::method::{BadState, Method, MethodConfig, Samples};
 use impact_core::{Constraint, CoreError, Problem, Vector};
 use std::sync::Arc;
 
@@ -117,8 +139,8 @@ impl<const D: usize> MigratingMpm<D> {
     }
 
     /// This rank's box of `problem` on `rank_grid` (module doc). Refused: a configuration
-    /// that is not MPM in the updated frame, CPDI on several ranks, a rank grid that is not
-    /// one for the ranks or whose parts hold fewer cells than the halo.
+    /// that is not MPM in the updated frame, a rank grid that is not one for the ranks or
+    /// whose parts hold fewer cells than the halo.
     pub fn on_grid(
         problem: &Problem<D>,
         config: MethodConfig,
@@ -129,16 +151,6 @@ impl<const D: usize> MigratingMpm<D> {
             method: "mpm".into(),
             message: "not an MPM configuration".into(),
         })?;
-        if options.shape == MpmShape::Cpdi && comm.size() > 1 {
-            return Err(CommError::Unsupported {
-                what: "MPM with CPDI in the updated Lagrangian frame".into(),
-                ranks: comm.size(),
-                allowed: "its deformed domains may reach past the halo; run it on one rank, \
-                          or another shape (hats, GIMP, B-splines) on several"
-                    .into(),
-            }
-            .into());
-        }
         problem.check_config(&config)?;
         let grid = &problem.grid;
         let rank_box =
@@ -243,7 +255,8 @@ impl<const D: usize> MigratingMpm<D> {
     /// own point that moved more cells along an axis than the halo is the run's failure.
     fn find_leaving(&mut self, t: f64) {
         let (halo, cells_of) = (self.rank_box.halo, self.cells_of);
-        let position = &self.local.state.points.position;
+        let points = &self.local.state.points;
+        let position = &points.position;
         self.leaving.clear();
         for (i, cell) in self.own_cells.iter_mut().enumerate() {
             let now: [usize; D] = std::array::from_fn(|k| cells_of.along(k, position[i][k]));
@@ -258,6 +271,20 @@ impl<const D: usize> MigratingMpm<D> {
                          axis {axis} in one step, more than the halo of {halo} cells \
                          between ranks (an unstable step: lower the Courant number)",
                         self.steps, self.ids[i]
+                    ),
+                });
+            }
+            if let (Some(domain), None) = (points.domain.get(i), &self.failure) {
+                let past =
+                    cells_of.cpdi_stencil_past_halo(&self.local.solver, &position[i], domain, now);
+                self.failure = past.map(|reach| BadState {
+                    place: points.reference[i],
+                    reason: cpdi_reach_reason(
+                        (self.steps, t),
+                        self.ids[i],
+                        &position[i],
+                        reach,
+                        halo,
                     ),
                 });
             }

@@ -58,15 +58,23 @@ use impact_core::points::MaterialPoints;
 use impact_core::slab_method::{OnSlab, SlabBuild, SlabLocal, SlabParts};
 use impact_core::{CoreError, Grid, Problem, Tensor};
 
+/// Cells by which a CPDI domain's stencil may start below its point's cell along an axis
+/// in the updated Lagrangian frame, which the halo covers (`migrate.rs`: a domain stretched
+/// or sheared about one cell beyond its rest size; a point whose stencil starts lower fails
+/// the run).
+pub const CPDI_DOMAIN_REACH: usize = 1;
+
 /// Halo width (cells, along every axis) for `options`: scatter–gather rounds per step ×
-/// cells a round spoils next to a cut face (module doc).
+/// cells a round spoils next to a cut face (module doc; CPDI in the updated frame:
+/// `3 + CPDI_DOMAIN_REACH`, `migrate.rs`).
 pub fn halo_layers(options: &MpmOptions) -> usize {
     let rounds = match options.stress_update {
         StressUpdate::Usl => 1,
         StressUpdate::Musl | StressUpdate::Usf => 2,
     };
-    let reach = match options.shape {
-        MpmShape::Linear => 1,
+    let reach = match (options.shape, options.frame) {
+        (MpmShape::Linear, _) => 1,
+        (MpmShape::Cpdi, MpmFrame::UpdatedLagrangian) => 3 + CPDI_DOMAIN_REACH,
         _ => 3,
     };
     rounds * reach

@@ -5,12 +5,13 @@
 //! by exactly one rank with its mass unchanged, energy and momentum to round-off (sums in
 //! rank order). J2's history and APIC's affine velocity travel with their points (a field
 //! left behind would change the fields after the crossing). A point that jumps past the
-//! halo in one step fails the run with the step and the point; CPDI is refused.
+//! halo in one step fails the run with the step and the point; CPDI's domains, deforming
+//! with the flow, cross with their points, and one stretched past the halo fails the run.
 use impact_core::comm::{RankGrid, ThreadComm};
 use impact_core::method::{
     MethodConfig, MethodKind, MpmFrame, MpmShape, MpmTransfer, StressUpdate,
 };
-use impact_core::slab_method::{assert_matches_serial, blowup_on_ranks, refusal_on_ranks, RunEnd};
+use impact_core::slab_method::{assert_matches_serial, blowup_on_ranks, RunEnd};
 use impact_core::{Method, Problem, Scene, Vector};
 use impact_mpm::migrate::MigratingMpm;
 use impact_mpm::Mpm;
@@ -25,6 +26,16 @@ enum Kick {
     Shear,
     Scrambled,
     Diagonal,
+    /// `Diagonal`, every CPDI domain made 1.8 cells tall along the last axis: each point's
+    /// stencil starts a cell below its cell and its 4 nodes along that axis weigh.
+    TallDomains,
+}
+
+/// Every point's CPDI domain made 1.8 cells tall along the last axis (`Kick::TallDomains`).
+fn make_tall<const D: usize>(m: &mut Mpm<D>, spacing: f64) {
+    for r in &mut m.state.points.domain {
+        r[(D - 1, D - 1)] = 0.9 * spacing;
+    }
 }
 
 /// `problem`'s points kicked along the last axis by `speed · (½ + X₀/L₀)` (a shear across
@@ -37,7 +48,7 @@ enum Kick {
 fn kick<const D: usize>(m: &mut dyn Method<D>, speed: f64, length: f64, kind: Kick) {
     m.perturb_velocity(&mut |_, x| {
         let mut v = Vector::<D>::zeros();
-        if kind == Kick::Diagonal {
+        if kind == Kick::Diagonal || kind == Kick::TallDomains {
             // the whole plate along the diagonal, through the faces along both axes
             return Vector::<D>::from_element(speed);
         }
@@ -89,6 +100,10 @@ fn check_on<const D: usize>(
     let (speed, length) = (0.12 * problem.max_wave_speed(), scene.domain.length[0]);
     let mut one = Mpm::<D>::new(&problem, config).unwrap();
     kick::<D>(&mut one, speed, length, kind);
+    let spacing = problem.grid.spacing[D - 1];
+    if kind == Kick::TallDomains {
+        make_tall(&mut one, spacing);
+    }
     let serial = RunEnd::after_steps(&mut one, steps);
     let s = &serial.samples;
     let finite = |x: &[f64]| x.iter().all(|v| v.is_finite());
@@ -106,6 +121,9 @@ fn check_on<const D: usize>(
         let ends = ThreadComm::on_ranks(ranks, |comm| {
             let mut m = MigratingMpm::<D>::on_grid(&problem, config, comm, grid).unwrap();
             kick::<D>(&mut m, speed, length, kind);
+            if kind == Kick::TallDomains {
+                make_tall(&mut m.local, spacing);
+            }
             let end = RunEnd::after_steps(&mut m, steps);
             let own = m.local.owned_points();
             let masses: Vec<(usize, f64)> = (m.owned_ids().iter().copied())
@@ -351,10 +369,9 @@ fn plastic_history_and_apic_migrate_with_their_points() {
 }
 
 /// A point kicked past the halo in one step (along the last axis on slabs, the diagonal on
-/// 2 × 2 boxes) stops the run with the step and the point, on every rank; CPDI is refused
-/// on several ranks.
+/// 2 × 2 boxes) stops the run with the step and the point, on every rank.
 #[test]
-fn a_jump_past_the_halo_fails_and_cpdi_is_refused() {
+fn a_jump_past_the_halo_fails() {
     let plate = scene("plate");
     let problem = Problem::<2>::from_scene(&plate).unwrap();
     let mut config = plate.method_config(MethodKind::Mpm);
@@ -387,12 +404,116 @@ fn a_jump_past_the_halo_fails_and_cpdi_is_refused() {
         );
         assert!(reports.iter().all(|r| r == &reports[0]), "{reports:?}");
     }
-    config.mpm_mut().unwrap().shape = MpmShape::Cpdi;
-    let message = refusal_on_ranks(2, |comm| MigratingMpm::<2>::new(&problem, config, comm));
-    assert!(
-        message.contains("CPDI") && message.contains("2 ranks"),
-        "{message}"
+}
+
+/// CPDI with 2 × 2 points per cell, stresses updated as `update`.
+fn cpdi(update: StressUpdate) -> impl Fn(&mut MethodConfig) {
+    move |c| {
+        c.points_per_cell = 4;
+        let o = c.mpm_mut().unwrap();
+        o.shape = MpmShape::Cpdi;
+        o.stress_update = update;
+    }
+}
+
+/// CPDI (2 × 2 points per cell, MUSL: a halo of 8 cells) on the plate moving along the
+/// diagonal, 40 × 30 cells, its points and their deforming domains crossing the faces, on
+/// 2 and 3 slabs and 2 × 2 boxes: bit for bit against one rank, every point owned once with
+/// its mass, energy and momentum to round-off; under USL (a halo of 4 cells); and with
+/// every domain 1.8 cells tall (`Kick::TallDomains`) on 3 and 4 slabs and 2 × 2 boxes;
+/// and the plate's domains sheared hard (`Kick::Scrambled`, 33 × 25 cells, MUSL).
+#[test]
+fn cpdi_in_the_updated_frame_migrates_and_equals_one_rank() {
+    let grids = [
+        (2, RankGrid::automatic()),
+        (3, RankGrid::automatic()),
+        (4, RankGrid(vec![2, 2])),
+    ];
+    let mut plate = scene("plate");
+    plate.domain.cells = vec![40, 30];
+    for update in [StressUpdate::Musl, StressUpdate::Usl] {
+        check_on::<2>(
+            &format!("moving plate, CPDI, 2 × 2 points per cell, {update:?}"),
+            &plate,
+            cpdi(update),
+            40,
+            Kick::Diagonal,
+            &grids,
+        );
+    }
+    // every domain 1.8 cells tall: each stencil starts a cell below its point's cell and
+    // its 4 nodes along the cut axis weigh (the domains' reach the halo's extra cell is for)
+    check_on::<2>(
+        "moving plate, CPDI, domains 1.8 cells tall, USL",
+        &plate,
+        cpdi(StressUpdate::Usl),
+        40,
+        Kick::TallDomains,
+        &[
+            (3, RankGrid::automatic()),
+            (4, RankGrid::automatic()),
+            (4, RankGrid(vec![2, 2])),
+        ],
     );
+    // domains sheared hard: every other column of cells kicked along the cut axis, so the
+    // domains at the columns' sides shear and their stencils start below their cells
+    check_on::<2>(
+        "scrambled plate, CPDI, 2 × 2 points per cell, MUSL",
+        &scene("plate"),
+        cpdi(StressUpdate::Musl),
+        30,
+        Kick::Scrambled,
+        &grids,
+    );
+}
+
+/// A CPDI domain stretched past what the halo covers: a domain whose CPDI stencil fits
+/// starts at most one cell below its point's cell (it is symmetric about the point and the
+/// stencil spans 3 cells), which the halo covers, so a larger one leaves the stencil. One
+/// point's domain made 3.2 cells tall (past the stencil) fails the run after the step on every rank, on 2
+/// slabs and on 2 × 2 boxes, as one rank reports it (the same point and reason); no panic,
+/// no answer.
+#[test]
+fn a_cpdi_domain_stretched_past_the_halo_fails_on_every_rank() {
+    let mut plate = scene("plate");
+    plate.domain.cells = vec![20, 20];
+    let problem = Problem::<2>::from_scene(&plate).unwrap();
+    let mut config = plate.method_config(MethodKind::Mpm);
+    config.mpm_mut().unwrap().frame = MpmFrame::UpdatedLagrangian;
+    cpdi(StressUpdate::Usl)(&mut config);
+    // a point of the cell (10, 10), in the middle of the plate, on rank 1 of 2 slabs and
+    // rank 3 of 2 × 2 boxes
+    let target = (10 * 20 + 10) * 4;
+    let tall = 1.6 * problem.grid.spacing[1];
+    let stretch = |ids: &[usize], m: &mut Mpm<2>| {
+        if let Some(i) = ids.iter().position(|&id| id == target) {
+            m.state.points.domain[i][(1, 1)] = tall;
+        }
+    };
+    let mut one = Mpm::<2>::new(&problem, config).unwrap();
+    let ids: Vec<usize> = (0..one.state.points.len()).collect();
+    stretch(&ids, &mut one);
+    let dt = one.stable_dt();
+    one.step(0.0, dt);
+    let expected = one.check_finite().unwrap_err();
+    assert!(
+        expected.reason.contains("stencil left the background grid"),
+        "{expected:?}"
+    );
+    for (ranks, grid) in [(2, RankGrid::automatic()), (4, RankGrid(vec![2, 2]))] {
+        let reports = ThreadComm::on_ranks(ranks, |comm| {
+            let mut m = MigratingMpm::<2>::on_grid(&problem, config, comm, &grid).unwrap();
+            let ids = m.owned_ids().to_vec();
+            stretch(&ids, &mut m.local);
+            let dt = m.stable_dt();
+            m.step(0.0, dt);
+            m.check_finite().unwrap_err()
+        });
+        assert!(
+            reports.iter().all(|r| r == &expected),
+            "{grid:?}: {reports:?}"
+        );
+    }
 }
 
 /// A NaN planted in one point is reported by every rank, once, as one rank reports it, on
