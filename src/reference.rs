@@ -90,24 +90,15 @@ pub fn reference_on<const D: usize>(
         describe_config(&setup.judge.config, D),
         setup.grid(),
     );
-    let stored = computed_or_cached(
-        problem,
-        &fine,
-        (&setup.judge, r),
-        (&description, say),
-        ranks,
-    )?;
+    let run = |method, description: &str| {
+        computed_or_cached(problem, &fine, (method, r), (description, say), ranks)
+    };
+    let stored = run(&setup.judge, &description)?;
     let spread_description = format!(
         "second reference (spread): {} on the same grid",
         describe_config(&setup.spread.config, D)
     );
-    let second = computed_or_cached(
-        problem,
-        &fine,
-        (&setup.spread, r),
-        (&spread_description, say),
-        ranks,
-    )?;
+    let second = run(&setup.spread, &spread_description)?;
     let crate::reference_cache::Stored {
         stress_xx,
         velocity_x,
