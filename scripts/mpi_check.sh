@@ -201,6 +201,28 @@ PY
   echo "mpi: $scene ($method) on 4 ranks as boxes $grid: files equal to the serial run bit for bit"
 done
 
+# the converged reference on 2 ranks with an empty cache folder: run decomposed, rank 0
+# writes the one-rank cache entries byte for byte and the metrics are one rank's; a second
+# run reads both entries (rank 0 reads, the others receive them) and computes nothing
+cache_one="$work/cache-one" cache_two="$work/cache-two"
+serial="$work/refranks-serial" out="$work/refranks-np2"
+IMPACT_CACHE_DIR="$cache_one" RAYON_NUM_THREADS=1 "$bin" run plate --method dgmpm --cells 16 \
+  --quiet --out "$serial" >/dev/null
+IMPACT_CACHE_DIR="$cache_two" RAYON_NUM_THREADS=1 "${mpi[@]}" -np 2 "$bin" run plate --method dgmpm \
+  --cells 16 --out "$out" >"$out.log" 2>&1 || fail "the reference on 2 ranks failed: $(tail -5 "$out.log")"
+[ "$(find "$cache_two" -name '*.ref' | wc -l)" = 2 ] || fail "the reference on 2 ranks: not 2 cache entries"
+for f in "$cache_one"/*.ref; do
+  cmp -s "$f" "$cache_two/$(basename "$f")" || fail "the reference on 2 ranks: $(basename "$f") differs from one rank's"
+done
+grep -q "computing the converged reference" "$out.log" || fail "the reference on 2 ranks: not computed"
+same_as_serial "dgmpm plate, its reference computed on 2 ranks" "$serial" "$out" dgmpm 2
+IMPACT_CACHE_DIR="$cache_two" RAYON_NUM_THREADS=1 "${mpi[@]}" -np 2 "$bin" run plate --method dgmpm \
+  --cells 16 --out "$out-again" >"$out-again.log" 2>&1 || fail "the reference read on 2 ranks failed"
+[ "$(grep -c "read from the cache" "$out-again.log")" = 2 ] && ! grep -q "computing the" "$out-again.log" ||
+  fail "the reference on 2 ranks: not read from the cache: $(cat "$out-again.log")"
+same_as_serial "dgmpm plate, its reference read on 2 ranks" "$serial" "$out-again" dgmpm 2
+echo "mpi: the plate's converged reference on 2 ranks: the one-rank cache entries byte for byte, then read"
+
 # impact check and bench convergence under mpirun, unchanged: the same report and files as
 # one rank (check's runs are decomposed, its energies differ by round-off only, which the
 # report does not print; the convergence ladder's runs are decomposed too, their errors

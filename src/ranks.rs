@@ -11,8 +11,10 @@
 //! ([`set_rank_grid`]; [`impact_dgmpm::slab`], [`impact_mpm::slab`], [`impact_fem::slab`];
 //! MPM's updated frame with points migrating between the boxes, [`impact_mpm::migrate`],
 //! CPDI included).
-//! The converged references are computed whole on every rank (no collective calls, so a
-//! cache hit on one rank and a miss on another cannot desynchronise them).
+//! The converged references are shared by the ranks ([`crate::reference`]): rank 0 alone
+//! reads the cache and tells the others hit or miss; a hit is sent from rank 0 to every
+//! rank, a miss is run decomposed like these runs ([`build_ranked_on`]) and rank 0 writes
+//! the cache entry.
 use impact_core::comm::{Comm, CommError, RankGrid, SerialComm};
 use impact_core::method::{MethodConfig, MethodKind, MpmFrame};
 use impact_core::{CoreError, Method, Problem};
@@ -85,7 +87,17 @@ pub fn build_ranked<const D: usize>(
     problem: &Problem<D>,
     config: MethodConfig,
 ) -> Result<Box<dyn Method<D>>, CoreError> {
-    let (comm, grid) = (comm(), rank_grid());
+    build_ranked_on(problem, config, comm(), &rank_grid())
+}
+
+/// [`build_ranked`] on the ranks of `comm` split as `grid` (the in-process ranks of the
+/// tests, [`impact_core::comm::ThreadComm`]).
+pub fn build_ranked_on<const D: usize>(
+    problem: &Problem<D>,
+    config: MethodConfig,
+    comm: Arc<dyn Comm>,
+    grid: &RankGrid,
+) -> Result<Box<dyn Method<D>>, CoreError> {
     // (a rank grid that does not fit is refused on one rank too)
     grid.parts(D, comm.size()).map_err(CoreError::from)?;
     if comm.size() == 1 {
@@ -93,19 +105,19 @@ pub fn build_ranked<const D: usize>(
     }
     match config.kind() {
         MethodKind::Dgmpm => Ok(Box::new(impact_dgmpm::slab::SlabDgmpm::<D>::on_grid(
-            problem, config, comm, &grid,
+            problem, config, comm, grid,
         )?)),
         MethodKind::Mpm if config.mpm().map(|o| o.frame) == Some(MpmFrame::UpdatedLagrangian) => {
             // points migrate between the boxes (`impact_mpm::migrate`)
             Ok(Box::new(impact_mpm::migrate::MigratingMpm::<D>::on_grid(
-                problem, config, comm, &grid,
+                problem, config, comm, grid,
             )?))
         }
         MethodKind::Mpm => Ok(Box::new(impact_mpm::slab::SlabMpm::<D>::on_grid(
-            problem, config, comm, &grid,
+            problem, config, comm, grid,
         )?)),
         MethodKind::Fem => Ok(Box::new(impact_fem::slab::SlabFem::<D>::on_grid(
-            problem, config, comm, &grid,
+            problem, config, comm, grid,
         )?)),
     }
 }

@@ -23,6 +23,36 @@ pub fn reference_for<const D: usize>(
     compared: &[MethodKind],
     say: bool,
 ) -> anyhow::Result<Option<impact_core::reference::Reference>> {
+    let ranks = Ranks {
+        comm: crate::ranks::comm(),
+        grid: crate::ranks::rank_grid(),
+    };
+    reference_on(problem, compared, say, &ranks)
+}
+
+/// The ranks a converged reference is shared by: their communicator and the rank grid its
+/// run is split as (`impact run`'s, [`crate::ranks::build_ranked_on`]).
+#[derive(Debug, Clone)]
+pub struct Ranks {
+    /// The ranks (every one calls [`reference_on`]).
+    pub comm: std::sync::Arc<dyn impact_core::comm::Comm>,
+    /// How a reference run is split over them.
+    pub grid: impact_core::comm::RankGrid,
+}
+
+/// [`reference_for`] on the ranks `ranks`, every rank calling it: rank 0 alone reads the
+/// cache and sends a hit to every rank; a miss is run decomposed over the ranks, every
+/// rank gathering its samples, and rank 0 writes the entry
+/// ([`crate::reference_cache::Entry::get_or_compute_on`]). Every rank returns the same
+/// reference; an entry computed on several ranks holds the one-rank run's σ_xx and v_x
+/// bit for bit where the method's decomposed samples are (DGMPM, FEM, MPM in the total
+/// frame), and its work, a sum in rank order, to round-off.
+pub fn reference_on<const D: usize>(
+    problem: &Problem<D>,
+    compared: &[MethodKind],
+    say: bool,
+    ranks: &Ranks,
+) -> anyhow::Result<Option<impact_core::reference::Reference>> {
     use impact_core::converged::Spread;
     use impact_core::reference::{Converged, Reference};
     let line = impact_core::line::MeasureLine::of(problem);
@@ -60,12 +90,15 @@ pub fn reference_for<const D: usize>(
         describe_config(&setup.judge.config, D),
         setup.grid(),
     );
-    let stored = computed_or_cached(problem, &fine, (&setup.judge, r), &description, say)?;
+    let run = |method, description: &str| {
+        computed_or_cached(problem, &fine, (method, r), (description, say), ranks)
+    };
+    let stored = run(&setup.judge, &description)?;
     let spread_description = format!(
         "second reference (spread): {} on the same grid",
         describe_config(&setup.spread.config, D)
     );
-    let second = computed_or_cached(problem, &fine, (&setup.spread, r), &spread_description, say)?;
+    let second = run(&setup.spread, &spread_description)?;
     let crate::reference_cache::Stored {
         stress_xx,
         velocity_x,
@@ -157,8 +190,8 @@ fn computed_or_cached<const D: usize>(
     problem: &Problem<D>,
     fine: &Problem<D>,
     (method, r): (&ReferenceMethod, usize),
-    description: &str,
-    say: bool,
+    (description, say): (&str, bool),
+    ranks: &Ranks,
 ) -> anyhow::Result<crate::reference_cache::Stored> {
     let axis = impact_core::line::MeasureLine::of(problem).axis;
     fine.check_config(&method.config).map_err(|e| {
@@ -170,13 +203,20 @@ fn computed_or_cached<const D: usize>(
     })?;
     let entry = cache_entry(&crate::reference_cache::folder(), fine, (method, r));
     let fine_cells = fine.grid.cell_count();
-    let (stored, cached) = entry.get_or_compute(problem.output_times.len(), fine_cells, || {
+    let times = problem.output_times.len();
+    let comm = ranks.comm.as_ref();
+    let (stored, cached) = entry.get_or_compute_on(comm, times, fine_cells, || {
         if say {
             crate::root_eprintln!("computing the {description}");
         }
         let progress = say.then(|| crate::run::progress_bar("reference"));
-        let (stress_xx, velocity_x, work) =
-            converged_run(problem, fine, method.config, axis, progress.as_ref())?;
+        let (stress_xx, velocity_x, work) = converged_run(
+            problem,
+            fine,
+            (method.config, ranks),
+            axis,
+            progress.as_ref(),
+        )?;
         if let Some(p) = progress {
             p.finish_and_clear();
         }
@@ -221,17 +261,18 @@ fn loaded_at<const D: usize>(
     }
 }
 
-/// Step the fine `problem` to the coarse problem's output times, keeping σ_aa, v_a along
+/// Step the fine `problem` (split over `ranks`) to the coarse problem's output times, keeping σ_aa, v_a along
 /// `axis` (one point per cell, stored cell by cell) and the external work at each.
 #[allow(clippy::type_complexity)]
 fn converged_run<const D: usize>(
     problem: &Problem<D>,
     fine: &Problem<D>,
-    config: MethodConfig,
+    (config, ranks): (MethodConfig, &Ranks),
     axis: usize,
     progress: Option<&indicatif::ProgressBar>,
 ) -> anyhow::Result<(Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<f64>)> {
-    let mut method = crate::build(fine, config)?;
+    // split like `impact run`'s runs; `sample_into` gathers the whole body to every rank
+    let mut method = crate::ranks::build_ranked_on(fine, config, ranks.comm.clone(), &ranks.grid)?;
     let mut samples = impact_core::method::Samples::<D>::default();
     let cells = fine.grid.cell_count();
     let (mut stress_xx, mut velocity_x, mut work) = (Vec::new(), Vec::new(), Vec::new());

@@ -24,6 +24,10 @@
 //!   on `<hash>.lock`, so concurrent runs compute it once and the others then read it; an
 //!   entry that does not parse, does not match its key or holds a non-finite value is
 //!   ignored and recomputed.
+//! - **Ranks** (issue 27): rank 0 alone reads, locks and writes the folder; the other ranks
+//!   receive a hit from it or join the decomposed run of a miss
+//!   ([`Entry::get_or_compute_on`]).
+use impact_core::comm::{Comm, SerialComm};
 use std::hash::{Hash, Hasher};
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -173,41 +177,98 @@ impl Entry {
 
     /// Hold the entry's lock while `compute` runs unless a valid entry appears meanwhile
     /// (another process computed it): the stored or computed reference. Without a usable
-    /// cache folder it computes without the cache.
+    /// cache folder it computes without the cache. One rank: [`Self::get_or_compute_on`].
     pub fn get_or_compute(
         &self,
         times: usize,
         cells: usize,
         compute: impl FnOnce() -> anyhow::Result<Stored>,
     ) -> anyhow::Result<(Stored, bool)> {
-        if let Some(found) = self.load(times, cells) {
-            return Ok((found, true));
+        self.get_or_compute_on(&SerialComm, times, cells, compute)
+    }
+
+    /// [`Self::get_or_compute`] on the ranks of `comm`, every rank calling it: rank 0 alone
+    /// reads the cache (and holds the lock while the ranks compute), tells every rank
+    /// whether it hit ([`Comm::any`]) and on a hit sends the stored reference to every
+    /// rank ([`share`]); on a miss every rank runs `compute` (a collective: the reference
+    /// run decomposed over the ranks, each rank ending with the whole reference) and
+    /// rank 0 stores its result. The flag says whether it was read from the cache.
+    pub fn get_or_compute_on(
+        &self,
+        comm: &dyn Comm,
+        times: usize,
+        cells: usize,
+        compute: impl FnOnce() -> anyhow::Result<Stored>,
+    ) -> anyhow::Result<(Stored, bool)> {
+        let mut found = None;
+        let mut lock = None;
+        if comm.is_root() {
+            found = self.load(times, cells);
+            if found.is_none() {
+                lock = self.lock_file().map(fd_lock::RwLock::new);
+            }
         }
-        let dir = self.path.parent().unwrap_or(Path::new("."));
-        let lock_file = impact_io::create_dir(dir).ok().and_then(|_| {
-            std::fs::File::options()
-                .create(true)
-                .truncate(false)
-                .write(true)
-                .open(&self.lock)
-                .ok()
-        });
-        let Some(lock_file) = lock_file else {
-            return Ok((compute()?, false));
-        };
-        let mut lock = fd_lock::RwLock::new(lock_file);
-        let _guard = lock.write();
-        if let Some(found) = self.load(times, cells) {
-            return Ok((found, true));
+        let guard = lock.as_mut().and_then(|l| l.write().ok());
+        if guard.is_some() {
+            // another process may have written it while this one waited for the lock
+            found = self.load(times, cells);
+        }
+        if comm.any(found.is_some()) {
+            return Ok((share(comm, found, times, cells), true));
         }
         let computed = compute()?;
-        if let Err(e) = self.store(&computed) {
-            if crate::ranks::is_root() {
+        if guard.is_some() {
+            if let Err(e) = self.store(&computed) {
                 eprintln!("note: the converged reference is not cached: {e}");
             }
         }
         Ok((computed, false))
     }
+
+    /// The entry's lock file, created (with the folder) if need be; `None` without a
+    /// usable cache folder.
+    fn lock_file(&self) -> Option<std::fs::File> {
+        let dir = self.path.parent().unwrap_or(Path::new("."));
+        impact_io::create_dir(dir).ok()?;
+        std::fs::File::options()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&self.lock)
+            .ok()
+    }
+}
+
+/// Rank 0's `stored` reference (`Some` there) on every rank of `comm`: one gather per
+/// output time of `[σ_xx (cells), v_x (cells), work]` to which only rank 0 contributes (a
+/// broadcast; per time so that no message exceeds one time's fields).
+fn share(comm: &dyn Comm, stored: Option<Stored>, times: usize, cells: usize) -> Stored {
+    if comm.size() == 1 {
+        return stored.expect("internal: rank 0 holds the stored reference");
+    }
+    let mut shared = stored.unwrap_or_else(|| Stored {
+        stress_xx: Vec::with_capacity(times),
+        velocity_x: Vec::with_capacity(times),
+        work: Vec::with_capacity(times),
+    });
+    let root = comm.is_root();
+    let (mut local, mut out, mut counts) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..times {
+        local.clear();
+        if root {
+            local.extend_from_slice(&shared.stress_xx[k]);
+            local.extend_from_slice(&shared.velocity_x[k]);
+            local.push(shared.work[k]);
+        }
+        comm.all_gather_into(&local, &mut out, &mut counts);
+        if !root {
+            // rank 0's part comes first; the others sent nothing
+            shared.stress_xx.push(out[..cells].to_vec());
+            shared.velocity_x.push(out[cells..2 * cells].to_vec());
+            shared.work.push(out[2 * cells]);
+        }
+    }
+    shared
 }
 
 #[cfg(test)]
