@@ -190,7 +190,7 @@ impl Entry {
     /// [`Self::get_or_compute`] on the ranks of `comm`, every rank calling it: rank 0 alone
     /// reads the cache (and holds the lock while the ranks compute), tells every rank
     /// whether it hit ([`Comm::any`]) and on a hit sends the stored reference to every
-    /// rank ([`share`]); on a miss every rank runs `compute` (a collective: the reference
+    /// rank (`share`); on a miss every rank runs `compute` (a collective: the reference
     /// run decomposed over the ranks, each rank ending with the whole reference) and
     /// rank 0 stores its result. The flag says whether it was read from the cache.
     pub fn get_or_compute_on(
