@@ -265,9 +265,12 @@ impl<const D: usize> MaterialPoints<D> {
         worst
     }
 
-    /// The point of largest `|v|` among `range` (the last of equals), if any.
-    pub fn hottest_in(&self, range: std::ops::Range<usize>) -> Option<usize> {
-        range.max_by(|&a, &b| self.velocity[a].norm().total_cmp(&self.velocity[b].norm()))
+    /// The point of largest `|v|` among `points` (a range, or the runs of a rank's own
+    /// points in order; the last of equals), if any.
+    pub fn hottest_in(&self, points: impl IntoIterator<Item = usize>) -> Option<usize> {
+        points
+            .into_iter()
+            .max_by(|&a, &b| self.velocity[a].norm().total_cmp(&self.velocity[b].norm()))
     }
 
     /// Add `kick(α, X_α)` to every point's velocity.
