@@ -18,8 +18,34 @@ pub(crate) struct Fields<'a, const D: usize> {
     per_cell: bool,
     /// The `2D` side states of each cell, stored cell by cell (side `2l + h` of axis `l`,
     /// low `h = 0` or high `h = 1`) instead of its nodes: Heun's second stage at one point
-    /// per cell (`fused/heun.rs`).
-    sides: bool,
+    /// per cell (`fused/heun.rs`; `tensor` and `velocity` empty then).
+    sides: Option<&'a [SideState<D>]>,
+}
+
+/// A cell's state on its side normal to `e_l` as far as a face normal to `e_l` reads it:
+/// the traction `σ e_l` (the tensor's column `l`) and the velocity. The Godunov flux
+/// (`riemann::axis`, eqs. 18-21), the normal flux `F_{e_l}` of the side terms, the ghost
+/// state across an edge normal to `e_l` and, on a side normal to `e_l` next to an edge of
+/// axis `k`, the ghost of the CTU corner fluctuation (`ghost_full` along `e_k`, then
+/// `F_{e_l}`: its column `l` is `σ_ll` and `σ_kl + n_k Δt_l`, `Δt_l` from `σ_lk` alone) read
+/// nothing else; [`Fields::side`] gives the other components as zero (Heun's second
+/// stage, `fused/heun.rs`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct SideState<const D: usize> {
+    /// `σ e_l`.
+    pub(crate) traction: Vector<D>,
+    /// `v`.
+    pub(crate) velocity: Vector<D>,
+}
+
+impl<const D: usize> SideState<D> {
+    /// Zero.
+    pub(crate) fn zeros() -> Self {
+        Self {
+            traction: Vector::<D>::zeros(),
+            velocity: Vector::<D>::zeros(),
+        }
+    }
 }
 
 impl<'a, const D: usize> Fields<'a, D> {
@@ -30,7 +56,7 @@ impl<'a, const D: usize> Fields<'a, D> {
             tensor,
             velocity,
             per_cell: true,
-            sides: false,
+            sides: None,
         }
     }
 
@@ -41,18 +67,18 @@ impl<'a, const D: usize> Fields<'a, D> {
             tensor,
             velocity,
             per_cell: false,
-            sides: false,
+            sides: None,
         }
     }
 
     /// `2D` side states per cell, stored cell by cell (`fused/heun.rs`).
     #[inline]
-    pub(crate) fn sides(tensor: &'a [Tensor<D>], velocity: &'a [Vector<D>]) -> Self {
+    pub(crate) fn sides(sides: &'a [SideState<D>]) -> Self {
         Self {
-            tensor,
-            velocity,
+            tensor: &[],
+            velocity: &[],
             per_cell: false,
-            sides: true,
+            sides: Some(sides),
         }
     }
 
@@ -93,14 +119,20 @@ impl<'a, const D: usize> Fields<'a, D> {
     }
 
     /// The average of cell `c`'s nodes on its face normal to `l` (nodal fields), or the
-    /// stored side state (side fields).
+    /// stored side state (side fields: column and row `l` of the tensor, the rest zero,
+    /// [`SideState`]).
     #[inline(always)]
     fn nodal_side(&self, c: usize, l: usize, high: bool) -> FullState<D> {
-        if self.sides {
-            let i = c * 2 * D + 2 * l + usize::from(high);
+        if let Some(sides) = self.sides {
+            let side = &sides[c * 2 * D + 2 * l + usize::from(high)];
+            let mut tensor = Tensor::<D>::zeros();
+            for k in 0..D {
+                tensor[(k, l)] = side.traction[k];
+                tensor[(l, k)] = side.traction[k];
+            }
             return FullState {
-                tensor: self.tensor[i],
-                velocity: self.velocity[i],
+                tensor,
+                velocity: side.velocity,
             };
         }
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;

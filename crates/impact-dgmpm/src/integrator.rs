@@ -314,8 +314,8 @@ impl<const D: usize> DgmpmSolver<D> {
             self.nodes_to_particles(&mut state.points);
         }
         self.plastic_correction(&mut state.points);
-        // (Heun's cell sweeps at one point per cell write no nodal output: moved here)
-        if !fused || self.heun_on_cells() {
+        if !fused {
+            // (the fused nodal sweep and the Heun cell sweeps move them in their last stage)
             self.move_points(&mut state.points, dt);
         }
     }

@@ -158,12 +158,13 @@ impl<const D: usize> DgmpmSolver<D> {
         let nodes = grid.cell_count() * Grid::<D>::NODES_PER_CELL;
         let fused_nodal = self.path == StepPath::FusedNodal;
         let rk2 = self.options.integrator == Integrator::Rk2;
-        // RK2 at one point per cell on the fused nodal sweep: nodal fields only; on the
-        // Heun cell sweeps `2D` side states per cell there (`fused/heun.rs`)
+        // RK2 at one point per cell on the fused nodal sweep: nodal fields only; none on
+        // the Heun cell sweeps (their `2D` side states per cell are the fused buffers',
+        // `fused/heun.rs`)
         let single = fused_nodal && self.fused_nodal_single();
         let heun = self.heun_on_cells();
         let nodes = match heun {
-            true => grid.cell_count() * 2 * D,
+            true => 0,
             false => nodes,
         };
         // the start-of-step fields: RK2, and the increment update of the phase paths (the
@@ -187,7 +188,8 @@ impl<const D: usize> DgmpmSolver<D> {
             let layout = match (fused_nodal, rk2 && !single) {
                 (false, _) => fused::Layout::cell(ctu),
                 (true, true) => fused::Layout::nodal(Grid::<D>::NODES_PER_CELL, ctu),
-                (true, false) => fused::Layout::nodal(usize::from(heun), ctu),
+                (true, false) if heun => fused::Layout::heun(ctu),
+                (true, false) => fused::Layout::nodal(0, ctu),
             };
             if self.fused.layout() != Some(layout) {
                 self.fused = fused::FusedBuffers::new(grid.cells, layout);

@@ -36,8 +36,8 @@
 //! zero only to round-off there, so the two agree to round-off (`tests/fused.rs`, 1e-13
 //! of the peaks), not bit for bit.
 use super::plane::Sweep2d;
-use super::{Band, UpdateConstants, BAND_ROWS, CHUNK};
-use crate::faces::Fields;
+use super::{Band, FusedBuffers, UpdateConstants, BAND_ROWS, CHUNK};
+use crate::faces::{Fields, SideState};
 use crate::riemann::axis::AxisConstants;
 use crate::riemann::{Conserved, FullState};
 use crate::{DgmpmSolver, StepPath};
@@ -66,14 +66,15 @@ struct HeunConstants<const D: usize> {
 }
 
 /// What one band of a Heun stage writes: stage 1 its cells' side states (`2D` per cell)
-/// and `q_p + ½ Δq(F¹)`; stage 2 adds `½ Δq(F²)` to the latter.
+/// and `q_p + ½ Δq(F¹)`; stage 2 adds `½ Δq(F²)` to the latter and moves the points.
 enum HeunOut<'a, const D: usize> {
     First {
-        sides: (&'a mut [Tensor<D>], &'a mut [Vector<D>]),
+        sides: &'a mut [SideState<D>],
         next: (&'a mut [Tensor<D>], &'a mut [Vector<D>]),
     },
     Second {
         next: (&'a mut [Tensor<D>], &'a mut [Vector<D>]),
+        position: &'a mut [Vector<D>],
     },
 }
 
@@ -171,9 +172,9 @@ impl<const D: usize> DgmpmSolver<D> {
     }
 
     /// Run `sweep(band index, band, face fields, point masses, output)` on every band:
-    /// stage 1 reads the points and writes the side states (into the nodal buffers, `2D`
-    /// per cell) and the next state; stage 2 reads the side states, updates the next state
-    /// in place and swaps it into the points. Returns the bands' power and force.
+    /// stage 1 reads the points and writes the side states and the next state; stage 2
+    /// reads the side states, updates the next state in place, moves the points and swaps
+    /// the next state into them. Returns the bands' power and force.
     fn heun_bands(
         &mut self,
         points: &mut MaterialPoints<D>,
@@ -181,43 +182,48 @@ impl<const D: usize> DgmpmSolver<D> {
         first: bool,
         sweep: impl Fn(&Self, usize, &mut Band<D>, Fields<'_, D>, &[f64], HeunOut<'_, D>) + Sync,
     ) -> (f64, Vector<D>) {
-        self.with_buffers(|this, buffers, nodes| {
+        self.with_buffers(|this, buffers, _| {
+            let FusedBuffers {
+                bands,
+                next_tensor,
+                next_velocity,
+                side_states,
+                ..
+            } = buffers;
+            let MaterialPoints {
+                stress,
+                velocity,
+                position,
+                mass,
+                ..
+            } = &mut *points;
+            let mass: &[f64] = mass;
             {
-                let (tensor, velocity, mass) = (&points.stress, &points.velocity, &points.mass);
                 let next = (
-                    chunks(&mut buffers.next_tensor, cells_per_band),
-                    chunks(&mut buffers.next_velocity, cells_per_band),
+                    chunks(next_tensor, cells_per_band),
+                    chunks(next_velocity, cells_per_band),
                 );
-                let bands = chunks(&mut buffers.bands, 1);
+                let bands = chunks(bands, 1);
                 if first {
-                    let fields = Fields::per_cell(tensor, velocity);
-                    let per_band = cells_per_band * 2 * D;
-                    let sides = (
-                        chunks(&mut nodes.tensor, per_band),
-                        chunks(&mut nodes.velocity, per_band),
-                    );
+                    let fields = Fields::per_cell(stress, velocity);
+                    let sides = chunks(side_states, cells_per_band * 2 * D);
                     let parts = (bands, next, sides);
                     for_each_chunk(this.parallel, 1, parts, |b, (band, next, sides)| {
                         let out = HeunOut::First { sides, next };
                         sweep(this, b, &mut band[0], fields, mass, out);
                     });
                 } else {
-                    let fields = Fields::sides(&nodes.tensor, &nodes.velocity);
-                    for_each_chunk(this.parallel, 1, (bands, next), |b, (band, next)| {
-                        sweep(
-                            this,
-                            b,
-                            &mut band[0],
-                            fields,
-                            mass,
-                            HeunOut::Second { next },
-                        );
+                    let fields = Fields::sides(side_states);
+                    let parts = (bands, next, chunks(position, cells_per_band));
+                    for_each_chunk(this.parallel, 1, parts, |b, (band, next, position)| {
+                        let out = HeunOut::Second { next, position };
+                        sweep(this, b, &mut band[0], fields, mass, out);
                     });
                 }
             }
             if !first {
-                std::mem::swap(&mut points.stress, &mut buffers.next_tensor);
-                std::mem::swap(&mut points.velocity, &mut buffers.next_velocity);
+                std::mem::swap(stress, next_tensor);
+                std::mem::swap(velocity, next_velocity);
             }
         })
     }
@@ -239,9 +245,10 @@ impl<const D: usize> DgmpmSolver<D> {
         let (dq, dv) = Self::flux_increment(&u.half, faces, mass);
         let (sides, next) = match out {
             HeunOut::First { sides, next } if FIRST => (sides, next),
-            HeunOut::Second { next } if !FIRST => {
+            HeunOut::Second { next, position } if !FIRST => {
                 next.0[local] += dq;
                 next.1[local] += dv;
+                position[local] += next.1[local] * u.dt;
                 return;
             }
             _ => unreachable!("internal: a Heun stage's output"),
@@ -289,8 +296,13 @@ impl<const D: usize> DgmpmSolver<D> {
             }
         }
         let first_side = local * 2 * D;
-        sides.0[first_side..first_side + 2 * D].copy_from_slice(&side_q[..2 * D]);
-        sides.1[first_side..first_side + 2 * D].copy_from_slice(&side_v[..2 * D]);
+        for (side, out) in sides[first_side..first_side + 2 * D].iter_mut().enumerate() {
+            let l = side / 2;
+            *out = SideState {
+                traction: Vector::<D>::from_fn(|k, _| side_q[side][(k, l)]),
+                velocity: side_v[side],
+            };
+        }
     }
 }
 

@@ -37,7 +37,7 @@
 //! and `block/ctu.rs` (its CTU), `nodal.rs` (the nodal stage: its dispatch, buffers, cell
 //! update and 1D sweep; 1D and 2D only) and `heun.rs` (RK2 at one point per cell strictly
 //! inside its cell: both stages as cell sweeps, no nodal field).
-use crate::faces::Fields;
+use crate::faces::{Fields, SideState};
 use crate::riemann::Conserved;
 use crate::{DgmpmSolver, StepPath, CHUNK};
 use impact_core::parallel::{chunks, for_each_chunk};
@@ -89,14 +89,17 @@ impl<const D: usize> Default for Band<D> {
 }
 
 /// What the fused buffers hold: next-state entries per cell (1 on the cell path, `2^D`
-/// between RK2's nodal stages, 0 where the only stage writes the points) and whether the
-/// bands keep the nodal side terms (nodal sweep with CTU).
+/// between RK2's nodal stages, 0 where the only stage writes the points), whether the
+/// bands keep the nodal side terms (nodal sweep with CTU) and whether the cells' side
+/// states are kept (the Heun cell sweeps).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Layout {
     next_per_cell: usize,
     sides: bool,
     /// The cell path with CTU (3D: the slabs keep the transverse planes).
     ctu: bool,
+    /// The Heun cell sweeps' `2D` side states per cell (`heun.rs`).
+    side_states: bool,
 }
 
 impl Layout {
@@ -106,6 +109,7 @@ impl Layout {
             next_per_cell: 1,
             sides: false,
             ctu,
+            side_states: false,
         }
     }
 
@@ -115,6 +119,16 @@ impl Layout {
             next_per_cell,
             sides: ctu,
             ctu: false,
+            side_states: false,
+        }
+    }
+
+    /// The Heun cell sweeps' (`heun.rs`): the nodal sweep's with one next state per cell
+    /// and the cells' side states.
+    pub(crate) fn heun(ctu: bool) -> Self {
+        Self {
+            side_states: true,
+            ..Self::nodal(1, ctu)
         }
     }
 }
@@ -127,6 +141,9 @@ pub(crate) struct FusedBuffers<const D: usize> {
     slabs: Vec<block::Slab>,
     next_tensor: Vec<Tensor<D>>,
     next_velocity: Vec<Vector<D>>,
+    /// The Heun cell sweeps' side states, `2D` per cell (`layout.side_states`; empty
+    /// otherwise).
+    side_states: Vec<SideState<D>>,
     layout: Option<Layout>,
 }
 
@@ -169,11 +186,16 @@ impl<const D: usize> FusedBuffers<D> {
             _ => Vec::new(),
         };
         let next = count * layout.next_per_cell;
+        let side_states = match layout.side_states {
+            true => count * 2 * D,
+            false => 0,
+        };
         Self {
             bands,
             slabs,
             next_tensor: vec![Tensor::<D>::zeros(); next],
             next_velocity: vec![Vector::<D>::zeros(); next],
+            side_states: vec![SideState::zeros(); side_states],
             layout: Some(layout),
         }
     }
