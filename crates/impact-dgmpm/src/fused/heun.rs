@@ -40,27 +40,23 @@ use super::{Band, FusedBuffers, UpdateConstants, BAND_ROWS, CHUNK};
 use crate::faces::{Fields, SideState};
 use crate::riemann::axis::AxisConstants;
 use crate::riemann::{Conserved, FullState};
-use crate::{DgmpmSolver, StepPath};
+use crate::{DgmpmSolver, StepPath, MAX_NODES};
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
 use impact_core::{Grid, Tensor, Vector};
 
-/// Weights per node of a cell in [`DgmpmSolver::heun_weights`]: `G_i` (`D`) and `κ_i`.
-const fn per_node(d: usize) -> usize {
-    d + 1
+/// Weights per side of a cell in [`DgmpmSolver::heun_weights`]: `W` (`D`), the own
+/// face's `K` and the two faces' `K` of each other axis (module doc).
+const fn per_side(d: usize) -> usize {
+    3 * d - 1
 }
 
-/// Most sides a cell has (`2D`, 3D).
-const MAX_SIDES: usize = 6;
-
-/// The step's constants of the Heun sweeps: the cell update's at `½Δt`, `Δt`, `Δt ρ`, the
-/// faces' scales `(s_f w_m Δt ρ, s_f w_m Δt)` per axis and side, and the Lamé constants
-/// of `C : sym(·)` (`λ = 0`, `μ = E/2` in 1D: `C : ε = E ε`).
+/// The step's constants of the Heun sweeps: the cell update's at `½Δt`, `Δt`, `Δt ρ` and
+/// the Lamé constants of `C : sym(·)` (`λ = 0`, `μ = E/2` in 1D: `C : ε = E ε`).
 struct HeunConstants<const D: usize> {
     half: UpdateConstants<D>,
     dt: f64,
     dt_rho: f64,
-    face_scale: [[(f64, f64); 2]; D],
     lambda: f64,
     mu: f64,
 }
@@ -85,11 +81,12 @@ impl<const D: usize> DgmpmSolver<D> {
         self.path == StepPath::FusedNodal && self.fused_nodal_single() && self.inside
     }
 
-    /// Form the nodes' weights `G_i = -V_p ∇S_i` and `κ_i = (2/2^D)/M_i` (module doc; `κ_i
-    /// = 0` at a node without mass, whose rates are zero) from the shape functions at the
-    /// (fixed) points, their masses and volumes, and drop the shape functions, where
-    /// [`Self::heun_on_cells`]; one cell's when every cell's are the same (points at the
-    /// same place in equal cells). Elsewhere the weights are dropped.
+    /// Form the sides' weights `W_(l,s) = Σ_i κ_i G_i` and `K_(l,s),(m,t) = s_t w_m Σ_i κ_i`
+    /// (module doc: `G_i = -V_p ∇S_i`, `κ_i = (2/2^D)/M_i`, `κ_i = 0` at a node without
+    /// mass, whose rates are zero) from the shape functions at the (fixed) points, their
+    /// masses and volumes, and drop the shape functions, where [`Self::heun_on_cells`];
+    /// one cell's when every cell's are the same (points at the same place in equal
+    /// cells). Elsewhere the weights are dropped.
     pub(crate) fn form_heun_weights(&mut self, points: &MaterialPoints<D>) {
         if !self.heun_on_cells() {
             self.heun_weights = Vec::new();
@@ -100,19 +97,52 @@ impl<const D: usize> DgmpmSolver<D> {
         }
         let n = Grid::<D>::NODES_PER_CELL;
         let k = 2.0 / n as f64;
-        let stride = n * per_node(D);
+        // the faces' node weights with their signs, `s_t w_m` (`+` low, `-` high)
+        let face_weight = |m: usize, t: usize| {
+            let w = self.grid.cell_volume() / self.grid.spacing[m] * k;
+            if t == 0 {
+                w
+            } else {
+                -w
+            }
+        };
+        let stride = 2 * D * per_side(D);
         let mut weights = Vec::with_capacity(points.len() * stride);
         for c in 0..points.len() {
-            let mass = points.mass[c];
-            for a in c * n..(c + 1) * n {
-                let gradient = self.shape_gradient[a] * -points.volume[c];
-                weights.extend(gradient.iter());
-                let nodal_mass = self.shape[a] * mass;
-                weights.push(if nodal_mass > 0.0 {
+            let (mass, volume) = (points.mass[c], points.volume[c]);
+            let nodes: [(Vector<D>, f64); MAX_NODES] = std::array::from_fn(|a| {
+                let Some(&shape) = self.shape[c * n..(c + 1) * n].get(a) else {
+                    return (Vector::<D>::zeros(), 0.0);
+                };
+                let nodal_mass = shape * mass;
+                let kappa = if nodal_mass > 0.0 {
                     k / nodal_mass
                 } else {
                     0.0
+                };
+                (self.shape_gradient[c * n + a] * -volume, kappa)
+            });
+            let node = |a: usize| nodes[a];
+            for (l, s) in (0..D).flat_map(|l| [(l, 0), (l, 1)]) {
+                // the side's nodes: bit l of the node index is s
+                let side = || (0..n).filter(move |a| (a >> l) & 1 == s);
+                let w = side().fold(Vector::<D>::zeros(), |w, a| {
+                    let (g, kappa) = node(a);
+                    w + g * kappa
                 });
+                weights.extend(w.iter());
+                let kappas = |t: Option<(usize, usize)>| {
+                    side()
+                        .filter(|a| t.is_none_or(|(m, t)| (a >> m) & 1 == t))
+                        .map(|a| node(a).1)
+                        .sum::<f64>()
+                };
+                weights.push(kappas(None) * face_weight(l, s));
+                for m in (0..D).filter(|&m| m != l) {
+                    for t in 0..2 {
+                        weights.push(kappas(Some((m, t))) * face_weight(m, t));
+                    }
+                }
             }
         }
         if weights
@@ -130,7 +160,7 @@ impl<const D: usize> DgmpmSolver<D> {
     /// The weights of cell `cell` (module doc).
     #[inline(always)]
     fn heun_weights_of(&self, cell: usize) -> &[f64] {
-        let stride = Grid::<D>::NODES_PER_CELL * per_node(D);
+        let stride = 2 * D * per_side(D);
         let start = match self.heun_weights.len() == stride {
             true => 0,
             false => cell * stride,
@@ -141,15 +171,10 @@ impl<const D: usize> DgmpmSolver<D> {
     /// The constants of a Heun step of `dt`.
     fn heun_constants(&self, dt: f64) -> HeunConstants<D> {
         let dt_rho = dt * self.material.density;
-        let k = 2.0 / Grid::<D>::NODES_PER_CELL as f64;
         HeunConstants {
             half: self.update_constants(0.5 * dt),
             dt,
             dt_rho,
-            face_scale: std::array::from_fn(|m| {
-                let w = self.grid.cell_volume() / self.grid.spacing[m] * k;
-                [(w * dt_rho, w * dt), (-w * dt_rho, -w * dt)]
-            }),
             lambda: if D == 1 { 0.0 } else { self.elastic.lambda },
             mu: self.elastic.mu,
         }
@@ -259,48 +284,31 @@ impl<const D: usize> DgmpmSolver<D> {
         } = fields.cell(cell);
         next.0[local] = q + dq;
         next.1[local] = v + dv;
-        // P_{m,s}: the faces' fluxes with their node weights, signs and Δt (ρ)
-        let scaled: [[Conserved<D>; 2]; D] = std::array::from_fn(|m| {
-            std::array::from_fn(|s| {
-                let (tensor, momentum) = u.face_scale[m][s];
-                Conserved {
-                    tensor: faces[m][s].tensor * tensor,
-                    momentum: faces[m][s].momentum * momentum,
-                }
-            })
-        });
-        let (v_rho, q_dt) = (v * u.dt_rho, q * u.dt);
-        let mut side_q = [q; MAX_SIDES];
-        let mut side_v = [v; MAX_SIDES];
         let w = self.heun_weights_of(cell);
-        for (a, w) in w.chunks_exact(per_node(D)).enumerate() {
-            let g = Vector::<D>::from_fn(|k, _| w[k]);
-            // C : sym(Δt ρ v_p ⊗ G_i) = λ (Δt ρ v_p · G_i) 1 + μ (Δt ρ)(v_p ⊗ G_i + G_i ⊗ v_p)
-            let mut tensor =
-                Tensor::<D>::from_fn(|i, j| u.mu * (v_rho[i] * g[j] + v_rho[j] * g[i]));
-            let trace = u.lambda * v_rho.dot(&g);
-            for i in 0..D {
-                tensor[(i, i)] += trace;
-            }
-            let mut momentum = q_dt * g;
-            for (l, pair) in scaled.iter().enumerate() {
-                let p = &pair[(a >> l) & 1];
-                tensor += p.tensor;
-                momentum += p.momentum;
-            }
-            let (tensor, momentum) = (tensor * w[D], momentum * w[D]);
-            for l in 0..D {
-                let side = 2 * l + ((a >> l) & 1);
-                side_q[side] += tensor;
-                side_v[side] += momentum;
-            }
-        }
         let first_side = local * 2 * D;
         for (side, out) in sides[first_side..first_side + 2 * D].iter_mut().enumerate() {
-            let l = side / 2;
+            let (l, s) = (side / 2, side % 2);
+            let w = &w[side * per_side(D)..(side + 1) * per_side(D)];
+            let g = Vector::<D>::from_fn(|k, _| w[k]);
+            let column = |f: &Conserved<D>| Vector::<D>::from_fn(|k, _| f.tensor[(k, l)]);
+            // Σ K F: the own face, then both faces of each other axis
+            let own = faces[l][s];
+            let mut traction = column(own) * w[D];
+            let mut momentum = own.momentum * w[D];
+            let mut k = D + 1;
+            for m in (0..D).filter(|&m| m != l) {
+                for face in faces[m] {
+                    traction += column(face) * w[k];
+                    momentum += face.momentum * w[k];
+                    k += 1;
+                }
+            }
+            // (C : sym(v_p ⊗ W)) e_l = λ (v_p · W) e_l + μ (v_p W_l + W v_{p,l})
+            let mut volume = (v * g[l] + g * v[l]) * u.mu;
+            volume[l] += u.lambda * v.dot(&g);
             *out = SideState {
-                traction: Vector::<D>::from_fn(|k, _| side_q[side][(k, l)]),
-                velocity: side_v[side],
+                traction: Vector::<D>::from_fn(|k, _| q[(k, l)]) + (volume + traction) * u.dt_rho,
+                velocity: v + (q * g + momentum) * u.dt,
             };
         }
     }
