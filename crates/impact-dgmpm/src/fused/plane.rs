@@ -155,29 +155,49 @@ impl DgmpmSolver<2> {
                 true => band.w_y[i],
                 false => y_high[i].add_scaled(&y_low[i], -1.0),
             };
-            let x_final = |i: usize, band_force: &mut Vector<2>| -> Conserved<2> {
+            // the edge faces (ghost cells; their force) out of line, the interior ones in the
+            // loop with each cell's y-fluctuation formed once
+            let x_edge = |i: usize, band_force: &mut Vector<2>| -> Conserved<2> {
+                let godunov = band.x_godunov[0][i];
+                let flux = match ctu {
+                    true => {
+                        let w = [(i > 0).then(|| w_y(i - 1)), (i < nx).then(|| w_y(i))];
+                        let correction = self.face_correction(0, [i, j], w, fields, scale[0]);
+                        godunov.add_scaled(&correction, 1.0)
+                    }
+                    false => godunov,
+                };
+                *band_force += self.boundary_face_force(0, [i, j], &flux);
+                flux
+            };
+            let x_interior = |i: usize, w_left: &Conserved<2>, w_right: &Conserved<2>| {
                 let godunov = band.x_godunov[0][i];
                 if !ctu {
-                    if i == 0 || i == nx {
-                        *band_force += self.boundary_face_force(0, [i, j], &godunov);
-                    }
                     return godunov;
                 }
-                if i == 0 || i == nx {
-                    let w = [(i > 0).then(|| w_y(i - 1)), (i < nx).then(|| w_y(i))];
-                    let correction = self.face_correction(0, [i, j], w, fields, scale[0]);
-                    let flux = godunov.add_scaled(&correction, 1.0);
-                    *band_force += self.boundary_face_force(0, [i, j], &flux);
-                    return flux;
-                }
-                let total = axis_transverse_2d::<0>(&w_y(i - 1), &w_y(i), c);
+                let total = axis_transverse_2d::<0>(w_left, w_right, c);
                 godunov.add_scaled(&Conserved::zeros().add_scaled(&total, -scale[0]), 1.0)
             };
             let mut force = Vector::<2>::zeros();
-            let mut low = x_final(0, &mut force);
+            let mut low = x_edge(0, &mut force);
+            let mut w_left = match ctu {
+                true => w_y(0),
+                false => Conserved::zeros(),
+            };
             let local = (j - j0) * nx;
             for i in 0..nx {
-                let high = x_final(i + 1, &mut force);
+                let high = match i + 1 < nx {
+                    true => {
+                        let w_right = match ctu {
+                            true => w_y(i + 1),
+                            false => Conserved::zeros(),
+                        };
+                        let flux = x_interior(i + 1, &w_left, &w_right);
+                        w_left = w_right;
+                        flux
+                    }
+                    false => x_edge(nx, &mut force),
+                };
                 let faces = [[&low, &high], [&band.y_final[0][i], &band.y_final[1][i]]];
                 update(row + i, local + i, faces);
                 low = high;
