@@ -253,9 +253,9 @@ pub struct DgmpmSolver<const D: usize> {
     /// masses `M_i` are then formed with them, once): [`mapping::mapping_weights`].
     pub(crate) mapping_weights: Vec<f64>,
     /// RK2 at one point per cell strictly inside its cell on the fused nodal path: each
-    /// node's side-state weights `G_i = -V_p ∇S_i`, `κ_i = (2/2^D)/M_i` (`fused/heun.rs`),
-    /// `(D + 1) 2^D` per cell, or one cell's when all are equal (empty otherwise; the shape
-    /// functions are then dropped).
+    /// side's state weights `W = Σ_i κ_i G_i` and `K_{m,t}` of its faces (`fused/heun.rs`),
+    /// `2D (3D - 1)` per cell, or one cell's when all are equal (empty otherwise; the
+    /// shape functions are then dropped).
     pub(crate) heun_weights: Vec<f64>,
     /// Whether every `S_iα > 0` (every point strictly inside its cell).
     pub(crate) inside: bool,

@@ -11,14 +11,16 @@
 //! the sums over the cell's faces `f = (m, s)` that hold node `i` (bit `m` of `i` is `s`),
 //! `s_f = +1` on a low face and `-1` on a high one, `w_m = (V_cell/Δx_m) 2/2^D`. The
 //! second stage reads only the averages of each side's `2^{D-1}` nodes (paper §4),
-//! `q¹_{l,h} = q_p + Δt (2/2^D) Σ_{i ∈ (l,h)} q̇_i`. With the fixed weights
-//! `G_i = -V_p ∇S_i` and `κ_i = (2/2^D)/M_i` of each node (formed once,
-//! [`DgmpmSolver::form_heun_weights`]) and the faces' fluxes scaled once per cell,
-//! `P_{m,s} = s_f w_m Δt (ρ) F_{m,s}`, each node's share is
-//! `δσ_i = κ_i [C : sym(Δt ρ v_p ⊗ G_i) + Σ_m P_{m,i_m}]`,
-//! `δv_i = κ_i [Δt σ_p G_i + Σ_m P_{m,i_m}]` (`i_m` bit `m` of `i`), and each side state is
-//! `q_p` plus the shares of its `2^{D-1}` nodes: no division, no nodal field, the point's
-//! interpolation `Σ_i S_i q_p = q_p` not formed.
+//! `q¹_{l,h} = q_p + Δt (2/2^D) Σ_{i ∈ (l,h)} q̇_i`. With the nodes' `G_i = -V_p ∇S_i`
+//! and `κ_i = (2/2^D)/M_i`, `C : sym(·)` linear, each side `(l, h)` has fixed weights
+//! (formed once, [`DgmpmSolver::form_heun_weights`]): `W = Σ_{i ∈ (l,h)} κ_i G_i` and,
+//! per face `(m, t)` touching it (its own face `(l, h)` and both faces of each other
+//! axis), `K_{m,t} = s_t w_m Σ_{i ∈ (l,h), i_m = t} κ_i` (`i_m` bit `m` of `i`). Its state
+//! is then `σ¹ = σ_p + Δt ρ [C : sym(v_p ⊗ W) + Σ K_{m,t} F^σ_{m,t}]`,
+//! `v¹ = v_p + Δt [σ_p W + Σ K_{m,t} F^p_{m,t}]`: no division, no nodal field, the point's
+//! interpolation `Σ_i S_i q_p = q_p` not formed. Only what a face normal to `e_l` reads
+//! is formed and stored, the traction `σ¹ e_l` and `v¹` ([`SideState`]:
+//! `(C : sym(v ⊗ W)) e_l = λ (v · W) e_l + μ (v W_l + W v_l)`).
 //!
 //! **Stage 2.** With `Σ_i S_i = 1`, `Σ_i ∇S_i = 0` and each face's flux reaching its
 //! `2^{D-1}` nodes with weight `w_m`, `Σ_i S_i q̇_i` is the cell path's update
@@ -28,7 +30,9 @@
 //! with fluxes `F`: stage 1 stores `q_p + ½ Δq(F¹)` (in the fused buffers' next state),
 //! stage 2 solves its faces from the side states (Godunov, and under CTU the nodal
 //! sweep's fluctuations with the side terms `F_l(q¹_{C,low} - q¹_{C,high})`) and adds
-//! `½ Δq(F²)`; the next state is then swapped into the points. The increment update
+//! `½ Δq(F²)`, and moves the point, `x ← x + Δt v` with the new velocity (phase 5's
+//! move, as `DgmpmSolver::move_points`); the next state is then swapped into the points.
+//! The increment update
 //! (`PointUpdate::Increment`) gives the same formula at one point per cell.
 //!
 //! The sums are associated differently from the phase-by-phase path
@@ -254,10 +258,11 @@ impl<const D: usize> DgmpmSolver<D> {
     }
 
     /// One cell of a Heun stage (entry `local` of its band) from its faces' final fluxes
-    /// `[low, high]` per axis (module doc). Stage 1: the side states, `q_p` plus the shares
-    /// `δσ_i = κ_i [C : sym(Δt ρ v_p ⊗ G_i) + Σ_m P_{m,i_m}]`, `δv_i = κ_i [Δt σ_p G_i +
-    /// Σ_m P_{m,i_m}]` of the side's nodes, and `q_p + ½ Δq(F¹)`; stage 2: `+ ½ Δq(F²)`,
-    /// `Δq(F) = -Δt (ρV/m_p) Σ_l (F_l,high - F_l,low)/Δx_l`.
+    /// `[low, high]` per axis (module doc). Stage 1: each side's traction and velocity,
+    /// `σ¹ e_l = σ_p e_l + Δt ρ [λ (v_p · W) e_l + μ (v_p W_l + W v_{p,l}) + Σ K F^σ e_l]`,
+    /// `v¹ = v_p + Δt [σ_p W + Σ K F^p]` (its weights `W`, `K`), and `q_p + ½ Δq(F¹)`;
+    /// stage 2: `+ ½ Δq(F²)`, `Δq(F) = -Δt (ρV/m_p) Σ_l (F_l,high - F_l,low)/Δx_l`, and
+    /// the move `x ← x + Δt v`.
     #[inline(always)]
     fn heun_cell<const FIRST: bool>(
         &self,
