@@ -219,14 +219,8 @@ impl<const D: usize> DgmpmSolver<D> {
                 side_states,
                 ..
             } = buffers;
-            let MaterialPoints {
-                stress,
-                velocity,
-                position,
-                mass,
-                ..
-            } = &mut *points;
-            let mass: &[f64] = mass;
+            let (stress, velocity) = (&mut points.stress, &mut points.velocity);
+            let (position, mass) = (&mut points.position, &points.mass[..]);
             {
                 let next = (
                     chunks(next_tensor, cells_per_band),
