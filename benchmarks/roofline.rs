@@ -29,10 +29,12 @@
 //!    - RK2 at one point per cell, the Heun cell sweeps (`fused/heun.rs`; no nodal field,
 //!      the side-state weights one cell's copy on a uniform grid, in cache): the first
 //!      stage reads the point's `T + V` and mass (56) and writes the cells' four side
-//!      states (`4·48` = 192) and the next `T + V` (48); the second reads the side states
-//!      (192), the next `T + V` and the mass (56) and updates the next `T + V` in place
-//!      (48), swapped into the points; `move_points` 48: 640 B, 880 B with write-allocate
-//!      (the first stage's writes). (The fused nodal sweep before it: 800 B, 992 B.)
+//!      states (traction and velocity, `4·32` = 128) and the next `T + V` (48); the
+//!      second reads the side states (128), the next `T + V` and the mass (56), updates
+//!      the next `T + V` in place (48), swapped into the points, and moves the points
+//!      (32): 496 B, 672 B with write-allocate (the first stage's writes). (Before the
+//!      side states held whole states and `move_points` ran after: 640 B, 880 B; the
+//!      fused nodal sweep before that: 800 B, 992 B.)
 //!
 //!    The roofline time is bytes / triad bandwidth.
 use impact_core::method::{Integrator, MethodKind};
@@ -48,7 +50,7 @@ const CELL_PATH_BYTES: (f64, f64) = (776.0, 920.0);
 const FUSED_PATH_BYTES: (f64, f64) = (136.0, 184.0);
 const FUSED_BAR_BYTES: (f64, f64) = (56.0, 72.0);
 /// The same for RK2 at one point per cell (2D, the Heun cell sweeps).
-const FUSED_NODAL_RK2_BYTES: (f64, f64) = (640.0, 880.0);
+const FUSED_NODAL_RK2_BYTES: (f64, f64) = (496.0, 672.0);
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
