@@ -310,3 +310,26 @@ fn fused_nodal_plane_wave_pressure_and_plasticity_match_the_nodal_paths() {
     plastic.domain.cells = vec![24, 40];
     check_nodal::<2>("ep-plate, elastic solver, RK2", &plastic, |c| rk2(c, 0.7));
 }
+
+/// RK2 at one point per cell with the points off the cells' centres (a shifted layout and
+/// a given one): the Heun cell sweeps' side weights are then unequal per node (and may be
+/// stored per cell where the local coordinates round differently), still equal to the
+/// phase-by-phase path to round-off.
+#[test]
+fn heun_sweeps_off_centre_match_the_nodal_path() {
+    use impact_core::options::LayoutKind;
+    let mut shifted = plate([30, 75]);
+    (shifted.domain.layout, shifted.domain.shift) = (Some(LayoutKind::Shifted), Some(0.3));
+    check_nodal::<2>("plate, shifted 0.3, RK2 CTU", &shifted, |c| rk2(c, 0.6));
+    let mut given = plate([30, 75]);
+    (given.domain.layout, given.domain.positions) =
+        (Some(LayoutKind::Given), Some(vec![vec![0.2, 0.7]]));
+    check_nodal::<2>("plate, given (0.2, 0.7), RK2 DCU", &given, |c| {
+        rk2(c, 0.5);
+        c.dgmpm_mut().unwrap().flux = TransverseFlux::DonorCell;
+    });
+    let mut bar = Scene::builtin("bar").unwrap();
+    (bar.domain.cells, bar.domain.layout, bar.domain.positions) =
+        (vec![400], Some(LayoutKind::Given), Some(vec![vec![0.15]]));
+    check_nodal::<1>("bar, given 0.15, RK2", &bar, |c| rk2(c, 0.6));
+}
