@@ -6,8 +6,8 @@ use super::*;
 impl<const D: usize> MpmSolver<D> {
     /// Phase 3: the velocity update of the transfer (`PointVelocity`; APIC:
     /// `crate::affine`), FLIP's `v_p += Δt Σ_i N_ip f_i/m_i` by default, and the position
-    /// update `x_p += Δt Σ_i N_ip p_i/m_i` (`1/m_i` from the grid update, 0 on empty
-    /// nodes).
+    /// update `x_p += Δt Σ_i N_ip p_i/m_i` (`1/m_i` and `v_i = p_i (1/m_i)` from the grid
+    /// update, 0 on empty nodes).
     pub fn grid_to_particles(
         &self,
         points: &mut MaterialPoints<D>,
@@ -97,11 +97,11 @@ impl<const D: usize> MpmSolver<D> {
                 let npc = if N == 0 { all_rows.len() * W } else { N };
                 let rows = &all_rows[..npc / W];
                 // the nodal arrays sliced to one length, here in the kernel: a row checked
-                // against `1/m` is proved for the momentum and force (one bounds check per
+                // against `1/m` is proved for the velocity and force (one bounds check per
                 // row, not 3)
                 let inv_mass = &nodes.inv_mass[..];
-                let (momentum, force) = (
-                    &nodes.momentum[..inv_mass.len()],
+                let (node_velocity, force) = (
+                    &nodes.velocity[..inv_mass.len()],
                     &nodes.force[..inv_mass.len()],
                 );
                 let points = velocity.iter_mut().zip(position.iter_mut());
@@ -117,13 +117,13 @@ impl<const D: usize> MpmSolver<D> {
                     for ((o, shape), gradient) in rows.iter().zip(shape).zip(gradient) {
                         let first = base + o;
                         let inv_mass = node_row::<f64, W>(inv_mass, first);
-                        let (momentum, force) = (
-                            node_row::<Vector<D>, W>(momentum, first),
+                        let (node_velocity, force) = (
+                            node_row::<Vector<D>, W>(node_velocity, first),
                             node_row::<Vector<D>, W>(force, first),
                         );
                         for c in 0..W {
                             let (s, inv) = (shape[c], inv_mass[c]);
-                            let node_velocity = momentum[c] * inv;
+                            let node_velocity = node_velocity[c];
                             dv += force[c] * (s * dt * inv);
                             v += node_velocity * s;
                             if STRESS {
