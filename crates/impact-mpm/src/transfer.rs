@@ -22,7 +22,7 @@ use crate::{Band, MpmSolver};
 use impact_core::method::{Model, MpmFrame, MpmOptions, MpmTransfer};
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
-use impact_core::{Tensor, Vector};
+use impact_core::{LinearElastic, Tensor, Vector};
 
 /// Points (or nodes) per chunk of the point and node loops.
 pub(crate) const CHUNK: usize = 2048;
