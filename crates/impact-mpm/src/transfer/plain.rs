@@ -30,15 +30,25 @@ impl<const D: usize> MpmSolver<D> {
         self.scatter_runs(fill, |weights, run, sums| {
             let npc = weights.offsets.len();
             let rows = weights.row_offsets;
+            // the node count where fixed (`N`), else the stencil's
+            let nodes = if N == 0 { npc } else { N };
             if !run.order.is_empty() {
+                // the point arrays sliced to one length (a point checked against the mass
+                // is proved for the others), the weights to one too; copied into the
+                // iterator (`move`), not read through the closure's captures per point
+                let count = points.mass.len();
+                let (mass, velocity) = (&points.mass[..], &points.velocity[..count]);
+                let (stress, volume) = (&points.stress[..count], &points.volume[..count]);
+                let bases = &weights.bases[..count];
+                let shape = weights.shape;
+                let gradient = &weights.gradient[..shape.len()];
                 let stride = weights.stride;
-                let data = run.each().map(|p| {
-                    let first = p * stride;
-                    let row = first..first + npc;
+                let order = &run.order[run.points];
+                let data = order.iter().map(move |&p| {
+                    let row = p * stride..p * stride + nodes;
                     // V_p σ_p formed once per point
-                    let stress = points.stress[p] * points.volume[p];
-                    let point = (points.mass[p], points.velocity[p], stress, weights.bases[p]);
-                    (point, (&weights.shape[row.clone()], &weights.gradient[row]))
+                    let point = (mass[p], velocity[p], stress[p] * volume[p], bases[p]);
+                    (point, (&shape[row.clone()], &gradient[row]))
                 });
                 return scatter_points::<W, N, D>(sums, rows, data);
             }
@@ -69,7 +79,9 @@ impl<const D: usize> MpmSolver<D> {
 /// read here). Each row of the nodal sums is sliced once (one bounds check per row, not per
 /// node) and its nodes added in the stencil's order (each node's sums take the same
 /// operations in the same order as node by node). A generic function per kind of
-/// `points`: the loop and the per-point work compile into one function.
+/// `points`: the loop and the per-point work compile into one function, inlined into the
+/// caller (which knows the lengths of the arrays the points index: one check per point).
+#[inline(always)]
 fn scatter_points<'w, const W: usize, const N: usize, const D: usize>(
     sums: &mut Band<'_, D>,
     rows: &[usize],
