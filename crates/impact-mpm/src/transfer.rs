@@ -109,7 +109,8 @@ impl<const D: usize> Weights<'_, D> {
     /// `N`: the stencil's node count where the caller fixed it (the loops over the row then
     /// have a constant trip count and unroll), 0 where it did not (the count read at run
     /// time; every caller now: the default scatter and the fused gather read the stencil by
-    /// rows, [`Weights::rows`]). The same operations in the same order either way.
+    /// rows, `transfer/plain.rs` and `transfer/gather.rs`). The same operations in the same
+    /// order either way.
     /// The stencil's `offsets` come sliced to the same `nodes` entries, so that a zip of the
     /// three has the constant trip count too.
     #[inline]

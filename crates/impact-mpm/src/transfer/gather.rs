@@ -63,7 +63,7 @@ impl<const D: usize> MpmSolver<D> {
     /// without an affine part, for a stencil of rows of `W` nodes (its `width`) and `N`
     /// nodes (0: the count read at run time; fixed, the loop over the rows unrolls): each
     /// row of `W` consecutive nodes is sliced once from the nodal arrays (one bounds check
-    /// per row, not per node; `Weights::rows`), and its nodes are read in the stencil's
+    /// per row, not per node; `gather_points`), and its nodes are read in the stencil's
     /// order, so the sums take the same operations in the same order as node by node.
     pub(crate) fn gather<const STRESS: bool, const W: usize, const N: usize>(
         &self,
