@@ -53,3 +53,38 @@ fn scatter_sums_do_not_depend_on_the_order_within_a_layer() {
         }
     });
 }
+
+/// The nodal velocity the grid update stores is the product the gathers formed per
+/// node-point pair before, `p_i (1/m_i)`, bit for bit on every node, the constrained ones
+/// included (the plate's velocity edge sets momentum components after the node pass).
+#[test]
+fn nodal_velocity_is_the_momentum_times_the_inverse_mass() {
+    let mut scene = Scene::builtin("plate").unwrap();
+    scene.domain.cells = vec![40, 30];
+    let problem = Problem::<2>::from_scene(&scene).unwrap();
+    let config = scene.method_config(MethodKind::Mpm);
+    let mut mpm = Mpm::<2>::new(&problem, config).unwrap();
+    let dt = mpm.stable_dt();
+    for n in 0..3 {
+        mpm.step(n as f64 * dt, dt);
+    }
+    let solver = &mpm.solver;
+    assert!(
+        !solver.node_constraints.is_empty(),
+        "the plate's edges hold nodes"
+    );
+    let nodes = &solver.nodes;
+    assert!(
+        (solver.node_constraints.iter())
+            .any(|c| nodes.momentum[c.carrier][c.axis] == c.value * nodes.mass[c.carrier]),
+        "a node with mass whose momentum component the constraints set"
+    );
+    for i in 0..nodes.mass.len() {
+        let product = nodes.momentum[i] * nodes.inv_mass[i];
+        assert_eq!(
+            nodes.velocity[i].map(f64::to_bits),
+            product.map(f64::to_bits),
+            "node {i}"
+        );
+    }
+}
