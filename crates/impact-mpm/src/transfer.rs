@@ -72,7 +72,7 @@ struct Weights<'a, const D: usize> {
     offsets: &'a [usize],
     /// The first node of each row of `width` consecutive nodes ([`crate::shape::Stencil`]'s
     /// `row_offsets`).
-    row_offsets: &'a [usize],
+    row_offsets: &'a [u32],
     bases: &'a [usize],
     shape: &'a [f64],
     gradient: &'a [Vector<D>],

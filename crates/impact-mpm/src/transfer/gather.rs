@@ -228,7 +228,7 @@ struct GatherInput<'a, const D: usize> {
     inv_mass: &'a [f64],
     velocity: &'a [Vector<D>],
     force: &'a [Vector<D>],
-    rows: &'a [usize],
+    rows: &'a [u32],
     material: LinearElastic,
     update: PointVelocity,
     moving: bool,
@@ -277,8 +277,11 @@ fn gather_points<'w, const STRESS: bool, const W: usize, const N: usize, const D
         let mut dv = Vector::<D>::zeros();
         let mut v = Vector::<D>::zeros();
         let mut l = Tensor::<D>::zeros();
-        for ((o, shape), gradient) in rows.iter().zip(shape).zip(gradient) {
-            let first = base + o;
+        // the nodes from the base node on (one check a point; the three of one length)
+        let (inv_mass, node_velocity, force) =
+            (&inv_mass[base..], &node_velocity[base..], &force[base..]);
+        for ((&o, shape), gradient) in rows.iter().zip(shape).zip(gradient) {
+            let first = o as usize;
             let inv_mass = node_row::<f64, W>(inv_mass, first);
             let (node_velocity, force) = (
                 node_row::<Vector<D>, W>(node_velocity, first),

@@ -84,7 +84,7 @@ impl<const D: usize> MpmSolver<D> {
 #[inline(always)]
 fn scatter_points<'w, const W: usize, const N: usize, const D: usize>(
     sums: &mut Band<'_, D>,
-    rows: &[usize],
+    rows: &[u32],
     points: impl Iterator<
         Item = (
             (f64, Vector<D>, Tensor<D>, usize),
@@ -107,9 +107,16 @@ fn scatter_points<'w, const W: usize, const N: usize, const D: usize>(
     for ((mass, velocity, stress, base), (shape, gradient)) in points {
         let shape = shape[..nodes].as_chunks::<W>().0;
         let gradient = gradient[..nodes].as_chunks::<W>().0;
+        // the band's nodes from the base node on (one check a point; the three of one
+        // length)
         let base = base - offset;
-        for ((o, shape), gradient) in rows.iter().zip(shape).zip(gradient) {
-            let first = base + o;
+        let (nodal_mass, momentum, force) = (
+            &mut nodal_mass[base..],
+            &mut momentum[base..],
+            &mut force[base..],
+        );
+        for ((&o, shape), gradient) in rows.iter().zip(shape).zip(gradient) {
+            let first = o as usize;
             let nodal_mass = node_row_mut::<f64, W>(nodal_mass, first);
             let momentum = node_row_mut::<Vector<D>, W>(momentum, first);
             let force = node_row_mut::<Vector<D>, W>(force, first);
