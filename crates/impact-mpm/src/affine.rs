@@ -95,7 +95,7 @@ impl<const D: usize> MpmSolver<D> {
                     for a in 0..stencil_nodes {
                         let i = base + self.stencil.offsets[a];
                         let s = self.shape[row + a];
-                        let node_velocity = nodes.momentum[i] * nodes.inv_mass[i];
+                        let node_velocity = nodes.velocity[i];
                         v += node_velocity * s;
                         if STRESS || hats {
                             l += node_velocity * self.shape_gradient[row + a].transpose();

@@ -120,6 +120,10 @@ pub(crate) struct NodeSums<const D: usize> {
     /// `1/m_i` after the grid update (0 for an empty node): the gathers multiply by it
     /// instead of dividing by `m_i` at every point.
     pub inv_mass: Vec<f64>,
+    /// `v_i = p_i (1/m_i)` after the grid update and its constraints (0 for an empty
+    /// node): formed once per node instead of once per node-point pair in the gathers (the
+    /// same product).
+    pub velocity: Vec<Vector<D>>,
 }
 
 /// A band of the nodal sums (two node layers of a colour pass) that a scatter writes:
@@ -142,6 +146,7 @@ impl<const D: usize> NodeSums<D> {
             momentum: vec![Vector::<D>::zeros(); nodes],
             force: vec![Vector::<D>::zeros(); nodes],
             inv_mass: vec![0.0; nodes],
+            velocity: vec![Vector::<D>::zeros(); nodes],
         }
     }
 }

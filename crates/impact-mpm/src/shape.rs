@@ -98,8 +98,10 @@ pub struct Stencil<const D: usize> {
     pub offsets: Vec<usize>,
     /// Linear index offset of each row's first node from the base node: a row is `width`
     /// consecutive nodes along the first axis (stride 1), local nodes `r·width ..
-    /// (r + 1)·width`, so `offsets[r·width + c] = row_offsets[r] + c`.
-    pub(crate) row_offsets: Vec<usize>,
+    /// (r + 1)·width`, so `offsets[r·width + c] = row_offsets[r] + c`. 32 bits: a row's
+    /// end `row_offsets[r] + width` cannot overflow, so the scatter and gather check a row
+    /// against the nodes from the point's base node on with one comparison.
+    pub(crate) row_offsets: Vec<u32>,
     /// Linear index stride of each axis.
     pub(crate) strides: [usize; D],
     /// Position of local node `a` relative to the base node, `(k_0 h_0, …)` for its
@@ -133,7 +135,9 @@ impl<const D: usize> Stencil<D> {
                 })
             })
             .collect::<Vec<usize>>();
-        let row_offsets = offsets.iter().step_by(width).copied().collect();
+        let row_offsets = (offsets.iter().step_by(width))
+            .map(|&o| u32::try_from(o).expect("a stencil spans fewer than 2^32 nodes"))
+            .collect();
         let mut stencil = Self {
             shape,
             width,
@@ -409,7 +413,8 @@ mod tests {
                 assert_eq!(stencil.row_offsets.len() * stencil.width, stencil.nodes);
                 for (a, &offset) in stencil.offsets.iter().enumerate() {
                     let (row, column) = (a / stencil.width, a % stencil.width);
-                    assert_eq!(offset, stencil.row_offsets[row] + column, "{shape:?} {a}");
+                    let first = stencil.row_offsets[row] as usize;
+                    assert_eq!(offset, first + column, "{shape:?} {a}");
                 }
             }
         }

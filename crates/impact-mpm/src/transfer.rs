@@ -22,7 +22,7 @@ use crate::{Band, MpmSolver};
 use impact_core::method::{Model, MpmFrame, MpmOptions, MpmTransfer};
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
-use impact_core::{Tensor, Vector};
+use impact_core::{LinearElastic, Tensor, Vector};
 
 /// Points (or nodes) per chunk of the point and node loops.
 pub(crate) const CHUNK: usize = 2048;
@@ -72,7 +72,7 @@ struct Weights<'a, const D: usize> {
     offsets: &'a [usize],
     /// The first node of each row of `width` consecutive nodes ([`crate::shape::Stencil`]'s
     /// `row_offsets`).
-    row_offsets: &'a [usize],
+    row_offsets: &'a [u32],
     bases: &'a [usize],
     shape: &'a [f64],
     gradient: &'a [Vector<D>],
@@ -109,7 +109,8 @@ impl<const D: usize> Weights<'_, D> {
     /// `N`: the stencil's node count where the caller fixed it (the loops over the row then
     /// have a constant trip count and unroll), 0 where it did not (the count read at run
     /// time; every caller now: the default scatter and the fused gather read the stencil by
-    /// rows, [`Weights::rows`]). The same operations in the same order either way.
+    /// rows, `transfer/plain.rs` and `transfer/gather.rs`). The same operations in the same
+    /// order either way.
     /// The stencil's `offsets` come sliced to the same `nodes` entries, so that a zip of the
     /// three has the constant trip count too.
     #[inline]
@@ -122,35 +123,6 @@ impl<const D: usize> Weights<'_, D> {
             gradient: &self.gradient[first..first + nodes],
             base: self.bases[p] - offset,
         }
-    }
-}
-
-impl<const D: usize> Weights<'_, D> {
-    /// Point `p`'s stencil by rows of `W` consecutive nodes (the stencil's `width`): per
-    /// row, its first node less `offset` (the band's first node) and the row's `W` shape
-    /// values and gradients, in the order of the local nodes. `N`: the stencil's node
-    /// count where the caller fixed it (the loop over the rows then has a constant trip
-    /// count and unrolls), 0 where it did not (the count read at run time).
-    #[inline]
-    fn rows<const W: usize, const N: usize>(
-        &self,
-        p: usize,
-        offset: usize,
-    ) -> impl Iterator<Item = (usize, &[f64; W], &[Vector<D>; W])> + '_ {
-        let first = p * self.stride;
-        let nodes = if N == 0 {
-            self.row_offsets.len() * W
-        } else {
-            N
-        };
-        let shape = self.shape[first..first + nodes].as_chunks::<W>().0;
-        let gradient = self.gradient[first..first + nodes].as_chunks::<W>().0;
-        let base = self.bases[p] - offset;
-        let rows = self.row_offsets[..nodes / W]
-            .iter()
-            .zip(shape)
-            .zip(gradient);
-        rows.map(move |((o, s), g)| (base + o, s, g))
     }
 }
 
@@ -186,6 +158,24 @@ impl<const D: usize> Row<'_, D> {
     fn nodes(&self) -> impl Iterator<Item = (usize, f64, &Vector<D>)> + '_ {
         let stencil = self.offsets.iter().zip(self.shape).zip(self.gradient);
         stencil.map(|((o, &s), g)| (self.base + o, s, g))
+    }
+}
+
+/// The points of one run of the layer order that a scatter adds (a layer or a block of
+/// layers): entries `points` of `order`, or (`order` empty: the points' own order is the
+/// layer order) the points `points` themselves.
+struct Run<'a> {
+    points: std::ops::Range<usize>,
+    order: &'a [usize],
+}
+
+impl Run<'_> {
+    /// The run's points in the layer order.
+    #[inline]
+    fn each(&self) -> impl Iterator<Item = usize> + '_ {
+        let in_order = self.order.is_empty();
+        // the point at place `k` of the layer order
+        (self.points.clone()).map(move |k| if in_order { k } else { self.order[k] })
     }
 }
 
@@ -233,13 +223,27 @@ impl<const D: usize> MpmSolver<D> {
         fill: Fill,
         contribution: impl Fn(&Weights<'_, D>, usize, &mut Band<'_, D>) + Sync,
     ) {
+        self.scatter_runs(fill, |weights, run, sums| {
+            for p in run.each() {
+                contribution(weights, p, sums);
+            }
+        });
+    }
+
+    /// [`Self::scatter`] with a contribution per run of points (`contribution(weights,
+    /// run, band)`; [`Run`]), which walks the run's points itself: the default scatter
+    /// (`scatter_plain`) reads a run in the points' own order in step with its arrays.
+    fn scatter_runs(
+        &mut self,
+        fill: Fill,
+        contribution: impl Fn(&Weights<'_, D>, Run<'_>, &mut Band<'_, D>) + Sync,
+    ) {
         let layer_nodes: usize = self.grid.cells[..D - 1].iter().map(|n| n + 1).product();
         let layers = self.grid.cells[D - 1] + 1;
         let width = self.stencil.width;
         let (order, starts) = (&self.layer_order, &self.layer_start);
-        let in_order = self.in_layer_order;
-        // the point at place `k` of the layer order
-        let point_at = |k: usize| if in_order { k } else { order[k] };
+        // the layer order, or none where it is the points' own
+        let order: &[usize] = if self.in_layer_order { &[] } else { order };
         let weights = Weights {
             stride: self.weight_stride,
             offsets: &self.stencil.offsets,
@@ -249,9 +253,9 @@ impl<const D: usize> MpmSolver<D> {
             gradient: &self.shape_gradient,
             steps: &self.stencil.steps,
         };
-        // the one place the contribution is called: the point loop and the contribution
-        // compile into one function (called per range of points, not per point), so the
-        // captured arrays are loaded once per range
+        // the one place the contribution is called, once per run of points (a layer or a
+        // block): its point loop and work compile into one function, the captured arrays
+        // loaded once per run
         let run = |points: std::ops::Range<usize>, sums: &mut Band<'_, D>| {
             // the three sums sliced to one length: a node's index checked against the
             // mass proves it for the momentum and force (one bounds check per node, not 3)
@@ -262,9 +266,7 @@ impl<const D: usize> MpmSolver<D> {
                 force: &mut sums.force[..nodes],
                 offset: sums.offset,
             };
-            for k in points {
-                contribution(&weights, point_at(k), &mut sums);
-            }
+            contribution(&weights, Run { points, order }, &mut sums);
         };
         let nodes = &mut self.nodes;
         // the sums `fill` names start from zero
@@ -406,39 +408,6 @@ impl<const D: usize> MpmSolver<D> {
         }
     }
 
-    /// Phase 1's sums without APIC, with the internal force (the default), for a stencil of
-    /// rows of `W` nodes (its `width`) and `N` nodes (`Weights::rows`; 0: any): each row of
-    /// the nodal sums is sliced once (one bounds check per row, not per node), its nodes
-    /// added in the stencil's order (each node's sums take the same operations in the same
-    /// order).
-    fn scatter_plain<const W: usize, const N: usize>(&mut self, points: &MaterialPoints<D>) {
-        assert_eq!(
-            self.stencil.width, W,
-            "the scatter's rows are the stencil's"
-        );
-        let fill = Fill {
-            mass: true,
-            momentum: true,
-            force: true,
-        };
-        self.scatter(fill, |weights, p, sums| {
-            let (mass, velocity) = (points.mass[p], points.velocity[p]);
-            // V_p σ_p formed once per point
-            let stress = points.stress[p] * points.volume[p];
-            for (first, shape, gradient) in weights.rows::<W, N>(p, sums.offset) {
-                let nodal_mass = node_row_mut::<f64, W>(sums.mass, first);
-                let momentum = node_row_mut::<Vector<D>, W>(sums.momentum, first);
-                let force = node_row_mut::<Vector<D>, W>(sums.force, first);
-                for c in 0..W {
-                    let w = shape[c] * mass;
-                    nodal_mass[c] += w;
-                    momentum[c] += velocity * w;
-                    force[c] -= stress * gradient[c];
-                }
-            }
-        });
-    }
-
     /// Internal forces only (USF computes them after its stress update).
     pub(crate) fn internal_forces(&mut self, points: &MaterialPoints<D>) {
         let fill = Fill {
@@ -456,6 +425,7 @@ impl<const D: usize> MpmSolver<D> {
 }
 
 mod gather;
+mod plain;
 
 #[cfg(test)]
 mod tests;

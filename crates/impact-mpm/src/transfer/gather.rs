@@ -6,8 +6,8 @@ use super::*;
 impl<const D: usize> MpmSolver<D> {
     /// Phase 3: the velocity update of the transfer (`PointVelocity`; APIC:
     /// `crate::affine`), FLIP's `v_p += Δt Σ_i N_ip f_i/m_i` by default, and the position
-    /// update `x_p += Δt Σ_i N_ip p_i/m_i` (`1/m_i` from the grid update, 0 on empty
-    /// nodes).
+    /// update `x_p += Δt Σ_i N_ip p_i/m_i` (`1/m_i` and `v_i = p_i (1/m_i)` from the grid
+    /// update, 0 on empty nodes).
     pub fn grid_to_particles(
         &self,
         points: &mut MaterialPoints<D>,
@@ -63,7 +63,7 @@ impl<const D: usize> MpmSolver<D> {
     /// without an affine part, for a stencil of rows of `W` nodes (its `width`) and `N`
     /// nodes (0: the count read at run time; fixed, the loop over the rows unrolls): each
     /// row of `W` consecutive nodes is sliced once from the nodal arrays (one bounds check
-    /// per row, not per node; `Weights::rows`), and its nodes are read in the stencil's
+    /// per row, not per node; `gather_points`), and its nodes are read in the stencil's
     /// order, so the sums take the same operations in the same order as node by node.
     pub(crate) fn gather<const STRESS: bool, const W: usize, const N: usize>(
         &self,
@@ -73,6 +73,10 @@ impl<const D: usize> MpmSolver<D> {
     ) {
         assert_eq!(self.stencil.width, W, "the gather's rows are the stencil's");
         let stride = self.weight_stride;
+        assert!(
+            stride == 0 || stride == self.stencil.nodes,
+            "a point's row of weights is its stencil's"
+        );
         let nodes = &self.nodes;
         let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
         let parts = (
@@ -90,59 +94,31 @@ impl<const D: usize> MpmSolver<D> {
             1,
             parts,
             |r, ((velocity, position), (stress, volume))| {
-                // the stencil's rows taken here, in the chunk's kernel: a count captured
-                // from outside is a load from the closure's environment at run time
-                // (`for_each_chunk` is not inlined)
-                let all_rows = &self.stencil.row_offsets[..];
-                let npc = if N == 0 { all_rows.len() * W } else { N };
-                let rows = &all_rows[..npc / W];
-                // the nodal arrays sliced to one length, here in the kernel: a row checked
-                // against `1/m` is proved for the momentum and force (one bounds check per
-                // row, not 3)
-                let inv_mass = &nodes.inv_mass[..];
-                let (momentum, force) = (
-                    &nodes.momentum[..inv_mass.len()],
-                    &nodes.force[..inv_mass.len()],
-                );
-                let points = velocity.iter_mut().zip(position.iter_mut());
-                for (j, (vp, xp)) in points.enumerate() {
-                    let p = r * CHUNK + j;
-                    let row = p * stride..p * stride + npc;
-                    let shape = self.shape[row.clone()].as_chunks::<W>().0;
-                    let gradient = self.shape_gradient[row].as_chunks::<W>().0;
-                    let base = self.point_base[p];
-                    let mut dv = Vector::<D>::zeros();
-                    let mut v = Vector::<D>::zeros();
-                    let mut l = Tensor::<D>::zeros();
-                    for ((o, shape), gradient) in rows.iter().zip(shape).zip(gradient) {
-                        let first = base + o;
-                        let inv_mass = node_row::<f64, W>(inv_mass, first);
-                        let (momentum, force) = (
-                            node_row::<Vector<D>, W>(momentum, first),
-                            node_row::<Vector<D>, W>(force, first),
-                        );
-                        for c in 0..W {
-                            let (s, inv) = (shape[c], inv_mass[c]);
-                            let node_velocity = momentum[c] * inv;
-                            dv += force[c] * (s * dt * inv);
-                            v += node_velocity * s;
-                            if STRESS {
-                                l += node_velocity * gradient[c].transpose();
-                            }
-                        }
-                    }
-                    match update {
-                        PointVelocity::Flip => *vp += dv,
-                        PointVelocity::Pic => *vp = v,
-                        PointVelocity::Blend(alpha) => *vp = (*vp + dv) * alpha + v * (1.0 - alpha),
-                    }
-                    *xp += v * dt;
-                    if STRESS {
-                        stress[j] += self.material.stress(&((l + l.transpose()) * 0.5)) * dt;
-                        if moving {
-                            volume[j] *= 1.0 + dt * l.trace();
-                        }
-                    }
+                let npc = self.stencil.nodes;
+                let input = GatherInput {
+                    inv_mass: &nodes.inv_mass,
+                    velocity: &nodes.velocity,
+                    force: &nodes.force,
+                    rows: &self.stencil.row_offsets,
+                    material: self.material,
+                    update,
+                    moving,
+                    dt,
+                };
+                let first_point = r * CHUNK;
+                let count = velocity.len();
+                let bases = &self.point_base[first_point..first_point + count];
+                let points = (velocity, position, stress, volume);
+                // the points' weights: one shared row, or a row of `npc` per point (read in
+                // step with the points: no index, no bounds check per point)
+                if stride == 0 {
+                    let row = (&self.shape[..npc], &self.shape_gradient[..npc]);
+                    gather_points::<STRESS, W, N, D>(input, points, bases, std::iter::repeat(row));
+                } else {
+                    let range = first_point * npc..(first_point + count) * npc;
+                    let shapes = self.shape[range.clone()].chunks_exact(npc);
+                    let gradients = self.shape_gradient[range].chunks_exact(npc);
+                    gather_points::<STRESS, W, N, D>(input, points, bases, shapes.zip(gradients));
                 }
             },
         );
@@ -238,6 +214,99 @@ impl<const D: usize> MpmSolver<D> {
                         *s = svk.piola(f);
                     }
                 });
+            }
+        }
+    }
+}
+
+/// What the fused gather reads besides the points (`MpmSolver::gather`): the nodal `1/m_i`,
+/// `v_i` and `f_i`, the stencil's rows (`Stencil::row_offsets`), and
+/// the step's constants. Passed by value: in registers or the kernel's own stack, not loads
+/// through a closure's environment at every point.
+#[derive(Clone, Copy)]
+struct GatherInput<'a, const D: usize> {
+    inv_mass: &'a [f64],
+    velocity: &'a [Vector<D>],
+    force: &'a [Vector<D>],
+    rows: &'a [u32],
+    material: LinearElastic,
+    update: PointVelocity,
+    moving: bool,
+    dt: f64,
+}
+
+/// The points of one chunk of `MpmSolver::gather` (its doc: phase 3, and phase 5 with
+/// `STRESS`; `W` nodes a row, `N` nodes or 0: read at run time), `points` their velocities, positions, stresses and volumes, `bases` their
+/// stencils' base nodes and `weights` their rows of shape values and gradients, in step:
+/// a generic function per kind of `weights` (one shared row, a row per point), so that the
+/// loop and the per-point work compile into one function.
+fn gather_points<'w, const STRESS: bool, const W: usize, const N: usize, const D: usize>(
+    input: GatherInput<'_, D>,
+    points: (
+        &mut [Vector<D>],
+        &mut [Vector<D>],
+        &mut [Tensor<D>],
+        &mut [f64],
+    ),
+    bases: &[usize],
+    weights: impl Iterator<Item = (&'w [f64], &'w [Vector<D>])>,
+) {
+    let GatherInput {
+        inv_mass,
+        velocity: node_velocity,
+        force,
+        rows,
+        material,
+        update,
+        moving,
+        dt,
+    } = input;
+    // sliced to one length here: a row checked against `1/m` is proved for the others
+    let (node_velocity, force) = (&node_velocity[..inv_mass.len()], &force[..inv_mass.len()]);
+    // the stencil's node count: `N` where fixed (the loop over the rows then has a constant
+    // trip count and unrolls), else read here, once per chunk
+    let nodes = if N == 0 { rows.len() * W } else { N };
+    let rows = &rows[..nodes / W];
+    let (velocity, position, stress, volume) = points;
+    let points = (velocity.iter_mut().zip(position.iter_mut()))
+        .zip(stress.iter_mut().zip(volume.iter_mut()))
+        .zip(bases);
+    for ((((vp, xp), (sp, vol)), &base), (shape, gradient)) in points.zip(weights) {
+        let shape = shape[..nodes].as_chunks::<W>().0;
+        let gradient = gradient[..nodes].as_chunks::<W>().0;
+        let mut dv = Vector::<D>::zeros();
+        let mut v = Vector::<D>::zeros();
+        let mut l = Tensor::<D>::zeros();
+        // the nodes from the base node on (one check a point; the three of one length)
+        let (inv_mass, node_velocity, force) =
+            (&inv_mass[base..], &node_velocity[base..], &force[base..]);
+        for ((&o, shape), gradient) in rows.iter().zip(shape).zip(gradient) {
+            let first = o as usize;
+            let inv_mass = node_row::<f64, W>(inv_mass, first);
+            let (node_velocity, force) = (
+                node_row::<Vector<D>, W>(node_velocity, first),
+                node_row::<Vector<D>, W>(force, first),
+            );
+            for c in 0..W {
+                let (s, inv) = (shape[c], inv_mass[c]);
+                let node_velocity = node_velocity[c];
+                dv += force[c] * (s * dt * inv);
+                v += node_velocity * s;
+                if STRESS {
+                    l += node_velocity * gradient[c].transpose();
+                }
+            }
+        }
+        match update {
+            PointVelocity::Flip => *vp += dv,
+            PointVelocity::Pic => *vp = v,
+            PointVelocity::Blend(alpha) => *vp = (*vp + dv) * alpha + v * (1.0 - alpha),
+        }
+        *xp += v * dt;
+        if STRESS {
+            *sp += material.stress(&((l + l.transpose()) * 0.5)) * dt;
+            if moving {
+                *vol *= 1.0 + dt * l.trace();
             }
         }
     }

@@ -3,6 +3,19 @@ use crate::Mpm;
 use impact_core::method::MethodKind;
 use impact_core::{Method, Problem, Scene};
 
+/// MPM (the defaults) on the built-in plate with `cells`, after `steps` steps.
+fn stepped_plate(cells: Vec<usize>, steps: usize) -> Mpm<2> {
+    let mut scene = Scene::builtin("plate").unwrap();
+    scene.domain.cells = cells;
+    let problem = Problem::<2>::from_scene(&scene).unwrap();
+    let mut mpm = Mpm::<2>::new(&problem, scene.method_config(MethodKind::Mpm)).unwrap();
+    let dt = mpm.stable_dt();
+    for n in 0..steps {
+        mpm.step(n as f64 * dt, dt);
+    }
+    mpm
+}
+
 /// The coloured scatter reads the points of each layer through `layer_order` unless
 /// they are in it already: an order reversed within every layer gives the sums of the
 /// points' own order to round-off (2 threads, the parallel passes).
@@ -13,15 +26,7 @@ fn scatter_sums_do_not_depend_on_the_order_within_a_layer() {
         .build()
         .unwrap();
     pool.install(|| {
-        let mut scene = Scene::builtin("plate").unwrap();
-        scene.domain.cells = vec![80, 60];
-        let problem = Problem::<2>::from_scene(&scene).unwrap();
-        let config = scene.method_config(MethodKind::Mpm);
-        let mut own = Mpm::<2>::new(&problem, config).unwrap();
-        let dt = own.stable_dt();
-        for n in 0..5 {
-            own.step(n as f64 * dt, dt);
-        }
+        let mut own = stepped_plate(vec![80, 60], 5);
         assert!(own.solver.parallel && own.solver.in_layer_order);
         let mut reversed = own.clone();
         let solver = &mut reversed.solver;
@@ -52,4 +57,31 @@ fn scatter_sums_do_not_depend_on_the_order_within_a_layer() {
             assert!((a.momentum[i] - b.momentum[i]).amax() <= 1e-13 * momentum_scale);
         }
     });
+}
+
+/// The nodal velocity the grid update stores is the product the gathers formed per
+/// node-point pair before, `p_i (1/m_i)`, bit for bit on every node, the constrained ones
+/// included (the plate's velocity edge sets momentum components after the node pass).
+#[test]
+fn nodal_velocity_is_the_momentum_times_the_inverse_mass() {
+    let mpm = stepped_plate(vec![40, 30], 3);
+    let solver = &mpm.solver;
+    assert!(
+        !solver.node_constraints.is_empty(),
+        "the plate's edges hold nodes"
+    );
+    let nodes = &solver.nodes;
+    assert!(
+        (solver.node_constraints.iter())
+            .any(|c| nodes.momentum[c.carrier][c.axis] == c.value * nodes.mass[c.carrier]),
+        "a node with mass whose momentum component the constraints set"
+    );
+    for i in 0..nodes.mass.len() {
+        let product = nodes.momentum[i] * nodes.inv_mass[i];
+        assert_eq!(
+            nodes.velocity[i].map(f64::to_bits),
+            product.map(f64::to_bits),
+            "node {i}"
+        );
+    }
 }

@@ -1,0 +1,131 @@
+//! Phase 1's default scatter (no APIC, with the internal force; `transfer.rs`'s module doc
+//! for the colouring): a run of points read in step with its arrays and weights.
+use super::*;
+
+impl<const D: usize> MpmSolver<D> {
+    /// Phase 1's sums without APIC, with the internal force (the default), for a stencil of
+    /// rows of `W` nodes (its `width`) and `N` nodes (0: any): mass `m_i = Σ_p N_ip m_p`,
+    /// momentum `p_i = Σ_p N_ip m_p v_p`, force `f_i = -Σ_p (V_p σ_p) ∇N_ip`. A run of
+    /// points in their own order (the total Lagrangian frame; [`Run`]) is read in step
+    /// with its arrays and rows of weights (no index, no bounds check per point), another
+    /// one through the layer order; both through [`scatter_points`].
+    pub(super) fn scatter_plain<const W: usize, const N: usize>(
+        &mut self,
+        points: &MaterialPoints<D>,
+    ) {
+        assert_eq!(
+            self.stencil.width, W,
+            "the scatter's rows are the stencil's"
+        );
+        let stride = self.weight_stride;
+        assert!(
+            stride == 0 || stride == self.stencil.nodes,
+            "a point's row of weights is its stencil's"
+        );
+        let fill = Fill {
+            mass: true,
+            momentum: true,
+            force: true,
+        };
+        self.scatter_runs(fill, |weights, run, sums| {
+            let npc = weights.offsets.len();
+            let rows = weights.row_offsets;
+            // the node count where fixed (`N`), else the stencil's
+            let nodes = if N == 0 { npc } else { N };
+            if !run.order.is_empty() {
+                // the point arrays sliced to one length (a point checked against the mass
+                // is proved for the others), the weights to one too; copied into the
+                // iterator (`move`), not read through the closure's captures per point
+                let count = points.mass.len();
+                let (mass, velocity) = (&points.mass[..], &points.velocity[..count]);
+                let (stress, volume) = (&points.stress[..count], &points.volume[..count]);
+                let bases = &weights.bases[..count];
+                let shape = weights.shape;
+                let gradient = &weights.gradient[..shape.len()];
+                let stride = weights.stride;
+                let order = &run.order[run.points];
+                let data = order.iter().map(move |&p| {
+                    let row = p * stride..p * stride + nodes;
+                    // V_p σ_p formed once per point
+                    let point = (mass[p], velocity[p], stress[p] * volume[p], bases[p]);
+                    (point, (&shape[row.clone()], &gradient[row]))
+                });
+                return scatter_points::<W, N, D>(sums, rows, data);
+            }
+            let range = run.points;
+            let (mass, velocity) = (&points.mass[range.clone()], &points.velocity[range.clone()]);
+            let (stress, volume) = (&points.stress[range.clone()], &points.volume[range.clone()]);
+            let bases = &weights.bases[range.clone()];
+            let data = (mass.iter().zip(velocity))
+                .zip(stress.iter().zip(volume))
+                .zip(bases)
+                .map(|(((&m, &v), (s, &vol)), &b)| (m, v, s * vol, b));
+            if weights.stride == 0 {
+                let row = (&weights.shape[..npc], &weights.gradient[..npc]);
+                scatter_points::<W, N, D>(sums, rows, data.zip(std::iter::repeat(row)));
+            } else {
+                let range = range.start * npc..range.end * npc;
+                let shapes = weights.shape[range.clone()].chunks_exact(npc);
+                let gradients = weights.gradient[range].chunks_exact(npc);
+                scatter_points::<W, N, D>(sums, rows, data.zip(shapes.zip(gradients)));
+            }
+        });
+    }
+}
+
+/// Phase 1's sums ([`MpmSolver::scatter_plain`]) of `points`: per point its mass `m_p`,
+/// velocity `v_p`, `V_p σ_p` and base node, and its row of shape values and gradients, on
+/// a stencil of `rows` of `W` consecutive nodes (`Stencil::row_offsets`) and `N` nodes (0:
+/// read here). Each row of the nodal sums is sliced once (one bounds check per row, not per
+/// node) and its nodes added in the stencil's order (each node's sums take the same
+/// operations in the same order as node by node). A generic function per kind of
+/// `points`: the loop and the per-point work compile into one function, inlined into the
+/// caller (which knows the lengths of the arrays the points index: one check per point).
+#[inline(always)]
+fn scatter_points<'w, const W: usize, const N: usize, const D: usize>(
+    sums: &mut Band<'_, D>,
+    rows: &[u32],
+    points: impl Iterator<
+        Item = (
+            (f64, Vector<D>, Tensor<D>, usize),
+            (&'w [f64], &'w [Vector<D>]),
+        ),
+    >,
+) {
+    // `N` where fixed (the loop over the rows then has a constant trip count and unrolls)
+    let nodes = if N == 0 { rows.len() * W } else { N };
+    let rows = &rows[..nodes / W];
+    let offset = sums.offset;
+    // the three sums sliced to one length: a row checked against the mass is proved for
+    // the momentum and force
+    let len = sums.mass.len();
+    let (nodal_mass, momentum, force) = (
+        &mut *sums.mass,
+        &mut sums.momentum[..len],
+        &mut sums.force[..len],
+    );
+    for ((mass, velocity, stress, base), (shape, gradient)) in points {
+        let shape = shape[..nodes].as_chunks::<W>().0;
+        let gradient = gradient[..nodes].as_chunks::<W>().0;
+        // the band's nodes from the base node on (one check a point; the three of one
+        // length)
+        let base = base - offset;
+        let (nodal_mass, momentum, force) = (
+            &mut nodal_mass[base..],
+            &mut momentum[base..],
+            &mut force[base..],
+        );
+        for ((&o, shape), gradient) in rows.iter().zip(shape).zip(gradient) {
+            let first = o as usize;
+            let nodal_mass = node_row_mut::<f64, W>(nodal_mass, first);
+            let momentum = node_row_mut::<Vector<D>, W>(momentum, first);
+            let force = node_row_mut::<Vector<D>, W>(force, first);
+            for c in 0..W {
+                let w = shape[c] * mass;
+                nodal_mass[c] += w;
+                momentum[c] += velocity * w;
+                force[c] -= stress * gradient[c];
+            }
+        }
+    }
+}
