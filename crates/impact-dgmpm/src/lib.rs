@@ -120,6 +120,7 @@ pub mod faces;
 pub mod fluxes;
 pub mod fused;
 pub mod integrator;
+mod layouts;
 pub mod limiter;
 pub mod mapping;
 pub mod method;
@@ -138,7 +139,7 @@ use impact_core::parallel::worth_parallel;
 use impact_core::points::MaterialPoints;
 use impact_core::problem::{Boundary, Model};
 use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
-use mapping::{all_inside, shapes};
+use layouts::{all_inside, shapes};
 use riemann::{Conserved, Elastic, Impedances};
 
 /// Which system DGMPM solves.
@@ -173,7 +174,9 @@ pub struct DgmpmState<const D: usize> {
 /// `F` under Saint-Venant–Kirchhoff (paper eq. 6-7).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct NodalFields<const D: usize> {
-    /// Lumped mass `M_i` (empty on the fused sweep's RK2 at one point per cell).
+    /// Lumped mass `M_i` at one point per cell, formed in phase 1 (empty on the fused
+    /// sweep's RK2 there, and where the cell layouts hold the masses: several points per
+    /// cell).
     pub mass: Vec<f64>,
     /// Tensor field `q_i` (σ or F).
     pub tensor: Vec<Tensor<D>>,
@@ -193,7 +196,8 @@ pub(crate) struct NodalFields<const D: usize> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct NodalLayout {
     nodes: usize,
-    /// Lumped masses (not on the fused sweep's RK2 at one point per cell: `S_i m_p`).
+    /// Lumped masses (not on the fused sweep's RK2 at one point per cell: `S_i m_p`; not
+    /// where the cell layouts hold them).
     mass: bool,
     /// Start-of-step fields (RK2, the increment update; not where formed from the points).
     start: bool,
@@ -239,19 +243,18 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) load_now: [[f64; 2]; D],
     pub(crate) points_per_cell: usize,
     pub(crate) parallel: bool,
-    /// `S_iα` for point α and local node i, `points × 2^D` (nodal paths only; empty on the
-    /// cell path, which never reads it).
+    /// The nodal paths' per-cell weights, once per distinct cell layout: the shape values
+    /// `S_iα`, and where read the gradients `∇S_iα`, the volume weights
+    /// `K_ab = Σ_α V_α S_bα ∇S_aα` (linear elasticity, at least `2^D` points per cell:
+    /// [`layouts::cell_volume_weights`]), phase 1's weights `W_αi = S_iα m_α / M_i` and the
+    /// lumped masses `M_i` (several points per cell: [`layouts::cell_mapping_weights`]);
+    /// empty on the cell paths and the Heun cell sweeps ([`layouts`]).
+    pub(crate) layouts: layouts::CellLayouts<D>,
+    /// `S_iα` for point α and local node i, `points × 2^D`, and `∇S_iα`: only while the
+    /// Heun cell sweeps' weights are formed from them (`fused/heun.rs`; empty otherwise).
     pub(crate) shape: Vec<f64>,
-    /// `∇S_iα`, `points × 2^D` (nodal paths only; empty where `volume_weights` replaces it).
+    /// `∇S_iα`, as `shape`.
     pub(crate) shape_gradient: Vec<Vector<D>>,
-    /// The volume term's weights `K_ab = Σ_α V_α S_bα ∇S_aα` of every cell, `(2^D - 1) × 2^D`
-    /// per cell (the last row is minus the others' sum), row `a` after row (nodal paths with linear elasticity and at least `2^D` points
-    /// per cell; empty otherwise): [`mapping::volume_weights`].
-    pub(crate) volume_weights: Vec<Vector<D>>,
-    /// Phase 1's weights `W_αi = S_iα m_α / M_i` of every cell, `points × 2^D`, point
-    /// after point (nodal paths with several points per cell; empty otherwise; the lumped
-    /// masses `M_i` are then formed with them, once): [`mapping::mapping_weights`].
-    pub(crate) mapping_weights: Vec<f64>,
     /// RK2 at one point per cell strictly inside its cell on the fused nodal path: each
     /// node's side-state weights `G_i = -V_p ∇S_i`, `κ_i = (2/2^D)/M_i` (`fused/heun.rs`),
     /// `(D + 1) 2^D` per cell, or one cell's when all are equal (empty otherwise; the shape
