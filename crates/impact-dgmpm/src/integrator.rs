@@ -75,7 +75,7 @@ impl<const D: usize> DgmpmSolver<D> {
     pub(crate) fn cell_masses<'a>(&'a self, c: usize, masses: &'a [f64]) -> &'a [f64] {
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
         match self.layouts.has_mapping() {
-            true => self.layouts.mass(c),
+            true => self.layouts.mass_of(self.layouts.layout_of(c)),
             false => &masses[c * nodes_per_cell..(c + 1) * nodes_per_cell],
         }
     }
@@ -126,7 +126,7 @@ impl<const D: usize> DgmpmSolver<D> {
             // (`layouts::cell_volume_weights`) for every node but the last, whose terms
             // are minus the others' sum (Σ_a K_ab = 0: Σ_a ∇S_a = 0)
             let last = nodes_per_cell - 1;
-            let k = layouts.volume_weights(c);
+            let k = layouts.volume_weights_of(layouts.layout_of(c));
             for (a, row) in k.chunks_exact(nodes_per_cell).enumerate() {
                 for b in 0..nodes_per_cell {
                     velocity_gradient[a] -= nv[b] * row[b].transpose();
@@ -144,7 +144,10 @@ impl<const D: usize> DgmpmSolver<D> {
         };
         let (shapes, gradients) = match layouts.has_volume() {
             true => (&[][..], &[][..]),
-            false => (layouts.shape(c), layouts.gradient(c)),
+            false => {
+                let l = layouts.layout_of(c);
+                (layouts.shape_of(l), layouts.gradient_of(l))
+            }
         };
         for k in per_point {
             let p = c * self.points_per_cell + k;

@@ -264,35 +264,46 @@ impl<const D: usize> CellLayouts<D> {
         self.layout[cell] as usize
     }
 
-    /// `S_iα` of cell `cell`'s points, `2^D` per point, point after point.
+    /// The layouts of the cells `cells`.
+    #[inline(always)]
+    pub(crate) fn layouts_of(&self, cells: std::ops::Range<usize>) -> &[u32] {
+        &self.layout[cells]
+    }
+
+    /// `S_iα` of layout `l`'s points, `2^D` per point, point after point.
+    #[inline(always)]
+    pub(crate) fn shape_of(&self, l: usize) -> &[f64] {
+        self.block(&self.shape, l, self.per_cell())
+    }
+
+    /// `∇S_iα` of layout `l`'s points, as [`Self::shape_of`].
+    #[inline(always)]
+    pub(crate) fn gradient_of(&self, l: usize) -> &[Vector<D>] {
+        self.block(&self.gradient, l, self.per_cell())
+    }
+
+    /// `K_ab` of layout `l`, `(2^D - 1) × 2^D`, row `a` after row.
+    #[inline(always)]
+    pub(crate) fn volume_weights_of(&self, l: usize) -> &[Vector<D>] {
+        self.block(&self.volume, l, Self::VOLUME)
+    }
+
+    /// `W_αi` of layout `l`'s points, as [`Self::shape_of`].
+    #[inline(always)]
+    pub(crate) fn mapping_weights_of(&self, l: usize) -> &[f64] {
+        self.block(&self.mapping, l, self.per_cell())
+    }
+
+    /// `M_i` of layout `l`'s nodes.
+    #[inline(always)]
+    pub(crate) fn mass_of(&self, l: usize) -> &[f64] {
+        self.block(&self.mass, l, Grid::<D>::NODES_PER_CELL)
+    }
+
+    /// `S_iα` of cell `cell`'s points ([`Self::shape_of`] its layout).
     #[inline(always)]
     pub(crate) fn shape(&self, cell: usize) -> &[f64] {
-        self.block(&self.shape, self.layout_of(cell), self.per_cell())
-    }
-
-    /// `∇S_iα` of cell `cell`'s points, as [`Self::shape`].
-    #[inline(always)]
-    pub(crate) fn gradient(&self, cell: usize) -> &[Vector<D>] {
-        self.block(&self.gradient, self.layout_of(cell), self.per_cell())
-    }
-
-    /// `K_ab` of cell `cell`, `(2^D - 1) × 2^D`, row `a` after row.
-    #[inline(always)]
-    pub(crate) fn volume_weights(&self, cell: usize) -> &[Vector<D>] {
-        self.block(&self.volume, self.layout_of(cell), Self::VOLUME)
-    }
-
-    /// `W_αi` of cell `cell`'s points, as [`Self::shape`].
-    #[inline(always)]
-    pub(crate) fn mapping_weights(&self, cell: usize) -> &[f64] {
-        self.block(&self.mapping, self.layout_of(cell), self.per_cell())
-    }
-
-    /// `M_i` of cell `cell`'s nodes.
-    #[inline(always)]
-    pub(crate) fn mass(&self, cell: usize) -> &[f64] {
-        let n = Grid::<D>::NODES_PER_CELL;
-        self.block(&self.mass, self.layout_of(cell), n)
+        self.shape_of(self.layout_of(cell))
     }
 }
 

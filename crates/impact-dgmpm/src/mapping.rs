@@ -122,14 +122,20 @@ fn cell_sums<const D: usize>(
 /// One cell's phase 1 with its mapping weights `w` (`W_αi`, `2^D` per point, point after
 /// point): `q_i = Σ_α W_αi q_α`, `v_i = Σ_α W_αi v_α` into the cell's nodes, each sum in
 /// point order from zero. The point loop is outside the node loop, so each point is read
-/// once; the node loop has the constant length `2^D`.
+/// once; the node loop has the constant length `2^D`. `N > 0`: the cell has exactly `N`
+/// points, a constant trip count (the loop unrolled, as in [`points_of_cell`]); `N = 0`:
+/// `q.len()` points.
 #[inline(always)]
-fn weighted_cell<const D: usize>(
+fn weighted_cell<const D: usize, const N: usize>(
     w: &[f64],
     (q, v): (&[Tensor<D>], &[Vector<D>]),
     (tensor, velocity): (&mut [Tensor<D>], &mut [Vector<D>]),
 ) {
     let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
+    let (w, q, v) = match N {
+        0 => (w, q, v),
+        _ => (&w[..N * nodes_per_cell], &q[..N], &v[..N]),
+    };
     let mut tensor_sum = [Tensor::<D>::zeros(); MAX_NODES];
     let mut velocity_sum = [Vector::<D>::zeros(); MAX_NODES];
     for ((w, q), v) in w.chunks_exact(nodes_per_cell).zip(q).zip(v) {
@@ -181,9 +187,20 @@ impl<const D: usize> DgmpmSolver<D> {
                 let v = points.velocity[points_range].chunks_exact(points_per_cell);
                 let cells_out = tensor.chunks_exact_mut(nodes_per_cell);
                 let cells_out = cells_out.zip(vel.chunks_exact_mut(nodes_per_cell));
-                for (j, ((q, v), (tensor, vel))) in q.zip(v).zip(cells_out).enumerate() {
-                    let w = layouts.mapping_weights(first + j);
-                    weighted_cell::<D>(w, (q, v), (tensor, vel));
+                let cells_in = layouts
+                    .layouts_of(first..first + cells)
+                    .iter()
+                    .zip(q.zip(v));
+                let cells = cells_in.zip(cells_out);
+                match points_per_cell {
+                    4 => cells.for_each(|((&l, (q, v)), (tensor, vel))| {
+                        let w = layouts.mapping_weights_of(l as usize);
+                        weighted_cell::<D, 4>(w, (q, v), (tensor, vel));
+                    }),
+                    _ => cells.for_each(|((&l, (q, v)), (tensor, vel))| {
+                        let w = layouts.mapping_weights_of(l as usize);
+                        weighted_cell::<D, 0>(w, (q, v), (tensor, vel));
+                    }),
                 }
             });
             return;

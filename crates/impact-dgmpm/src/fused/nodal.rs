@@ -266,6 +266,8 @@ impl<const D: usize> DgmpmSolver<D> {
         } = stage;
         debug_assert_eq!(SINGLE, stage.single);
         let single = SINGLE;
+        let layouts = &self.layouts;
+        let layout = layouts.layout_of(cell);
         // one point per cell: the point's state on every node, M_i = S_i m_p
         let mut point_q = [Tensor::<D>::zeros(); MAX_NODES];
         let mut point_v = [Vector::<D>::zeros(); MAX_NODES];
@@ -287,7 +289,7 @@ impl<const D: usize> DgmpmSolver<D> {
             point_v[..nodes_per_cell].fill(v);
         }
         if single {
-            let shape = self.layouts.shape(cell);
+            let shape = layouts.shape_of(layout);
             for a in 0..nodes_per_cell {
                 point_m[a] = shape[a] * inputs.point_mass[cell];
             }
@@ -299,9 +301,10 @@ impl<const D: usize> DgmpmSolver<D> {
                 &inputs.velocity[range.clone()],
             ),
         };
-        let mass = match single {
-            true => &point_m[..nodes_per_cell],
-            false => self.cell_masses(cell, inputs.mass),
+        let mass = match (single, layouts.has_mapping()) {
+            (true, _) => &point_m[..nodes_per_cell],
+            (false, true) => layouts.mass_of(layout),
+            (false, false) => &inputs.mass[range.clone()],
         };
         let mut rate_tensor = [Tensor::<D>::zeros(); MAX_NODES];
         let mut rate_velocity = [Vector::<D>::zeros(); MAX_NODES];
@@ -352,7 +355,7 @@ impl<const D: usize> DgmpmSolver<D> {
                     &mut velocity[entries.clone()],
                     &mut position[entries],
                 );
-                let shapes = self.layouts.shape(cell);
+                let shapes = layouts.shape_of(layout);
                 match per_cell {
                     4 => points_of_cell::<D, 4>(shapes, new, increment, points, dt),
                     2 => points_of_cell::<D, 2>(shapes, new, increment, points, dt),

@@ -33,6 +33,7 @@ fn check_table<const D: usize>(
     let mut k = vec![Vector::<D>::zeros(); (n - 1) * n];
     let (mut w, mut m) = (vec![0.0; per_cell], vec![0.0; n]);
     for c in 0..cells {
+        let l = table.layout_of(c);
         let (s, g) = (
             &shape[c * per_cell..(c + 1) * per_cell],
             &gradient[c * per_cell..(c + 1) * per_cell],
@@ -40,23 +41,23 @@ fn check_table<const D: usize>(
         let own = c * points_per_cell..(c + 1) * points_per_cell;
         cell_volume_weights::<D>(s, g, &points.volume[own.clone()], &mut k);
         cell_mapping_weights::<D>(s, &points.mass[own], &mut w, &mut m);
-        assert_eq!(bits(table.shape(c)), bits(s), "{label}: cell {c} shape");
+        assert_eq!(bits(table.shape_of(l)), bits(s), "{label}: cell {c} shape");
         assert_eq!(
-            vector_bits(table.gradient(c)),
+            vector_bits(table.gradient_of(l)),
             vector_bits(g),
             "{label}: cell {c} gradients"
         );
         assert_eq!(
-            vector_bits(table.volume_weights(c)),
+            vector_bits(table.volume_weights_of(l)),
             vector_bits(&k),
             "{label}: cell {c} volume weights"
         );
         assert_eq!(
-            bits(table.mapping_weights(c)),
+            bits(table.mapping_weights_of(l)),
             bits(&w),
             "{label}: cell {c} mapping weights"
         );
-        assert_eq!(bits(table.mass(c)), bits(&m), "{label}: cell {c} masses");
+        assert_eq!(bits(table.mass_of(l)), bits(&m), "{label}: cell {c} masses");
     }
     println!(
         "{label}: {} layouts for {cells} cells",
