@@ -46,14 +46,21 @@
 //!
 //! **Volume weights** (the nodal paths with linear elasticity and `2^D` points per cell or
 //! more): phase 3's volume term `-Σ_α V_α σ_h(X_α) ∇S_iα` is `-Σ_b σ_b K_ib` with the
-//! cell's weights `K_ib = Σ_α V_α S_bα ∇S_iα`, formed once (`mapping::volume_weights`);
+//! cell's weights `K_ib = Σ_α V_α S_bα ∇S_iα`, formed once (`layouts::cell_volume_weights`);
 //! they replace the points' gradients, and the last node's row is not stored (`Σ_i K_ib = 0`:
 //! its terms are minus the others'). Tested equal to the per-point sums to 1e-13.
 //!
 //! **Mapping weights** (the nodal paths with several points per cell): phase 1 is
 //! `q_i = Σ_α W_αi q_α` with `W_αi = S_iα m_α / M_i` and the lumped masses `M_i` formed
-//! once (`mapping::mapping_weights`: the points never move in the grid and their masses
-//! are fixed), a small dense product per cell. Tested equal to the per-node sums to 1e-13.
+//! once (`layouts::cell_mapping_weights`: the points never move in the grid and their
+//! masses are fixed), a small dense product per cell.
+//!
+//! **Cell layouts** (the nodal paths): the shape values, gradients, volume and mapping
+//! weights and lumped masses of a cell depend only on its points' reference local
+//! coordinates, masses and volumes, so each distinct set (bit-equal blocks) is stored once
+//! and each cell holds a `u32` layout index (`layouts.rs`): a uniform seeding has a few
+//! hundred layouts at most, an irregular one up to one per cell. The step reads the same
+//! values as per-cell arrays would hold (outputs bit for bit equal). Tested equal to the per-node sums to 1e-13.
 //!
 //! Choices where the paper is silent, with their reasons:
 //! - **Point update** ([`PointUpdate`]): the default is `Nodal` (points take the
@@ -65,7 +72,8 @@
 //!   those modes undamped; it is offered for experiments.
 //! - **Points do not move** in the small-strain scenes: the grid is the reference
 //!   configuration of a total Lagrangian formulation (paper eq. 11-13), so the shape
-//!   function values at the points are computed once.
+//!   function values at the points are computed once (and stored once per distinct cell
+//!   layout).
 //! - **RK2** is Heun's method (the two-stage SSP Runge-Kutta scheme, TVD under the same
 //!   Courant limit as Euler for a TVD spatial operator).
 //! - **Face states** are the averages of each side's face nodes (paper §4), so a face has
@@ -97,6 +105,8 @@
 //! ## Files, one phase each
 //! - [`faces`]: face indexing, face states and ghost conditions.
 //! - [`mapping`]: phase 1 (particles→nodes) and phase 5 (nodes→particles).
+//! - `layouts.rs`: the nodal paths' per-cell weights, formed once and stored once per
+//!   distinct cell layout.
 //! - [`fluxes`]: phase 2, interface fluxes (linear and SVK) and the boundary force.
 //! - [`ctu`]: phase 2b, corner transport upwind corrections (2D; the 3D dispatch).
 //! - `ctu3.rs`: phase 2b in 3D, the transverse and transverse-transverse corrections
@@ -246,9 +256,9 @@ pub struct DgmpmSolver<const D: usize> {
     /// The nodal paths' per-cell weights, once per distinct cell layout: the shape values
     /// `S_iα`, and where read the gradients `∇S_iα`, the volume weights
     /// `K_ab = Σ_α V_α S_bα ∇S_aα` (linear elasticity, at least `2^D` points per cell:
-    /// [`layouts::cell_volume_weights`]), phase 1's weights `W_αi = S_iα m_α / M_i` and the
-    /// lumped masses `M_i` (several points per cell: [`layouts::cell_mapping_weights`]);
-    /// empty on the cell paths and the Heun cell sweeps ([`layouts`]).
+    /// `layouts::cell_volume_weights`), phase 1's weights `W_αi = S_iα m_α / M_i` and the
+    /// lumped masses `M_i` (several points per cell: `layouts::cell_mapping_weights`);
+    /// empty on the cell paths and the Heun cell sweeps (`layouts.rs`).
     pub(crate) layouts: layouts::CellLayouts<D>,
     /// `S_iα` for point α and local node i, `points × 2^D`, and `∇S_iα`: only while the
     /// Heun cell sweeps' weights are formed from them (`fused/heun.rs`; empty otherwise).

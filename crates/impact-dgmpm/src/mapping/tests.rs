@@ -1,8 +1,8 @@
 //! Phase 1 (`particles_to_nodes`) equals the per-node formula
 //! `M_i = Σ_α S_iα m_α`, `q_i = Σ_α S_iα m_α q_α / M_i` (paper eq. 17), each sum taken
 //! node by node in point order: point by point (`cell_sums`) bit for bit, and with the
-//! mapping weights `W_αi = S_iα m_α / M_i` (`mapping_weights`) the masses bit for bit and
-//! the fields to round-off (the division by `M_i` comes before the sum, so each term is
+//! mapping weights `W_αi = S_iα m_α / M_i` (`layouts::cell_mapping_weights`) the masses
+//! bit for bit and the fields to round-off (the division by `M_i` comes before the sum, so each term is
 //! rounded once more: 1e-13 of the peak is checked, a few 1e-16 measured): 1D with 3 points
 //! per cell, 2D with 4 and 9, 3D with 8, on states a few steps into a loaded run (so every
 //! point differs).
