@@ -1,7 +1,7 @@
 //! Heap bytes per cell of every method (issue 14): `cargo bench --bench memory`.
 //!
 //! A counting global allocator tracks the live heap. For each method (its scene
-//! configuration, one point per cell) on the plane-wave plate at 1000×750 cells it reports
+//! configuration, one point per cell; DGMPM also at 4 points per cell) on the plane-wave plate at 1000×750 cells it reports
 //! the bytes the built method holds (live heap after `build` minus before), the peak live
 //! heap while building (transient buffers), and the peak over its first 5 steps (buffers a
 //! step allocates lazily), per cell. Nothing else runs
@@ -38,6 +38,12 @@ fn main() {
     let mut four = scene.method_config(MethodKind::Dgmpm);
     four.points_per_cell = 4;
     configs.push(("dgmpm (Euler, 4 ppc: fused nodal)", four));
+    let mut four_rk2 = four;
+    if let Some(o) = four_rk2.dgmpm_mut() {
+        o.integrator = Integrator::Rk2;
+    }
+    four_rk2.courant = 0.5;
+    configs.push(("dgmpm (RK2, 4 ppc: fused nodal)", four_rk2));
     configs.push(("mpm (USL, linear)", scene.method_config(MethodKind::Mpm)));
     configs.push(("fem (Q4)", scene.method_config(MethodKind::Fem)));
     for (label, config) in configs {

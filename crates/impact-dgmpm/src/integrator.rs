@@ -64,9 +64,20 @@ impl<const D: usize> DgmpmSolver<D> {
         let nodal = (
             &nodes.tensor[cell_nodes.clone()],
             &nodes.velocity[cell_nodes.clone()],
-            &nodes.mass[cell_nodes],
+            self.cell_masses(c, &nodes.mass),
         );
         self.rates_of_cell(c, &points.volume, nodal, faces, (rq, rv));
+    }
+
+    /// The lumped masses `M_i` of cell `c`'s nodes: from the cell layouts where they hold
+    /// them (several points per cell), else from the nodal masses `masses` phase 1 formed.
+    #[inline(always)]
+    pub(crate) fn cell_masses<'a>(&'a self, c: usize, masses: &'a [f64]) -> &'a [f64] {
+        let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
+        match self.layouts.has_mapping() {
+            true => self.layouts.mass_of(self.layouts.layout_of(c)),
+            false => &masses[c * nodes_per_cell..(c + 1) * nodes_per_cell],
+        }
     }
 
     /// The nodal rates `(dq_i/dt, dv_i/dt)` of cell `c` into `(rq, rv)` (module doc of
@@ -79,7 +90,7 @@ impl<const D: usize> DgmpmSolver<D> {
     /// strain rate (paper eq. 5-6). `C :` and `sym` are linear, so they are applied once per
     /// node to the sum `-Σ_α V_α v_h ⊗ ∇S_iα`. With linear elasticity and `2^D` points per
     /// cell or more the volume sums are `-Σ_b σ_b K_ib`, `-Σ_b v_b ⊗ K_ib` from the cell's
-    /// weights `K_ib = Σ_α V_α S_bα ∇S_iα` (`mapping::volume_weights`, formed once), which
+    /// weights `K_ib = Σ_α V_α S_bα ∇S_iα` (`layouts::cell_volume_weights`, formed once), which
     /// costs `2^D × 2^D` terms per cell instead of `2 × 2^D` per point; the last node's are
     /// minus the sum of the others' (`Σ_i K_ib = 0` since `Σ_i ∇S_i = 0`, the partition of
     /// unity), so `(2^D - 1) × 2^D` terms (to round-off: tested against the per-point
@@ -109,13 +120,13 @@ impl<const D: usize> DgmpmSolver<D> {
         // -Σ_α V_α v_h ⊗ ∇S_iα and -Σ_α V_α σ_h ∇S_iα (+ the face tractions below)
         let mut velocity_gradient = [Tensor::<D>::zeros(); MAX_NODES];
         let mut force = [Vector::<D>::zeros(); MAX_NODES];
-        if !self.volume_weights.is_empty() {
+        let layouts = &self.layouts;
+        if layouts.has_volume() {
             // linear elasticity, 2^D points or more: -Σ_b v_b ⊗ K_ab and -Σ_b σ_b K_ab
-            // (`mapping::volume_weights`) for every node but the last, whose terms are
-            // minus the others' sum (Σ_a K_ab = 0: Σ_a ∇S_a = 0)
+            // (`layouts::cell_volume_weights`) for every node but the last, whose terms
+            // are minus the others' sum (Σ_a K_ab = 0: Σ_a ∇S_a = 0)
             let last = nodes_per_cell - 1;
-            let per_cell = last * nodes_per_cell;
-            let k = &self.volume_weights[c * per_cell..(c + 1) * per_cell];
+            let k = layouts.volume_weights_of(layouts.layout_of(c));
             for (a, row) in k.chunks_exact(nodes_per_cell).enumerate() {
                 for b in 0..nodes_per_cell {
                     velocity_gradient[a] -= nv[b] * row[b].transpose();
@@ -127,13 +138,21 @@ impl<const D: usize> DgmpmSolver<D> {
                 force[last] -= force[a];
             }
         }
-        let per_point = match self.volume_weights.is_empty() {
-            true => c * self.points_per_cell..(c + 1) * self.points_per_cell,
-            false => 0..0,
+        let per_point = match layouts.has_volume() {
+            true => 0..0,
+            false => 0..self.points_per_cell,
         };
-        for p in per_point {
-            let s = &self.shape[p * nodes_per_cell..(p + 1) * nodes_per_cell];
-            let g = &self.shape_gradient[p * nodes_per_cell..(p + 1) * nodes_per_cell];
+        let (shapes, gradients) = match layouts.has_volume() {
+            true => (&[][..], &[][..]),
+            false => {
+                let l = layouts.layout_of(c);
+                (layouts.shape_of(l), layouts.gradient_of(l))
+            }
+        };
+        for k in per_point {
+            let p = c * self.points_per_cell + k;
+            let s = &shapes[k * nodes_per_cell..(k + 1) * nodes_per_cell];
+            let g = &gradients[k * nodes_per_cell..(k + 1) * nodes_per_cell];
             let mut qh = Tensor::<D>::zeros();
             let mut vh = Vector::<D>::zeros();
             for b in 0..nodes_per_cell {

@@ -46,14 +46,21 @@
 //!
 //! **Volume weights** (the nodal paths with linear elasticity and `2^D` points per cell or
 //! more): phase 3's volume term `-Σ_α V_α σ_h(X_α) ∇S_iα` is `-Σ_b σ_b K_ib` with the
-//! cell's weights `K_ib = Σ_α V_α S_bα ∇S_iα`, formed once (`mapping::volume_weights`);
+//! cell's weights `K_ib = Σ_α V_α S_bα ∇S_iα`, formed once (`layouts::cell_volume_weights`);
 //! they replace the points' gradients, and the last node's row is not stored (`Σ_i K_ib = 0`:
 //! its terms are minus the others'). Tested equal to the per-point sums to 1e-13.
 //!
 //! **Mapping weights** (the nodal paths with several points per cell): phase 1 is
 //! `q_i = Σ_α W_αi q_α` with `W_αi = S_iα m_α / M_i` and the lumped masses `M_i` formed
-//! once (`mapping::mapping_weights`: the points never move in the grid and their masses
-//! are fixed), a small dense product per cell. Tested equal to the per-node sums to 1e-13.
+//! once (`layouts::cell_mapping_weights`: the points never move in the grid and their
+//! masses are fixed), a small dense product per cell.
+//!
+//! **Cell layouts** (the nodal paths): the shape values, gradients, volume and mapping
+//! weights and lumped masses of a cell depend only on its points' reference local
+//! coordinates, masses and volumes, so each distinct set (bit-equal blocks) is stored once
+//! and each cell holds a `u32` layout index (`layouts.rs`): a uniform seeding has a few
+//! hundred layouts at most, an irregular one up to one per cell. The step reads the same
+//! values as per-cell arrays would hold (outputs bit for bit equal). Tested equal to the per-node sums to 1e-13.
 //!
 //! Choices where the paper is silent, with their reasons:
 //! - **Point update** ([`PointUpdate`]): the default is `Nodal` (points take the
@@ -65,7 +72,8 @@
 //!   those modes undamped; it is offered for experiments.
 //! - **Points do not move** in the small-strain scenes: the grid is the reference
 //!   configuration of a total Lagrangian formulation (paper eq. 11-13), so the shape
-//!   function values at the points are computed once.
+//!   function values at the points are computed once (and stored once per distinct cell
+//!   layout).
 //! - **RK2** is Heun's method (the two-stage SSP Runge-Kutta scheme, TVD under the same
 //!   Courant limit as Euler for a TVD spatial operator).
 //! - **Face states** are the averages of each side's face nodes (paper §4), so a face has
@@ -97,6 +105,8 @@
 //! ## Files, one phase each
 //! - [`faces`]: face indexing, face states and ghost conditions.
 //! - [`mapping`]: phase 1 (particles→nodes) and phase 5 (nodes→particles).
+//! - `layouts.rs`: the nodal paths' per-cell weights, formed once and stored once per
+//!   distinct cell layout.
 //! - [`fluxes`]: phase 2, interface fluxes (linear and SVK) and the boundary force.
 //! - [`ctu`]: phase 2b, corner transport upwind corrections (2D; the 3D dispatch).
 //! - `ctu3.rs`: phase 2b in 3D, the transverse and transverse-transverse corrections
@@ -120,6 +130,7 @@ pub mod faces;
 pub mod fluxes;
 pub mod fused;
 pub mod integrator;
+mod layouts;
 pub mod limiter;
 pub mod mapping;
 pub mod method;
@@ -138,7 +149,7 @@ use impact_core::parallel::worth_parallel;
 use impact_core::points::MaterialPoints;
 use impact_core::problem::{Boundary, Model};
 use impact_core::{CoreError, Grid, LinearElastic, Problem, Tensor, Vector};
-use mapping::{all_inside, shapes};
+use layouts::{all_inside, shapes};
 use riemann::{Conserved, Elastic, Impedances};
 
 /// Which system DGMPM solves.
@@ -173,7 +184,9 @@ pub struct DgmpmState<const D: usize> {
 /// `F` under Saint-Venant–Kirchhoff (paper eq. 6-7).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct NodalFields<const D: usize> {
-    /// Lumped mass `M_i` (empty on the fused sweep's RK2 at one point per cell).
+    /// Lumped mass `M_i` at one point per cell, formed in phase 1 (empty on the fused
+    /// sweep's RK2 there, and where the cell layouts hold the masses: several points per
+    /// cell).
     pub mass: Vec<f64>,
     /// Tensor field `q_i` (σ or F).
     pub tensor: Vec<Tensor<D>>,
@@ -193,7 +206,8 @@ pub(crate) struct NodalFields<const D: usize> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct NodalLayout {
     nodes: usize,
-    /// Lumped masses (not on the fused sweep's RK2 at one point per cell: `S_i m_p`).
+    /// Lumped masses (not on the fused sweep's RK2 at one point per cell: `S_i m_p`; not
+    /// where the cell layouts hold them).
     mass: bool,
     /// Start-of-step fields (RK2, the increment update; not where formed from the points).
     start: bool,
@@ -239,19 +253,18 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) load_now: [[f64; 2]; D],
     pub(crate) points_per_cell: usize,
     pub(crate) parallel: bool,
-    /// `S_iα` for point α and local node i, `points × 2^D` (nodal paths only; empty on the
-    /// cell path, which never reads it).
+    /// The nodal paths' per-cell weights, once per distinct cell layout: the shape values
+    /// `S_iα`, and where read the gradients `∇S_iα`, the volume weights
+    /// `K_ab = Σ_α V_α S_bα ∇S_aα` (linear elasticity, at least `2^D` points per cell:
+    /// `layouts::cell_volume_weights`), phase 1's weights `W_αi = S_iα m_α / M_i` and the
+    /// lumped masses `M_i` (several points per cell: `layouts::cell_mapping_weights`);
+    /// empty on the cell paths and the Heun cell sweeps (`layouts.rs`).
+    pub(crate) layouts: layouts::CellLayouts<D>,
+    /// `S_iα` for point α and local node i, `points × 2^D`, and `∇S_iα`: only while the
+    /// Heun cell sweeps' weights are formed from them (`fused/heun.rs`; empty otherwise).
     pub(crate) shape: Vec<f64>,
-    /// `∇S_iα`, `points × 2^D` (nodal paths only; empty where `volume_weights` replaces it).
+    /// `∇S_iα`, as `shape`.
     pub(crate) shape_gradient: Vec<Vector<D>>,
-    /// The volume term's weights `K_ab = Σ_α V_α S_bα ∇S_aα` of every cell, `(2^D - 1) × 2^D`
-    /// per cell (the last row is minus the others' sum), row `a` after row (nodal paths with linear elasticity and at least `2^D` points
-    /// per cell; empty otherwise): [`mapping::volume_weights`].
-    pub(crate) volume_weights: Vec<Vector<D>>,
-    /// Phase 1's weights `W_αi = S_iα m_α / M_i` of every cell, `points × 2^D`, point
-    /// after point (nodal paths with several points per cell; empty otherwise; the lumped
-    /// masses `M_i` are then formed with them, once): [`mapping::mapping_weights`].
-    pub(crate) mapping_weights: Vec<f64>,
     /// RK2 at one point per cell strictly inside its cell on the fused nodal path: each
     /// side's state weights `W = Σ_i κ_i G_i` and `K_{m,t}` of its faces (`fused/heun.rs`),
     /// `2D (3D - 1)` per cell, or one cell's when all are equal (empty otherwise; the

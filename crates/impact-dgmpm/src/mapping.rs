@@ -1,11 +1,11 @@
 //! Particle↔node mapping: phase 1 (particles→nodes, paper eq. 17) and phase 5
 //! (nodes→particles), with the point-side updates that follow them (`Π(F)` at the points
 //! under Saint-Venant–Kirchhoff, positions for output).
-use crate::{unsupported, DgmpmSolver, Physics, StepPath, CHUNK, MAX_NODES};
+use crate::{DgmpmSolver, Physics, StepPath, CHUNK, MAX_NODES};
 use impact_core::method::PointUpdate;
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
-use impact_core::{CoreError, Grid, Tensor, Vector};
+use impact_core::{Grid, Tensor, Vector};
 
 /// Cells per rayon leaf of the per-cell loops.
 const CELL_GRAIN: usize = 512;
@@ -122,14 +122,20 @@ fn cell_sums<const D: usize>(
 /// One cell's phase 1 with its mapping weights `w` (`W_αi`, `2^D` per point, point after
 /// point): `q_i = Σ_α W_αi q_α`, `v_i = Σ_α W_αi v_α` into the cell's nodes, each sum in
 /// point order from zero. The point loop is outside the node loop, so each point is read
-/// once; the node loop has the constant length `2^D`.
+/// once; the node loop has the constant length `2^D`. `N > 0`: the cell has exactly `N`
+/// points, a constant trip count (the loop unrolled, as in [`points_of_cell`]); `N = 0`:
+/// `q.len()` points.
 #[inline(always)]
-fn weighted_cell<const D: usize>(
+fn weighted_cell<const D: usize, const N: usize>(
     w: &[f64],
     (q, v): (&[Tensor<D>], &[Vector<D>]),
     (tensor, velocity): (&mut [Tensor<D>], &mut [Vector<D>]),
 ) {
     let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
+    let (w, q, v) = match N {
+        0 => (w, q, v),
+        _ => (&w[..N * nodes_per_cell], &q[..N], &v[..N]),
+    };
     let mut tensor_sum = [Tensor::<D>::zeros(); MAX_NODES];
     let mut velocity_sum = [Vector::<D>::zeros(); MAX_NODES];
     for ((w, q), v) in w.chunks_exact(nodes_per_cell).zip(q).zip(v) {
@@ -142,74 +148,63 @@ fn weighted_cell<const D: usize>(
     velocity.copy_from_slice(&velocity_sum[..nodes_per_cell]);
 }
 
-/// The phase-1 mapping weights of every cell and the lumped masses of its nodes, from the
-/// points' shape values `shape` (`2^D` per point) and masses: `M_i = Σ_α S_iα m_α` (in
-/// point order from zero, as `cell_sums` forms it) and `W_αi = S_iα m_α / M_i` (0 where
-/// `M_i = 0`), `points_per_cell × 2^D` per cell, point after point. Phase 1 is then
-/// `q_i = Σ_α W_αi q_α` ([`DgmpmSolver::particles_to_nodes`]).
-pub(crate) fn mapping_weights<const D: usize>(
-    shape: &[f64],
-    mass: &[f64],
-    points_per_cell: usize,
-) -> (Vec<f64>, Vec<f64>) {
-    let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
-    let cells = mass.len() / points_per_cell;
-    let per_cell = points_per_cell * nodes_per_cell;
-    let mut weights = vec![0.0; cells * per_cell];
-    let mut masses = vec![0.0; cells * nodes_per_cell];
-    for (c, (w, node_mass)) in weights
-        .chunks_mut(per_cell)
-        .zip(masses.chunks_mut(nodes_per_cell))
-        .enumerate()
-    {
-        let points = c * points_per_cell..(c + 1) * points_per_cell;
-        let s = &shape[points.start * nodes_per_cell..points.end * nodes_per_cell];
-        let m = &mass[points];
-        for (s, m) in s.chunks_exact(nodes_per_cell).zip(m) {
-            for a in 0..nodes_per_cell {
-                node_mass[a] += s[a] * m;
-            }
-        }
-        for ((w, s), m) in w
-            .chunks_exact_mut(nodes_per_cell)
-            .zip(s.chunks_exact(nodes_per_cell))
-            .zip(m)
-        {
-            for a in 0..nodes_per_cell {
-                if node_mass[a] > 0.0 {
-                    w[a] = s[a] * m / node_mass[a];
-                }
-            }
-        }
-    }
-    (weights, masses)
-}
-
 impl<const D: usize> DgmpmSolver<D> {
     /// Phase 1: lumped nodal mass `M_i = Σ_α S_iα m_α` and mass-weighted nodal fields
     /// `M_i q_i = Σ_α S_iα m_α q_α` (paper eq. 17), `q` being `σ` (small strain) or `F`
     /// (Saint-Venant–Kirchhoff). On [`StepPath::SinglePoint`] (and [`StepPath::FusedNodal`]
     /// with one point per cell) the map is the identity
     /// (`q_i = q_p`) and only the masses are weighed. With several points per cell and the
-    /// cells' mapping weights `W_αi = S_iα m_α / M_i` (`mapping_weights`, formed
-    /// once with the fixed masses `M_i`: the points never move in the grid of this total
-    /// Lagrangian scheme) each node's field is the small dense product
+    /// cells' mapping weights `W_αi = S_iα m_α / M_i` and the masses `M_i`
+    /// (`layouts::cell_mapping_weights`, formed once in the cell layouts: the points never
+    /// move in the grid of this total Lagrangian scheme) each node's field is the small
+    /// dense product
     /// `q_i = Σ_α W_αi q_α` (`weighted_cell`): no mass sums and no division per step, and
     /// equal to the per-node formula to round-off (the division by `M_i` is taken before
-    /// the sum; tested). Without them (never on the nodal paths, which form them) the
+    /// the sum; tested). Without them (one point per cell on [`StepPath::Nodal`]) the
     /// cell's points are walked once, each added to its cell's node sums (`cell_sums`),
     /// each node's sum in point order: the per-node formula bit for bit (tested).
     pub fn particles_to_nodes(&mut self, points: &MaterialPoints<D>) {
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
         let points_per_cell = self.points_per_cell;
-        let shape = &self.shape;
+        let layouts = &self.layouts;
         let source = self.point_tensor(points);
         let single = self.path == StepPath::SinglePoint
             || (self.path == StepPath::FusedNodal && points_per_cell == 1);
-        let weights = &self.mapping_weights;
         let nodes = &mut self.nodes;
         // chunks of CELL_GRAIN cells, walked cell by cell
         let per_chunk = CELL_GRAIN * nodes_per_cell;
+        if !single && layouts.has_mapping() {
+            // the fixed weights: q_i = Σ_α W_αi q_α (the masses are in the layouts)
+            let parts = (
+                chunks(&mut nodes.tensor, per_chunk),
+                chunks(&mut nodes.velocity, per_chunk),
+            );
+            for_each_chunk(self.parallel, 1, parts, |r, (tensor, vel)| {
+                let first = r * CELL_GRAIN;
+                let cells = tensor.len() / nodes_per_cell;
+                let points_range = first * points_per_cell..(first + cells) * points_per_cell;
+                let q = source[points_range.clone()].chunks_exact(points_per_cell);
+                let v = points.velocity[points_range].chunks_exact(points_per_cell);
+                let cells_out = tensor.chunks_exact_mut(nodes_per_cell);
+                let cells_out = cells_out.zip(vel.chunks_exact_mut(nodes_per_cell));
+                let cells_in = layouts
+                    .layouts_of(first..first + cells)
+                    .iter()
+                    .zip(q.zip(v));
+                let cells = cells_in.zip(cells_out);
+                match points_per_cell {
+                    4 => cells.for_each(|((&l, (q, v)), (tensor, vel))| {
+                        let w = layouts.mapping_weights_of(l as usize);
+                        weighted_cell::<D, 4>(w, (q, v), (tensor, vel));
+                    }),
+                    _ => cells.for_each(|((&l, (q, v)), (tensor, vel))| {
+                        let w = layouts.mapping_weights_of(l as usize);
+                        weighted_cell::<D, 0>(w, (q, v), (tensor, vel));
+                    }),
+                }
+            });
+            return;
+        }
         let parts = (
             chunks(&mut nodes.mass, per_chunk),
             chunks(&mut nodes.tensor, per_chunk),
@@ -219,7 +214,6 @@ impl<const D: usize> DgmpmSolver<D> {
             let first = r * CELL_GRAIN;
             let cells = mass.len() / nodes_per_cell;
             if single {
-                let shape = &shape[first * nodes_per_cell..(first + cells) * nodes_per_cell];
                 let cell_points = first..first + cells;
                 let (q, v, m) = (
                     &source[cell_points.clone()],
@@ -227,9 +221,10 @@ impl<const D: usize> DgmpmSolver<D> {
                     &points.mass[cell_points],
                 );
                 for j in 0..cells {
+                    let shape = layouts.shape(first + j);
                     let nodes = j * nodes_per_cell..(j + 1) * nodes_per_cell;
                     for (a, i) in nodes.enumerate() {
-                        mass[i] = shape[j * nodes_per_cell + a] * m[j];
+                        mass[i] = shape[a] * m[j];
                         tensor[i] = q[j];
                         vel[i] = v[j];
                     }
@@ -240,33 +235,15 @@ impl<const D: usize> DgmpmSolver<D> {
             let (q, v, m) = (
                 &source[points_range.clone()],
                 &points.velocity[points_range.clone()],
-                &points.mass[points_range.clone()],
+                &points.mass[points_range],
             );
-            if !weights.is_empty() {
-                // the fixed weights: q_i = Σ_α W_αi q_α (the masses are already there)
-                let per_cell = points_per_cell * nodes_per_cell;
-                let w = &weights[first * per_cell..(first + cells) * per_cell];
-                let cells_in = w
-                    .chunks_exact(per_cell)
-                    .zip(q.chunks_exact(points_per_cell));
-                let cells_out = tensor.chunks_exact_mut(nodes_per_cell);
-                let cells_out = cells_out.zip(vel.chunks_exact_mut(nodes_per_cell));
-                let v = v.chunks_exact(points_per_cell);
-                for (((w, q), v), (tensor, vel)) in cells_in.zip(v).zip(cells_out) {
-                    weighted_cell::<D>(w, (q, v), (tensor, vel));
-                }
-                return;
-            }
             // point by point: each point's state, mass and weights are read once and added
             // to its cell's node sums, each node's in point order (the order of the
             // per-node formula, so the sums are the same bit for bit; tested)
-            let s = &shape[points_range.start * nodes_per_cell..points_range.end * nodes_per_cell];
             for j in 0..cells {
                 let cell = j * points_per_cell..(j + 1) * points_per_cell;
                 let (q, v, m) = (&q[cell.clone()], &v[cell.clone()], &m[cell]);
-                let s =
-                    &s[j * points_per_cell * nodes_per_cell..][..points_per_cell * nodes_per_cell];
-                let sums = cell_sums::<D>(s, q, v, m);
+                let sums = cell_sums::<D>(layouts.shape(first + j), q, v, m);
                 let out = j * nodes_per_cell..(j + 1) * nodes_per_cell;
                 let nodes = mass[out.clone()]
                     .iter_mut()
@@ -293,7 +270,7 @@ impl<const D: usize> DgmpmSolver<D> {
     pub fn nodes_to_particles(&self, points: &mut MaterialPoints<D>) {
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
         let points_per_cell = self.points_per_cell;
-        let shape = &self.shape;
+        let layouts = &self.layouts;
         let nodes = &self.nodes;
         let increment = self.options.update == PointUpdate::Increment;
         let (target, velocity) = self.point_fields_mut(points);
@@ -305,7 +282,8 @@ impl<const D: usize> DgmpmSolver<D> {
             for k in 0..pq.len() {
                 let p = first + k;
                 let c = p / points_per_cell;
-                let s = &shape[p * nodes_per_cell..(p + 1) * nodes_per_cell];
+                let own = p - c * points_per_cell;
+                let s = &layouts.shape(c)[own * nodes_per_cell..(own + 1) * nodes_per_cell];
                 let cell_nodes = c * nodes_per_cell..(c + 1) * nodes_per_cell;
                 let new = (
                     &nodes.tensor[cell_nodes.clone()],
@@ -363,98 +341,6 @@ impl<const D: usize> DgmpmSolver<D> {
             },
         );
     }
-}
-
-/// The local coordinates of every point in its cell, or the error of a point outside the
-/// grid.
-fn local_coordinates<'a, const D: usize>(
-    grid: &'a Grid<D>,
-    points: &'a MaterialPoints<D>,
-) -> impl Iterator<Item = Result<Vector<D>, CoreError>> + 'a {
-    points.reference.iter().map(move |x| {
-        grid.locate(x).map(|(_, xi)| xi).ok_or_else(|| {
-            unsupported(&format!(
-                "material point at {:?} lies outside the grid (degenerate cell sizes?)",
-                x.as_slice()
-            ))
-        })
-    })
-}
-
-/// Whether every point lies strictly inside its cell (every `S_iα > 0`), without storing
-/// the shape functions.
-pub(crate) fn all_inside<const D: usize>(
-    grid: &Grid<D>,
-    points: &MaterialPoints<D>,
-) -> Result<bool, CoreError> {
-    let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
-    let mut shape = [0.0; MAX_NODES];
-    let mut gradient = [Vector::<D>::zeros(); MAX_NODES];
-    let mut inside = true;
-    for xi in local_coordinates(grid, points) {
-        grid.shape(
-            &xi?,
-            &mut shape[..nodes_per_cell],
-            &mut gradient[..nodes_per_cell],
-        );
-        inside &= shape[..nodes_per_cell].iter().all(|&w| w > 0.0);
-    }
-    Ok(inside)
-}
-
-/// `S_iα` and `∇S_iα` of every point's local nodes (`points × 2^D` each), at the points'
-/// (fixed) reference positions.
-#[allow(clippy::type_complexity)]
-pub(crate) fn shapes<const D: usize>(
-    grid: &Grid<D>,
-    points: &MaterialPoints<D>,
-) -> Result<(Vec<f64>, Vec<Vector<D>>), CoreError> {
-    let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
-    let mut shape = vec![0.0; points.len() * nodes_per_cell];
-    let mut shape_gradient = vec![Vector::<D>::zeros(); points.len() * nodes_per_cell];
-    for (p, xi) in local_coordinates(grid, points).enumerate() {
-        let range = p * nodes_per_cell..(p + 1) * nodes_per_cell;
-        grid.shape(&xi?, &mut shape[range.clone()], &mut shape_gradient[range]);
-    }
-    Ok((shape, shape_gradient))
-}
-
-/// The volume term's weights of every cell, `K_ab = Σ_α V_α S_bα ∇S_aα` over the cell's
-/// points `α` (in point order from zero), `(2^D - 1) × 2^D` per cell, row `a` after row,
-/// from the points' shape values `shape` and gradients `gradient` (`2^D` per point) and
-/// volumes. The last node's row is not stored: `Σ_a K_ab = Σ_α V_α S_bα Σ_a ∇S_aα = 0`
-/// (the partition of unity), so its terms are minus the others' sum
-/// (`DgmpmSolver::rates_of_cell`).
-///
-/// With linear elasticity the volume term of node `a` (paper eq. 15),
-/// `-Σ_α V_α σ_h(X_α) ∇S_aα` with `σ_h(X_α) = Σ_b S_bα σ_b` (and `v_h ⊗ ∇S_aα` likewise),
-/// is `-Σ_b σ_b K_ab`: the points and volumes are fixed (total Lagrangian), so `K` is
-/// formed once. The sums are associated differently from the per-point form, so the
-/// rates agree with it to round-off, not bit for bit (`volume_weights_match_the_points`).
-pub(crate) fn volume_weights<const D: usize>(
-    shape: &[f64],
-    gradient: &[Vector<D>],
-    volume: &[f64],
-    points_per_cell: usize,
-) -> Vec<Vector<D>> {
-    let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
-    let cells = volume.len() / points_per_cell;
-    let rows = nodes_per_cell - 1;
-    let per_cell = rows * nodes_per_cell;
-    let mut weights = vec![Vector::<D>::zeros(); cells * per_cell];
-    for (c, k) in weights.chunks_mut(per_cell).enumerate() {
-        for p in c * points_per_cell..(c + 1) * points_per_cell {
-            let s = &shape[p * nodes_per_cell..(p + 1) * nodes_per_cell];
-            let g = &gradient[p * nodes_per_cell..(p + 1) * nodes_per_cell];
-            for a in 0..rows {
-                let vg = g[a] * volume[p];
-                for b in 0..nodes_per_cell {
-                    k[a * nodes_per_cell + b] += vg * s[b];
-                }
-            }
-        }
-    }
-    weights
 }
 
 #[cfg(test)]

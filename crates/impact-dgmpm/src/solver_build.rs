@@ -34,11 +34,6 @@ impl<const D: usize> DgmpmSolver<D> {
                 && options.wave_limiter().is_none(),
         );
         let path = StepPath::fastest(config.points_per_cell, options.integrator, inside, fusable);
-        // the cell path never reads the shape functions: not allocated (96 B per cell in 2D)
-        let (shape, shape_gradient) = match path.nodal() {
-            true => shapes(&grid, points)?,
-            false => (Vec::new(), Vec::new()),
-        };
         let mut solver = Self {
             config,
             options,
@@ -48,10 +43,9 @@ impl<const D: usize> DgmpmSolver<D> {
             boundaries: problem.boundaries,
             load_now: [[0.0; 2]; D],
             points_per_cell: config.points_per_cell,
-            shape,
-            shape_gradient,
-            volume_weights: Vec::new(),
-            mapping_weights: Vec::new(),
+            layouts: layouts::CellLayouts::default(),
+            shape: Vec::new(),
+            shape_gradient: Vec::new(),
             heun_weights: Vec::new(),
             inside,
             nodes: NodalFields::default(),
@@ -100,14 +94,11 @@ impl<const D: usize> DgmpmSolver<D> {
             place: GridPlace::whole(&grid),
             grid,
         };
-        solver.form_volume_weights(points);
-        solver.allocate_buffers();
-        solver.form_mapping_weights(points);
-        solver.form_heun_weights(points);
+        solver.form_weights(points)?;
         Ok(solver)
     }
 
-    /// Whether the volume term takes the cells' weights [`Self::volume_weights`]: the
+    /// Whether the volume term takes the cells' weights `K_ab` ([`Self::layouts`]): the
     /// nodal paths with linear elasticity (`σ_h` linear in the nodal stresses; not under
     /// Saint-Venant–Kirchhoff, whose `Π(F_h)` is not) and at least `2^D` points per cell,
     /// where `(2^D - 1) × 2^D` weights per cell cost fewer operations and less memory than
@@ -119,35 +110,39 @@ impl<const D: usize> DgmpmSolver<D> {
             && self.points_per_cell >= Grid::<D>::NODES_PER_CELL
     }
 
-    /// Form the cells' volume weights from the shape functions at the (fixed) points and
-    /// their (fixed) volumes, and drop the gradients, where [`Self::takes_volume_weights`].
-    pub(crate) fn form_volume_weights(&mut self, points: &MaterialPoints<D>) {
-        if self.takes_volume_weights() && self.volume_weights.is_empty() {
-            self.volume_weights = mapping::volume_weights(
-                &self.shape,
-                &self.shape_gradient,
-                &points.volume,
-                self.points_per_cell,
-            );
-            self.shape_gradient = Vec::new();
-        }
+    /// The blocks the path reads from the cell layouts ([`Self::layouts`]; `None`: the
+    /// cell paths and the Heun cell sweeps, which read none): the shape values, the
+    /// gradients unless the volume weights replace them, and with several points per cell
+    /// phase 1's weights and the lumped masses (the points never move in the grid of this
+    /// total Lagrangian scheme and their masses are fixed, so phase 1 never forms them).
+    fn wanted_blocks(&self) -> Option<layouts::Blocks> {
+        (self.path.nodal() && !self.heun_on_cells()).then(|| layouts::Blocks {
+            gradient: !self.takes_volume_weights(),
+            volume: self.takes_volume_weights(),
+            mapping: self.points_per_cell > 1,
+        })
     }
 
-    /// Form phase 1's mapping weights [`Self::mapping_weights`] from the shape functions
-    /// at the (fixed) points and their (fixed) masses, and write the lumped masses `M_i`
-    /// into the nodal fields, where the path is nodal with several points per cell. Called
-    /// after [`Self::allocate_buffers`] (which may allocate the masses anew), so phase 1
-    /// never forms them in the step.
-    pub(crate) fn form_mapping_weights(&mut self, points: &MaterialPoints<D>) {
-        if !self.path.nodal() || self.points_per_cell == 1 {
-            return;
+    /// Form what the path reads at the (fixed) points and allocate its buffers: the cell
+    /// layouts (formed anew where the path reads other blocks), the buffers
+    /// ([`Self::allocate_buffers`]) and the Heun sweeps' weights (from the points' shape
+    /// functions, which `form_heun_weights` then drops).
+    pub(crate) fn form_weights(&mut self, points: &MaterialPoints<D>) -> Result<(), CoreError> {
+        let wanted = self.wanted_blocks();
+        if self.layouts.blocks() != wanted {
+            self.layouts = match wanted {
+                Some(blocks) => {
+                    layouts::CellLayouts::new(&self.grid, points, self.points_per_cell, blocks)?
+                }
+                None => layouts::CellLayouts::default(),
+            };
         }
-        let (weights, masses) =
-            mapping::mapping_weights::<D>(&self.shape, &points.mass, self.points_per_cell);
-        if self.mapping_weights.is_empty() {
-            self.mapping_weights = weights;
+        if self.heun_on_cells() && self.heun_weights.is_empty() {
+            (self.shape, self.shape_gradient) = shapes(&self.grid, points)?;
         }
-        self.nodes.mass.copy_from_slice(&masses);
+        self.allocate_buffers();
+        self.form_heun_weights(points);
+        Ok(())
     }
 
     /// Allocate the buffers the path reads where they are missing (never in the step
@@ -173,7 +168,7 @@ impl<const D: usize> DgmpmSolver<D> {
         let keep_start = !single && (rk2 || (increment && !fused_nodal));
         let wanted = NodalLayout {
             nodes,
-            mass: !single,
+            mass: !single && !self.layouts.has_mapping(),
             start: keep_start,
             rates: !fused_nodal,
         };
@@ -234,7 +229,8 @@ impl<const D: usize> DgmpmSolver<D> {
 
     /// Run another step path on `points` (for comparison; the default is
     /// [`StepPath::fastest`]): the shape functions and nodal buffers it reads are allocated
-    /// here. Refused where it does not apply.
+    /// here (the cell layouts formed anew where it reads other blocks). Refused where it
+    /// does not apply.
     pub fn set_step_path(
         &mut self,
         path: StepPath,
@@ -251,15 +247,8 @@ impl<const D: usize> DgmpmSolver<D> {
                 self.points_per_cell, self.options.integrator
             )));
         }
-        if path.nodal() && self.shape.is_empty() {
-            (self.shape, self.shape_gradient) = shapes(&self.grid, points)?;
-        }
         self.path = path;
-        self.form_volume_weights(points);
-        self.allocate_buffers();
-        self.form_mapping_weights(points);
-        self.form_heun_weights(points);
-        Ok(())
+        self.form_weights(points)
     }
 
     /// The path the step takes.

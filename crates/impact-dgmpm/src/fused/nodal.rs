@@ -61,7 +61,8 @@ pub(super) enum NodalOut<'a, const D: usize> {
 }
 
 /// What a stage reads: the points' volumes, the nodal fields it starts from, the lumped
-/// masses and the start-of-step fields (RK2's second stage); with one point per cell
+/// masses phase 1 formed (one point per cell; several: in the cell layouts) and the
+/// start-of-step fields (RK2's second stage); with one point per cell
 /// instead the points' masses (`M_i = S_i m_p`) and, in the first stage, their states.
 #[derive(Clone, Copy)]
 pub(super) struct NodalIn<'a, const D: usize> {
@@ -265,6 +266,8 @@ impl<const D: usize> DgmpmSolver<D> {
         } = stage;
         debug_assert_eq!(SINGLE, stage.single);
         let single = SINGLE;
+        let layouts = &self.layouts;
+        let layout = layouts.layout_of(cell);
         // one point per cell: the point's state on every node, M_i = S_i m_p
         let mut point_q = [Tensor::<D>::zeros(); MAX_NODES];
         let mut point_v = [Vector::<D>::zeros(); MAX_NODES];
@@ -286,8 +289,9 @@ impl<const D: usize> DgmpmSolver<D> {
             point_v[..nodes_per_cell].fill(v);
         }
         if single {
+            let shape = layouts.shape_of(layout);
             for a in 0..nodes_per_cell {
-                point_m[a] = self.shape[cell * nodes_per_cell + a] * inputs.point_mass[cell];
+                point_m[a] = shape[a] * inputs.point_mass[cell];
             }
         }
         let (q, v) = match SINGLE && inputs.points.is_some() {
@@ -297,9 +301,10 @@ impl<const D: usize> DgmpmSolver<D> {
                 &inputs.velocity[range.clone()],
             ),
         };
-        let mass = match single {
-            true => &point_m[..nodes_per_cell],
-            false => &inputs.mass[range.clone()],
+        let mass = match (single, layouts.has_mapping()) {
+            (true, _) => &point_m[..nodes_per_cell],
+            (false, true) => layouts.mass_of(layout),
+            (false, false) => &inputs.mass[range.clone()],
         };
         let mut rate_tensor = [Tensor::<D>::zeros(); MAX_NODES];
         let mut rate_velocity = [Vector::<D>::zeros(); MAX_NODES];
@@ -344,15 +349,13 @@ impl<const D: usize> DgmpmSolver<D> {
                 let increment = (self.options.update == PointUpdate::Increment)
                     .then(|| starts.unwrap_or((q, v)));
                 let new = (&new_q[..nodes_per_cell], &new_v[..nodes_per_cell]);
-                let shapes =
-                    cell * per_cell * nodes_per_cell..(cell + 1) * per_cell * nodes_per_cell;
                 let entries = local * per_cell..(local + 1) * per_cell;
                 let points = (
                     &mut tensor[entries.clone()],
                     &mut velocity[entries.clone()],
                     &mut position[entries],
                 );
-                let shapes = &self.shape[shapes];
+                let shapes = layouts.shape_of(layout);
                 match per_cell {
                     4 => points_of_cell::<D, 4>(shapes, new, increment, points, dt),
                     2 => points_of_cell::<D, 2>(shapes, new, increment, points, dt),

@@ -1,11 +1,12 @@
 //! Phase 1 (`particles_to_nodes`) equals the per-node formula
 //! `M_i = Σ_α S_iα m_α`, `q_i = Σ_α S_iα m_α q_α / M_i` (paper eq. 17), each sum taken
 //! node by node in point order: point by point (`cell_sums`) bit for bit, and with the
-//! mapping weights `W_αi = S_iα m_α / M_i` (`mapping_weights`) the masses bit for bit and
-//! the fields to round-off (the division by `M_i` comes before the sum, so each term is
+//! mapping weights `W_αi = S_iα m_α / M_i` (`layouts::cell_mapping_weights`) the masses
+//! bit for bit and the fields to round-off (the division by `M_i` comes before the sum, so each term is
 //! rounded once more: 1e-13 of the peak is checked, a few 1e-16 measured): 1D with 3 points
 //! per cell, 2D with 4 and 9, 3D with 8, on states a few steps into a loaded run (so every
 //! point differs).
+use crate::layouts::{Blocks, CellLayouts};
 use crate::{Dgmpm, StepPath};
 use impact_core::method::MethodKind;
 use impact_core::{Grid, Method, Problem, Scene, Tensor, Vector};
@@ -22,8 +23,10 @@ fn reference<const D: usize>(dgmpm: &Dgmpm<D>) -> (Vec<f64>, Vec<Tensor<D>>, Vec
             let mut m = 0.0;
             let mut q = Tensor::<D>::zeros();
             let mut v = Vector::<D>::zeros();
+            let shape = solver.layouts.shape(c);
             for p in c * per_cell..(c + 1) * per_cell {
-                let w = solver.shape[p * nodes_per_cell + a] * points.mass[p];
+                let k = p - c * per_cell;
+                let w = shape[k * nodes_per_cell + a] * points.mass[p];
                 m += w;
                 q += points.stress[p] * w;
                 v += points.velocity[p] * w;
@@ -73,14 +76,24 @@ fn relative<T: Copy>(a: &[T], b: &[T], amax: impl Fn(T) -> f64, diff: impl Fn(T,
 fn check<const D: usize>(name: &str, cells: &[usize], points_per_cell: usize) {
     let mut dgmpm = loaded::<D>(name, cells, points_per_cell);
     assert_ne!(dgmpm.solver.step_path(), StepPath::SinglePoint);
-    assert!(!dgmpm.solver.mapping_weights.is_empty(), "{name}: weights");
+    assert!(dgmpm.solver.layouts.has_mapping(), "{name}: weights");
     let (mass, tensor, velocity) = reference(&dgmpm);
     // with the mapping weights (the step's phase 1)
     dgmpm.solver.nodes.tensor.fill(Tensor::<D>::zeros());
     dgmpm.solver.nodes.velocity.fill(Vector::<D>::zeros());
     dgmpm.solver.particles_to_nodes(&dgmpm.state.points);
     let nodes = &dgmpm.solver.nodes;
-    assert_eq!(nodes.mass, mass, "{name}: nodal masses");
+    let cells = mass.len() / Grid::<D>::NODES_PER_CELL;
+    let masses: Vec<f64> = (0..cells)
+        .flat_map(|c| {
+            dgmpm
+                .solver
+                .layouts
+                .mass_of(dgmpm.solver.layouts.layout_of(c))
+                .to_vec()
+        })
+        .collect();
+    assert_eq!(masses, mass, "{name}: nodal masses");
     let tensor_error = relative(&nodes.tensor, &tensor, |t| t.amax(), |x, y| x - y);
     let velocity_error = relative(&nodes.velocity, &velocity, |v| v.amax(), |x, y| x - y);
     println!("{name} {points_per_cell} ppc: weights against the sums {tensor_error:.1e} (stress), {velocity_error:.1e} (velocity) of the peak");
@@ -93,8 +106,14 @@ fn check<const D: usize>(name: &str, cells: &[usize], points_per_cell: usize) {
         "{name}: nodal velocities {velocity_error:e}"
     );
     // point by point (without the weights): bit for bit
-    dgmpm.solver.mapping_weights.clear();
-    dgmpm.solver.nodes.mass.fill(0.0);
+    let blocks = dgmpm.solver.layouts.blocks().unwrap();
+    let (grid, points) = (&dgmpm.solver.grid, &dgmpm.state.points);
+    let without = Blocks {
+        mapping: false,
+        ..blocks
+    };
+    dgmpm.solver.layouts = CellLayouts::new(grid, points, points_per_cell, without).unwrap();
+    dgmpm.solver.nodes.mass = vec![0.0; mass.len()];
     dgmpm.solver.particles_to_nodes(&dgmpm.state.points);
     let nodes = &dgmpm.solver.nodes;
     assert_eq!(nodes.mass, mass, "{name}: nodal masses");

@@ -1,10 +1,10 @@
 //! The volume term from the cells' weights `K_ab = Σ_α V_α S_bα ∇S_aα`
-//! ([`super::volume_weights`]) equals the per-point form
+//! ([`crate::layouts::cell_volume_weights`]) equals the per-point form
 //! `-Σ_α V_α σ_h(X_α) ∇S_aα`, `-Σ_α V_α v_h(X_α) ⊗ ∇S_aα` to round-off (1e-13 of the
 //! largest rate: the sums are associated differently), on the nodal rates of every cell a
 //! few steps into a loaded run: 1D with 2 and 3 points per cell, 2D with 4 and 9, 3D
 //! with 8. Only the volume term differs between the two, so the face fluxes are zero.
-use super::shapes;
+use crate::layouts::{Blocks, CellLayouts};
 use crate::riemann::Conserved;
 use crate::Dgmpm;
 use impact_core::{Grid, Tensor, Vector};
@@ -24,7 +24,7 @@ fn rates<const D: usize>(dgmpm: &Dgmpm<D>) -> (Vec<Tensor<D>>, Vec<Vector<D>>) {
         let nodal = (
             &nodes.tensor[range.clone()],
             &nodes.velocity[range.clone()],
-            &nodes.mass[range.clone()],
+            solver.cell_masses(c, &nodes.mass),
         );
         let out = (&mut rq[range.clone()], &mut rv[range]);
         solver.rates_of_cell(c, &points.volume, nodal, faces, out);
@@ -36,16 +36,21 @@ fn check<const D: usize>(name: &str, cells: &[usize], points_per_cell: usize) {
     let mut dgmpm = super::tests::loaded::<D>(name, cells, points_per_cell);
     let label = format!("{name}, {points_per_cell} points per cell");
     let takes = points_per_cell >= Grid::<D>::NODES_PER_CELL;
-    assert_eq!(!dgmpm.solver.volume_weights.is_empty(), takes, "{label}");
-    assert_eq!(dgmpm.solver.shape_gradient.is_empty(), takes, "{label}");
+    let blocks = dgmpm.solver.layouts.blocks().unwrap();
+    assert_eq!(blocks.volume, takes, "{label}");
+    assert_eq!(blocks.gradient, !takes, "{label}");
     dgmpm.solver.particles_to_nodes(&dgmpm.state.points);
     let (wq, wv) = rates(&dgmpm);
     // the same solver with the points' gradients and without the weights
     let mut per_point = dgmpm.clone();
-    per_point.solver.shape_gradient = shapes(&per_point.solver.grid, &per_point.state.points)
-        .unwrap()
-        .1;
-    per_point.solver.volume_weights.clear();
+    let per_point_blocks = Blocks {
+        gradient: true,
+        volume: false,
+        ..blocks
+    };
+    let (grid, points) = (&per_point.solver.grid, &per_point.state.points);
+    per_point.solver.layouts =
+        CellLayouts::new(grid, points, points_per_cell, per_point_blocks).unwrap();
     let (pq, pv) = rates(&per_point);
     let peak_q = pq.iter().map(|q| q.amax()).fold(0.0, f64::max);
     let peak_v = pv.iter().map(|v| v.amax()).fold(0.0, f64::max);
