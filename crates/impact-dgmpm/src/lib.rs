@@ -267,9 +267,11 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) shape_gradient: Vec<Vector<D>>,
     /// RK2 at one point per cell strictly inside its cell on the fused nodal path: each
     /// side's state weights `W = Σ_i κ_i G_i` and `K_{m,t}` of its faces (`fused/heun.rs`),
-    /// `2D (3D - 1)` per cell, or one cell's when all are equal (empty otherwise; the
-    /// shape functions are then dropped).
+    /// `2D (3D - 1)` per distinct cell (bit-equal blocks stored once; empty otherwise;
+    /// the shape functions are then dropped).
     pub(crate) heun_weights: Vec<f64>,
+    /// Each cell's block of `heun_weights` (empty where one block serves every cell).
+    pub(crate) heun_layout: Vec<u32>,
     /// Whether every `S_iα > 0` (every point strictly inside its cell).
     pub(crate) inside: bool,
     pub(crate) nodes: NodalFields<D>,

@@ -47,6 +47,7 @@ impl<const D: usize> DgmpmSolver<D> {
             shape: Vec::new(),
             shape_gradient: Vec::new(),
             heun_weights: Vec::new(),
+            heun_layout: Vec::new(),
             inside,
             nodes: NodalFields::default(),
             face_flux: std::array::from_fn(|_| Vec::new()),
@@ -141,8 +142,7 @@ impl<const D: usize> DgmpmSolver<D> {
             (self.shape, self.shape_gradient) = shapes(&self.grid, points)?;
         }
         self.allocate_buffers();
-        self.form_heun_weights(points);
-        Ok(())
+        self.form_heun_weights(points)
     }
 
     /// Allocate the buffers the path reads where they are missing (never in the step

@@ -333,3 +333,60 @@ fn heun_sweeps_off_centre_match_the_nodal_path() {
         (vec![400], Some(LayoutKind::Given), Some(vec![vec![0.15]]));
     check_nodal::<1>("bar, given 0.15, RK2", &bar, |c| rk2(c, 0.6));
 }
+
+/// RK2 at one point per cell with every point moved to its own place in its cell (a
+/// deterministic jitter of up to 0.35 cell widths, so no two cells share their weights):
+/// the Heun cell sweeps read each cell's own block of side weights (stored once per
+/// distinct cell, with an index per cell), equal to the phase-by-phase path to round-off.
+/// A wrong block would be a different cell's weights, far beyond round-off.
+#[test]
+fn heun_sweeps_with_a_block_per_cell_match_the_nodal_path() {
+    let scene = plate([24, 40]);
+    let problem = Problem::<2>::from_scene(&scene).unwrap();
+    let mut config = scene.method_config(MethodKind::Dgmpm);
+    rk2(&mut config, 0.5);
+    let mut fused = Dgmpm::<2>::new(&problem, config).unwrap();
+    let spacing = problem.grid.spacing;
+    let points = &mut fused.state.points;
+    for (i, (x, reference)) in points
+        .position
+        .iter_mut()
+        .zip(&mut points.reference)
+        .enumerate()
+    {
+        // a fixed sequence in (-0.35, 0.35) per axis (golden-ratio steps); the weights are
+        // formed at the reference positions
+        let jitter = |k: usize| ((i * 2 + k) as f64 * 0.618_033_988_749_895).fract() * 0.7 - 0.35;
+        for k in 0..2 {
+            x[k] += jitter(k) * spacing[k];
+        }
+        *reference = *x;
+    }
+    let points = fused.state.points.clone();
+    // the weights formed anew from the moved points
+    fused
+        .solver
+        .set_step_path(StepPath::SinglePoint, &points)
+        .unwrap();
+    fused
+        .solver
+        .set_step_path(StepPath::FusedNodal, &points)
+        .unwrap();
+    assert!(fused.solver.heun_cells());
+    let mut reference = fused.clone();
+    reference
+        .solver
+        .set_step_path(StepPath::SinglePoint, &points)
+        .unwrap();
+    let dt = fused.stable_dt();
+    for n in 0..60 {
+        fused.step(n as f64 * dt, dt);
+        reference.step(n as f64 * dt, dt);
+    }
+    let (a, b) = (&fused.state.points, &reference.state.points);
+    let (scale_s, scale_v) = b.peaks();
+    assert!(scale_s > 1e6 && scale_v > 0.1, "the wave must be there");
+    let worst = a.difference(b);
+    println!("plate 24x40, jittered points, RK2: state {worst:.1e}");
+    assert!(worst <= 1e-13, "state differs by {worst:e}");
+}

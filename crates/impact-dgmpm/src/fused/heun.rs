@@ -47,7 +47,8 @@ use crate::riemann::{Conserved, FullState};
 use crate::{DgmpmSolver, StepPath, MAX_NODES};
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
-use impact_core::{Grid, Tensor, Vector};
+use impact_core::{CoreError, Grid, Tensor, Vector};
+use std::collections::HashMap;
 
 /// Weights per side of a cell in [`DgmpmSolver::heun_weights`]: `W` (`D`), the own
 /// face's `K` and the two faces' `K` of each other axis (module doc).
@@ -89,15 +90,21 @@ impl<const D: usize> DgmpmSolver<D> {
     /// (module doc: `G_i = -V_p ∇S_i`, `κ_i = (2/2^D)/M_i`, `κ_i = 0` at a node without
     /// mass, whose rates are zero) from the shape functions at the (fixed) points, their
     /// masses and volumes, and drop the shape functions, where [`Self::heun_on_cells`];
-    /// one cell's when every cell's are the same (points at the same place in equal
-    /// cells). Elsewhere the weights are dropped.
-    pub(crate) fn form_heun_weights(&mut self, points: &MaterialPoints<D>) {
+    /// each distinct cell's once (bit-equal blocks; a seeding's local coordinates round
+    /// to a handful of values per axis, so a uniform grid has few) with a block index per
+    /// cell, and no index where one block serves every cell. Elsewhere the weights are
+    /// dropped.
+    pub(crate) fn form_heun_weights(
+        &mut self,
+        points: &MaterialPoints<D>,
+    ) -> Result<(), CoreError> {
         if !self.heun_on_cells() {
             self.heun_weights = Vec::new();
-            return;
+            self.heun_layout = Vec::new();
+            return Ok(());
         }
         if !self.heun_weights.is_empty() {
-            return;
+            return Ok(());
         }
         let n = Grid::<D>::NODES_PER_CELL;
         let k = 2.0 / n as f64;
@@ -111,8 +118,15 @@ impl<const D: usize> DgmpmSolver<D> {
             }
         };
         let stride = 2 * D * per_side(D);
-        let mut weights = Vec::with_capacity(points.len() * stride);
+        // each distinct cell's weights once (bit-equal blocks: a map from their bits to the
+        // block), a block index per cell
+        let mut weights = Vec::new();
+        let mut layout = Vec::with_capacity(points.len());
+        let mut index: HashMap<Vec<u64>, u32> = HashMap::new();
+        let mut block = Vec::with_capacity(stride);
+        let mut bits = Vec::with_capacity(stride);
         for c in 0..points.len() {
+            block.clear();
             let (mass, volume) = (points.mass[c], points.volume[c]);
             let nodes: [(Vector<D>, f64); MAX_NODES] = std::array::from_fn(|a| {
                 let Some(&shape) = self.shape[c * n..(c + 1) * n].get(a) else {
@@ -134,40 +148,55 @@ impl<const D: usize> DgmpmSolver<D> {
                     let (g, kappa) = node(a);
                     w + g * kappa
                 });
-                weights.extend(w.iter());
+                block.extend(w.iter());
                 let kappas = |t: Option<(usize, usize)>| {
                     side()
                         .filter(|a| t.is_none_or(|(m, t)| (a >> m) & 1 == t))
                         .map(|a| node(a).1)
                         .sum::<f64>()
                 };
-                weights.push(kappas(None) * face_weight(l, s));
+                block.push(kappas(None) * face_weight(l, s));
                 for m in (0..D).filter(|&m| m != l) {
                     for t in 0..2 {
-                        weights.push(kappas(Some((m, t))) * face_weight(m, t));
+                        block.push(kappas(Some((m, t))) * face_weight(m, t));
                     }
                 }
             }
+            bits.clear();
+            bits.extend(block.iter().map(|w| w.to_bits()));
+            let next = index.len();
+            let l = match index.get(bits.as_slice()) {
+                Some(&l) => l,
+                None => {
+                    let l = u32::try_from(next)
+                        .map_err(|_| crate::unsupported("more than 2^32 distinct cells"))?;
+                    index.insert(bits.clone(), l);
+                    weights.extend_from_slice(&block);
+                    l
+                }
+            };
+            layout.push(l);
         }
-        if weights
-            .chunks_exact(stride)
-            .all(|w| w == &weights[..stride])
-        {
-            weights.truncate(stride);
+        if index.len() == 1 {
+            // one block serves every cell: no index
+            layout = Vec::new();
         }
         weights.shrink_to_fit();
+        layout.shrink_to_fit();
         self.heun_weights = weights;
+        self.heun_layout = layout;
         self.shape = Vec::new();
         self.shape_gradient = Vec::new();
+        Ok(())
     }
 
     /// The weights of cell `cell` (module doc).
     #[inline(always)]
     fn heun_weights_of(&self, cell: usize) -> &[f64] {
         let stride = 2 * D * per_side(D);
-        let start = match self.heun_weights.len() == stride {
+        let start = match self.heun_layout.is_empty() {
             true => 0,
-            false => cell * stride,
+            false => self.heun_layout[cell] as usize * stride,
         };
         &self.heun_weights[start..start + stride]
     }
