@@ -153,8 +153,7 @@ impl<const D: usize, M: SlabLocal<D>> Method<D> for OnSlab<D, M> {
     fn hottest_place(&self) -> Vector<D> {
         let p = self.local.points();
         // the last of equals, as one rank's `max_by`
-        let mine = (self.local.owned_runs().into_iter().flatten())
-            .max_by(|&a, &b| p.velocity[a].norm().total_cmp(&p.velocity[b].norm()))
+        let mine = (p.hottest_in(self.local.owned_runs().into_iter().flatten()))
             .map(|i| (p.velocity[i].norm(), p.reference[i]));
         comm_gather::hottest_place(self.comm.as_ref(), mine)
     }

@@ -104,9 +104,7 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
     }
     fn hottest_place(&self) -> Vector<D> {
         let p = &self.state.points;
-        // the last of equals over the own points in order
-        (self.owned_point_runs().flatten())
-            .max_by(|&a, &b| p.velocity[a].norm().total_cmp(&p.velocity[b].norm()))
+        (p.hottest_in(self.owned_point_runs().flatten()))
             .map_or_else(Vector::<D>::zeros, |i| p.reference[i])
     }
     fn perturb_velocity(&mut self, kick: &mut dyn FnMut(usize, &Vector<D>) -> Vector<D>) {

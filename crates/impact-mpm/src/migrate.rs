@@ -490,8 +490,7 @@ impl<const D: usize> Method<D> for MigratingMpm<D> {
     fn hottest_place(&self) -> Vector<D> {
         let p = &self.local.state.points;
         // the last of equals in the global order, as one rank's
-        let mine = (self.own_in_global_order())
-            .max_by(|&a, &b| p.velocity[a].norm().total_cmp(&p.velocity[b].norm()))
+        let mine = (p.hottest_in(self.own_in_global_order()))
             .map(|i| (p.velocity[i].norm(), p.reference[i]));
         hottest_place(self.comm.as_ref(), mine)
     }
