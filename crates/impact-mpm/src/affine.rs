@@ -51,7 +51,7 @@ impl<const D: usize> MpmSolver<D> {
         affine: &mut [Tensor<D>],
         dt: f64,
     ) {
-        let (stencil_nodes, stride) = (self.stencil.nodes, self.weight_stride);
+        let stencil_nodes = self.stencil.nodes;
         let steps = &self.stencil.steps;
         let nodes = &self.nodes;
         let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
@@ -82,7 +82,7 @@ impl<const D: usize> MpmSolver<D> {
                 for j in 0..velocity.len() {
                     let p = r * CHUNK + j;
                     let base = self.point_base[p];
-                    let row = p * stride;
+                    let row = self.weight_row_start(p);
                     // the point relative to its base node (linear completeness)
                     let mut centre = Vector::<D>::zeros();
                     for a in 0..stencil_nodes {

@@ -229,6 +229,7 @@ impl<const D: usize> Mpm<D> {
                 shape: Vec::new(),
                 shape_gradient: Vec::new(),
                 weight_stride: 0,
+                point_row: Vec::new(),
                 shapes_ready: false,
                 fuse_gathers: true,
                 grid,

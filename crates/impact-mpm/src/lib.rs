@@ -23,7 +23,8 @@
 //! touches the nodes); [`MpmSolver::set_fused_gather`] runs them apart, the reference it is
 //! tested against (to 1e-13). In the total Lagrangian frame, where every point's weights
 //! are the same (one point at the same place in every cell), one row of weights is stored
-//! for all ([`MpmSolver::shares_weights`]).
+//! for all ([`MpmSolver::shares_weights`]); otherwise each distinct row once, and per point
+//! its index in that table ([`MpmSolver::weight_rows`]).
 //!
 //! Variants ([`StressUpdate`]): `Usl` (default) takes the grid-updated velocity
 //! `v_i + Δt f_i/m_i` for the strain rate; `Musl` remaps it from the updated point
@@ -51,7 +52,8 @@
 //! reaches the body when the outer node of that cell has lost its points.
 //!
 //! Layout: `shape.rs` (the shape functions and their stencils: a new one goes there),
-//! `weights.rs` (their values at the points: one row per point or one shared row),
+//! `weights.rs` (their values at the points: one row per point, one shared row, or a table
+//! of the distinct rows),
 //! `transfer.rs` (phases 1, 3, 4, 5: the scatters, coloured by node layer, and the gathers),
 //! `affine.rs` (APIC's gather), `loads.rs` (the loads' nodal forces and the prescribed point
 //! velocities), `grid_update.rs`
@@ -238,8 +240,9 @@ pub struct MpmSolver<const D: usize> {
     empty: EmptyNodes,
     /// The shape functions' stencil ([`shape`]).
     stencil: shape::Stencil<D>,
-    /// Per point: the linear index of its stencil's base node, shape values and gradients
-    /// (`stencil.nodes` per point, point `p`'s at `p · weight_stride`).
+    /// Per point: the linear index of its stencil's base node. Rows of shape values and
+    /// gradients (`stencil.nodes` each): point `p`'s row starts at `r · weight_stride`,
+    /// `r = point_row[p]` where `point_row` is not empty, else `r = p`.
     point_base: Vec<usize>,
     shape: Vec<f64>,
     shape_gradient: Vec<Vector<D>>,
@@ -247,6 +250,11 @@ pub struct MpmSolver<const D: usize> {
     /// point at the same place in every cell: one row is stored, 96 B per point less with
     /// 2D hats, and the scatter and gathers read it from cache).
     weight_stride: usize,
+    /// Total Lagrangian with several distinct rows (`crate::weights`): each point's row in
+    /// the table `shape`/`shape_gradient` of the distinct rows (4 B per point instead of a
+    /// row: 216 B with 2D B-splines); empty where each point has its own row (`r = p`) or
+    /// all share one.
+    point_row: Vec<u32>,
     /// Whether the shape functions at the reference positions are cached (total Lagrangian).
     shapes_ready: bool,
     /// Whether USL runs phases 3 and 5 in one gather ([`MpmSolver::fused_gather`]).

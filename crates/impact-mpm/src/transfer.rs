@@ -65,10 +65,12 @@ struct Fill {
 }
 
 /// The points' stencils as a scatter reads them: point `p`'s weights are entries
-/// `p·stride .. p·stride + nodes` of `shape` and `gradient` (`stride` 0: one row shared by
-/// every point), on the nodes `bases[p] + offsets[a]`.
+/// `r·stride .. r·stride + nodes` of `shape` and `gradient`, `r = point_row[p]` (the table
+/// of distinct rows) or `r = p` (`point_row` empty; `stride` 0: one row shared by every
+/// point), on the nodes `bases[p] + offsets[a]`.
 struct Weights<'a, const D: usize> {
     stride: usize,
+    point_row: &'a [u32],
     offsets: &'a [usize],
     /// The first node of each row of `width` consecutive nodes ([`crate::shape::Stencil`]'s
     /// `row_offsets`).
@@ -99,7 +101,8 @@ impl<const D: usize> Weights<'_, D> {
     /// the weights' own centre, consistent with them to round-off).
     #[inline]
     fn centre(&self, p: usize) -> Vector<D> {
-        let row = &self.shape[p * self.stride..p * self.stride + self.steps.len()];
+        let first = crate::weights::row_start(self.point_row, self.stride, p);
+        let row = &self.shape[first..first + self.steps.len()];
         row.iter().zip(self.steps).map(|(w, x)| x * *w).sum()
     }
 
@@ -116,7 +119,7 @@ impl<const D: usize> Weights<'_, D> {
     #[inline]
     fn row<const N: usize>(&self, p: usize, offset: usize) -> Row<'_, D> {
         let nodes = if N == 0 { self.offsets.len() } else { N };
-        let first = p * self.stride;
+        let first = crate::weights::row_start(self.point_row, self.stride, p);
         Row {
             offsets: &self.offsets[..nodes],
             shape: &self.shape[first..first + nodes],
@@ -124,6 +127,27 @@ impl<const D: usize> Weights<'_, D> {
             base: self.bases[p] - offset,
         }
     }
+}
+
+/// The rows of weights (`nodes` shape values and gradients each) that `point_row` names
+/// in the table `shape`, `gradient` (`crate::weights`), one per point in turn: one load of
+/// the point's index, then its row read from the (small, cached) table.
+#[inline]
+fn table_rows<'a, const D: usize>(
+    shape: &'a [f64],
+    gradient: &'a [Vector<D>],
+    nodes: usize,
+    point_row: &'a [u32],
+) -> impl Iterator<Item = (&'a [f64], &'a [Vector<D>])> + 'a {
+    // sliced to one length: a row checked against the values is proved for the gradients
+    let gradient = &gradient[..shape.len()];
+    point_row.iter().map(move |&r| {
+        let first = r as usize * nodes;
+        (
+            &shape[first..first + nodes],
+            &gradient[first..first + nodes],
+        )
+    })
 }
 
 /// Nodes `first .. first + W` of a nodal array, one row of a stencil: checked once (the
@@ -246,6 +270,7 @@ impl<const D: usize> MpmSolver<D> {
         let order: &[usize] = if self.in_layer_order { &[] } else { order };
         let weights = Weights {
             stride: self.weight_stride,
+            point_row: &self.point_row,
             offsets: &self.stencil.offsets,
             row_offsets: &self.stencil.row_offsets,
             bases: &self.point_base,

@@ -1,12 +1,22 @@
 //! The points' shape-function weights ([`crate::shape`]): evaluated at the current
 //! positions every step (updated Lagrangian) or once at the reference positions (total
 //! Lagrangian), stored one row per point, or one row shared by every point where they are
-//! all equal; and the points sorted by layer for the coloured scatters.
+//! all equal, or (total Lagrangian otherwise) each distinct row once in a table with a
+//! row index per point; and the points sorted by layer for the coloured scatters.
+//!
+//! The table ([`MpmSolver::tabulate_weights`]): a point's row (its `stencil.nodes` shape
+//! values, then the gradients' components) is keyed on a hash of its bits, and a row
+//! found under that hash is confirmed bit for bit before it is shared (so a collision
+//! cannot merge two rows): every point reads exactly the row it would have stored itself.
+//! A uniform seeding of `n` points per cell has a handful of distinct rows (`n` in the
+//! body's interior, as in `impact-dgmpm`'s cell layouts); an irregular one up to one per
+//! point, where the index is the identity and is dropped (a row per point, as before).
 use crate::MpmSolver;
 use impact_core::method::MpmFrame;
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
 use impact_core::{Tensor, Vector};
+use std::collections::HashMap;
 
 /// Points per chunk of the point loops.
 const CHUNK: usize = 2048;
@@ -106,9 +116,95 @@ impl<const D: usize> MpmSolver<D> {
                 return;
             }
         }
+        self.weight_stride = nodes;
+        if self.options.frame == MpmFrame::TotalLagrangian && self.tabulate_weights(points) {
+            self.shapes_ready = true;
+            self.sort_by_layer();
+            return;
+        }
         self.shape = vec![0.0; count * nodes];
         self.shape_gradient = vec![Vector::<D>::zeros(); count * nodes];
-        self.weight_stride = nodes;
+        self.point_row = Vec::new();
+    }
+
+    /// The total Lagrangian weights as a table of the distinct rows (module doc): each
+    /// point's row evaluated at its reference position (and CPDI domain) as
+    /// [`Self::update_shapes`] does, stored once per distinct bit pattern, with the point's
+    /// index into the table in `point_row` (dropped where it is the identity: every row
+    /// distinct). `false` (nothing stored) where a point's stencil leaves the padded grid
+    /// (its row is then kept per point, as before) or the points outnumber `u32`.
+    pub(crate) fn tabulate_weights(&mut self, points: &MaterialPoints<D>) -> bool {
+        let nodes = self.stencil.nodes;
+        let count = points.len();
+        if u32::try_from(count).is_err() {
+            return false;
+        }
+        let (grid, stencil, offset) = (&self.place.whole, &self.stencil, self.place.node_offset);
+        let mut values = vec![0.0; nodes];
+        let mut gradients = vec![Vector::<D>::zeros(); nodes];
+        let (mut shape, mut shape_gradient) = (Vec::new(), Vec::<Vector<D>>::new());
+        let mut point_row = Vec::with_capacity(count);
+        // (hash, ordinal among the rows of that hash) → row
+        let mut index: HashMap<(u64, u32), u32> = HashMap::new();
+        for p in 0..count {
+            let x = &points.reference[p];
+            let evaluated = match points.domain.get(p) {
+                Some(domain) => {
+                    stencil.evaluate_domain(grid, x, domain, &mut values, &mut gradients)
+                }
+                None => stencil.evaluate(grid, x, &mut values, &mut gradients),
+            };
+            let Some((base, _)) = evaluated else {
+                return false;
+            };
+            self.point_base[p] = base - offset;
+            let hash = hash_bits(row_bits(&values, &gradients));
+            let mut ordinal = 0u32;
+            let row = loop {
+                match index.get(&(hash, ordinal)) {
+                    Some(&r) => {
+                        let held = r as usize * nodes..(r as usize + 1) * nodes;
+                        let bits = row_bits(&shape[held.clone()], &shape_gradient[held]);
+                        if bits.eq(row_bits(&values, &gradients)) {
+                            break r;
+                        }
+                        ordinal += 1;
+                    }
+                    None => {
+                        // at most `count` rows: fits (checked above)
+                        let r = (shape.len() / nodes) as u32;
+                        shape.extend_from_slice(&values);
+                        shape_gradient.extend_from_slice(&gradients);
+                        index.insert((hash, ordinal), r);
+                        break r;
+                    }
+                }
+            };
+            point_row.push(row);
+        }
+        shape.shrink_to_fit();
+        shape_gradient.shrink_to_fit();
+        (self.shape, self.shape_gradient) = (shape, shape_gradient);
+        // every row distinct: row `p` is point `p`'s, no index needed
+        self.point_row = if self.shape.len() == count * nodes {
+            Vec::new()
+        } else {
+            point_row
+        };
+        true
+    }
+
+    /// How the weights are stored: `(rows, indexed)`, the rows held and whether the points
+    /// read theirs through an index (the table of distinct rows, `tabulate_weights`).
+    pub fn weight_rows(&self) -> (usize, bool) {
+        let nodes = self.stencil.nodes.max(1);
+        (self.shape.len() / nodes, !self.point_row.is_empty())
+    }
+
+    /// Where point `p`'s row of weights starts in `shape` and `shape_gradient`.
+    #[inline]
+    pub(crate) fn weight_row_start(&self, p: usize) -> usize {
+        row_start(&self.point_row, self.weight_stride, p)
     }
 
     /// Whether every point reads one shared row of weights (see `allocate_weights`).
@@ -123,6 +219,7 @@ impl<const D: usize> MpmSolver<D> {
         self.shape = vec![0.0; points.len() * nodes];
         self.shape_gradient = vec![Vector::<D>::zeros(); points.len() * nodes];
         self.weight_stride = nodes;
+        self.point_row = Vec::new();
         self.shapes_ready = false;
     }
 
@@ -160,4 +257,37 @@ impl<const D: usize> MpmSolver<D> {
             self.layer_order = Vec::new();
         }
     }
+}
+
+#[cfg(test)]
+mod tests;
+
+/// Where point `p`'s row of weights starts: `r · stride` with `r = point_row[p]`, or
+/// `r = p` where `point_row` is empty (a row per point, or `stride` 0: one shared row).
+#[inline]
+pub(crate) fn row_start(point_row: &[u32], stride: usize, p: usize) -> usize {
+    let r = if point_row.is_empty() {
+        p
+    } else {
+        point_row[p] as usize
+    };
+    r * stride
+}
+
+/// The bits of a row of weights: its shape values, then its gradients' components.
+fn row_bits<'a, const D: usize>(
+    values: &'a [f64],
+    gradients: &'a [Vector<D>],
+) -> impl Iterator<Item = u64> + 'a {
+    let gradients = gradients.iter().flat_map(|g| g.iter().map(|x| x.to_bits()));
+    values.iter().map(|x| x.to_bits()).chain(gradients)
+}
+
+/// A 64-bit hash of a stream of words (FxHash's step, as `impact-dgmpm`'s layouts: the
+/// rows found under a hash are compared bit for bit, so its quality only affects the
+/// build's speed).
+fn hash_bits(bits: impl Iterator<Item = u64>) -> u64 {
+    bits.fold(0u64, |h, x| {
+        (h.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95)
+    })
 }

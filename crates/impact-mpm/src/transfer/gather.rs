@@ -109,11 +109,16 @@ impl<const D: usize> MpmSolver<D> {
                 let count = velocity.len();
                 let bases = &self.point_base[first_point..first_point + count];
                 let points = (velocity, position, stress, volume);
-                // the points' weights: one shared row, or a row of `npc` per point (read in
-                // step with the points: no index, no bounds check per point)
+                // the points' weights: one shared row, a row of the table of distinct rows
+                // through each point's index, or a row of `npc` per point (read in step
+                // with the points: no index, no bounds check per point)
                 if stride == 0 {
                     let row = (&self.shape[..npc], &self.shape_gradient[..npc]);
                     gather_points::<STRESS, W, N, D>(input, points, bases, std::iter::repeat(row));
+                } else if !self.point_row.is_empty() {
+                    let rows = &self.point_row[first_point..first_point + count];
+                    let table = table_rows(&self.shape, &self.shape_gradient, npc, rows);
+                    gather_points::<STRESS, W, N, D>(input, points, bases, table);
                 } else {
                     let range = first_point * npc..(first_point + count) * npc;
                     let shapes = self.shape[range.clone()].chunks_exact(npc);
@@ -157,7 +162,7 @@ impl<const D: usize> MpmSolver<D> {
             let i = self.point_base[p] + self.stencil.offsets[a];
             let m = self.nodes.mass[i];
             if self.empty.holds(i, m) {
-                let g = self.shape_gradient[p * self.weight_stride + a];
+                let g = self.shape_gradient[self.weight_row_start(p) + a];
                 l += (self.nodes.momentum[i] / m) * g.transpose();
             }
         }

@@ -42,10 +42,11 @@ impl<const D: usize> MpmSolver<D> {
                 let bases = &weights.bases[..count];
                 let shape = weights.shape;
                 let gradient = &weights.gradient[..shape.len()];
-                let stride = weights.stride;
+                let (stride, point_row) = (weights.stride, weights.point_row);
                 let order = &run.order[run.points];
                 let data = order.iter().map(move |&p| {
-                    let row = p * stride..p * stride + nodes;
+                    let first = crate::weights::row_start(point_row, stride, p);
+                    let row = first..first + nodes;
                     // V_p σ_p formed once per point
                     let point = (mass[p], velocity[p], stress[p] * volume[p], bases[p]);
                     (point, (&shape[row.clone()], &gradient[row]))
@@ -63,6 +64,11 @@ impl<const D: usize> MpmSolver<D> {
             if weights.stride == 0 {
                 let row = (&weights.shape[..npc], &weights.gradient[..npc]);
                 scatter_points::<W, N, D>(sums, rows, data.zip(std::iter::repeat(row)));
+            } else if !weights.point_row.is_empty() {
+                let point_row = &weights.point_row[range];
+                // `nodes`: a constant where `N` fixes it (one bounds check a row)
+                let table = table_rows(weights.shape, weights.gradient, nodes, point_row);
+                scatter_points::<W, N, D>(sums, rows, data.zip(table));
             } else {
                 let range = range.start * npc..range.end * npc;
                 let shapes = weights.shape[range.clone()].chunks_exact(npc);
