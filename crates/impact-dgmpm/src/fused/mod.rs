@@ -142,7 +142,7 @@ pub(crate) struct FusedBuffers<const D: usize> {
     next_tensor: Vec<Tensor<D>>,
     next_velocity: Vec<Vector<D>>,
     /// The Heun cell sweeps' side states, `2D` per cell (`layout.side_states`; empty
-    /// otherwise).
+    /// otherwise): in 2D a window of rows per band (`heun/wavefront.rs`).
     side_states: Vec<SideState<D>>,
     layout: Option<Layout>,
 }
@@ -176,7 +176,9 @@ impl<const D: usize> FusedBuffers<D> {
                     y_final: [vec![Conserved::zeros(); nx], vec![Conserved::zeros(); nx]],
                     ..Band::default()
                 };
-                vec![band; cells[1].div_ceil(BAND_ROWS)]
+                // (the Heun wavefront: two per band, one per stage, `heun/wavefront.rs`)
+                let per_band = if layout.side_states { 2 } else { 1 };
+                vec![band; cells[1].div_ceil(BAND_ROWS) * per_band]
             }
             1 => vec![Band::default(); count.div_ceil(CHUNK)],
             _ => Vec::new(),
@@ -186,9 +188,11 @@ impl<const D: usize> FusedBuffers<D> {
             _ => Vec::new(),
         };
         let next = count * layout.next_per_cell;
-        let side_states = match layout.side_states {
-            true => count * 2 * D,
-            false => 0,
+        let side_states = match (layout.side_states, D) {
+            // a window of rows per band (`heun/wavefront.rs`)
+            (true, 2) => cells[1].div_ceil(BAND_ROWS) * heun::WINDOW_ROWS * cells[0] * 2 * D,
+            (true, _) => count * 2 * D,
+            (false, _) => 0,
         };
         Self {
             bands,

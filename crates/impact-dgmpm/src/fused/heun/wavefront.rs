@@ -1,0 +1,211 @@
+//! Heun's two stages in 2D as one wavefront per band (module doc of [`super`]): stage 2 of
+//! cell row `j` reads the side states of rows `j - 1..=j + 1` only (its faces, their CTU
+//! corrections and the edges' ghost cells), so each band runs stage 1 a row ahead of
+//! stage 2 and keeps the side states in a window of [`WINDOW_ROWS`] rows (in cache)
+//! instead of a whole-grid array.
+//!
+//! The bands of rows are the fused sweeps' ([`BAND_ROWS`]); a wavefront runs over a group
+//! of consecutive bands (as many groups as rayon's threads, one when serial). A group owns
+//! their cell rows `j0..j1`: it writes their next state, moves their points and counts
+//! the power and force of their boundary faces per band and stage, in the order of the
+//! two-sweep form (the totals add the bands up in order). Stage 1 sweeps the rows
+//! `j0 - 1..=j1` (those inside the grid): the rows next to the group give only the side
+//! states its stage 2 reads (the neighbouring group forms the same values). Stage 1 reads
+//! only the points' old state and each value is formed by the same operations whoever
+//! forms it, so the result depends neither on the groups nor on the thread count and
+//! equals the two-sweep form's bit for bit.
+//!
+//! The window: stage 1 writes row `r` at its place from the window's first row; when the
+//! window is full it first copies the two rows stage 2 still reads (`r - 2`, `r - 1`) to
+//! its start.
+use super::super::plane::Sweep2d;
+use super::super::{Band, FusedBuffers, BAND_ROWS};
+use super::HeunConstants;
+use crate::faces::{Fields, SideState};
+use crate::DgmpmSolver;
+use impact_core::parallel::{chunks, for_each_chunk, threads};
+use impact_core::points::MaterialPoints;
+use impact_core::{Tensor, Vector};
+
+/// Cell rows of side states in a band's window (at least 3: stage 2's row `j` reads rows
+/// `j - 1..=j + 1` while stage 1 writes row `j + 1`).
+pub(crate) const WINDOW_ROWS: usize = 8;
+
+/// Side states per cell in 2D (`2D`).
+const SIDES: usize = 4;
+
+/// One group's part of the step's outputs: the next state and the positions of its rows.
+struct GroupOut<'a> {
+    tensor: &'a mut [Tensor<2>],
+    velocity: &'a mut [Vector<2>],
+    position: &'a mut [Vector<2>],
+}
+
+impl DgmpmSolver<2> {
+    /// Both Heun stages on every group of bands (module doc); each band's two [`Band`]s
+    /// hold stage 1's and stage 2's power and force (a group's first two also its rolling
+    /// rows). The next state is swapped into the points after.
+    pub(super) fn heun_wavefront_2d(&mut self, points: &mut MaterialPoints<2>, dt: f64) {
+        let k = self.sweep_2d_constants(dt);
+        let u = self.heun_constants(dt);
+        let [nx, ny] = self.grid.cells;
+        let bands = ny.div_ceil(BAND_ROWS);
+        let groups = match self.parallel {
+            true => threads().clamp(1, bands.max(1)),
+            false => 1,
+        };
+        let per_group = bands.div_ceil(groups).max(1);
+        let cells = per_group * BAND_ROWS * nx;
+        let mut buffers = std::mem::take(&mut self.fused);
+        {
+            let this = &*self;
+            let FusedBuffers {
+                bands,
+                next_tensor,
+                next_velocity,
+                side_states,
+                ..
+            } = &mut buffers;
+            let MaterialPoints {
+                stress,
+                velocity,
+                position,
+                mass,
+                ..
+            } = &mut *points;
+            let fields = Fields::per_cell(stress, velocity);
+            let mass: &[f64] = mass;
+            let parts = (
+                chunks(bands, 2 * per_group),
+                (chunks(next_tensor, cells), chunks(next_velocity, cells)),
+                (
+                    chunks(side_states, per_group * WINDOW_ROWS * nx * SIDES),
+                    chunks(position, cells),
+                ),
+            );
+            for_each_chunk(this.parallel, 1, parts, |g, (bands, (tensor, v), (window, x))| {
+                let out = GroupOut {
+                    tensor,
+                    velocity: v,
+                    position: x,
+                };
+                let window = &mut window[..WINDOW_ROWS * nx * SIDES];
+                let first_band = g * per_group;
+                this.heun_group_2d(first_band, bands, (fields, mass), out, window, (&k, &u));
+            });
+        }
+        std::mem::swap(&mut points.stress, &mut buffers.next_tensor);
+        std::mem::swap(&mut points.velocity, &mut buffers.next_velocity);
+        self.fused = buffers;
+    }
+
+    /// The wavefront of the group of bands from `first_band` (module doc): stage 1 on its
+    /// rows `j0 - 1..=j1` (inside the grid) into the window, stage 2 on row `j` as soon as
+    /// row `min(j + 1, ny - 1)` is formed; at each band's end its power and force go to
+    /// its pair of `bands` (stage 1, stage 2).
+    fn heun_group_2d(
+        &self,
+        first_band: usize,
+        bands: &mut [Band<2>],
+        (fields, mass): (Fields<'_, 2>, &[f64]),
+        out: GroupOut<'_>,
+        window: &mut [SideState<2>],
+        (k, u): (&Sweep2d, &HeunConstants<2>),
+    ) {
+        let [nx, ny] = self.grid.cells;
+        let band_rows = |b: usize| b * BAND_ROWS..((b + 1) * BAND_ROWS).min(ny);
+        let last_band = first_band + bands.len() / 2 - 1;
+        let own = band_rows(first_band).start..band_rows(last_band).end;
+        let rows = own.start.saturating_sub(1)..(own.end + 1).min(ny);
+        // each band's totals per stage, kept here until the group's end (the first pair
+        // of `bands` holds the rolling rows)
+        let mut totals = [(0.0, Vector::<2>::zeros()); 2];
+        let [one, two, records @ ..] = bands else {
+            unreachable!("internal: two bands per band of rows")
+        };
+        for band in [&mut *one, &mut *two] {
+            band.power = 0.0;
+            band.force = Vector::<2>::zeros();
+        }
+        let mut record = |b: usize, stage: usize, band: &mut Band<2>, x_power: f64| {
+            let total = (band.power, band.force);
+            match b - first_band {
+                0 => totals[stage] = total,
+                i => {
+                    let record = &mut records[2 * (i - 1) + stage];
+                    (record.power, record.force) = total;
+                }
+            }
+            // the next band's first term: its first row's x-faces
+            band.power = 0.0;
+            band.power += x_power;
+            band.force = Vector::<2>::zeros();
+        };
+        let GroupOut {
+            tensor,
+            velocity,
+            position,
+        } = out;
+        let row_len = nx * SIDES;
+        // the window's first row
+        let mut first = rows.start;
+        // stage 2's next row
+        let mut next = own.start;
+        let band_of = |j: usize| j.clamp(own.start, own.end - 1) / BAND_ROWS;
+        self.band_start::<false>(rows.start, &band_rows(first_band), one, fields, k);
+        for r in rows {
+            if r - first == WINDOW_ROWS {
+                // full: keep the two rows stage 2 still reads
+                window.copy_within((WINDOW_ROWS - 2) * row_len..WINDOW_ROWS * row_len, 0);
+                first = r - 2;
+            }
+            let owned = own.contains(&r);
+            let (base, b) = (first * nx, band_of(r));
+            let x_power = self.band_row::<false>(r, &band_rows(b), one, fields, k, &mut |c, _, f| {
+                let at = (c - base) * SIDES;
+                let sides = &mut window[at..at + SIDES];
+                let next = self.heun_first(u, c, f, (fields, mass[c]), sides);
+                if owned {
+                    let local = c - own.start * nx;
+                    tensor[local] = next.0;
+                    velocity[local] = next.1;
+                }
+            });
+            if owned && (r + 1 == band_rows(b).end || r + 1 == own.end) {
+                record(b, 0, one, x_power);
+            }
+            while next < own.end && (next + 1).min(ny - 1) <= r {
+                let sides = Fields::sides(window, first * nx);
+                let b = band_of(next);
+                let band = band_rows(b);
+                if next == own.start {
+                    self.band_start::<true>(next, &band, two, sides, k);
+                }
+                let x_power = self.band_row::<true>(next, &band, two, sides, k, &mut |c, _, f| {
+                    let local = c - own.start * nx;
+                    let next = (&mut tensor[local], &mut velocity[local]);
+                    Self::heun_second(u, f, mass[c], next, &mut position[local]);
+                });
+                if next + 1 == band.end {
+                    record(b, 1, two, x_power);
+                }
+                next += 1;
+            }
+        }
+        for (band, (power, force)) in [one, two].into_iter().zip(totals) {
+            (band.power, band.force) = (power, force);
+        }
+    }
+}
+
+impl<const D: usize> FusedBuffers<D> {
+    /// The power and force of Heun's stage `stage` (0 or 1) on the 2D wavefront, added up
+    /// over the bands in order (each band's two [`Band`]s: stage 1's, then stage 2's).
+    pub(crate) fn stage_totals(&self, stage: usize) -> (f64, Vector<D>) {
+        let bands = || self.bands.iter().skip(stage).step_by(2);
+        let power = bands().map(|b| b.power).sum::<f64>()
+            + self.slabs.iter().map(|s| s.power).sum::<f64>();
+        let force: Vector<D> = bands().map(|b| b.force).sum();
+        (power, force)
+    }
+}
