@@ -38,7 +38,7 @@
 //! **Wavefront (2D, `heun/wavefront.rs`).** Stage 2 of a cell row reads the side states
 //! of that row and the rows next to it only, so each band of rows runs stage 1 one row
 //! ahead of stage 2 (and on the rows next to the band, for their side states) and keeps the
-//! side states in a window of a few rows instead of a whole-grid array: the same values,
+//! side states in a ring of a few rows instead of a whole-grid array: the same values,
 //! formed by the same operations, as two whole-grid sweeps. In 1D the stages are two
 //! sweeps ([`DgmpmSolver::heun_step`]).
 //!
@@ -57,7 +57,7 @@ use impact_core::{CoreError, Grid, Tensor, Vector};
 use std::collections::HashMap;
 
 mod wavefront;
-pub(crate) use wavefront::WINDOW_ROWS;
+pub(crate) use wavefront::{ring_len, rings};
 
 /// Weights per side of a cell in [`DgmpmSolver::heun_weights`]: `W` (`D`), the own
 /// face's `K` and the two faces' `K` of each other axis (module doc).

@@ -142,7 +142,7 @@ pub(crate) struct FusedBuffers<const D: usize> {
     next_tensor: Vec<Tensor<D>>,
     next_velocity: Vec<Vector<D>>,
     /// The Heun cell sweeps' side states, `2D` per cell (`layout.side_states`; empty
-    /// otherwise): in 2D a window of rows per band (`heun/wavefront.rs`).
+    /// otherwise): in 2D a ring of a few rows per thread (`heun/wavefront.rs`).
     side_states: Vec<SideState<D>>,
     layout: Option<Layout>,
 }
@@ -189,8 +189,8 @@ impl<const D: usize> FusedBuffers<D> {
         };
         let next = count * layout.next_per_cell;
         let side_states = match (layout.side_states, D) {
-            // a window of rows per band (`heun/wavefront.rs`)
-            (true, 2) => cells[1].div_ceil(BAND_ROWS) * heun::WINDOW_ROWS * cells[0] * 2 * D,
+            // a ring of rows per thread (`heun/wavefront.rs`)
+            (true, 2) => heun::rings(cells[1].div_ceil(BAND_ROWS)) * heun::ring_len(cells[0]),
             (true, _) => count * 2 * D,
             (false, _) => 0,
         };

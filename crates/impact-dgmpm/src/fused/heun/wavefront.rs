@@ -1,11 +1,12 @@
 //! Heun's two stages in 2D as one wavefront per band (module doc of [`super`]): stage 2 of
 //! cell row `j` reads the side states of rows `j - 1..=j + 1` only (its faces, their CTU
 //! corrections and the edges' ghost cells), so each band runs stage 1 a row ahead of
-//! stage 2 and keeps the side states in a window of [`WINDOW_ROWS`] rows (in cache)
-//! instead of a whole-grid array.
+//! stage 2 and keeps the side states in a ring of [`RING_ROWS`] rows (in cache) instead
+//! of a whole-grid array.
 //!
 //! The bands of rows are the fused sweeps' ([`BAND_ROWS`]); a wavefront runs over a group
-//! of consecutive bands (as many groups as rayon's threads, one when serial). A group owns
+//! of consecutive bands (as many groups as rayon's threads and rings, one when serial;
+//! [`rings`] of them are allocated, one per thread at the build). A group owns
 //! their cell rows `j0..j1`: it writes their next state, moves their points and counts
 //! the power and force of their boundary faces per band and stage, in the order of the
 //! two-sweep form (the totals add the bands up in order). Stage 1 sweeps the rows
@@ -15,9 +16,10 @@
 //! forms it, so the result depends neither on the groups nor on the thread count and
 //! equals the two-sweep form's bit for bit.
 //!
-//! The window: stage 1 writes row `r` at its place from the window's first row; when the
-//! window is full it first copies the two rows stage 2 still reads (`r - 2`, `r - 1`) to
-//! its start.
+//! The ring: stage 1 writes row `r` to slot `r mod R` (`R` = [`RING_ROWS`]) and, in slots
+//! 0 and 1, also to slots `R` and `R + 1`, so that the rows `j - 1..=j + 1` stage 2 reads
+//! lie in order from slot `(j - 1) mod R` (a row is overwritten `R` rows later, after the
+//! last read of it, two rows later).
 use super::super::plane::Sweep2d;
 use super::super::{Band, FusedBuffers, BAND_ROWS};
 use super::HeunConstants;
@@ -27,9 +29,20 @@ use impact_core::parallel::{chunks, for_each_chunk, threads};
 use impact_core::points::MaterialPoints;
 use impact_core::{Tensor, Vector};
 
-/// Cell rows of side states in a band's window (at least 3: stage 2's row `j` reads rows
-/// `j - 1..=j + 1` while stage 1 writes row `j + 1`).
-pub(crate) const WINDOW_ROWS: usize = 8;
+/// Cell rows of side states in a ring (module doc; at least 3: stage 2's row `j` reads
+/// rows `j - 1..=j + 1` after stage 1 wrote row `j + 1`); a ring holds two rows more.
+const RING_ROWS: usize = 4;
+
+/// Side states of one ring for `nx` cells a row: `RING_ROWS + 2` rows.
+pub(crate) fn ring_len(nx: usize) -> usize {
+    (RING_ROWS + 2) * nx * SIDES
+}
+
+/// The rings allocated for `bands` bands of rows: one per thread of rayon's pool, at most
+/// one per band.
+pub(crate) fn rings(bands: usize) -> usize {
+    threads().clamp(1, bands.max(1))
+}
 
 /// Side states per cell in 2D (`2D`).
 const SIDES: usize = 4;
@@ -50,11 +63,13 @@ impl DgmpmSolver<2> {
         let u = self.heun_constants(dt);
         let [nx, ny] = self.grid.cells;
         let bands = ny.div_ceil(BAND_ROWS);
+        let ring = ring_len(nx);
+        // (never more groups than rings; as many chunks of bands as groups or fewer)
         let groups = match self.parallel {
-            true => threads().clamp(1, bands.max(1)),
+            true => rings(bands).min(self.fused.side_states.len() / ring.max(1)),
             false => 1,
         };
-        let per_group = bands.div_ceil(groups).max(1);
+        let per_group = bands.div_ceil(groups.max(1)).max(1);
         let cells = per_group * BAND_ROWS * nx;
         let mut buffers = std::mem::take(&mut self.fused);
         {
@@ -79,19 +94,18 @@ impl DgmpmSolver<2> {
                 chunks(bands, 2 * per_group),
                 (chunks(next_tensor, cells), chunks(next_velocity, cells)),
                 (
-                    chunks(side_states, per_group * WINDOW_ROWS * nx * SIDES),
+                    chunks(side_states, ring),
                     chunks(position, cells),
                 ),
             );
-            for_each_chunk(this.parallel, 1, parts, |g, (bands, (tensor, v), (window, x))| {
+            for_each_chunk(this.parallel, 1, parts, |g, (bands, (tensor, v), (ring, x))| {
                 let out = GroupOut {
                     tensor,
                     velocity: v,
                     position: x,
                 };
-                let window = &mut window[..WINDOW_ROWS * nx * SIDES];
                 let first_band = g * per_group;
-                this.heun_group_2d(first_band, bands, (fields, mass), out, window, (&k, &u));
+                this.heun_group_2d(first_band, bands, (fields, mass), out, ring, (&k, &u));
             });
         }
         std::mem::swap(&mut points.stress, &mut buffers.next_tensor);
@@ -100,7 +114,7 @@ impl DgmpmSolver<2> {
     }
 
     /// The wavefront of the group of bands from `first_band` (module doc): stage 1 on its
-    /// rows `j0 - 1..=j1` (inside the grid) into the window, stage 2 on row `j` as soon as
+    /// rows `j0 - 1..=j1` (inside the grid) into the ring, stage 2 on row `j` as soon as
     /// row `min(j + 1, ny - 1)` is formed; at each band's end its power and force go to
     /// its pair of `bands` (stage 1, stage 2).
     fn heun_group_2d(
@@ -109,7 +123,7 @@ impl DgmpmSolver<2> {
         bands: &mut [Band<2>],
         (fields, mass): (Fields<'_, 2>, &[f64]),
         out: GroupOut<'_>,
-        window: &mut [SideState<2>],
+        ring: &mut [SideState<2>],
         (k, u): (&Sweep2d, &HeunConstants<2>),
     ) {
         let [nx, ny] = self.grid.cells;
@@ -147,24 +161,24 @@ impl DgmpmSolver<2> {
             position,
         } = out;
         let row_len = nx * SIDES;
-        // the window's first row
-        let mut first = rows.start;
         // stage 2's next row
         let mut next = own.start;
         let band_of = |j: usize| j.clamp(own.start, own.end - 1) / BAND_ROWS;
         self.band_start::<false>(rows.start, &band_rows(first_band), one, fields, k);
         for r in rows {
-            if r - first == WINDOW_ROWS {
-                // full: keep the two rows stage 2 still reads
-                window.copy_within((WINDOW_ROWS - 2) * row_len..WINDOW_ROWS * row_len, 0);
-                first = r - 2;
-            }
             let owned = own.contains(&r);
-            let (base, b) = (first * nx, band_of(r));
+            let (slot, b) = (r % RING_ROWS, band_of(r));
+            // the row's first side state in the ring
+            let base = slot * row_len;
+            let row = r * nx;
             let x_power = self.band_row::<false>(r, &band_rows(b), one, fields, k, &mut |c, _, f| {
-                let at = (c - base) * SIDES;
-                let sides = &mut window[at..at + SIDES];
+                let at = base + (c - row) * SIDES;
+                let sides = &mut ring[at..at + SIDES];
                 let next = self.heun_first(u, c, f, (fields, mass[c]), sides);
+                if slot < 2 {
+                    let (ring, mirror) = ring.split_at_mut(at + RING_ROWS * row_len);
+                    mirror[..SIDES].copy_from_slice(&ring[at..at + SIDES]);
+                }
                 if owned {
                     let local = c - own.start * nx;
                     tensor[local] = next.0;
@@ -175,7 +189,9 @@ impl DgmpmSolver<2> {
                 record(b, 0, one, x_power);
             }
             while next < own.end && (next + 1).min(ny - 1) <= r {
-                let sides = Fields::sides(window, first * nx);
+                // rows next - 1..=next + 1 in order from slot (next - 1) mod R
+                let low = next.saturating_sub(1);
+                let sides = Fields::sides(ring, (low - low % RING_ROWS) * nx);
                 let b = band_of(next);
                 let band = band_rows(b);
                 if next == own.start {
