@@ -57,7 +57,7 @@ use impact_core::{CoreError, Grid, Tensor, Vector};
 use std::collections::HashMap;
 
 mod wavefront;
-pub(crate) use wavefront::{ring_len, rings};
+pub(crate) use wavefront::{ring_len, rings, BandTotals};
 
 /// Weights per side of a cell in [`DgmpmSolver::heun_weights`]: `W` (`D`), the own
 /// face's `K` and the two faces' `K` of each other axis (module doc).

@@ -144,6 +144,8 @@ pub(crate) struct FusedBuffers<const D: usize> {
     /// The Heun cell sweeps' side states, `2D` per cell (`layout.side_states`; empty
     /// otherwise): in 2D a ring of a few rows per thread (`heun/wavefront.rs`).
     side_states: Vec<SideState<D>>,
+    /// The Heun wavefront's power and force per band and stage (2D; empty otherwise).
+    heun_totals: Vec<heun::BandTotals>,
     layout: Option<Layout>,
 }
 
@@ -176,9 +178,13 @@ impl<const D: usize> FusedBuffers<D> {
                     y_final: [vec![Conserved::zeros(); nx], vec![Conserved::zeros(); nx]],
                     ..Band::default()
                 };
-                // (the Heun wavefront: two per band, one per stage, `heun/wavefront.rs`)
-                let per_band = if layout.side_states { 2 } else { 1 };
-                vec![band; cells[1].div_ceil(BAND_ROWS) * per_band]
+                let bands = cells[1].div_ceil(BAND_ROWS);
+                // (the Heun wavefront: two per ring, one per stage, `heun/wavefront.rs`)
+                let count = match layout.side_states {
+                    true => 2 * heun::rings(bands),
+                    false => bands,
+                };
+                vec![band; count]
             }
             1 => vec![Band::default(); count.div_ceil(CHUNK)],
             _ => Vec::new(),
@@ -200,6 +206,10 @@ impl<const D: usize> FusedBuffers<D> {
             next_tensor: vec![Tensor::<D>::zeros(); next],
             next_velocity: vec![Vector::<D>::zeros(); next],
             side_states: vec![SideState::zeros(); side_states],
+            heun_totals: match (layout.side_states, D) {
+                (true, 2) => vec![(0.0, Vector::<2>::zeros()); 2 * cells[1].div_ceil(BAND_ROWS)],
+                _ => Vec::new(),
+            },
             layout: Some(layout),
         }
     }

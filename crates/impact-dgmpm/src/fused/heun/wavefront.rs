@@ -44,6 +44,9 @@ pub(crate) fn rings(bands: usize) -> usize {
     threads().clamp(1, bands.max(1))
 }
 
+/// A band's power and force of one Heun stage.
+pub(crate) type BandTotals = (f64, Vector<2>);
+
 /// Side states per cell in 2D (`2D`).
 const SIDES: usize = 4;
 
@@ -55,9 +58,10 @@ struct GroupOut<'a> {
 }
 
 impl DgmpmSolver<2> {
-    /// Both Heun stages on every group of bands (module doc); each band's two [`Band`]s
-    /// hold stage 1's and stage 2's power and force (a group's first two also its rolling
-    /// rows). The next state is swapped into the points after.
+    /// Both Heun stages on every group of bands (module doc), each group with a ring and
+    /// a pair of [`Band`]s (the two stages' rolling rows); each band's power and force per
+    /// stage go to the buffers' `heun_totals`. The next state is swapped into the points
+    /// after.
     pub(super) fn heun_wavefront_2d(&mut self, points: &mut MaterialPoints<2>, dt: f64) {
         let k = self.sweep_2d_constants(dt);
         let u = self.heun_constants(dt);
@@ -66,7 +70,7 @@ impl DgmpmSolver<2> {
         let ring = ring_len(nx);
         // (never more groups than rings; as many chunks of bands as groups or fewer)
         let groups = match self.parallel {
-            true => rings(bands).min(self.fused.side_states.len() / ring.max(1)),
+            true => rings(bands).min(self.fused.bands.len() / 2),
             false => 1,
         };
         let per_group = bands.div_ceil(groups.max(1)).max(1);
@@ -75,10 +79,11 @@ impl DgmpmSolver<2> {
         {
             let this = &*self;
             let FusedBuffers {
-                bands,
+                bands: rolling,
                 next_tensor,
                 next_velocity,
                 side_states,
+                heun_totals,
                 ..
             } = &mut buffers;
             let MaterialPoints {
@@ -91,12 +96,9 @@ impl DgmpmSolver<2> {
             let fields = Fields::per_cell(stress, velocity);
             let mass: &[f64] = mass;
             let parts = (
-                chunks(bands, 2 * per_group),
+                (chunks(heun_totals, 2 * per_group), chunks(rolling, 2)),
                 (chunks(next_tensor, cells), chunks(next_velocity, cells)),
-                (
-                    chunks(side_states, ring),
-                    chunks(position, cells),
-                ),
+                (chunks(side_states, ring), chunks(position, cells)),
             );
             for_each_chunk(this.parallel, 1, parts, |g, (bands, (tensor, v), (ring, x))| {
                 let out = GroupOut {
@@ -116,11 +118,11 @@ impl DgmpmSolver<2> {
     /// The wavefront of the group of bands from `first_band` (module doc): stage 1 on its
     /// rows `j0 - 1..=j1` (inside the grid) into the ring, stage 2 on row `j` as soon as
     /// row `min(j + 1, ny - 1)` is formed; at each band's end its power and force go to
-    /// its pair of `bands` (stage 1, stage 2).
+    /// its pair of `totals` (stage 1, stage 2).
     fn heun_group_2d(
         &self,
         first_band: usize,
-        bands: &mut [Band<2>],
+        (totals, rolling): (&mut [BandTotals], &mut [Band<2>]),
         (fields, mass): (Fields<'_, 2>, &[f64]),
         out: GroupOut<'_>,
         ring: &mut [SideState<2>],
@@ -128,28 +130,18 @@ impl DgmpmSolver<2> {
     ) {
         let [nx, ny] = self.grid.cells;
         let band_rows = |b: usize| b * BAND_ROWS..((b + 1) * BAND_ROWS).min(ny);
-        let last_band = first_band + bands.len() / 2 - 1;
+        let last_band = first_band + totals.len() / 2 - 1;
         let own = band_rows(first_band).start..band_rows(last_band).end;
         let rows = own.start.saturating_sub(1)..(own.end + 1).min(ny);
-        // each band's totals per stage, kept here until the group's end (the first pair
-        // of `bands` holds the rolling rows)
-        let mut totals = [(0.0, Vector::<2>::zeros()); 2];
-        let [one, two, records @ ..] = bands else {
-            unreachable!("internal: two bands per band of rows")
+        let [one, two] = rolling else {
+            unreachable!("internal: two rolling bands per group")
         };
         for band in [&mut *one, &mut *two] {
             band.power = 0.0;
             band.force = Vector::<2>::zeros();
         }
         let mut record = |b: usize, stage: usize, band: &mut Band<2>, x_power: f64| {
-            let total = (band.power, band.force);
-            match b - first_band {
-                0 => totals[stage] = total,
-                i => {
-                    let record = &mut records[2 * (i - 1) + stage];
-                    (record.power, record.force) = total;
-                }
-            }
+            totals[2 * (b - first_band) + stage] = (band.power, band.force);
             // the next band's first term: its first row's x-faces
             band.power = 0.0;
             band.power += x_power;
@@ -208,20 +200,17 @@ impl DgmpmSolver<2> {
                 next += 1;
             }
         }
-        for (band, (power, force)) in [one, two].into_iter().zip(totals) {
-            (band.power, band.force) = (power, force);
-        }
     }
 }
 
 impl<const D: usize> FusedBuffers<D> {
     /// The power and force of Heun's stage `stage` (0 or 1) on the 2D wavefront, added up
-    /// over the bands in order (each band's two [`Band`]s: stage 1's, then stage 2's).
+    /// over the bands in order (each band's pair in `heun_totals`: stage 1's, stage 2's).
     pub(crate) fn stage_totals(&self, stage: usize) -> (f64, Vector<D>) {
-        let bands = || self.bands.iter().skip(stage).step_by(2);
-        let power = bands().map(|b| b.power).sum::<f64>()
+        let bands = || self.heun_totals.iter().skip(stage).step_by(2);
+        let power = bands().map(|b| b.0).sum::<f64>()
             + self.slabs.iter().map(|s| s.power).sum::<f64>();
-        let force: Vector<D> = bands().map(|b| b.force).sum();
-        (power, force)
+        let force: Vector<2> = bands().map(|b| b.1).sum();
+        (power, Vector::<D>::from_fn(|k, _| force[k]))
     }
 }
