@@ -9,7 +9,8 @@ use crate::DgmpmSolver;
 use impact_core::method::TransverseFlux;
 use impact_core::points::MaterialPoints;
 use impact_core::Vector;
-use std::ops::Range;
+
+mod rows;
 
 /// The constants of one 2D sweep: the axis solvers', whether CTU corrects, and the
 /// corrections' scales (x-faces by the y-fluctuations, `Δt/2Δy`; y-faces by the x ones).
@@ -65,7 +66,9 @@ impl DgmpmSolver<2> {
     }
 
     /// The 2D sweep of band `b` (module doc of [`super`]): its rows `j0..j1`. It first
-    /// forms face row `j0` ([`Self::band_start`]), then runs each row ([`Self::band_row`]):
+    /// forms face row `j0` (its Godunov fluxes, [`Self::y_godunov_row`], and under CTU the
+    /// x-fluxes of row `j0 - 1` for its final fluxes, [`Self::y_final_row`]) and the
+    /// x-fluxes of row `j0` ([`Self::x_godunov_row`]); then for each row `j`:
     /// 1. the Godunov fluxes of face row `j + 1` and of the x-faces of row `j + 1`;
     /// 2. the final fluxes of face row `j + 1` (corrections from the x-fluctuations of
     ///    rows `j` and `j + 1`);
@@ -78,6 +81,10 @@ impl DgmpmSolver<2> {
     /// fluctuation `w_l` adds `F_l(q_C,low - q_C,high)` to its flux difference (the cell
     /// path's states are one per cell, where that term vanishes). Boundary faces add their
     /// power and force to the band's.
+    ///
+    /// (The same steps as [`Self::band_start`] and [`Self::band_row`], which the Heun
+    /// wavefront runs row by row, `heun/wavefront.rs`; kept in one piece here: through
+    /// them the Euler sweep took 9 instructions a cell more, callgrind.)
     pub(super) fn band_2d<const NODAL: bool>(
         &self,
         b: usize,
@@ -86,44 +93,21 @@ impl DgmpmSolver<2> {
         k: &Sweep2d,
         mut update: impl FnMut(usize, usize, [[&Conserved<2>; 2]; 2]),
     ) {
-        let ny = self.grid.cells[1];
+        let [nx, ny] = self.grid.cells;
+        let (c, ctu, scale) = (&k.constants, k.ctu, k.scale);
         let rows = b * BAND_ROWS..((b + 1) * BAND_ROWS).min(ny);
         band.power = 0.0;
         band.force = Vector::<2>::zeros();
-        self.band_start::<NODAL>(rows.start, &rows, band, fields, k);
-        for j in rows.clone() {
-            self.band_row::<NODAL>(j, &rows, band, fields, k, &mut update);
-        }
-    }
-
-    /// The start of a sweep at cell row `j0` ([`Self::band_2d`]): face row `j0` (its
-    /// Godunov fluxes, [`Self::y_godunov_row`], and under CTU the x-fluxes of row `j0 - 1`
-    /// for its final fluxes, [`Self::y_final_row`]) and the x-fluxes of row `j0`
-    /// ([`Self::x_godunov_row`]). The power and force of its boundary faces count where
-    /// the band owns their row (`own`: the Heun wavefront also sweeps the rows next to its
-    /// band, `heun.rs`).
-    pub(super) fn band_start<const NODAL: bool>(
-        &self,
-        j0: usize,
-        own: &Range<usize>,
-        band: &mut Band<2>,
-        fields: Fields<'_, 2>,
-        k: &Sweep2d,
-    ) {
-        let nx = self.grid.cells[0];
-        let c = &k.constants;
+        let j0 = rows.start;
+        // prologue: face row j0 (Godunov and final) and the x-fluxes of cell row j0
         let (x_row, x_side) = (&mut band.x_godunov[0], &mut band.x_side[0]);
-        let power = self.x_godunov_row::<NODAL>(j0, fields, c, x_row, x_side);
-        if own.contains(&j0) {
-            band.power += power;
-        }
+        band.power += self.x_godunov_row::<NODAL>(j0, fields, c, x_row, x_side);
         let power = self.y_godunov_row::<NODAL>(j0, fields, c, &mut band.y_godunov[0]);
-        let bottom = j0 == 0 && own.contains(&0);
-        if bottom {
+        if j0 == 0 {
             band.power += power;
         }
-        if k.ctu && j0 > 0 {
-            // the row below: its x-fluxes, recomputed here
+        if ctu && j0 > 0 {
+            // the row below the band: its x-fluxes, recomputed here
             let (x_row, x_side) = (&mut band.x_godunov[1], &mut band.x_side[1]);
             self.x_godunov_row::<NODAL>(j0 - 1, fields, c, x_row, x_side);
         }
@@ -132,126 +116,104 @@ impl DgmpmSolver<2> {
         let godunov = &band.y_godunov[0];
         let finals = &mut band.y_final[0];
         self.y_final_row::<NODAL>(j0, godunov, [below, here], fields, k, finals);
-        if bottom {
+        if j0 == 0 {
             for i in 0..nx {
                 band.force += self.boundary_face_force(1, [i, 0], &band.y_final[0][i]);
             }
         }
-    }
-
-    /// Row `j` of a sweep ([`Self::band_2d`], steps 1-4), after [`Self::band_start`] or row
-    /// `j - 1`; `update`'s index in the band counts from row `own.start`. The power and
-    /// force of its boundary faces count where `own` holds their row; returns the power of
-    /// row `j + 1`'s x-faces (counted or not).
-    #[inline(always)]
-    pub(super) fn band_row<const NODAL: bool>(
-        &self,
-        j: usize,
-        own: &Range<usize>,
-        band: &mut Band<2>,
-        fields: Fields<'_, 2>,
-        k: &Sweep2d,
-        update: &mut impl FnMut(usize, usize, [[&Conserved<2>; 2]; 2]),
-    ) -> f64 {
-        let [nx, ny] = self.grid.cells;
-        let (c, ctu, scale) = (&k.constants, k.ctu, k.scale);
-        let counted = own.contains(&j);
-        let mut x_power = 0.0;
-        let top = j + 1 == ny;
-        let power = self.y_godunov_row::<NODAL>(j + 1, fields, c, &mut band.y_godunov[1]);
-        if top && counted {
-            band.power += power;
-        }
-        if !top {
-            let (x_row, x_side) = (&mut band.x_godunov[1], &mut band.x_side[1]);
-            x_power = self.x_godunov_row::<NODAL>(j + 1, fields, c, x_row, x_side);
-            if own.contains(&(j + 1)) {
-                band.power += x_power;
+        for j in rows.clone() {
+            let top = j + 1 == ny;
+            let power = self.y_godunov_row::<NODAL>(j + 1, fields, c, &mut band.y_godunov[1]);
+            if top {
+                band.power += power;
             }
-        }
-        let here = Some((&band.x_godunov[0][..], &band.x_side[0][..]));
-        let above = (!top).then_some((&band.x_godunov[1][..], &band.x_side[1][..]));
-        let godunov = &band.y_godunov[1];
-        let finals = &mut band.y_final[1];
-        self.y_final_row::<NODAL>(j + 1, godunov, [here, above], fields, k, finals);
-        if top && counted {
+            if !top {
+                let (x_row, x_side) = (&mut band.x_godunov[1], &mut band.x_side[1]);
+                let power = self.x_godunov_row::<NODAL>(j + 1, fields, c, x_row, x_side);
+                if j + 1 < rows.end {
+                    band.power += power;
+                }
+            }
+            let here = Some((&band.x_godunov[0][..], &band.x_side[0][..]));
+            let above = (!top).then_some((&band.x_godunov[1][..], &band.x_side[1][..]));
+            let godunov = &band.y_godunov[1];
+            let finals = &mut band.y_final[1];
+            self.y_final_row::<NODAL>(j + 1, godunov, [here, above], fields, k, finals);
+            if top {
+                for i in 0..nx {
+                    band.force += self.boundary_face_force(1, [i, ny], &band.y_final[1][i]);
+                }
+            }
+            // the x-faces' final fluxes, rolling along the row, and the cell updates
+            let row = j * nx;
+            let (y_low, y_high) = (&band.y_godunov[0], &band.y_godunov[1]);
+            if NODAL && ctu {
+                for (i, w) in band.w_y.iter_mut().enumerate() {
+                    let (low, high) = (
+                        fields.at::<true>(row + i, 1, false),
+                        fields.at::<true>(row + i, 1, true),
+                    );
+                    let w_flux = y_high[i].add_scaled(&y_low[i], -1.0);
+                    *w = w_flux.add_scaled(&difference_flux::<1>(&low, &high, c), 1.0);
+                }
+            }
+            let w_y = |i: usize| match NODAL {
+                true => band.w_y[i],
+                false => y_high[i].add_scaled(&y_low[i], -1.0),
+            };
+            // the edge faces (ghost cells; their force) out of line, the interior ones in the
+            // loop with each cell's y-fluctuation formed once
+            let x_edge = |i: usize, band_force: &mut Vector<2>| -> Conserved<2> {
+                let godunov = band.x_godunov[0][i];
+                let flux = match ctu {
+                    true => {
+                        let w = [(i > 0).then(|| w_y(i - 1)), (i < nx).then(|| w_y(i))];
+                        let correction = self.face_correction(0, [i, j], w, fields, scale[0]);
+                        godunov.add_scaled(&correction, 1.0)
+                    }
+                    false => godunov,
+                };
+                *band_force += self.boundary_face_force(0, [i, j], &flux);
+                flux
+            };
+            let x_interior = |i: usize, w_left: &Conserved<2>, w_right: &Conserved<2>| {
+                let godunov = band.x_godunov[0][i];
+                if !ctu {
+                    return godunov;
+                }
+                let total = axis_transverse_2d::<0>(w_left, w_right, c);
+                godunov.add_scaled(&Conserved::zeros().add_scaled(&total, -scale[0]), 1.0)
+            };
+            let mut force = Vector::<2>::zeros();
+            let mut low = x_edge(0, &mut force);
+            let mut w_left = match ctu {
+                true => w_y(0),
+                false => Conserved::zeros(),
+            };
+            let local = (j - j0) * nx;
             for i in 0..nx {
-                band.force += self.boundary_face_force(1, [i, ny], &band.y_final[1][i]);
+                let high = match i + 1 < nx {
+                    true => {
+                        let w_right = match ctu {
+                            true => w_y(i + 1),
+                            false => Conserved::zeros(),
+                        };
+                        let flux = x_interior(i + 1, &w_left, &w_right);
+                        w_left = w_right;
+                        flux
+                    }
+                    false => x_edge(nx, &mut force),
+                };
+                let faces = [[&low, &high], [&band.y_final[0][i], &band.y_final[1][i]]];
+                update(row + i, local + i, faces);
+                low = high;
             }
-        }
-        // the x-faces' final fluxes, rolling along the row, and the cell updates
-        let row = j * nx;
-        let (y_low, y_high) = (&band.y_godunov[0], &band.y_godunov[1]);
-        if NODAL && ctu {
-            for (i, w) in band.w_y.iter_mut().enumerate() {
-                let (low, high) = (
-                    fields.at::<true>(row + i, 1, false),
-                    fields.at::<true>(row + i, 1, true),
-                );
-                let w_flux = y_high[i].add_scaled(&y_low[i], -1.0);
-                *w = w_flux.add_scaled(&difference_flux::<1>(&low, &high, c), 1.0);
-            }
-        }
-        let w_y = |i: usize| match NODAL {
-            true => band.w_y[i],
-            false => y_high[i].add_scaled(&y_low[i], -1.0),
-        };
-        // the edge faces (ghost cells; their force) out of line, the interior ones in the
-        // loop with each cell's y-fluctuation formed once
-        let x_edge = |i: usize, band_force: &mut Vector<2>| -> Conserved<2> {
-            let godunov = band.x_godunov[0][i];
-            let flux = match ctu {
-                true => {
-                    let w = [(i > 0).then(|| w_y(i - 1)), (i < nx).then(|| w_y(i))];
-                    let correction = self.face_correction(0, [i, j], w, fields, scale[0]);
-                    godunov.add_scaled(&correction, 1.0)
-                }
-                false => godunov,
-            };
-            *band_force += self.boundary_face_force(0, [i, j], &flux);
-            flux
-        };
-        let x_interior = |i: usize, w_left: &Conserved<2>, w_right: &Conserved<2>| {
-            let godunov = band.x_godunov[0][i];
-            if !ctu {
-                return godunov;
-            }
-            let total = axis_transverse_2d::<0>(w_left, w_right, c);
-            godunov.add_scaled(&Conserved::zeros().add_scaled(&total, -scale[0]), 1.0)
-        };
-        let mut force = Vector::<2>::zeros();
-        let mut low = x_edge(0, &mut force);
-        let mut w_left = match ctu {
-            true => w_y(0),
-            false => Conserved::zeros(),
-        };
-        // (rows below `own` are the Heun wavefront's, whose update ignores the index)
-        let local = row.wrapping_sub(own.start * nx);
-        for i in 0..nx {
-            let high = match i + 1 < nx {
-                true => {
-                    let w_right = match ctu {
-                        true => w_y(i + 1),
-                        false => Conserved::zeros(),
-                    };
-                    let flux = x_interior(i + 1, &w_left, &w_right);
-                    w_left = w_right;
-                    flux
-                }
-                false => x_edge(nx, &mut force),
-            };
-            let faces = [[&low, &high], [&band.y_final[0][i], &band.y_final[1][i]]];
-            update(row + i, local.wrapping_add(i), faces);
-            low = high;
-        }
-        if counted {
             band.force += force;
+            band.x_godunov.swap(0, 1);
+            band.x_side.swap(0, 1);
+            band.y_godunov.swap(0, 1);
+            band.y_final.swap(0, 1);
         }
-        band.x_godunov.swap(0, 1);
-        band.x_side.swap(0, 1);
-        band.y_godunov.swap(0, 1);
-        band.y_final.swap(0, 1);
-        x_power
     }
 
     /// Godunov fluxes of the x-faces of cell row `j` into `out` (`nx + 1`); `NODAL` with

@@ -100,15 +100,20 @@ impl DgmpmSolver<2> {
                 (chunks(next_tensor, cells), chunks(next_velocity, cells)),
                 (chunks(side_states, ring), chunks(position, cells)),
             );
-            for_each_chunk(this.parallel, 1, parts, |g, (bands, (tensor, v), (ring, x))| {
-                let out = GroupOut {
-                    tensor,
-                    velocity: v,
-                    position: x,
-                };
-                let first_band = g * per_group;
-                this.heun_group_2d(first_band, bands, (fields, mass), out, ring, (&k, &u));
-            });
+            for_each_chunk(
+                this.parallel,
+                1,
+                parts,
+                |g, (bands, (tensor, v), (ring, x))| {
+                    let out = GroupOut {
+                        tensor,
+                        velocity: v,
+                        position: x,
+                    };
+                    let first_band = g * per_group;
+                    this.heun_group_2d(first_band, bands, (fields, mass), out, ring, (&k, &u));
+                },
+            );
         }
         std::mem::swap(&mut points.stress, &mut buffers.next_tensor);
         std::mem::swap(&mut points.velocity, &mut buffers.next_velocity);
@@ -163,20 +168,21 @@ impl DgmpmSolver<2> {
             // the row's first side state in the ring
             let base = slot * row_len;
             let row = r * nx;
-            let x_power = self.band_row::<false>(r, &band_rows(b), one, fields, k, &mut |c, _, f| {
-                let at = base + (c - row) * SIDES;
-                let sides = &mut ring[at..at + SIDES];
-                let next = self.heun_first(u, c, f, (fields, mass[c]), sides);
-                if slot < 2 {
-                    let (ring, mirror) = ring.split_at_mut(at + RING_ROWS * row_len);
-                    mirror[..SIDES].copy_from_slice(&ring[at..at + SIDES]);
-                }
-                if owned {
-                    let local = c - own.start * nx;
-                    tensor[local] = next.0;
-                    velocity[local] = next.1;
-                }
-            });
+            let x_power =
+                self.band_row::<false>(r, &band_rows(b), one, fields, k, &mut |c, _, f| {
+                    let at = base + (c - row) * SIDES;
+                    let sides = &mut ring[at..at + SIDES];
+                    let next = self.heun_first(u, c, f, (fields, mass[c]), sides);
+                    if slot < 2 {
+                        let (ring, mirror) = ring.split_at_mut(at + RING_ROWS * row_len);
+                        mirror[..SIDES].copy_from_slice(&ring[at..at + SIDES]);
+                    }
+                    if owned {
+                        let local = c - own.start * nx;
+                        tensor[local] = next.0;
+                        velocity[local] = next.1;
+                    }
+                });
             if owned && (r + 1 == band_rows(b).end || r + 1 == own.end) {
                 record(b, 0, one, x_power);
             }
@@ -208,8 +214,8 @@ impl<const D: usize> FusedBuffers<D> {
     /// over the bands in order (each band's pair in `heun_totals`: stage 1's, stage 2's).
     pub(crate) fn stage_totals(&self, stage: usize) -> (f64, Vector<D>) {
         let bands = || self.heun_totals.iter().skip(stage).step_by(2);
-        let power = bands().map(|b| b.0).sum::<f64>()
-            + self.slabs.iter().map(|s| s.power).sum::<f64>();
+        let power =
+            bands().map(|b| b.0).sum::<f64>() + self.slabs.iter().map(|s| s.power).sum::<f64>();
         let force: Vector<2> = bands().map(|b| b.1).sum();
         (power, Vector::<D>::from_fn(|k, _| force[k]))
     }
