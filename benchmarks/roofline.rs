@@ -27,14 +27,19 @@
 //!    - the fused path in 1D (`T` = `V` = 8 B): reads `T + V` and the mass (24), writes the
 //!      next `T + V` (16), updates the position (16): 56 B, 72 B with write-allocate;
 //!    - RK2 at one point per cell, the Heun cell sweeps (`fused/heun.rs`; no nodal field,
-//!      the side-state weights one cell's copy on a uniform grid, in cache): the first
-//!      stage reads the point's `T + V` and mass (56) and writes the cells' four side
-//!      states (traction and velocity, `4·32` = 128) and the next `T + V` (48); the
-//!      second reads the side states (128), the next `T + V` and the mass (56), updates
-//!      the next `T + V` in place (48), swapped into the points, and moves the points
-//!      (32): 496 B, 672 B with write-allocate (the first stage's writes). (Before the
-//!      side states held whole states and `move_points` ran after: 640 B, 880 B; the
-//!      fused nodal sweep before that: 800 B, 992 B.)
+//!      the side-state weights one cell's copy on a uniform grid, in cache), in 2D one
+//!      wavefront (`fused/heun/wavefront.rs`): stage 1 reads the point's `T + V` and mass
+//!      (56) and writes the next `T + V` (48) and the cells' four side states (traction
+//!      and velocity, `4·32` = 128) into a ring of 6 rows per thread (768 KB at 1000
+//!      cells a row: in cache, rewritten every 4 rows); stage 2 runs one row behind, so
+//!      its reads of the side states, of the next `T + V` and of the mass and its update
+//!      of the next `T + V` (swapped into the points after) hit the lines stage 1 has
+//!      just touched; it moves the points (32): 136 B, 184 B with write-allocate, the
+//!      fused Euler step's (plus the rows next to each thread's group of bands, read
+//!      twice: 2 rows in `ny / threads`). (Before, two whole-grid sweeps: stage 1 wrote
+//!      the side states (128), stage 2 read them (128) and read the next `T + V` and the
+//!      mass again (56) and wrote it (48): 496 B, 672 B; with whole side states and
+//!      `move_points`: 640 B, 880 B; the fused nodal sweep before that: 800 B, 992 B.)
 //!
 //!    The roofline time is bytes / triad bandwidth.
 use impact_core::method::{Integrator, MethodKind};
@@ -50,7 +55,7 @@ const CELL_PATH_BYTES: (f64, f64) = (776.0, 920.0);
 const FUSED_PATH_BYTES: (f64, f64) = (136.0, 184.0);
 const FUSED_BAR_BYTES: (f64, f64) = (56.0, 72.0);
 /// The same for RK2 at one point per cell (2D, the Heun cell sweeps).
-const FUSED_NODAL_RK2_BYTES: (f64, f64) = (496.0, 672.0);
+const FUSED_NODAL_RK2_BYTES: (f64, f64) = (136.0, 184.0);
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);

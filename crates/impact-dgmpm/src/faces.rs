@@ -20,6 +20,9 @@ pub(crate) struct Fields<'a, const D: usize> {
     /// low `h = 0` or high `h = 1`) instead of its nodes: Heun's second stage at one point
     /// per cell (`fused/heun.rs`; `tensor` and `velocity` empty then).
     sides: Option<&'a [SideState<D>]>,
+    /// The cell whose side states `sides` starts with (0, or a window of rows of them:
+    /// the Heun wavefront, `fused/heun.rs`).
+    first_cell: usize,
 }
 
 /// A cell's state on its side normal to `e_l` as far as a face normal to `e_l` reads it:
@@ -57,6 +60,7 @@ impl<'a, const D: usize> Fields<'a, D> {
             velocity,
             per_cell: true,
             sides: None,
+            first_cell: 0,
         }
     }
 
@@ -68,17 +72,20 @@ impl<'a, const D: usize> Fields<'a, D> {
             velocity,
             per_cell: false,
             sides: None,
+            first_cell: 0,
         }
     }
 
-    /// `2D` side states per cell, stored cell by cell (`fused/heun.rs`).
+    /// `2D` side states per cell, stored cell by cell from cell `first_cell` on
+    /// (`fused/heun.rs`).
     #[inline]
-    pub(crate) fn sides(sides: &'a [SideState<D>]) -> Self {
+    pub(crate) fn sides(sides: &'a [SideState<D>], first_cell: usize) -> Self {
         Self {
             tensor: &[],
             velocity: &[],
             per_cell: false,
             sides: Some(sides),
+            first_cell,
         }
     }
 
@@ -124,7 +131,7 @@ impl<'a, const D: usize> Fields<'a, D> {
     #[inline(always)]
     fn nodal_side(&self, c: usize, l: usize, high: bool) -> FullState<D> {
         if let Some(sides) = self.sides {
-            let side = &sides[c * 2 * D + 2 * l + usize::from(high)];
+            let side = &sides[(c - self.first_cell) * 2 * D + 2 * l + usize::from(high)];
             let mut tensor = Tensor::<D>::zeros();
             for k in 0..D {
                 tensor[(k, l)] = side.traction[k];

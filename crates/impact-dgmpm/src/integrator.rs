@@ -315,6 +315,14 @@ impl<const D: usize> DgmpmSolver<D> {
             nodes.start_tensor.copy_from_slice(&nodes.tensor);
             nodes.start_velocity.copy_from_slice(&nodes.velocity);
         }
+        if fused && self.heun_on_cells() {
+            // Heun's two stages as cell sweeps (`fused/heun.rs`; they move the points)
+            let [(power, force), (power2, force2)] = self.heun_step(&mut state.points, dt);
+            state.work += 0.5 * dt * (power + power2);
+            state.impulse += (force + force2) * (0.5 * dt);
+            self.plastic_correction(&mut state.points);
+            return;
+        }
         let euler = integrator == Integrator::Euler;
         let (power, force) = self.stage(&mut state.points, dt, 0.0, euler);
         match integrator {

@@ -35,12 +35,18 @@
 //! The increment update
 //! (`PointUpdate::Increment`) gives the same formula at one point per cell.
 //!
+//! **Wavefront (2D, `heun/wavefront.rs`).** Stage 2 of a cell row reads the side states
+//! of that row and the rows next to it only, so each band of rows runs stage 1 one row
+//! ahead of stage 2 (and on the rows next to the band, for their side states) and keeps the
+//! side states in a ring of a few rows instead of a whole-grid array: the same values,
+//! formed by the same operations, as two whole-grid sweeps. In 1D the stages are two
+//! sweeps ([`DgmpmSolver::heun_step`]).
+//!
 //! The sums are associated differently from the phase-by-phase path
 //! ([`crate::StepPath::SinglePoint`]): `Σ_i ∇S_i`, `Σ_i S_i - 1` and `Σ_i S_i q_p - q_p` are
 //! zero only to round-off there, so the two agree to round-off (`tests/fused.rs`, 1e-13
 //! of the peaks), not bit for bit.
-use super::plane::Sweep2d;
-use super::{Band, FusedBuffers, UpdateConstants, BAND_ROWS, CHUNK};
+use super::{Band, FusedBuffers, UpdateConstants, CHUNK};
 use crate::faces::{Fields, SideState};
 use crate::riemann::axis::AxisConstants;
 use crate::riemann::{Conserved, FullState};
@@ -49,6 +55,9 @@ use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
 use impact_core::{CoreError, Grid, Tensor, Vector};
 use std::collections::HashMap;
+
+mod wavefront;
+pub(crate) use wavefront::{ring_len, rings, BandTotals};
 
 /// Weights per side of a cell in [`DgmpmSolver::heun_weights`]: `W` (`D`), the own
 /// face's `K` and the two faces' `K` of each other axis (module doc).
@@ -213,20 +222,34 @@ impl<const D: usize> DgmpmSolver<D> {
         }
     }
 
-    /// One stage of Heun's RK2 on the cell sweeps (`first`: stage 1; module doc). Returns
-    /// the power and the force of the boundary conditions.
-    pub(super) fn heun_stage(
+    /// Heun's RK2 step on the cell sweeps (module doc): in 2D both stages in one
+    /// wavefront ([`wavefront`]), in 1D one sweep per stage. Returns each stage's power
+    /// and force of the boundary conditions.
+    pub(crate) fn heun_step(
         &mut self,
         points: &mut MaterialPoints<D>,
         dt: f64,
-        first: bool,
-    ) -> (f64, Vector<D>) {
-        self.by_dimension(
-            points,
-            |_, _| unreachable!("internal: the Heun sweeps are 1D and 2D (Fusable::All)"),
-            |solver, points| solver.heun_sweep_2d(points, dt, first),
-            |solver, points| solver.heun_sweep_1d(points, dt, first),
-        )
+    ) -> [(f64, Vector<D>); 2] {
+        if D == 2 {
+            self.by_dimension(
+                points,
+                |_, _| unreachable!("internal: D = 2"),
+                |solver, points| {
+                    solver.heun_wavefront_2d(points, dt);
+                    (0.0, Vector::<2>::zeros())
+                },
+                |_, _| unreachable!("internal: D = 2"),
+            );
+            return [0, 1].map(|stage| self.fused.stage_totals(stage));
+        }
+        [true, false].map(|first| {
+            self.by_dimension(
+                points,
+                |_, _| unreachable!("internal: the Heun sweeps are 1D and 2D (Fusable::All)"),
+                |_, _| unreachable!("internal: the 2D Heun sweeps are the wavefront"),
+                |solver, points| solver.heun_sweep_1d(points, dt, first),
+            )
+        })
     }
 
     /// Run `sweep(band index, band, face fields, point masses, output)` on every band:
@@ -265,7 +288,7 @@ impl<const D: usize> DgmpmSolver<D> {
                         sweep(this, b, &mut band[0], fields, mass, out);
                     });
                 } else {
-                    let fields = Fields::sides(side_states);
+                    let fields = Fields::sides(side_states, 0);
                     let parts = (bands, next, chunks(position, cells_per_band));
                     for_each_chunk(this.parallel, 1, parts, |b, (band, next, position)| {
                         let out = HeunOut::Second { next, position };
@@ -280,12 +303,8 @@ impl<const D: usize> DgmpmSolver<D> {
         })
     }
 
-    /// One cell of a Heun stage (entry `local` of its band) from its faces' final fluxes
-    /// `[low, high]` per axis (module doc). Stage 1: each side's traction and velocity,
-    /// `σ¹ e_l = σ_p e_l + Δt ρ [λ (v_p · W) e_l + μ (v_p W_l + W v_{p,l}) + Σ K F^σ e_l]`,
-    /// `v¹ = v_p + Δt [σ_p W + Σ K F^p]` (its weights `W`, `K`), and `q_p + ½ Δq(F¹)`;
-    /// stage 2: `+ ½ Δq(F²)`, `Δq(F) = -Δt (ρV/m_p) Σ_l (F_l,high - F_l,low)/Δx_l`, and
-    /// the move `x ← x + Δt v`.
+    /// One cell of a Heun stage (entry `local` of its band, 1D) from its faces' final
+    /// fluxes: [`Self::heun_first`] or [`Self::heun_second`].
     #[inline(always)]
     fn heun_cell<const FIRST: bool>(
         &self,
@@ -295,26 +314,44 @@ impl<const D: usize> DgmpmSolver<D> {
         (fields, mass): (Fields<'_, D>, f64),
         out: &mut HeunOut<'_, D>,
     ) {
-        let (dq, dv) = Self::flux_increment(&u.half, faces, mass);
-        let (sides, next) = match out {
-            HeunOut::First { sides, next } if FIRST => (sides, next),
+        match out {
+            HeunOut::First { sides, next } if FIRST => {
+                let first_side = local * 2 * D;
+                let sides = &mut sides[first_side..first_side + 2 * D];
+                let (q, v) = self.heun_first(u, cell, faces, (fields, mass), sides);
+                next.0[local] = q;
+                next.1[local] = v;
+            }
             HeunOut::Second { next, position } if !FIRST => {
-                next.0[local] += dq;
-                next.1[local] += dv;
-                position[local] += next.1[local] * u.dt;
-                return;
+                let next = (&mut next.0[local], &mut next.1[local]);
+                Self::heun_second(u, faces, mass, next, &mut position[local]);
             }
             _ => unreachable!("internal: a Heun stage's output"),
-        };
+        }
+    }
+
+    /// Stage 1 of cell `cell` from its faces' final fluxes `[low, high]` per axis (module
+    /// doc): each side's traction and velocity into `sides` (`2D`),
+    /// `σ¹ e_l = σ_p e_l + Δt ρ [λ (v_p · W) e_l + μ (v_p W_l + W v_{p,l}) + Σ K F^σ e_l]`,
+    /// `v¹ = v_p + Δt [σ_p W + Σ K F^p]` (its weights `W`, `K`); returns `q_p + ½ Δq(F¹)`,
+    /// `Δq(F) = -Δt (ρV/m_p) Σ_l (F_l,high - F_l,low)/Δx_l`.
+    #[inline(always)]
+    fn heun_first(
+        &self,
+        u: &HeunConstants<D>,
+        cell: usize,
+        faces: [[&Conserved<D>; 2]; D],
+        (fields, mass): (Fields<'_, D>, f64),
+        sides: &mut [SideState<D>],
+    ) -> (Tensor<D>, Vector<D>) {
+        let (dq, dv) = Self::flux_increment(&u.half, faces, mass);
         let FullState {
             tensor: q,
             velocity: v,
         } = fields.cell(cell);
-        next.0[local] = q + dq;
-        next.1[local] = v + dv;
+        let next = (q + dq, v + dv);
         let w = self.heun_weights_of(cell);
-        let first_side = local * 2 * D;
-        for (side, out) in sides[first_side..first_side + 2 * D].iter_mut().enumerate() {
+        for (side, out) in sides.iter_mut().enumerate() {
             let (l, s) = (side / 2, side % 2);
             let w = &w[side * per_side(D)..(side + 1) * per_side(D)];
             let g = Vector::<D>::from_fn(|k, _| w[k]);
@@ -339,34 +376,23 @@ impl<const D: usize> DgmpmSolver<D> {
                 velocity: v + (q * g + momentum) * u.dt,
             };
         }
+        next
     }
-}
 
-impl DgmpmSolver<2> {
-    /// A Heun stage in 2D: [`Self::band_2d`] on the cells' states (stage 1) or on the side
-    /// states (stage 2, the nodal sweep's fluctuations) with [`Self::heun_cell`].
-    fn heun_sweep_2d(
-        &mut self,
-        points: &mut MaterialPoints<2>,
-        dt: f64,
-        first: bool,
-    ) -> (f64, Vector<2>) {
-        let k: Sweep2d = self.sweep_2d_constants(dt);
-        let u = self.heun_constants(dt);
-        let cells_per_band = BAND_ROWS * self.grid.cells[0];
-        self.heun_bands(
-            points,
-            cells_per_band,
-            first,
-            |this, b, band, fields, mass, mut out| match first {
-                true => this.band_2d::<false>(b, band, fields, &k, |c, l, faces| {
-                    this.heun_cell::<true>(&u, (c, l), faces, (fields, mass[c]), &mut out)
-                }),
-                false => this.band_2d::<true>(b, band, fields, &k, |c, l, faces| {
-                    this.heun_cell::<false>(&u, (c, l), faces, (fields, mass[c]), &mut out)
-                }),
-            },
-        )
+    /// Stage 2 of a cell from its faces' final fluxes (module doc): `next += ½ Δq(F²)`
+    /// and the move `x ← x + Δt v` with the new velocity.
+    #[inline(always)]
+    fn heun_second(
+        u: &HeunConstants<D>,
+        faces: [[&Conserved<D>; 2]; D],
+        mass: f64,
+        next: (&mut Tensor<D>, &mut Vector<D>),
+        position: &mut Vector<D>,
+    ) {
+        let (dq, dv) = Self::flux_increment(&u.half, faces, mass);
+        *next.0 += dq;
+        *next.1 += dv;
+        *position += *next.1 * u.dt;
     }
 }
 

@@ -142,8 +142,10 @@ pub(crate) struct FusedBuffers<const D: usize> {
     next_tensor: Vec<Tensor<D>>,
     next_velocity: Vec<Vector<D>>,
     /// The Heun cell sweeps' side states, `2D` per cell (`layout.side_states`; empty
-    /// otherwise).
+    /// otherwise): in 2D a ring of a few rows per thread (`heun/wavefront.rs`).
     side_states: Vec<SideState<D>>,
+    /// The Heun wavefront's power and force per band and stage (2D; empty otherwise).
+    heun_totals: Vec<heun::BandTotals>,
     layout: Option<Layout>,
 }
 
@@ -176,7 +178,13 @@ impl<const D: usize> FusedBuffers<D> {
                     y_final: [vec![Conserved::zeros(); nx], vec![Conserved::zeros(); nx]],
                     ..Band::default()
                 };
-                vec![band; cells[1].div_ceil(BAND_ROWS)]
+                let bands = cells[1].div_ceil(BAND_ROWS);
+                // (the Heun wavefront: two per ring, one per stage, `heun/wavefront.rs`)
+                let count = match layout.side_states {
+                    true => 2 * heun::rings(bands),
+                    false => bands,
+                };
+                vec![band; count]
             }
             1 => vec![Band::default(); count.div_ceil(CHUNK)],
             _ => Vec::new(),
@@ -186,9 +194,11 @@ impl<const D: usize> FusedBuffers<D> {
             _ => Vec::new(),
         };
         let next = count * layout.next_per_cell;
-        let side_states = match layout.side_states {
-            true => count * 2 * D,
-            false => 0,
+        let side_states = match (layout.side_states, D) {
+            // a ring of rows per thread (`heun/wavefront.rs`)
+            (true, 2) => heun::rings(cells[1].div_ceil(BAND_ROWS)) * heun::ring_len(cells[0]),
+            (true, _) => count * 2 * D,
+            (false, _) => 0,
         };
         Self {
             bands,
@@ -196,6 +206,10 @@ impl<const D: usize> FusedBuffers<D> {
             next_tensor: vec![Tensor::<D>::zeros(); next],
             next_velocity: vec![Vector::<D>::zeros(); next],
             side_states: vec![SideState::zeros(); side_states],
+            heun_totals: match (layout.side_states, D) {
+                (true, 2) => vec![(0.0, Vector::<2>::zeros()); 2 * cells[1].div_ceil(BAND_ROWS)],
+                _ => Vec::new(),
+            },
             layout: Some(layout),
         }
     }

@@ -112,9 +112,10 @@ impl<const D: usize> DgmpmSolver<D> {
         last: bool,
     ) -> (f64, Vector<D>) {
         debug_assert_eq!(self.path, StepPath::FusedNodal);
-        if self.heun_on_cells() {
-            return self.heun_stage(points, dt, start_weight == 0.0);
-        }
+        debug_assert!(
+            !self.heun_on_cells(),
+            "internal: the Heun step is heun_step"
+        );
         let stage = Stage {
             dt,
             start_weight,

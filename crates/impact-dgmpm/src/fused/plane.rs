@@ -10,6 +10,8 @@ use impact_core::method::TransverseFlux;
 use impact_core::points::MaterialPoints;
 use impact_core::Vector;
 
+mod rows;
+
 /// The constants of one 2D sweep: the axis solvers', whether CTU corrects, and the
 /// corrections' scales (x-faces by the y-fluctuations, `Δt/2Δy`; y-faces by the x ones).
 pub(super) struct Sweep2d {
@@ -79,6 +81,10 @@ impl DgmpmSolver<2> {
     /// fluctuation `w_l` adds `F_l(q_C,low - q_C,high)` to its flux difference (the cell
     /// path's states are one per cell, where that term vanishes). Boundary faces add their
     /// power and force to the band's.
+    ///
+    /// (The same steps as [`Self::band_start`] and [`Self::band_row`], which the Heun
+    /// wavefront runs row by row, `heun/wavefront.rs`; kept in one piece here: through
+    /// them the Euler sweep took 9 instructions a cell more, callgrind.)
     pub(super) fn band_2d<const NODAL: bool>(
         &self,
         b: usize,

@@ -1,0 +1,222 @@
+//! Heun's two stages in 2D as one wavefront per band (module doc of [`super`]): stage 2 of
+//! cell row `j` reads the side states of rows `j - 1..=j + 1` only (its faces, their CTU
+//! corrections and the edges' ghost cells), so each band runs stage 1 a row ahead of
+//! stage 2 and keeps the side states in a ring of [`RING_ROWS`] rows (in cache) instead
+//! of a whole-grid array.
+//!
+//! The bands of rows are the fused sweeps' ([`BAND_ROWS`]); a wavefront runs over a group
+//! of consecutive bands (as many groups as rayon's threads and rings, one when serial;
+//! [`rings`] of them are allocated, one per thread at the build). A group owns
+//! their cell rows `j0..j1`: it writes their next state, moves their points and counts
+//! the power and force of their boundary faces per band and stage, in the order of the
+//! two-sweep form (the totals add the bands up in order). Stage 1 sweeps the rows
+//! `j0 - 1..=j1` (those inside the grid): the rows next to the group give only the side
+//! states its stage 2 reads (the neighbouring group forms the same values). Stage 1 reads
+//! only the points' old state and each value is formed by the same operations whoever
+//! forms it, so the result depends neither on the groups nor on the thread count and
+//! equals the two-sweep form's bit for bit.
+//!
+//! The ring: stage 1 writes row `r` to slot `r mod R` (`R` = [`RING_ROWS`]) and, in slots
+//! 0 and 1, also to slots `R` and `R + 1`, so that the rows `j - 1..=j + 1` stage 2 reads
+//! lie in order from slot `(j - 1) mod R` (a row is overwritten `R` rows later, after the
+//! last read of it, two rows later).
+use super::super::plane::Sweep2d;
+use super::super::{Band, FusedBuffers, BAND_ROWS};
+use super::HeunConstants;
+use crate::faces::{Fields, SideState};
+use crate::DgmpmSolver;
+use impact_core::parallel::{chunks, for_each_chunk, threads};
+use impact_core::points::MaterialPoints;
+use impact_core::{Tensor, Vector};
+
+/// Cell rows of side states in a ring (module doc; at least 3: stage 2's row `j` reads
+/// rows `j - 1..=j + 1` after stage 1 wrote row `j + 1`); a ring holds two rows more.
+const RING_ROWS: usize = 4;
+
+/// Side states of one ring for `nx` cells a row: `RING_ROWS + 2` rows.
+pub(crate) fn ring_len(nx: usize) -> usize {
+    (RING_ROWS + 2) * nx * SIDES
+}
+
+/// The rings allocated for `bands` bands of rows: one per thread of rayon's pool, at most
+/// one per band.
+pub(crate) fn rings(bands: usize) -> usize {
+    threads().clamp(1, bands.max(1))
+}
+
+/// A band's power and force of one Heun stage.
+pub(crate) type BandTotals = (f64, Vector<2>);
+
+/// Side states per cell in 2D (`2D`).
+const SIDES: usize = 4;
+
+/// One group's part of the step's outputs: the next state and the positions of its rows.
+struct GroupOut<'a> {
+    tensor: &'a mut [Tensor<2>],
+    velocity: &'a mut [Vector<2>],
+    position: &'a mut [Vector<2>],
+}
+
+impl DgmpmSolver<2> {
+    /// Both Heun stages on every group of bands (module doc), each group with a ring and
+    /// a pair of [`Band`]s (the two stages' rolling rows); each band's power and force per
+    /// stage go to the buffers' `heun_totals`. The next state is swapped into the points
+    /// after.
+    pub(super) fn heun_wavefront_2d(&mut self, points: &mut MaterialPoints<2>, dt: f64) {
+        let k = self.sweep_2d_constants(dt);
+        let u = self.heun_constants(dt);
+        let [nx, ny] = self.grid.cells;
+        let bands = ny.div_ceil(BAND_ROWS);
+        let ring = ring_len(nx);
+        // (never more groups than rings; as many chunks of bands as groups or fewer)
+        let groups = match self.parallel {
+            true => rings(bands).min(self.fused.bands.len() / 2),
+            false => 1,
+        };
+        let per_group = bands.div_ceil(groups.max(1)).max(1);
+        let cells = per_group * BAND_ROWS * nx;
+        let mut buffers = std::mem::take(&mut self.fused);
+        {
+            let this = &*self;
+            let FusedBuffers {
+                bands: rolling,
+                next_tensor,
+                next_velocity,
+                side_states,
+                heun_totals,
+                ..
+            } = &mut buffers;
+            let MaterialPoints {
+                stress,
+                velocity,
+                position,
+                mass,
+                ..
+            } = &mut *points;
+            let fields = Fields::per_cell(stress, velocity);
+            let mass: &[f64] = mass;
+            let parts = (
+                (chunks(heun_totals, 2 * per_group), chunks(rolling, 2)),
+                (chunks(next_tensor, cells), chunks(next_velocity, cells)),
+                (chunks(side_states, ring), chunks(position, cells)),
+            );
+            for_each_chunk(
+                this.parallel,
+                1,
+                parts,
+                |g, (bands, (tensor, v), (ring, x))| {
+                    let out = GroupOut {
+                        tensor,
+                        velocity: v,
+                        position: x,
+                    };
+                    let first_band = g * per_group;
+                    this.heun_group_2d(first_band, bands, (fields, mass), out, ring, (&k, &u));
+                },
+            );
+        }
+        std::mem::swap(&mut points.stress, &mut buffers.next_tensor);
+        std::mem::swap(&mut points.velocity, &mut buffers.next_velocity);
+        self.fused = buffers;
+    }
+
+    /// The wavefront of the group of bands from `first_band` (module doc): stage 1 on its
+    /// rows `j0 - 1..=j1` (inside the grid) into the ring, stage 2 on row `j` as soon as
+    /// row `min(j + 1, ny - 1)` is formed; at each band's end its power and force go to
+    /// its pair of `totals` (stage 1, stage 2).
+    fn heun_group_2d(
+        &self,
+        first_band: usize,
+        (totals, rolling): (&mut [BandTotals], &mut [Band<2>]),
+        (fields, mass): (Fields<'_, 2>, &[f64]),
+        out: GroupOut<'_>,
+        ring: &mut [SideState<2>],
+        (k, u): (&Sweep2d, &HeunConstants<2>),
+    ) {
+        let [nx, ny] = self.grid.cells;
+        let band_rows = |b: usize| b * BAND_ROWS..((b + 1) * BAND_ROWS).min(ny);
+        let last_band = first_band + totals.len() / 2 - 1;
+        let own = band_rows(first_band).start..band_rows(last_band).end;
+        let rows = own.start.saturating_sub(1)..(own.end + 1).min(ny);
+        let [one, two] = rolling else {
+            unreachable!("internal: two rolling bands per group")
+        };
+        for band in [&mut *one, &mut *two] {
+            band.power = 0.0;
+            band.force = Vector::<2>::zeros();
+        }
+        let mut record = |b: usize, stage: usize, band: &mut Band<2>, x_power: f64| {
+            totals[2 * (b - first_band) + stage] = (band.power, band.force);
+            // the next band's first term: its first row's x-faces
+            band.power = 0.0;
+            band.power += x_power;
+            band.force = Vector::<2>::zeros();
+        };
+        let GroupOut {
+            tensor,
+            velocity,
+            position,
+        } = out;
+        let row_len = nx * SIDES;
+        // stage 2's next row
+        let mut next = own.start;
+        let band_of = |j: usize| j.clamp(own.start, own.end - 1) / BAND_ROWS;
+        self.band_start::<false>(rows.start, &band_rows(first_band), one, fields, k);
+        for r in rows {
+            let owned = own.contains(&r);
+            let (slot, b) = (r % RING_ROWS, band_of(r));
+            // the row's first side state in the ring
+            let base = slot * row_len;
+            let row = r * nx;
+            let x_power =
+                self.band_row::<false>(r, &band_rows(b), one, fields, k, &mut |c, _, f| {
+                    let at = base + (c - row) * SIDES;
+                    let sides = &mut ring[at..at + SIDES];
+                    let next = self.heun_first(u, c, f, (fields, mass[c]), sides);
+                    if slot < 2 {
+                        let (ring, mirror) = ring.split_at_mut(at + RING_ROWS * row_len);
+                        mirror[..SIDES].copy_from_slice(&ring[at..at + SIDES]);
+                    }
+                    if owned {
+                        let local = c - own.start * nx;
+                        tensor[local] = next.0;
+                        velocity[local] = next.1;
+                    }
+                });
+            if owned && (r + 1 == band_rows(b).end || r + 1 == own.end) {
+                record(b, 0, one, x_power);
+            }
+            while next < own.end && (next + 1).min(ny - 1) <= r {
+                // rows next - 1..=next + 1 in order from slot (next - 1) mod R
+                let low = next.saturating_sub(1);
+                let sides = Fields::sides(ring, (low - low % RING_ROWS) * nx);
+                let b = band_of(next);
+                let band = band_rows(b);
+                if next == own.start {
+                    self.band_start::<true>(next, &band, two, sides, k);
+                }
+                let x_power = self.band_row::<true>(next, &band, two, sides, k, &mut |c, _, f| {
+                    let local = c - own.start * nx;
+                    let next = (&mut tensor[local], &mut velocity[local]);
+                    Self::heun_second(u, f, mass[c], next, &mut position[local]);
+                });
+                if next + 1 == band.end {
+                    record(b, 1, two, x_power);
+                }
+                next += 1;
+            }
+        }
+    }
+}
+
+impl<const D: usize> FusedBuffers<D> {
+    /// The power and force of Heun's stage `stage` (0 or 1) on the 2D wavefront, added up
+    /// over the bands in order (each band's pair in `heun_totals`: stage 1's, stage 2's).
+    pub(crate) fn stage_totals(&self, stage: usize) -> (f64, Vector<D>) {
+        let bands = || self.heun_totals.iter().skip(stage).step_by(2);
+        let power =
+            bands().map(|b| b.0).sum::<f64>() + self.slabs.iter().map(|s| s.power).sum::<f64>();
+        let force: Vector<2> = bands().map(|b| b.1).sum();
+        (power, Vector::<D>::from_fn(|k, _| force[k]))
+    }
+}

@@ -1,0 +1,172 @@
+//! The 2D sweep's steps one at a time (module doc of [`super`], [`DgmpmSolver::band_2d`]):
+//! the start at a cell row and one row, with the power and force of the boundary faces
+//! counted only on the rows a band owns; the Heun wavefront (`fused/heun/wavefront.rs`)
+//! runs its two stages' sweeps row by row through them.
+use super::{difference_flux, Sweep2d};
+use crate::faces::Fields;
+use crate::fused::Band;
+use crate::riemann::axis::axis_transverse_2d;
+use crate::riemann::Conserved;
+use crate::DgmpmSolver;
+use impact_core::Vector;
+use std::ops::Range;
+
+impl DgmpmSolver<2> {
+    /// The start of a sweep at cell row `j0` ([`Self::band_2d`]): face row `j0` (its
+    /// Godunov fluxes, [`Self::y_godunov_row`], and under CTU the x-fluxes of row `j0 - 1`
+    /// for its final fluxes, [`Self::y_final_row`]) and the x-fluxes of row `j0`
+    /// ([`Self::x_godunov_row`]). The power and force of its boundary faces count where
+    /// the band owns their row (`own`: the Heun wavefront also sweeps the rows next to its
+    /// band, `heun.rs`).
+    pub(in crate::fused) fn band_start<const NODAL: bool>(
+        &self,
+        j0: usize,
+        own: &Range<usize>,
+        band: &mut Band<2>,
+        fields: Fields<'_, 2>,
+        k: &Sweep2d,
+    ) {
+        let nx = self.grid.cells[0];
+        let c = &k.constants;
+        let (x_row, x_side) = (&mut band.x_godunov[0], &mut band.x_side[0]);
+        let power = self.x_godunov_row::<NODAL>(j0, fields, c, x_row, x_side);
+        if own.contains(&j0) {
+            band.power += power;
+        }
+        let power = self.y_godunov_row::<NODAL>(j0, fields, c, &mut band.y_godunov[0]);
+        let bottom = j0 == 0 && own.contains(&0);
+        if bottom {
+            band.power += power;
+        }
+        if k.ctu && j0 > 0 {
+            // the row below: its x-fluxes, recomputed here
+            let (x_row, x_side) = (&mut band.x_godunov[1], &mut band.x_side[1]);
+            self.x_godunov_row::<NODAL>(j0 - 1, fields, c, x_row, x_side);
+        }
+        let below = (j0 > 0).then_some((&band.x_godunov[1][..], &band.x_side[1][..]));
+        let here = Some((&band.x_godunov[0][..], &band.x_side[0][..]));
+        let godunov = &band.y_godunov[0];
+        let finals = &mut band.y_final[0];
+        self.y_final_row::<NODAL>(j0, godunov, [below, here], fields, k, finals);
+        if bottom {
+            for i in 0..nx {
+                band.force += self.boundary_face_force(1, [i, 0], &band.y_final[0][i]);
+            }
+        }
+    }
+
+    /// Row `j` of a sweep ([`Self::band_2d`], steps 1-4), after [`Self::band_start`] or row
+    /// `j - 1`; `update`'s index in the band counts from row `own.start`. The power and
+    /// force of its boundary faces count where `own` holds their row; returns the power of
+    /// row `j + 1`'s x-faces (counted or not).
+    #[inline(always)]
+    pub(in crate::fused) fn band_row<const NODAL: bool>(
+        &self,
+        j: usize,
+        own: &Range<usize>,
+        band: &mut Band<2>,
+        fields: Fields<'_, 2>,
+        k: &Sweep2d,
+        update: &mut impl FnMut(usize, usize, [[&Conserved<2>; 2]; 2]),
+    ) -> f64 {
+        let [nx, ny] = self.grid.cells;
+        let (c, ctu, scale) = (&k.constants, k.ctu, k.scale);
+        let counted = own.contains(&j);
+        let mut x_power = 0.0;
+        let top = j + 1 == ny;
+        let power = self.y_godunov_row::<NODAL>(j + 1, fields, c, &mut band.y_godunov[1]);
+        if top && counted {
+            band.power += power;
+        }
+        if !top {
+            let (x_row, x_side) = (&mut band.x_godunov[1], &mut band.x_side[1]);
+            x_power = self.x_godunov_row::<NODAL>(j + 1, fields, c, x_row, x_side);
+            if own.contains(&(j + 1)) {
+                band.power += x_power;
+            }
+        }
+        let here = Some((&band.x_godunov[0][..], &band.x_side[0][..]));
+        let above = (!top).then_some((&band.x_godunov[1][..], &band.x_side[1][..]));
+        let godunov = &band.y_godunov[1];
+        let finals = &mut band.y_final[1];
+        self.y_final_row::<NODAL>(j + 1, godunov, [here, above], fields, k, finals);
+        if top && counted {
+            for i in 0..nx {
+                band.force += self.boundary_face_force(1, [i, ny], &band.y_final[1][i]);
+            }
+        }
+        // the x-faces' final fluxes, rolling along the row, and the cell updates
+        let row = j * nx;
+        let (y_low, y_high) = (&band.y_godunov[0], &band.y_godunov[1]);
+        if NODAL && ctu {
+            for (i, w) in band.w_y.iter_mut().enumerate() {
+                let (low, high) = (
+                    fields.at::<true>(row + i, 1, false),
+                    fields.at::<true>(row + i, 1, true),
+                );
+                let w_flux = y_high[i].add_scaled(&y_low[i], -1.0);
+                *w = w_flux.add_scaled(&difference_flux::<1>(&low, &high, c), 1.0);
+            }
+        }
+        let w_y = |i: usize| match NODAL {
+            true => band.w_y[i],
+            false => y_high[i].add_scaled(&y_low[i], -1.0),
+        };
+        // the edge faces (ghost cells; their force) out of line, the interior ones in the
+        // loop with each cell's y-fluctuation formed once
+        let x_edge = |i: usize, band_force: &mut Vector<2>| -> Conserved<2> {
+            let godunov = band.x_godunov[0][i];
+            let flux = match ctu {
+                true => {
+                    let w = [(i > 0).then(|| w_y(i - 1)), (i < nx).then(|| w_y(i))];
+                    let correction = self.face_correction(0, [i, j], w, fields, scale[0]);
+                    godunov.add_scaled(&correction, 1.0)
+                }
+                false => godunov,
+            };
+            *band_force += self.boundary_face_force(0, [i, j], &flux);
+            flux
+        };
+        let x_interior = |i: usize, w_left: &Conserved<2>, w_right: &Conserved<2>| {
+            let godunov = band.x_godunov[0][i];
+            if !ctu {
+                return godunov;
+            }
+            let total = axis_transverse_2d::<0>(w_left, w_right, c);
+            godunov.add_scaled(&Conserved::zeros().add_scaled(&total, -scale[0]), 1.0)
+        };
+        let mut force = Vector::<2>::zeros();
+        let mut low = x_edge(0, &mut force);
+        let mut w_left = match ctu {
+            true => w_y(0),
+            false => Conserved::zeros(),
+        };
+        // (rows below `own` are the Heun wavefront's, whose update ignores the index)
+        let local = row.wrapping_sub(own.start * nx);
+        for i in 0..nx {
+            let high = match i + 1 < nx {
+                true => {
+                    let w_right = match ctu {
+                        true => w_y(i + 1),
+                        false => Conserved::zeros(),
+                    };
+                    let flux = x_interior(i + 1, &w_left, &w_right);
+                    w_left = w_right;
+                    flux
+                }
+                false => x_edge(nx, &mut force),
+            };
+            let faces = [[&low, &high], [&band.y_final[0][i], &band.y_final[1][i]]];
+            update(row + i, local.wrapping_add(i), faces);
+            low = high;
+        }
+        if counted {
+            band.force += force;
+        }
+        band.x_godunov.swap(0, 1);
+        band.x_side.swap(0, 1);
+        band.y_godunov.swap(0, 1);
+        band.y_final.swap(0, 1);
+        x_power
+    }
+}
