@@ -1,12 +1,13 @@
 //! Heap bytes per cell of every method (issue 14): `cargo bench --bench memory`.
 //!
 //! A counting global allocator tracks the live heap. For each method (its scene
-//! configuration, one point per cell; DGMPM also at 4 points per cell) on the plane-wave plate at 1000×750 cells it reports
+//! configuration, one point per cell; DGMPM also at 4 points per cell, MPM with
+//! quadratic B-splines at 4) on the plane-wave plate at 1000×750 cells it reports
 //! the bytes the built method holds (live heap after `build` minus before), the peak live
 //! heap while building (transient buffers), and the peak over its first 5 steps (buffers a
 //! step allocates lazily), per cell. Nothing else runs
 //! meanwhile, so the figures are exact and repeatable (no timing involved).
-use impact_core::method::{Integrator, MethodKind};
+use impact_core::method::{Integrator, MethodKind, MpmShape};
 use impact_core::{Problem, Scene};
 
 mod counting;
@@ -45,6 +46,12 @@ fn main() {
     four_rk2.courant = 0.5;
     configs.push(("dgmpm (RK2, 4 ppc: fused nodal)", four_rk2));
     configs.push(("mpm (USL, linear)", scene.method_config(MethodKind::Mpm)));
+    let mut bsplines = scene.method_config(MethodKind::Mpm);
+    bsplines.points_per_cell = 4;
+    if let Some(o) = bsplines.mpm_mut() {
+        o.shape = MpmShape::Bspline2;
+    }
+    configs.push(("mpm (USL, B-splines, 4 ppc)", bsplines));
     configs.push(("fem (Q4)", scene.method_config(MethodKind::Fem)));
     for (label, config) in configs {
         let before = counting::reset_peak();
