@@ -28,6 +28,7 @@ mod comm_thread;
 pub mod config_check;
 pub mod controller;
 pub mod converged;
+pub mod distinct;
 pub mod error;
 pub mod exact;
 pub mod grid;

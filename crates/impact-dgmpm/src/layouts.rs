@@ -16,9 +16,9 @@
 //! cell). The table is formed cell by cell: the build never holds every cell's blocks
 //! beside the table.
 use crate::{unsupported, MAX_NODES};
+use impact_core::distinct::DistinctBlocks;
 use impact_core::points::MaterialPoints;
 use impact_core::{CoreError, Grid, Vector};
-use std::collections::HashMap;
 
 /// Which blocks a layout holds besides the shape values `S_iα` (always there).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -102,14 +102,6 @@ impl<const D: usize> BlockRefs<'_, D> {
     }
 }
 
-/// A 64-bit hash of a stream of words (FxHash's step; collisions are resolved by
-/// comparing the blocks, so its quality only affects the build's speed).
-fn hash_bits(bits: impl Iterator<Item = u64>) -> u64 {
-    bits.fold(0u64, |h, x| {
-        (h.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95)
-    })
-}
-
 impl<const D: usize> CellLayouts<D> {
     /// The table of `points` (stored cell by cell, `points_per_cell` each) in `grid`,
     /// holding the shape values and `blocks`, formed cell by cell (module doc).
@@ -135,8 +127,7 @@ impl<const D: usize> CellLayouts<D> {
             mapping: vec![0.0; per_cell],
             mass: vec![0.0; n],
         };
-        // (hash, ordinal among the layouts of that hash) → layout
-        let mut index: HashMap<(u64, u32), u32> = HashMap::new();
+        let mut index = DistinctBlocks::new();
         let mut coordinates = local_coordinates(grid, points);
         for c in 0..cells {
             let cell_points = c * points_per_cell..(c + 1) * points_per_cell;
@@ -159,19 +150,10 @@ impl<const D: usize> CellLayouts<D> {
                 let (w, m) = (&mut scratch.mapping, &mut scratch.mass);
                 cell_mapping_weights::<D>(&scratch.shape, mass, w, m);
             }
-            let hash = hash_bits(scratch.blocks(blocks).bits());
-            let mut ordinal = 0u32;
-            let layout = loop {
-                match index.get(&(hash, ordinal)) {
-                    Some(&l) if table.holds(l as usize, &scratch) => break l,
-                    Some(_) => ordinal += 1,
-                    None => {
-                        let l = table.push(&scratch)?;
-                        index.insert((hash, ordinal), l);
-                        break l;
-                    }
-                }
-            };
+            let refs = scratch.blocks(blocks);
+            let holds = |table: &Self, l: u32| table.holds(l as usize, &scratch);
+            let push = |table: &mut Self| table.push(&scratch);
+            let layout = index.find_or_push(&mut table, refs.bits(), holds, push)?;
             table.layout.push(layout);
         }
         drop(index);

@@ -12,11 +12,12 @@
 //! body's interior, as in `impact-dgmpm`'s cell layouts); an irregular one up to one per
 //! point, where the index is the identity and is dropped (a row per point, as before).
 use crate::MpmSolver;
+use impact_core::distinct::DistinctBlocks;
 use impact_core::method::MpmFrame;
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
 use impact_core::{Tensor, Vector};
-use std::collections::HashMap;
+use std::convert::Infallible;
 
 /// Points per chunk of the point loops.
 const CHUNK: usize = 2048;
@@ -142,10 +143,9 @@ impl<const D: usize> MpmSolver<D> {
         let (grid, stencil, offset) = (&self.place.whole, &self.stencil, self.place.node_offset);
         let mut values = vec![0.0; nodes];
         let mut gradients = vec![Vector::<D>::zeros(); nodes];
-        let (mut shape, mut shape_gradient) = (Vec::new(), Vec::<Vector<D>>::new());
+        let mut table: Rows<D> = (Vec::new(), Vec::new());
         let mut point_row = Vec::with_capacity(count);
-        // (hash, ordinal among the rows of that hash) → row
-        let mut index: HashMap<(u64, u32), u32> = HashMap::new();
+        let mut index = DistinctBlocks::new();
         for p in 0..count {
             let x = &points.reference[p];
             let evaluated = match points.domain.get(p) {
@@ -158,30 +158,23 @@ impl<const D: usize> MpmSolver<D> {
                 return false;
             };
             self.point_base[p] = base - offset;
-            let hash = hash_bits(row_bits(&values, &gradients));
-            let mut ordinal = 0u32;
-            let row = loop {
-                match index.get(&(hash, ordinal)) {
-                    Some(&r) => {
-                        let held = r as usize * nodes..(r as usize + 1) * nodes;
-                        let bits = row_bits(&shape[held.clone()], &shape_gradient[held]);
-                        if bits.eq(row_bits(&values, &gradients)) {
-                            break r;
-                        }
-                        ordinal += 1;
-                    }
-                    None => {
-                        // at most `count` rows: fits (checked above)
-                        let r = (shape.len() / nodes) as u32;
-                        shape.extend_from_slice(&values);
-                        shape_gradient.extend_from_slice(&gradients);
-                        index.insert((hash, ordinal), r);
-                        break r;
-                    }
-                }
+            let holds = |(shape, gradient): &Rows<D>, r: u32| {
+                let held = r as usize * nodes..(r as usize + 1) * nodes;
+                let bits = row_bits(&shape[held.clone()], &gradient[held]);
+                bits.eq(row_bits(&values, &gradients))
             };
+            let push = |(shape, gradient): &mut Rows<D>| {
+                // at most `count` rows: fits (checked above)
+                let r = (shape.len() / nodes) as u32;
+                shape.extend_from_slice(&values);
+                gradient.extend_from_slice(&gradients);
+                Ok::<u32, Infallible>(r)
+            };
+            let bits = row_bits(&values, &gradients);
+            let Ok(row) = index.find_or_push(&mut table, bits, holds, push);
             point_row.push(row);
         }
+        let (mut shape, mut shape_gradient) = table;
         shape.shrink_to_fit();
         shape_gradient.shrink_to_fit();
         (self.shape, self.shape_gradient) = (shape, shape_gradient);
@@ -283,11 +276,5 @@ fn row_bits<'a, const D: usize>(
     values.iter().map(|x| x.to_bits()).chain(gradients)
 }
 
-/// A 64-bit hash of a stream of words (FxHash's step, as `impact-dgmpm`'s layouts: the
-/// rows found under a hash are compared bit for bit, so its quality only affects the
-/// build's speed).
-fn hash_bits(bits: impl Iterator<Item = u64>) -> u64 {
-    bits.fold(0u64, |h, x| {
-        (h.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95)
-    })
-}
+/// The table of distinct rows being formed: shape values and gradients.
+type Rows<const D: usize> = (Vec<f64>, Vec<Vector<D>>);
