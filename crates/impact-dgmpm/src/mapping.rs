@@ -1,6 +1,14 @@
 //! Particle↔node mapping: phase 1 (particles→nodes, paper eq. 17) and phase 5
 //! (nodes→particles), with the point-side updates that follow them (`Π(F)` at the points
 //! under Saint-Venant–Kirchhoff, positions for output).
+//!
+//! The sums of phase 5 (`point_from_nodes`) and of phase 1 with the cells' fixed weights
+//! (`weighted_cell`) start from `-0.0`, not `+0.0`: `-0 + x = x` for every `x`, so LLVM
+//! drops the first addition (an `addpd` of zero per component and node: 4 ppc Euler on
+//! the plate, 451.8 → 443.0 instructions per point), while `+0 + x` must stay (it turns
+//! `x = -0` into `+0`). A sum
+//! from `+0` equals the first term plus the rest, except when every term is `-0`: the sum
+//! is then `-0` where it was `+0`, equal under `==` and in every physical quantity.
 use crate::{DgmpmSolver, Physics, StepPath, CHUNK, MAX_NODES};
 use impact_core::method::PointUpdate;
 use impact_core::parallel::{chunks, for_each_chunk};
@@ -19,8 +27,10 @@ pub(crate) fn point_from_nodes<const D: usize>(
     (nq, nv): (&[Tensor<D>], &[Vector<D>]),
     start: Option<(&[Tensor<D>], &[Vector<D>])>,
 ) -> (Tensor<D>, Vector<D>) {
-    let mut q = Tensor::<D>::zeros();
-    let mut v = Vector::<D>::zeros();
+    // the sums start from -0, the identity of `+` (`-0 + x = x` for every `x`, where
+    // `+0 + (-0) = +0`), so the compiler drops the first addition (module doc)
+    let mut q = Tensor::<D>::from_element(-0.0);
+    let mut v = Vector::<D>::from_element(-0.0);
     match start {
         Some((q0, v0)) => {
             for a in 0..s.len() {
@@ -136,8 +146,9 @@ fn weighted_cell<const D: usize, const N: usize>(
         0 => (w, q, v),
         _ => (&w[..N * nodes_per_cell], &q[..N], &v[..N]),
     };
-    let mut tensor_sum = [Tensor::<D>::zeros(); MAX_NODES];
-    let mut velocity_sum = [Vector::<D>::zeros(); MAX_NODES];
+    // from -0, the identity of `+`: the first addition is dropped (module doc)
+    let mut tensor_sum = [Tensor::<D>::from_element(-0.0); MAX_NODES];
+    let mut velocity_sum = [Vector::<D>::from_element(-0.0); MAX_NODES];
     for ((w, q), v) in w.chunks_exact(nodes_per_cell).zip(q).zip(v) {
         for a in 0..nodes_per_cell {
             tensor_sum[a] += q * w[a];

@@ -128,3 +128,38 @@ fn phase_1_point_by_point_equals_the_per_node_sums() {
     check::<2>("plate", &[9, 7], 9);
     check::<3>("block", &[6, 4, 4], 8);
 }
+
+/// Phase 5's sums start from `-0` (module doc of `mapping.rs`): bit for bit the sums from
+/// `+0` whenever a term is not `-0`, and `-0` (equal under `==`) where every term is.
+#[test]
+fn phase_5_sums_from_minus_zero_equal_the_sums_from_zero() {
+    use super::point_from_nodes;
+    let shapes = [0.125, 0.375, 0.375, 0.125];
+    let tensors: Vec<Tensor<2>> = (0..4)
+        .map(|a| Tensor::<2>::from_fn(|i, j| (a as f64 - 1.5) * 1e6 + (i * 2 + j) as f64 * 0.1))
+        .collect();
+    let velocities: Vec<Vector<2>> = (0..4)
+        .map(|a| Vector::<2>::new(a as f64 - 2.0, 0.0))
+        .collect();
+    let (q, v) = point_from_nodes(&shapes, (&tensors, &velocities), None);
+    let (mut q0, mut v0) = (Tensor::<2>::zeros(), Vector::<2>::zeros());
+    for a in 0..4 {
+        q0 += tensors[a] * shapes[a];
+        v0 += velocities[a] * shapes[a];
+    }
+    let bits = |x: &[f64]| x.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(q.as_slice()), bits(q0.as_slice()), "stress");
+    assert_eq!(
+        bits(v.as_slice()),
+        bits(v0.as_slice()),
+        "velocity (y: +0 terms)"
+    );
+    // every term -0: the sum is -0, the sum from +0 is +0
+    let negative = vec![Vector::<2>::from_element(-0.0); 4];
+    let (_, v) = point_from_nodes(&shapes, (&tensors, &negative), None);
+    assert!(
+        v[0] == 0.0 && v[0].is_sign_negative(),
+        "all -0 terms: {}",
+        v[0]
+    );
+}
