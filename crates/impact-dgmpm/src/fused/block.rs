@@ -112,7 +112,10 @@ impl Slab {
 #[derive(Debug, Clone, Copy)]
 struct Flux3 {
     lambda: f64,
-    two_mu: f64,
+    /// `-λ` and `-2μ`: the negated stress parts as products, `-(c x) = (-c) x` exactly
+    /// (as `crate::riemann::axis::AxisConstants`).
+    neg_lambda: f64,
+    neg_two_mu: f64,
     half_zp: f64,
     half_over_zp: f64,
     half_zs: f64,
@@ -124,7 +127,8 @@ impl Flux3 {
     fn new(m: &Elastic) -> Self {
         Self {
             lambda: m.lambda,
-            two_mu: 2.0 * m.mu,
+            neg_lambda: -m.lambda,
+            neg_two_mu: -(2.0 * m.mu),
             half_zp: 0.5 * m.z.p,
             half_over_zp: 0.5 / m.z.p,
             half_zs: 0.5 * m.z.s,
@@ -147,7 +151,7 @@ fn axis_flux_3d<const L: usize>(left: &FullState<3>, right: &FullState<3>, k: &F
     let v_n = 0.5 * (vl + vr) + (tr - tl) * k.half_over_zp;
     let mut tensor = Tensor::<3>::zeros();
     let mut momentum = Vector::<3>::zeros();
-    tensor[(L, L)] = -(v_n * k.two_mu + k.lambda * v_n);
+    tensor[(L, L)] = v_n * k.neg_two_mu - k.lambda * v_n;
     momentum[L] = -t_n;
     for o in [(L + 1) % 3, (L + 2) % 3] {
         let (t, v) = match k.shear {
@@ -159,8 +163,8 @@ fn axis_flux_3d<const L: usize>(left: &FullState<3>, right: &FullState<3>, k: &F
             ),
             false => (0.0, 0.0),
         };
-        let shear = -((v * 0.5) * k.two_mu);
-        tensor[(o, o)] = -(k.lambda * v_n);
+        let shear = (v * 0.5) * k.neg_two_mu;
+        tensor[(o, o)] = k.neg_lambda * v_n;
         tensor[(o, L)] = shear;
         tensor[(L, o)] = shear;
         momentum[o] = -t;

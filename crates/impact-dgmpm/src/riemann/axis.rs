@@ -20,8 +20,6 @@ use impact_core::{Tensor, Vector};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AxisConstants {
     lambda: f64,
-    mu: f64,
-    two_mu: f64,
     zp: f64,
     zs: f64,
     half_zp: f64,
@@ -31,6 +29,13 @@ pub struct AxisConstants {
     inv_zp: f64,
     inv_zs: f64,
     inv_rho: f64,
+    /// `-λ`, `-μ`, `-2μ` and `-(λ+2μ)`: the fluxes' negated stress parts as products by a
+    /// negated constant, `-(c x) = (-c) x` exactly (sign of zero included), so no
+    /// negation is left to do per face.
+    neg_lambda: f64,
+    neg_mu: f64,
+    neg_two_mu: f64,
+    neg_lambda_two_mu: f64,
 }
 
 impl AxisConstants {
@@ -38,8 +43,6 @@ impl AxisConstants {
     pub fn new(m: &Elastic) -> Self {
         Self {
             lambda: m.lambda,
-            mu: m.mu,
-            two_mu: 2.0 * m.mu,
             zp: m.z.p,
             zs: m.z.s,
             half_zp: 0.5 * m.z.p,
@@ -49,6 +52,10 @@ impl AxisConstants {
             inv_zp: 1.0 / m.z.p,
             inv_zs: if m.z.s > 0.0 { 1.0 / m.z.s } else { 0.0 },
             inv_rho: 1.0 / m.density,
+            neg_lambda: -m.lambda,
+            neg_mu: -m.mu,
+            neg_two_mu: -(2.0 * m.mu),
+            neg_lambda_two_mu: -(m.lambda + 2.0 * m.mu),
         }
     }
 }
@@ -70,11 +77,13 @@ pub fn axis_flux_2d<const L: usize>(
     let velocity_n = 0.5 * (vl_n + vr_n) + (tr_n - tl_n) * c.half_over_zp;
     let traction_t = (tl_t + tr_t) * 0.5 + (vr_t - vl_t) * c.half_zs;
     let velocity_t = (vl_t + vr_t) * 0.5 + (tr_t - tl_t) * c.half_over_zs;
+    // `-(a + b) = (-a) - b` and `-(c x) = (-c) x` exactly, zeros' signs included (no
+    // term cancels another: both carry the sign of `v_L*`)
     let mut tensor = Tensor::<2>::zeros();
-    tensor[(L, L)] = -(velocity_n * c.two_mu + c.lambda * velocity_n);
-    tensor[(t, t)] = -(c.lambda * velocity_n);
-    tensor[(L, t)] = -(velocity_t * c.mu);
-    tensor[(t, L)] = -(velocity_t * c.mu);
+    tensor[(L, L)] = velocity_n * c.neg_two_mu - c.lambda * velocity_n;
+    tensor[(t, t)] = c.neg_lambda * velocity_n;
+    tensor[(L, t)] = velocity_t * c.neg_mu;
+    tensor[(t, L)] = velocity_t * c.neg_mu;
     let mut momentum = Vector::<2>::zeros();
     momentum[L] = -traction_n;
     momentum[t] = -traction_t;
@@ -92,10 +101,10 @@ pub fn axis_normal_flux_2d<const L: usize>(
     let t = 1 - L;
     let (v_n, v_t) = (state.velocity[L], state.velocity[t]);
     let mut tensor = Tensor::<2>::zeros();
-    tensor[(L, L)] = -(v_n * c.two_mu + c.lambda * v_n);
-    tensor[(t, t)] = -(c.lambda * v_n);
-    tensor[(L, t)] = -(v_t * c.mu);
-    tensor[(t, L)] = -(v_t * c.mu);
+    tensor[(L, L)] = v_n * c.neg_two_mu - c.lambda * v_n;
+    tensor[(t, t)] = c.neg_lambda * v_n;
+    tensor[(L, t)] = v_t * c.neg_mu;
+    tensor[(t, L)] = v_t * c.neg_mu;
     let mut momentum = Vector::<2>::zeros();
     momentum[L] = -state.tensor[(L, L)];
     momentum[t] = -state.tensor[(t, L)];
@@ -111,7 +120,7 @@ pub fn axis_flux_1d(left: &FullState<1>, right: &FullState<1>, c: &AxisConstants
     let traction = 0.5 * (tl + tr) + c.half_zp * (vr - vl);
     let velocity = 0.5 * (vl + vr) + (tr - tl) * c.half_over_zp;
     Conserved {
-        tensor: Tensor::<1>::new(-(velocity * c.two_mu)),
+        tensor: Tensor::<1>::new(velocity * c.neg_two_mu),
         momentum: Vector::<1>::new(-traction),
     }
 }
@@ -136,10 +145,10 @@ pub fn axis_transverse_2d<const K: usize>(
     let sm = (above.momentum[o] * c.inv_rho + above.tensor[(o, K)] * c.inv_zs) * 0.5;
     let (p, s) = (ap + am, sp + sm);
     let mut tensor = Tensor::<2>::zeros();
-    tensor[(K, K)] = -((c.lambda + c.two_mu) * p);
-    tensor[(o, o)] = -(c.lambda * p);
-    tensor[(K, o)] = -(s * c.mu);
-    tensor[(o, K)] = -(s * c.mu);
+    tensor[(K, K)] = c.neg_lambda_two_mu * p;
+    tensor[(o, o)] = c.neg_lambda * p;
+    tensor[(K, o)] = s * c.neg_mu;
+    tensor[(o, K)] = s * c.neg_mu;
     let mut momentum = Vector::<2>::zeros();
     momentum[K] = c.zp * (ap - am);
     momentum[o] = (sp - sm) * c.zs;
@@ -167,13 +176,13 @@ pub fn axis_transverse<const D: usize>(
     for o in (0..D).filter(|&o| o != k) {
         let sp = (below.momentum[o] * c.inv_rho - below.tensor[(o, k)] * c.inv_zs) * 0.5;
         let sm = (above.momentum[o] * c.inv_rho + above.tensor[(o, k)] * c.inv_zs) * 0.5;
-        let shear = -((sp + sm) * c.mu);
-        tensor[(o, o)] = -(c.lambda * p);
+        let shear = (sp + sm) * c.neg_mu;
+        tensor[(o, o)] = c.neg_lambda * p;
         tensor[(k, o)] = shear;
         tensor[(o, k)] = shear;
         momentum[o] = (sp - sm) * c.zs;
     }
-    tensor[(k, k)] = -((c.lambda + c.two_mu) * p);
+    tensor[(k, k)] = c.neg_lambda_two_mu * p;
     momentum[k] = c.zp * (ap - am);
     Conserved { tensor, momentum }
 }
