@@ -59,10 +59,37 @@ use std::collections::HashMap;
 mod wavefront;
 pub(crate) use wavefront::{ring_len, rings, BandTotals};
 
-/// Weights per side of a cell in [`DgmpmSolver::heun_weights`]: `W` (`D`), the own
-/// face's `K` and the two faces' `K` of each other axis (module doc).
+/// Weights per side of a cell as formed (and compared for the store-once blocks): `W`
+/// (`D`), the own face's `K` and the two faces' `K` of each other axis (module doc).
 const fn per_side(d: usize) -> usize {
     3 * d - 1
+}
+
+/// Rows of [`Lanes`] per side of a cell in [`DgmpmSolver::heun_weights`]: `W`, then
+/// `W_l` in every lane (`l` the side's axis), then each of its `2D - 1` weights `K` in
+/// every lane, so that a product by one weight is a lane-wise product with a row loaded
+/// whole (no broadcast in the sweep); the same products, so the same bits.
+const fn lane_rows(d: usize) -> usize {
+    2 * d + 1
+}
+
+/// `D` values kept as one aligned row (a SIMD register's worth in 2D): a side's `W` or
+/// one weight repeated in every lane ([`lane_rows`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C, align(16))]
+pub(crate) struct Lanes<const D: usize>([f64; D]);
+
+impl<const D: usize> Lanes<D> {
+    /// The row as a vector.
+    #[inline(always)]
+    fn vector(&self) -> Vector<D> {
+        Vector::<D>::from_fn(|k, _| self.0[k])
+    }
+
+    /// `w` in every lane.
+    fn splat(w: f64) -> Self {
+        Self([w; D])
+    }
 }
 
 /// The step's constants of the Heun sweeps: the cell update's at `½Δt`, `Δt`, `Δt ρ` and
@@ -180,7 +207,11 @@ impl<const D: usize> DgmpmSolver<D> {
                     let l = u32::try_from(next)
                         .map_err(|_| crate::unsupported("more than 2^32 distinct cells"))?;
                     index.insert(bits.clone(), l);
-                    weights.extend_from_slice(&block);
+                    for (side, w) in block.chunks_exact(per_side(D)).enumerate() {
+                        weights.push(Lanes(std::array::from_fn(|k| w[k])));
+                        weights.push(Lanes::splat(w[side / 2]));
+                        weights.extend(w[D..].iter().map(|&k| Lanes::splat(k)));
+                    }
                     l
                 }
             };
@@ -199,10 +230,10 @@ impl<const D: usize> DgmpmSolver<D> {
         Ok(())
     }
 
-    /// The weights of cell `cell` (module doc).
+    /// The weights of cell `cell` (module doc), [`lane_rows`] per side.
     #[inline(always)]
-    fn heun_weights_of(&self, cell: usize) -> &[f64] {
-        let stride = 2 * D * per_side(D);
+    fn heun_weights_of(&self, cell: usize) -> &[Lanes<D>] {
+        let stride = 2 * D * lane_rows(D);
         let start = match self.heun_layout.is_empty() {
             true => 0,
             false => self.heun_layout[cell] as usize * stride,
@@ -353,23 +384,24 @@ impl<const D: usize> DgmpmSolver<D> {
         let w = self.heun_weights_of(cell);
         for (side, out) in sides.iter_mut().enumerate() {
             let (l, s) = (side / 2, side % 2);
-            let w = &w[side * per_side(D)..(side + 1) * per_side(D)];
-            let g = Vector::<D>::from_fn(|k, _| w[k]);
+            let w = &w[side * lane_rows(D)..(side + 1) * lane_rows(D)];
+            let g = w[0].vector();
             let column = |f: &Conserved<D>| Vector::<D>::from_fn(|k, _| f.tensor[(k, l)]);
-            // Σ K F: the own face, then both faces of each other axis
+            // Σ K F (each K in every lane): the own face, then both faces of each other axis
             let own = faces[l][s];
-            let mut traction = column(own) * w[D];
-            let mut momentum = own.momentum * w[D];
-            let mut k = D + 1;
+            let mut traction = column(own).component_mul(&w[2].vector());
+            let mut momentum = own.momentum.component_mul(&w[2].vector());
+            let mut k = 3;
             for m in (0..D).filter(|&m| m != l) {
                 for face in faces[m] {
-                    traction += column(face) * w[k];
-                    momentum += face.momentum * w[k];
+                    traction += column(face).component_mul(&w[k].vector());
+                    momentum += face.momentum.component_mul(&w[k].vector());
                     k += 1;
                 }
             }
-            // (C : sym(v_p ⊗ W)) e_l = λ (v_p · W) e_l + μ (v_p W_l + W v_{p,l})
-            let mut volume = (v * g[l] + g * v[l]) * u.mu;
+            // (C : sym(v_p ⊗ W)) e_l = λ (v_p · W) e_l + μ (v_p W_l + W v_{p,l}), `W_l` in
+            // every lane
+            let mut volume = (v.component_mul(&w[1].vector()) + g * v[l]) * u.mu;
             volume[l] += u.lambda * v.dot(&g);
             *out = SideState {
                 traction: Vector::<D>::from_fn(|k, _| q[(k, l)]) + (volume + traction) * u.dt_rho,

@@ -48,6 +48,7 @@ use std::any::Any;
 mod bar;
 mod block;
 mod heun;
+pub(crate) use heun::Lanes;
 mod nodal;
 mod plane;
 

@@ -99,12 +99,14 @@ impl DgmpmSolver<2> {
         let row = j * nx;
         let (y_low, y_high) = (&band.y_godunov[0], &band.y_godunov[1]);
         if NODAL && ctu {
-            for (i, w) in band.w_y.iter_mut().enumerate() {
+            // (the rows zipped: no index checks on the y-fluxes)
+            let rows = band.w_y.iter_mut().zip(y_low.iter().zip(y_high));
+            for (i, (w, (y_low, y_high))) in rows.enumerate() {
                 let (low, high) = (
                     fields.at::<true>(row + i, 1, false),
                     fields.at::<true>(row + i, 1, true),
                 );
-                let w_flux = y_high[i].add_scaled(&y_low[i], -1.0);
+                let w_flux = y_high.add_scaled(y_low, -1.0);
                 *w = w_flux.add_scaled(&difference_flux::<1>(&low, &high, c), 1.0);
             }
         }
