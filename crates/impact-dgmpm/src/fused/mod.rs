@@ -64,9 +64,11 @@ pub(crate) struct Band<const D: usize> {
     y_godunov: [Vec<Conserved<D>>; 2],
     /// Final (CTU-corrected) fluxes of face rows `j` and `j+1`.
     y_final: [Vec<Conserved<D>>; 2],
-    /// Nodal sweep with CTU (empty otherwise): `F_x(q_C,low - q_C,high)` of the cells of
-    /// rows `j` and `j+1` (`nx` each), the part of their x-fluctuation the fluxes miss.
-    x_side: [Vec<Conserved<D>>; 2],
+    /// Under CTU (empty otherwise): the x-fluctuations of the cells of rows `j` and `j+1`
+    /// (`nx` each), `w_x = F_x,high - F_x,low`, on nodal states
+    /// `+ F_x(q_C,low - q_C,high)`, formed once per row by `x_godunov_row` for the final
+    /// fluxes of the face rows below and above the row.
+    x_fluctuation: [Vec<Conserved<D>>; 2],
     /// Nodal sweep with CTU: the y-fluctuations `w_y` of row `j`'s cells (`nx`).
     w_y: Vec<Conserved<D>>,
     /// Power of the boundary conditions on the band's faces.
@@ -81,7 +83,7 @@ impl<const D: usize> Default for Band<D> {
             x_godunov: Default::default(),
             y_godunov: Default::default(),
             y_final: Default::default(),
-            x_side: Default::default(),
+            x_fluctuation: Default::default(),
             w_y: Vec::new(),
             power: 0.0,
             force: Vector::<D>::zeros(),
@@ -97,7 +99,8 @@ impl<const D: usize> Default for Band<D> {
 pub(crate) struct Layout {
     next_per_cell: usize,
     sides: bool,
-    /// The cell path with CTU (3D: the slabs keep the transverse planes).
+    /// The cell path with CTU (2D: the bands keep the rows' x-fluctuations; 3D: the slabs
+    /// keep the transverse planes).
     ctu: bool,
     /// The Heun cell sweeps' `2D` side states per cell (`heun.rs`).
     side_states: bool,
@@ -165,10 +168,11 @@ impl<const D: usize> FusedBuffers<D> {
             2 => {
                 let nx = cells[0];
                 let sides = if layout.sides { nx } else { 0 };
+                let fluctuations = if layout.sides || layout.ctu { nx } else { 0 };
                 let band = Band {
-                    x_side: [
-                        vec![Conserved::zeros(); sides],
-                        vec![Conserved::zeros(); sides],
+                    x_fluctuation: [
+                        vec![Conserved::zeros(); fluctuations],
+                        vec![Conserved::zeros(); fluctuations],
                     ],
                     w_y: vec![Conserved::zeros(); sides],
                     x_godunov: [

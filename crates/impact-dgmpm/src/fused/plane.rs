@@ -20,9 +20,8 @@ pub(super) struct Sweep2d {
     scale: [f64; 2],
 }
 
-/// The x-faces' fluxes and the cells' side terms of one cell row (the side terms empty
-/// on the cell path).
-type XRow<'a> = (&'a [Conserved<2>], &'a [Conserved<2>]);
+/// The x-fluctuations of one cell row's cells (`Band::x_fluctuation`).
+type XRow<'a> = &'a [Conserved<2>];
 
 impl DgmpmSolver<2> {
     /// The constants of a 2D sweep with step `dt`.
@@ -100,19 +99,19 @@ impl DgmpmSolver<2> {
         band.force = Vector::<2>::zeros();
         let j0 = rows.start;
         // prologue: face row j0 (Godunov and final) and the x-fluxes of cell row j0
-        let (x_row, x_side) = (&mut band.x_godunov[0], &mut band.x_side[0]);
-        band.power += self.x_godunov_row::<NODAL>(j0, fields, c, x_row, x_side);
+        let (x_row, x_fluctuation) = (&mut band.x_godunov[0], &mut band.x_fluctuation[0]);
+        band.power += self.x_godunov_row::<NODAL>(j0, fields, c, x_row, x_fluctuation);
         let power = self.y_godunov_row::<NODAL>(j0, fields, c, &mut band.y_godunov[0]);
         if j0 == 0 {
             band.power += power;
         }
         if ctu && j0 > 0 {
             // the row below the band: its x-fluxes, recomputed here
-            let (x_row, x_side) = (&mut band.x_godunov[1], &mut band.x_side[1]);
-            self.x_godunov_row::<NODAL>(j0 - 1, fields, c, x_row, x_side);
+            let (x_row, x_fluctuation) = (&mut band.x_godunov[1], &mut band.x_fluctuation[1]);
+            self.x_godunov_row::<NODAL>(j0 - 1, fields, c, x_row, x_fluctuation);
         }
-        let below = (j0 > 0).then_some((&band.x_godunov[1][..], &band.x_side[1][..]));
-        let here = Some((&band.x_godunov[0][..], &band.x_side[0][..]));
+        let below = (j0 > 0).then_some(&band.x_fluctuation[1][..]);
+        let here = Some(&band.x_fluctuation[0][..]);
         let godunov = &band.y_godunov[0];
         let finals = &mut band.y_final[0];
         self.y_final_row::<NODAL>(j0, godunov, [below, here], fields, k, finals);
@@ -128,14 +127,14 @@ impl DgmpmSolver<2> {
                 band.power += power;
             }
             if !top {
-                let (x_row, x_side) = (&mut band.x_godunov[1], &mut band.x_side[1]);
-                let power = self.x_godunov_row::<NODAL>(j + 1, fields, c, x_row, x_side);
+                let (x_row, x_fluctuation) = (&mut band.x_godunov[1], &mut band.x_fluctuation[1]);
+                let power = self.x_godunov_row::<NODAL>(j + 1, fields, c, x_row, x_fluctuation);
                 if j + 1 < rows.end {
                     band.power += power;
                 }
             }
-            let here = Some((&band.x_godunov[0][..], &band.x_side[0][..]));
-            let above = (!top).then_some((&band.x_godunov[1][..], &band.x_side[1][..]));
+            let here = Some(&band.x_fluctuation[0][..]);
+            let above = (!top).then_some(&band.x_fluctuation[1][..]);
             let godunov = &band.y_godunov[1];
             let finals = &mut band.y_final[1];
             self.y_final_row::<NODAL>(j + 1, godunov, [here, above], fields, k, finals);
@@ -210,28 +209,31 @@ impl DgmpmSolver<2> {
             }
             band.force += force;
             band.x_godunov.swap(0, 1);
-            band.x_side.swap(0, 1);
+            band.x_fluctuation.swap(0, 1);
             band.y_godunov.swap(0, 1);
             band.y_final.swap(0, 1);
         }
     }
 
-    /// Godunov fluxes of the x-faces of cell row `j` into `out` (`nx + 1`); `NODAL` with
-    /// CTU also each cell's `F_x(q_C,low - q_C,high)` into `sides` (`nx`; empty otherwise).
-    /// Returns the power of its two boundary faces.
+    /// Godunov fluxes of the x-faces of cell row `j` into `out` (`nx + 1`); under CTU
+    /// (`w` not empty, [`super::Band`]'s `x_fluctuation`) also each cell's x-fluctuation
+    /// into `w` (`nx`),
+    /// `w_x = F_x,high - F_x,low` (`NODAL`: `+ F_x(q_C,low - q_C,high)`): the side terms in
+    /// the flux loop, the flux differences in a pass of their own (inside the flux loop
+    /// they took more instructions, callgrind). Returns the power of its two boundary faces.
     fn x_godunov_row<const NODAL: bool>(
         &self,
         j: usize,
         fields: Fields<'_, 2>,
         c: &AxisConstants,
         out: &mut [Conserved<2>],
-        sides: &mut [Conserved<2>],
+        w: &mut [Conserved<2>],
     ) -> f64 {
         let nx = self.grid.cells[0];
         let row = j * nx;
+        let with_fluctuations = !w.is_empty();
         if NODAL {
             // each cell's two x-side states, formed once: its high side is the next face's left
-            let with_sides = !sides.is_empty();
             let mut previous_high = None;
             for i in 0..nx {
                 let low = fields.at::<true>(row + i, 0, false);
@@ -239,8 +241,8 @@ impl DgmpmSolver<2> {
                 if let Some(left) = &previous_high {
                     out[i] = axis_flux_2d::<0>(left, &low, c);
                 }
-                if with_sides {
-                    sides[i] = difference_flux::<0>(&low, &high, c);
+                if with_fluctuations {
+                    w[i] = difference_flux::<0>(&low, &high, c);
                 }
                 previous_high = Some(high);
             }
@@ -254,6 +256,15 @@ impl DgmpmSolver<2> {
             let (flux, p) = self.linear_face_flux(0, [i, j], fields);
             out[i] = flux;
             power += p;
+        }
+        if with_fluctuations {
+            for (w, faces) in w.iter_mut().zip(out.windows(2)) {
+                let difference = faces[1].add_scaled(&faces[0], -1.0);
+                *w = match NODAL {
+                    true => difference.add_scaled(w, 1.0),
+                    false => difference,
+                };
+            }
         }
         power
     }
@@ -287,8 +298,8 @@ impl DgmpmSolver<2> {
     }
 
     /// Final fluxes of face row `j` into `out`: its Godunov fluxes plus, under CTU, the
-    /// corrections from the x-fluctuations of the cell rows below and above it (their
-    /// x-fluxes and side terms, [`XRow`]; `None` behind an edge: ghost cells).
+    /// corrections from the x-fluctuations of the cell rows below and above it (formed
+    /// once per row by [`Self::x_godunov_row`], [`XRow`]; `None` behind an edge: ghost cells).
     fn y_final_row<const NODAL: bool>(
         &self,
         j: usize,
@@ -303,13 +314,7 @@ impl DgmpmSolver<2> {
             return;
         }
         let (c, scale) = (&k.constants, k.scale[1]);
-        let w = |(fluxes, sides): XRow<'_>, i: usize| {
-            let w = fluxes[i + 1].add_scaled(&fluxes[i], -1.0);
-            match NODAL {
-                true => w.add_scaled(&sides[i], 1.0),
-                false => w,
-            }
-        };
+        let w = |fluctuations: XRow<'_>, i: usize| fluctuations[i];
         match (below, above) {
             (Some(below), Some(above)) => {
                 for (i, out) in out.iter_mut().enumerate() {

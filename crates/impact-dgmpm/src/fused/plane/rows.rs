@@ -28,8 +28,8 @@ impl DgmpmSolver<2> {
     ) {
         let nx = self.grid.cells[0];
         let c = &k.constants;
-        let (x_row, x_side) = (&mut band.x_godunov[0], &mut band.x_side[0]);
-        let power = self.x_godunov_row::<NODAL>(j0, fields, c, x_row, x_side);
+        let (x_row, x_fluctuation) = (&mut band.x_godunov[0], &mut band.x_fluctuation[0]);
+        let power = self.x_godunov_row::<NODAL>(j0, fields, c, x_row, x_fluctuation);
         if own.contains(&j0) {
             band.power += power;
         }
@@ -40,11 +40,11 @@ impl DgmpmSolver<2> {
         }
         if k.ctu && j0 > 0 {
             // the row below: its x-fluxes, recomputed here
-            let (x_row, x_side) = (&mut band.x_godunov[1], &mut band.x_side[1]);
-            self.x_godunov_row::<NODAL>(j0 - 1, fields, c, x_row, x_side);
+            let (x_row, x_fluctuation) = (&mut band.x_godunov[1], &mut band.x_fluctuation[1]);
+            self.x_godunov_row::<NODAL>(j0 - 1, fields, c, x_row, x_fluctuation);
         }
-        let below = (j0 > 0).then_some((&band.x_godunov[1][..], &band.x_side[1][..]));
-        let here = Some((&band.x_godunov[0][..], &band.x_side[0][..]));
+        let below = (j0 > 0).then_some(&band.x_fluctuation[1][..]);
+        let here = Some(&band.x_fluctuation[0][..]);
         let godunov = &band.y_godunov[0];
         let finals = &mut band.y_final[0];
         self.y_final_row::<NODAL>(j0, godunov, [below, here], fields, k, finals);
@@ -79,14 +79,14 @@ impl DgmpmSolver<2> {
             band.power += power;
         }
         if !top {
-            let (x_row, x_side) = (&mut band.x_godunov[1], &mut band.x_side[1]);
-            x_power = self.x_godunov_row::<NODAL>(j + 1, fields, c, x_row, x_side);
+            let (x_row, x_fluctuation) = (&mut band.x_godunov[1], &mut band.x_fluctuation[1]);
+            x_power = self.x_godunov_row::<NODAL>(j + 1, fields, c, x_row, x_fluctuation);
             if own.contains(&(j + 1)) {
                 band.power += x_power;
             }
         }
-        let here = Some((&band.x_godunov[0][..], &band.x_side[0][..]));
-        let above = (!top).then_some((&band.x_godunov[1][..], &band.x_side[1][..]));
+        let here = Some(&band.x_fluctuation[0][..]);
+        let above = (!top).then_some(&band.x_fluctuation[1][..]);
         let godunov = &band.y_godunov[1];
         let finals = &mut band.y_final[1];
         self.y_final_row::<NODAL>(j + 1, godunov, [here, above], fields, k, finals);
@@ -166,7 +166,7 @@ impl DgmpmSolver<2> {
             band.force += force;
         }
         band.x_godunov.swap(0, 1);
-        band.x_side.swap(0, 1);
+        band.x_fluctuation.swap(0, 1);
         band.y_godunov.swap(0, 1);
         band.y_final.swap(0, 1);
         x_power
