@@ -41,12 +41,15 @@ impl<const D: usize> MpmSolver<D> {
         match PointVelocity::of(&self.options) {
             None => self.gather_affine::<true>(points, affine, dt),
             Some(update) => {
-                // the hats' rows unrolled (4 or 8 nodes); the wider stencils loop over their
-                // rows (unrolled, 9 nodes' values and gradients spill from the registers:
-                // more instructions a point)
+                // the rows unrolled where the node count is fixed: hats (4 or 8 nodes) and
+                // 2D quadratic B-splines (9: fewer instructions a point than the loop over
+                // the rows since the gather reads `Δv_i` instead of `f_i` and `1/m_i`; it
+                // was more before, 9 nodes' values spilling; the 3D 27 nodes unrolled are
+                // still more); the other stencils loop over their rows
                 let fused = match (self.stencil.width, self.stencil.nodes) {
                     (2, 4) => Self::gather::<true, 2, 4>,
                     (2, 8) => Self::gather::<true, 2, 8>,
+                    (3, 9) => Self::gather::<true, 3, 9>,
                     (2, _) => Self::gather::<true, 2, 0>,
                     (3, _) => Self::gather::<true, 3, 0>,
                     _ => Self::gather::<true, 4, 0>,
