@@ -101,6 +101,13 @@ struct PointArrays<'a, const D: usize> {
     bases: &'a [usize],
 }
 
+/// A point as [`scatter_points`] takes it: its mass, velocity, `V_p σ_p` and base node,
+/// and its row of shape values and gradients.
+type ScatterPoint<'a, const D: usize> = (
+    (f64, Vector<D>, Tensor<D>, usize),
+    (&'a [f64], &'a [Vector<D>]),
+);
+
 /// The points `order` names, each as [`scatter_points`] takes it: its mass, velocity,
 /// `V_p σ_p` (formed once per point), base node, and its row of weights, entries
 /// `first_of(p) .. first_of(p) + nodes` of the `table`'s shape values and gradients.
@@ -110,12 +117,7 @@ fn through_order<'a, const D: usize>(
     points: PointArrays<'a, D>,
     (shape, gradient, nodes): (&'a [f64], &'a [Vector<D>], usize),
     first_of: impl Fn(usize) -> usize + 'a,
-) -> impl Iterator<
-    Item = (
-        (f64, Vector<D>, Tensor<D>, usize),
-        (&'a [f64], &'a [Vector<D>]),
-    ),
-> + 'a {
+) -> impl Iterator<Item = ScatterPoint<'a, D>> + 'a {
     order.iter().map(move |&p| {
         let first = first_of(p);
         let row = first..first + nodes;
