@@ -10,8 +10,9 @@ impl<const D: usize> MpmSolver<D> {
     /// Phase 2: `p_i += Δt f_i` and `1/m_i` (nodes with mass; 0 for empty ones), then the
     /// prescribed nodal velocities, their averages over the step `window` (the velocity
     /// that moves the points over it: the displacement of the loaded face is exact), and
-    /// the nodal velocity `v_i = p_i (1/m_i)` the gathers read (formed once per node, after
-    /// the constraints: on every node in the pass, again on each constrained node).
+    /// the nodal velocity `v_i = p_i (1/m_i)` and velocity increment
+    /// `Δv_i = f_i (Δt (1/m_i))` the gathers read (formed once per node, after the
+    /// constraints: on every node in the pass, again on each constrained node).
     /// Returns the work done in the step by the velocity constraints, `Δt Σ r · v_d`, and
     /// the impulse of the reaction forces, `Δt Σ r` (over the own nodes).
     pub fn grid_update(&mut self, dt: f64, window: (f64, f64)) -> (f64, Vector<D>) {
@@ -21,28 +22,30 @@ impl<const D: usize> MpmSolver<D> {
         let (mass, force) = (&nodes.mass, &nodes.force);
         let parts = (
             chunks(&mut nodes.momentum, CHUNK),
-            chunks(&mut nodes.inv_mass, CHUNK),
+            chunks(&mut nodes.increment, CHUNK),
             chunks(&mut nodes.velocity, CHUNK),
         );
+        nodes.increment_dt = dt;
         for_each_chunk(
             self.parallel,
             1,
             parts,
-            |r, (momentum, inv_mass, velocity)| {
+            |r, (momentum, increment, velocity)| {
                 // the chunk's nodes sliced once (no bounds check per node)
                 let chunk = r * CHUNK..r * CHUNK + momentum.len();
                 let (mass, force) = (&mass[chunk.clone()], &force[chunk.clone()]);
                 let walls = empty.walls_of(chunk);
                 let nodes = mass.iter().zip(force).zip(walls);
-                let sums = momentum.iter_mut().zip(inv_mass).zip(velocity);
-                for (((p, inv), v), ((&m, f), &w)) in sums.zip(nodes) {
-                    if empty.holds_on(w, m) {
+                let sums = momentum.iter_mut().zip(increment).zip(velocity);
+                for (((p, dv), v), ((&m, f), &w)) in sums.zip(nodes) {
+                    let inv = if empty.holds_on(w, m) {
                         *p += f * dt;
-                        *inv = 1.0 / m;
+                        1.0 / m
                     } else {
-                        *inv = 0.0;
-                    }
-                    *v = *p * *inv;
+                        0.0
+                    };
+                    *v = *p * inv;
+                    *dv = f * (dt * inv);
                 }
             },
         );
@@ -55,10 +58,13 @@ impl<const D: usize> MpmSolver<D> {
             if empty.holds(v, m) {
                 let old = nodes.momentum[v][axis];
                 nodes.momentum[v][axis] = value * m;
-                nodes.velocity[v] = nodes.momentum[v] * nodes.inv_mass[v];
+                // `1/m_i` as the node pass formed it (the node holds mass)
+                let inv = 1.0 / m;
+                nodes.velocity[v] = nodes.momentum[v] * inv;
                 // reaction force of the constraint, kept in the force for the FLIP update
                 let reaction = (value * m - old) / dt;
                 nodes.force[v][axis] += reaction;
+                nodes.increment[v] = nodes.force[v] * (dt * inv);
                 if place.owns_node(v) {
                     work += dt * reaction * value;
                     impulse[axis] += dt * reaction;

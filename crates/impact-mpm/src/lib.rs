@@ -119,9 +119,13 @@ pub(crate) struct NodeSums<const D: usize> {
     pub momentum: Vec<Vector<D>>,
     /// `f_i`.
     pub force: Vec<Vector<D>>,
-    /// `1/m_i` after the grid update (0 for an empty node): the gathers multiply by it
-    /// instead of dividing by `m_i` at every point.
-    pub inv_mass: Vec<f64>,
+    /// `Δv_i = f_i (Δt (1/m_i))` after the grid update and its constraints (0 for an
+    /// empty node), with the step's `Δt`: the velocity increment the FLIP gathers
+    /// interpolate, formed once per node instead of `f_i (N_ip Δt (1/m_i))` once per
+    /// node-point pair (a different rounding: `transfer/tests.rs`).
+    pub increment: Vec<Vector<D>>,
+    /// The `Δt` of `increment` (the last grid update's step).
+    pub increment_dt: f64,
     /// `v_i = p_i (1/m_i)` after the grid update and its constraints (0 for an empty
     /// node): formed once per node instead of once per node-point pair in the gathers (the
     /// same product).
@@ -147,7 +151,8 @@ impl<const D: usize> NodeSums<D> {
             mass: vec![0.0; nodes],
             momentum: vec![Vector::<D>::zeros(); nodes],
             force: vec![Vector::<D>::zeros(); nodes],
-            inv_mass: vec![0.0; nodes],
+            increment: vec![Vector::<D>::zeros(); nodes],
+            increment_dt: 0.0,
             velocity: vec![Vector::<D>::zeros(); nodes],
         }
     }

@@ -32,7 +32,8 @@ const BLOCK_LAYERS: usize = 8;
 
 /// The point velocity update of the transfers without an affine part, with
 /// `v_i = Σ_i N_ip p_i/m_i` the interpolated new nodal velocity and
-/// `Δv = Δt Σ_i N_ip f_i/m_i` the interpolated increment.
+/// `Δv = Σ_i N_ip Δv_i` the interpolated increment (`Δv_i = f_i (Δt (1/m_i))`, formed
+/// per node by the grid update).
 #[derive(Clone, Copy)]
 pub(crate) enum PointVelocity {
     /// FLIP (Brackbill & Ruppel 1986): `v_p += Δv`.

@@ -1,6 +1,8 @@
 //! USL's fused gather (phases 3 and 5 in one pass over each point's nodes) equals the
 //! separate phases to 1e-13, step after step: the plate and the bar with linear hats,
-//! GIMP and the cubic B-spline, the updated Lagrangian frame, two points per axis, and J2.
+//! GIMP, the quadratic (also at two points per axis: its 9-node instance through the table
+//! of rows) and the cubic B-spline, the updated Lagrangian frame, two points per axis, and
+//! J2.
 //! One shared row of weights (total Lagrangian, one point per cell) equals a row per point.
 use impact_core::method::{MethodConfig, MethodKind, MpmFrame, MpmShape};
 use impact_core::{Method, Problem, Scene};
@@ -44,7 +46,7 @@ fn fused_gather_matches_the_separate_phases() {
     let mut plate = Scene::builtin("plate").unwrap();
     plate.domain.cells = vec![40, 30];
     check::<2>("plate, hats", &plate, |_| {});
-    for shape in [MpmShape::Gimp, MpmShape::Bspline3] {
+    for shape in [MpmShape::Gimp, MpmShape::Bspline2, MpmShape::Bspline3] {
         check::<2>(&format!("plate, {shape:?}"), &plate, |c| {
             c.mpm_mut().unwrap().shape = shape
         });
@@ -54,6 +56,11 @@ fn fused_gather_matches_the_separate_phases() {
     });
     check::<2>("plate, 4 points per cell", &plate, |c| {
         c.points_per_cell = 4
+    });
+    // the table of distinct rows read by the 9-node instance of the fused gather
+    check::<2>("plate, Bspline2, 4 points per cell", &plate, |c| {
+        c.points_per_cell = 4;
+        c.mpm_mut().unwrap().shape = MpmShape::Bspline2;
     });
     let mut bar = Scene::builtin("bar").unwrap();
     bar.domain.cells = vec![300];

@@ -5,9 +5,9 @@ use super::*;
 
 impl<const D: usize> MpmSolver<D> {
     /// Phase 3: the velocity update of the transfer (`PointVelocity`; APIC:
-    /// `crate::affine`), FLIP's `v_p += Δt Σ_i N_ip f_i/m_i` by default, and the position
-    /// update `x_p += Δt Σ_i N_ip p_i/m_i` (`1/m_i` and `v_i = p_i (1/m_i)` from the grid
-    /// update, 0 on empty nodes).
+    /// `crate::affine`), FLIP's `v_p += Σ_i N_ip Δv_i` by default, and the position
+    /// update `x_p += Δt Σ_i N_ip v_i` (`Δv_i = f_i (Δt (1/m_i))` and `v_i = p_i (1/m_i)`
+    /// from the grid update, 0 on empty nodes; `Δt` the grid update's).
     pub fn grid_to_particles(
         &self,
         points: &mut MaterialPoints<D>,
@@ -41,12 +41,15 @@ impl<const D: usize> MpmSolver<D> {
         match PointVelocity::of(&self.options) {
             None => self.gather_affine::<true>(points, affine, dt),
             Some(update) => {
-                // the hats' rows unrolled (4 or 8 nodes); the wider stencils loop over their
-                // rows (unrolled, 9 nodes' values and gradients spill from the registers:
-                // more instructions a point)
+                // the rows unrolled where the node count is fixed: hats (4 or 8 nodes) and
+                // 2D quadratic B-splines (9: fewer instructions a point than the loop over
+                // the rows since the gather reads `Δv_i` instead of `f_i` and `1/m_i`; it
+                // was more before, 9 nodes' values spilling; the 3D 27 nodes unrolled are
+                // still more); the other stencils loop over their rows
                 let fused = match (self.stencil.width, self.stencil.nodes) {
                     (2, 4) => Self::gather::<true, 2, 4>,
                     (2, 8) => Self::gather::<true, 2, 8>,
+                    (3, 9) => Self::gather::<true, 3, 9>,
                     (2, _) => Self::gather::<true, 2, 0>,
                     (3, _) => Self::gather::<true, 3, 0>,
                     _ => Self::gather::<true, 4, 0>,
@@ -78,6 +81,11 @@ impl<const D: usize> MpmSolver<D> {
             "a point's row of weights is its stencil's"
         );
         let nodes = &self.nodes;
+        assert_eq!(
+            nodes.increment_dt.to_bits(),
+            dt.to_bits(),
+            "the nodal increments are the grid update's, of this step"
+        );
         let moving = self.options.frame == MpmFrame::UpdatedLagrangian;
         let parts = (
             (
@@ -96,9 +104,8 @@ impl<const D: usize> MpmSolver<D> {
             |r, ((velocity, position), (stress, volume))| {
                 let npc = self.stencil.nodes;
                 let input = GatherInput {
-                    inv_mass: &nodes.inv_mass,
                     velocity: &nodes.velocity,
-                    force: &nodes.force,
+                    increment: &nodes.increment,
                     rows: &self.stencil.row_offsets,
                     material: self.material,
                     update,
@@ -224,15 +231,14 @@ impl<const D: usize> MpmSolver<D> {
     }
 }
 
-/// What the fused gather reads besides the points (`MpmSolver::gather`): the nodal `1/m_i`,
-/// `v_i` and `f_i`, the stencil's rows (`Stencil::row_offsets`), and
+/// What the fused gather reads besides the points (`MpmSolver::gather`): the nodal `v_i`
+/// and `Δv_i` (`NodeSums::increment`), the stencil's rows (`Stencil::row_offsets`), and
 /// the step's constants. Passed by value: in registers or the kernel's own stack, not loads
 /// through a closure's environment at every point.
 #[derive(Clone, Copy)]
 struct GatherInput<'a, const D: usize> {
-    inv_mass: &'a [f64],
     velocity: &'a [Vector<D>],
-    force: &'a [Vector<D>],
+    increment: &'a [Vector<D>],
     rows: &'a [u32],
     material: LinearElastic,
     update: PointVelocity,
@@ -257,17 +263,16 @@ fn gather_points<'w, const STRESS: bool, const W: usize, const N: usize, const D
     weights: impl Iterator<Item = (&'w [f64], &'w [Vector<D>])>,
 ) {
     let GatherInput {
-        inv_mass,
         velocity: node_velocity,
-        force,
+        increment,
         rows,
         material,
         update,
         moving,
         dt,
     } = input;
-    // sliced to one length here: a row checked against `1/m` is proved for the others
-    let (node_velocity, force) = (&node_velocity[..inv_mass.len()], &force[..inv_mass.len()]);
+    // sliced to one length here: a row checked against `v_i` is proved for `Δv_i`
+    let increment = &increment[..node_velocity.len()];
     // the stencil's node count: `N` where fixed (the loop over the rows then has a constant
     // trip count and unrolls), else read here, once per chunk
     let nodes = if N == 0 { rows.len() * W } else { N };
@@ -282,20 +287,18 @@ fn gather_points<'w, const STRESS: bool, const W: usize, const N: usize, const D
         let mut dv = Vector::<D>::zeros();
         let mut v = Vector::<D>::zeros();
         let mut l = Tensor::<D>::zeros();
-        // the nodes from the base node on (one check a point; the three of one length)
-        let (inv_mass, node_velocity, force) =
-            (&inv_mass[base..], &node_velocity[base..], &force[base..]);
+        // the nodes from the base node on (one check a point; the two of one length)
+        let (node_velocity, increment) = (&node_velocity[base..], &increment[base..]);
         for ((&o, shape), gradient) in rows.iter().zip(shape).zip(gradient) {
             let first = o as usize;
-            let inv_mass = node_row::<f64, W>(inv_mass, first);
-            let (node_velocity, force) = (
+            let (node_velocity, increment) = (
                 node_row::<Vector<D>, W>(node_velocity, first),
-                node_row::<Vector<D>, W>(force, first),
+                node_row::<Vector<D>, W>(increment, first),
             );
             for c in 0..W {
-                let (s, inv) = (shape[c], inv_mass[c]);
+                let s = shape[c];
                 let node_velocity = node_velocity[c];
-                dv += force[c] * (s * dt * inv);
+                dv += increment[c] * s;
                 v += node_velocity * s;
                 if STRESS {
                     l += node_velocity * gradient[c].transpose();

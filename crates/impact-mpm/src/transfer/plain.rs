@@ -42,16 +42,27 @@ impl<const D: usize> MpmSolver<D> {
                 let bases = &weights.bases[..count];
                 let shape = weights.shape;
                 let gradient = &weights.gradient[..shape.len()];
-                let (stride, point_row) = (weights.stride, weights.point_row);
                 let order = &run.order[run.points];
-                let data = order.iter().map(move |&p| {
-                    let first = crate::weights::row_start(point_row, stride, p);
-                    let row = first..first + nodes;
-                    // V_p σ_p formed once per point
-                    let point = (mass[p], velocity[p], stress[p] * volume[p], bases[p]);
-                    (point, (&shape[row.clone()], &gradient[row]))
-                });
-                return scatter_points::<W, N, D>(sums, rows, data);
+                let points = PointArrays {
+                    mass,
+                    velocity,
+                    stress,
+                    volume,
+                    bases,
+                };
+                let table = (shape, gradient, nodes);
+                // the point's first weight: the kind of storage is chosen here, once per run
+                // (no branch on it per point; `weights::row_start`)
+                return if weights.point_row.is_empty() {
+                    let stride = weights.stride;
+                    let data = through_order(order, points, table, move |p| p * stride);
+                    scatter_points::<W, N, D>(sums, rows, data)
+                } else {
+                    let point_row = &weights.point_row[..count];
+                    let first = move |p: usize| point_row[p] as usize * nodes;
+                    let data = through_order(order, points, table, first);
+                    scatter_points::<W, N, D>(sums, rows, data)
+                };
             }
             let range = run.points;
             let (mass, velocity) = (&points.mass[range.clone()], &points.velocity[range.clone()]);
@@ -77,6 +88,47 @@ impl<const D: usize> MpmSolver<D> {
             }
         });
     }
+}
+
+/// The arrays of the points a scatter reads through the layer order, sliced to one
+/// length (a point checked against the mass is proved for the others).
+#[derive(Clone, Copy)]
+struct PointArrays<'a, const D: usize> {
+    mass: &'a [f64],
+    velocity: &'a [Vector<D>],
+    stress: &'a [Tensor<D>],
+    volume: &'a [f64],
+    bases: &'a [usize],
+}
+
+/// A point as [`scatter_points`] takes it: its mass, velocity, `V_p σ_p` and base node,
+/// and its row of shape values and gradients.
+type ScatterPoint<'a, const D: usize> = (
+    (f64, Vector<D>, Tensor<D>, usize),
+    (&'a [f64], &'a [Vector<D>]),
+);
+
+/// The points `order` names, each as [`scatter_points`] takes it: its mass, velocity,
+/// `V_p σ_p` (formed once per point), base node, and its row of weights, entries
+/// `first_of(p) .. first_of(p) + nodes` of the `table`'s shape values and gradients.
+#[inline(always)]
+fn through_order<'a, const D: usize>(
+    order: &'a [usize],
+    points: PointArrays<'a, D>,
+    (shape, gradient, nodes): (&'a [f64], &'a [Vector<D>], usize),
+    first_of: impl Fn(usize) -> usize + 'a,
+) -> impl Iterator<Item = ScatterPoint<'a, D>> + 'a {
+    order.iter().map(move |&p| {
+        let first = first_of(p);
+        let row = first..first + nodes;
+        let point = (
+            points.mass[p],
+            points.velocity[p],
+            points.stress[p] * points.volume[p],
+            points.bases[p],
+        );
+        (point, (&shape[row.clone()], &gradient[row]))
+    })
 }
 
 /// Phase 1's sums ([`MpmSolver::scatter_plain`]) of `points`: per point its mass `m_p`,
