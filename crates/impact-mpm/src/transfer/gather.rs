@@ -284,9 +284,12 @@ fn gather_points<'w, const STRESS: bool, const W: usize, const N: usize, const D
     for ((((vp, xp), (sp, vol)), &base), (shape, gradient)) in points.zip(weights) {
         let shape = shape[..nodes].as_chunks::<W>().0;
         let gradient = gradient[..nodes].as_chunks::<W>().0;
-        let mut dv = Vector::<D>::zeros();
-        let mut v = Vector::<D>::zeros();
-        let mut l = Tensor::<D>::zeros();
+        // the sums from -0, the identity of `+` (`-0 + x = x`; `+0 + x` turns `x = -0` into
+        // `+0`, so the compiler must keep it): the first node's addition is dropped, and
+        // the sums are those from `+0` but where every term is `-0` (then `-0`, `== 0`)
+        let mut dv = Vector::<D>::from_element(-0.0);
+        let mut v = Vector::<D>::from_element(-0.0);
+        let mut l = Tensor::<D>::from_element(-0.0);
         // the nodes from the base node on (one check a point; the two of one length)
         let (node_velocity, increment) = (&node_velocity[base..], &increment[base..]);
         for ((&o, shape), gradient) in rows.iter().zip(shape).zip(gradient) {
