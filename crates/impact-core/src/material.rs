@@ -81,13 +81,23 @@ impl LinearElastic {
     }
 
     /// Stress from a (symmetric) strain: `σ = E ε` in 1D, `σ = λ tr(ε) 1 + 2μ ε` in 2D.
+    /// Formed as `2μ ε` with `λ tr(ε)` added to the diagonal, and the trace as the sum of the
+    /// diagonal from its first entry: the values of `λ tr(ε) 1 + 2μ ε` (the diagonal's
+    /// additions are the same, commuted), without the products by the identity's zeros and
+    /// the trace's `+0` start, which the compiler must keep (they can only turn a `-0`
+    /// into `+0`, or a non-finite trace into a NaN off the diagonal).
     #[inline]
     pub fn stress<const D: usize>(&self, strain: &Tensor<D>) -> Tensor<D> {
         if D == 1 {
             strain * self.elastic.young
         } else {
             let Lame { lambda, mu } = self.lame;
-            Tensor::<D>::identity() * (lambda * strain.trace()) + strain * (2.0 * mu)
+            let trace = (1..D).fold(strain[(0, 0)], |sum, k| sum + strain[(k, k)]);
+            let mut stress = strain * (2.0 * mu);
+            for k in 0..D {
+                stress[(k, k)] += lambda * trace;
+            }
+            stress
         }
     }
 
