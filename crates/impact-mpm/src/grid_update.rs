@@ -44,8 +44,7 @@ impl<const D: usize> MpmSolver<D> {
                     } else {
                         0.0
                     };
-                    *v = *p * inv;
-                    *dv = f * (dt * inv);
+                    (*v, *dv) = velocity_and_increment(p, f, inv, dt);
                 }
             },
         );
@@ -58,13 +57,13 @@ impl<const D: usize> MpmSolver<D> {
             if empty.holds(v, m) {
                 let old = nodes.momentum[v][axis];
                 nodes.momentum[v][axis] = value * m;
-                // `1/m_i` as the node pass formed it (the node holds mass)
-                let inv = 1.0 / m;
-                nodes.velocity[v] = nodes.momentum[v] * inv;
                 // reaction force of the constraint, kept in the force for the FLIP update
                 let reaction = (value * m - old) / dt;
                 nodes.force[v][axis] += reaction;
-                nodes.increment[v] = nodes.force[v] * (dt * inv);
+                // `1/m_i` as the node pass formed it (the node holds mass)
+                let (momentum, force) = (&nodes.momentum[v], &nodes.force[v]);
+                (nodes.velocity[v], nodes.increment[v]) =
+                    velocity_and_increment(momentum, force, 1.0 / m, dt);
                 if place.owns_node(v) {
                     work += dt * reaction * value;
                     impulse[axis] += dt * reaction;
@@ -153,4 +152,17 @@ fn velocity_of<const D: usize>(
     } else {
         0.0
     }
+}
+
+/// A node's velocity `v_i = p_i (1/m_i)` and velocity increment `Δv_i = f_i (Δt (1/m_i))`
+/// from its momentum, force and `1/m_i` (0 for an empty node): what the gathers read, formed
+/// alike in the node pass and on each constrained node.
+#[inline(always)]
+fn velocity_and_increment<const D: usize>(
+    momentum: &Vector<D>,
+    force: &Vector<D>,
+    inv_mass: f64,
+    dt: f64,
+) -> (Vector<D>, Vector<D>) {
+    (momentum * inv_mass, force * (dt * inv_mass))
 }

@@ -217,10 +217,10 @@ impl DgmpmSolver<2> {
 
     /// Godunov fluxes of the x-faces of cell row `j` into `out` (`nx + 1`); under CTU
     /// (`w` not empty, [`super::Band`]'s `x_fluctuation`) also each cell's x-fluctuation
-    /// into `w` (`nx`),
-    /// `w_x = F_x,high - F_x,low` (`NODAL`: `+ F_x(q_C,low - q_C,high)`): the side terms in
-    /// the flux loop, the flux differences in a pass of their own (inside the flux loop
-    /// they took more instructions, callgrind). Returns the power of its two boundary faces.
+    /// into `w` (`nx`), `w_x = F_x,high - F_x,low` (`NODAL`: `+ F_x(q_C,low - q_C,high)`):
+    /// the side terms in the flux loop, the flux differences in a pass of their own (inside
+    /// the flux loop they took more instructions, callgrind). Returns the power of its two
+    /// boundary faces.
     fn x_godunov_row<const NODAL: bool>(
         &self,
         j: usize,
