@@ -216,6 +216,7 @@ impl<const D: usize> Mpm<D> {
                 wave_speed: problem.max_wave_speed(),
                 loads,
                 node_constraints,
+                fold_changes: crate::grid_update::FoldChange::of(&mirror_constraints),
                 mirror_constraints,
                 point_constraints,
                 nodes: NodeSums::new(node_count),

@@ -230,6 +230,9 @@ pub struct MpmSolver<const D: usize> {
     /// Padding nodes beyond velocity and symmetry edges, mirrored from the interior
     /// (`edges` module doc).
     mirror_constraints: Vec<MirrorConstraint>,
+    /// The node components the padding fold changes and by how much this step (the
+    /// wall's work and impulse, [`grid_update::FoldChange`]).
+    fold_changes: Vec<grid_update::FoldChange>,
     /// Prescribed point velocity components (velocity edges).
     point_constraints: Vec<Constraint>,
     nodes: NodeSums<D>,
@@ -299,12 +302,11 @@ impl<const D: usize> MpmSolver<D> {
             self.internal_forces(&state.points);
         }
         self.external_forces(&state.points, window);
-        let power_start = self.load_power(&state.points, window);
         for load in self.loads.iter().filter(|l| self.place.owns(l.point)) {
             state.impulse += load.force * (load.history.mean(t, t + dt) * dt);
         }
         let (work, impulse) = self.grid_update(dt, window);
-        state.work += work;
+        state.work += work + dt * self.load_power(&state.points, window);
         state.impulse += impulse;
         let fused = self.fused_gather(&state.points);
         if fused {
@@ -312,8 +314,6 @@ impl<const D: usize> MpmSolver<D> {
         } else {
             self.grid_to_particles(&mut state.points, &mut state.affine, dt);
         }
-        // trapezoidal work of the loads over the step
-        state.work += 0.5 * dt * (power_start + self.load_power(&state.points, window));
         state.impulse += self.impose_point_velocities(&mut state.points, window);
         if self.options.stress_update == StressUpdate::Musl {
             self.remap_momentum(&state.points, &state.affine, window);
