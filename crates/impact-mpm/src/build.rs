@@ -16,7 +16,7 @@
 use crate::edges::{edge_conditions, node_constraints, point_constraints};
 use crate::{shape, EmptyNodes, Mpm, MpmSolver, MpmState, NodeSums, PADDING};
 use impact_core::comm::RankBox;
-use impact_core::method::{MethodConfig, MpmShape, MpmTransfer};
+use impact_core::method::{MethodConfig, MpmFrame, MpmShape, MpmTransfer};
 use impact_core::parallel::worth_parallel;
 use impact_core::{CoreError, Grid, Problem, Tensor, Vector};
 use std::ops::Range;
@@ -206,6 +206,8 @@ impl<const D: usize> Mpm<D> {
             MpmTransfer::Apic => vec![Tensor::<D>::zeros(); np],
             _ => Vec::new(),
         };
+        // the weights are fixed: phase 1's mass sums are kept (`NodeSums::point_mass`)
+        let fixed_mass = options.frame == MpmFrame::TotalLagrangian;
         let mut mpm = Self {
             solver: MpmSolver {
                 config,
@@ -219,7 +221,7 @@ impl<const D: usize> Mpm<D> {
                 fold_changes: crate::grid_update::FoldChange::of(&mirror_constraints),
                 mirror_constraints,
                 point_constraints,
-                nodes: NodeSums::new(node_count),
+                nodes: NodeSums::new(node_count, fixed_mass),
                 layer_order: vec![0; np],
                 layer_start: vec![0; grid.cells[D - 1] + 2],
                 in_layer_order: false,

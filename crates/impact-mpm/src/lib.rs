@@ -119,6 +119,17 @@ pub(crate) struct NodeSums<const D: usize> {
     pub momentum: Vec<Vector<D>>,
     /// `f_i`.
     pub force: Vec<Vector<D>>,
+    /// The total Lagrangian frame's `m_i = Σ_p N_ip m_p` as phase 1's default scatter
+    /// (`transfer/plain.rs`) added it (before the padding's fold, `grid_update.rs`): the
+    /// weights, the points' masses and the order of the additions are the same every step,
+    /// so are these sums, and that scatter copies them into `mass` instead of adding the
+    /// masses again (3 instructions a node-point pair and the zeroing of `mass` less).
+    /// Empty in the updated Lagrangian frame (the weights change every step).
+    pub point_mass: Vec<f64>,
+    /// Whether `point_mass` holds the sums of the current weights (formed by the first
+    /// scatter after the weights were evaluated: `MpmSolver::update_shapes`,
+    /// `MpmSolver::unshare_weights`).
+    pub point_mass_ready: bool,
     /// `Δv_i = f_i (Δt (1/m_i))` after the grid update and its constraints (0 for an
     /// empty node), with the step's `Δt`: the velocity increment the FLIP gathers
     /// interpolate, formed once per node instead of `f_i (N_ip Δt (1/m_i))` once per
@@ -146,11 +157,19 @@ pub(crate) struct Band<'a, const D: usize> {
 }
 
 impl<const D: usize> NodeSums<D> {
-    fn new(nodes: usize) -> Self {
+    /// The sums of `nodes` nodes, zero; with `fixed_mass` (the total Lagrangian frame) room
+    /// for `point_mass`.
+    fn new(nodes: usize, fixed_mass: bool) -> Self {
         Self {
             mass: vec![0.0; nodes],
             momentum: vec![Vector::<D>::zeros(); nodes],
             force: vec![Vector::<D>::zeros(); nodes],
+            point_mass: if fixed_mass {
+                vec![0.0; nodes]
+            } else {
+                Vec::new()
+            },
+            point_mass_ready: false,
             increment: vec![Vector::<D>::zeros(); nodes],
             increment_dt: 0.0,
             velocity: vec![Vector::<D>::zeros(); nodes],

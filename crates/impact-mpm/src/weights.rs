@@ -30,6 +30,8 @@ impl<const D: usize> MpmSolver<D> {
         if !moving && self.shapes_ready {
             return;
         }
+        // new weights: phase 1 adds the masses again (`crate::NodeSums::point_mass`)
+        self.nodes.point_mass_ready = false;
         let nodes = self.stencil.nodes;
         // on the whole grid, shifted to this one's nodes (`crate::Place`)
         let (grid, stencil, offset) = (&self.place.whole, &self.stencil, self.place.node_offset);

@@ -9,7 +9,31 @@ impl<const D: usize> MpmSolver<D> {
     /// points in their own order (the total Lagrangian frame; [`Run`]) is read in step
     /// with its arrays and rows of weights (no index, no bounds check per point), another
     /// one through the layer order; both through [`scatter_points`].
+    /// In the total Lagrangian frame the mass sums are formed by the first scatter after
+    /// the weights were evaluated and kept (`NodeSums::point_mass`: the same weights, masses
+    /// and order of additions every step give the same sums, bit for bit); the later
+    /// scatters copy them (the momentum and force still added, with the same operations).
     pub(super) fn scatter_plain<const W: usize, const N: usize>(
+        &mut self,
+        points: &MaterialPoints<D>,
+    ) {
+        let nodes = &mut self.nodes;
+        let kept = !nodes.point_mass.is_empty();
+        if kept && nodes.point_mass_ready {
+            self.scatter_plain_sums::<W, N, false>(points);
+            self.nodes.mass.copy_from_slice(&self.nodes.point_mass);
+        } else {
+            self.scatter_plain_sums::<W, N, true>(points);
+            if kept {
+                let nodes = &mut self.nodes;
+                nodes.point_mass.copy_from_slice(&nodes.mass);
+                nodes.point_mass_ready = true;
+            }
+        }
+    }
+
+    /// [`Self::scatter_plain`]'s sums, the mass's with `MASS` (else `mass` is left as it is).
+    fn scatter_plain_sums<const W: usize, const N: usize, const MASS: bool>(
         &mut self,
         points: &MaterialPoints<D>,
     ) {
@@ -23,7 +47,7 @@ impl<const D: usize> MpmSolver<D> {
             "a point's row of weights is its stencil's"
         );
         let fill = Fill {
-            mass: true,
+            mass: MASS,
             momentum: true,
             force: true,
         };
@@ -56,12 +80,12 @@ impl<const D: usize> MpmSolver<D> {
                 return if weights.point_row.is_empty() {
                     let stride = weights.stride;
                     let data = through_order(order, points, table, move |p| p * stride);
-                    scatter_points::<W, N, D>(sums, rows, data)
+                    scatter_points::<W, N, MASS, D>(sums, rows, data)
                 } else {
                     let point_row = &weights.point_row[..count];
                     let first = move |p: usize| point_row[p] as usize * nodes;
                     let data = through_order(order, points, table, first);
-                    scatter_points::<W, N, D>(sums, rows, data)
+                    scatter_points::<W, N, MASS, D>(sums, rows, data)
                 };
             }
             let range = run.points;
@@ -74,17 +98,17 @@ impl<const D: usize> MpmSolver<D> {
                 .map(|(((&m, &v), (s, &vol)), &b)| (m, v, s * vol, b));
             if weights.stride == 0 {
                 let row = (&weights.shape[..npc], &weights.gradient[..npc]);
-                scatter_points::<W, N, D>(sums, rows, data.zip(std::iter::repeat(row)));
+                scatter_points::<W, N, MASS, D>(sums, rows, data.zip(std::iter::repeat(row)));
             } else if !weights.point_row.is_empty() {
                 let point_row = &weights.point_row[range];
                 // `nodes`: a constant where `N` fixes it (one bounds check a row)
                 let table = table_rows(weights.shape, weights.gradient, nodes, point_row);
-                scatter_points::<W, N, D>(sums, rows, data.zip(table));
+                scatter_points::<W, N, MASS, D>(sums, rows, data.zip(table));
             } else {
                 let range = range.start * npc..range.end * npc;
                 let shapes = weights.shape[range.clone()].chunks_exact(npc);
                 let gradients = weights.gradient[range].chunks_exact(npc);
-                scatter_points::<W, N, D>(sums, rows, data.zip(shapes.zip(gradients)));
+                scatter_points::<W, N, MASS, D>(sums, rows, data.zip(shapes.zip(gradients)));
             }
         });
     }
@@ -131,7 +155,8 @@ fn through_order<'a, const D: usize>(
     })
 }
 
-/// Phase 1's sums ([`MpmSolver::scatter_plain`]) of `points`: per point its mass `m_p`,
+/// Phase 1's sums ([`MpmSolver::scatter_plain`]; the mass's with `MASS`) of `points`: per
+/// point its mass `m_p`,
 /// velocity `v_p`, `V_p σ_p` and base node, and its row of shape values and gradients, on
 /// a stencil of `rows` of `W` consecutive nodes (`Stencil::row_offsets`) and `N` nodes (0:
 /// read here). Each row of the nodal sums is sliced once (one bounds check per row, not per
@@ -140,7 +165,7 @@ fn through_order<'a, const D: usize>(
 /// `points`: the loop and the per-point work compile into one function, inlined into the
 /// caller (which knows the lengths of the arrays the points index: one check per point).
 #[inline(always)]
-fn scatter_points<'w, const W: usize, const N: usize, const D: usize>(
+fn scatter_points<'w, const W: usize, const N: usize, const MASS: bool, const D: usize>(
     sums: &mut Band<'_, D>,
     rows: &[u32],
     points: impl Iterator<
@@ -180,7 +205,9 @@ fn scatter_points<'w, const W: usize, const N: usize, const D: usize>(
             let force = node_row_mut::<Vector<D>, W>(force, first);
             for c in 0..W {
                 let w = shape[c] * mass;
-                nodal_mass[c] += w;
+                if MASS {
+                    nodal_mass[c] += w;
+                }
                 momentum[c] += velocity * w;
                 force[c] -= stress * gradient[c];
             }

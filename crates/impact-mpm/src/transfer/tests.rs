@@ -36,6 +36,8 @@ fn scatter_sums_do_not_depend_on_the_order_within_a_layer() {
             solver.layer_order[layer[0]..layer[1]].reverse();
         }
         assert!(solver.layer_order[0] != 0);
+        // the masses added again in the new order, not the kept sums of the old one
+        solver.nodes.point_mass_ready = false;
         own.solver
             .particles_to_grid(&own.state.points, &own.state.affine, true);
         reversed
@@ -151,4 +153,58 @@ fn flip_gather_of_the_increments_is_the_per_pair_sum() {
         peak = peak.max(largest);
     }
     assert!(peak > 0.0, "the wave must be there");
+}
+
+/// Phase 1 after the first step copies the kept mass sums (`NodeSums::point_mass`) where
+/// it added `N_ip m_p` again before: the nodal masses, momenta and forces are those of a
+/// scatter that adds the masses, bit for bit, on a stepped plate (B-splines at 4 points
+/// per cell through the table, one pass; hats on 2 threads, the colour passes).
+#[test]
+fn kept_mass_sums_are_the_scattered_ones() {
+    let same_sums = |mpm: &Mpm<2>| {
+        let mut own = mpm.clone();
+        assert!(own.solver.nodes.point_mass_ready, "kept after a step");
+        let mut summed = mpm.clone();
+        summed.solver.nodes.point_mass_ready = false;
+        for m in [&mut own, &mut summed] {
+            (m.solver).particles_to_grid(&m.state.points, &m.state.affine, true);
+        }
+        let (a, b) = (&own.solver.nodes, &summed.solver.nodes);
+        let bits = |v: &[impact_core::Vector<2>]| -> Vec<u64> {
+            v.iter()
+                .flat_map(|x| x.iter().map(|c| c.to_bits()))
+                .collect()
+        };
+        let mass_bits = |v: &[f64]| -> Vec<u64> { v.iter().map(|x| x.to_bits()).collect() };
+        assert_eq!(mass_bits(&a.mass), mass_bits(&b.mass));
+        assert_eq!(bits(&a.momentum), bits(&b.momentum));
+        assert_eq!(bits(&a.force), bits(&b.force));
+        assert!(a.mass.iter().any(|&m| m > 0.0) && a.force.iter().any(|f| f.amax() > 0.0));
+    };
+    let pool = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+    };
+    pool(1).install(|| {
+        let mut scene = Scene::builtin("plate").unwrap();
+        scene.domain.cells = vec![40, 30];
+        let problem = Problem::<2>::from_scene(&scene).unwrap();
+        let mut config = scene.method_config(MethodKind::Mpm);
+        config.points_per_cell = 4;
+        config.mpm_mut().unwrap().shape = impact_core::method::MpmShape::Bspline2;
+        let mut mpm = Mpm::<2>::new(&problem, config).unwrap();
+        let dt = mpm.stable_dt();
+        for n in 0..5 {
+            mpm.step(n as f64 * dt, dt);
+        }
+        assert!(mpm.solver.weight_rows().1 && !mpm.solver.parallel);
+        same_sums(&mpm);
+    });
+    pool(2).install(|| {
+        let hats = stepped_plate(vec![80, 60], 5);
+        assert!(hats.solver.parallel);
+        same_sums(&hats);
+    });
 }
