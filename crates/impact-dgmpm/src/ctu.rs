@@ -2,8 +2,8 @@
 //! 3D in `ctu3.rs`.
 use crate::faces::Fields;
 use crate::riemann::{
-    constrain_correction, fluctuations, ghost_full, linear_elastic_star, normal_flux,
-    transverse_into_face, Conserved, FullState, GhostCondition,
+    constrain_correction, fluctuations, linear_elastic_star, normal_flux, transverse_into_face,
+    Conserved, FullState, GhostCondition,
 };
 use crate::{unit, DgmpmSolver, CHUNK};
 use impact_core::method::EdgeTreatment;
@@ -11,18 +11,22 @@ use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
 use impact_core::Grid;
 
+mod ghost_row;
+
 impl<const D: usize> DgmpmSolver<D> {
-    /// Fluctuations `(A⁻Δq, A⁺Δq)` of the face between `left` and `right` (normal `e_l`).
+    /// Fluctuations `(A⁻Δq, A⁺Δq)` of the face between `left` and `right` (normal `e_l`;
+    /// a missing side the ghost through the condition of the edge at the tangential
+    /// position of the cell or face `at`, [`Self::edge_condition`]).
     #[inline]
     pub(crate) fn face_fluctuations(
         &self,
         l: usize,
         left: Option<FullState<D>>,
         right: Option<FullState<D>>,
-        s: [f64; 2],
+        at: &[usize; D],
     ) -> (Conserved<D>, Conserved<D>) {
         let e = unit::<D>(l);
-        let (a, b) = self.face_pair(l, left, right, s);
+        let (a, b) = self.face_pair_at(l, left, right, at);
         let (fa, fb) = (a.on_face(&e), b.on_face(&e));
         let star = linear_elastic_star(&fa, &fb, &e, self.elastic.z);
         fluctuations(&fa, &fb, &star, &e, &self.elastic)
@@ -212,7 +216,7 @@ impl<const D: usize> DgmpmSolver<D> {
         let on_edge = idx[k] == 0 || idx[k] == self.grid.cells[k];
         if on_edge && self.options.edges == EdgeTreatment::Restricted {
             let side = usize::from(idx[k] != 0);
-            let cond = self.ghost_condition(k, side, self.edge_coordinate(k, &idx));
+            let cond = self.edge_condition(k, side, &idx);
             return constrain_correction(&correction, &n_k, cond);
         }
         correction
@@ -228,19 +232,14 @@ impl<const D: usize> DgmpmSolver<D> {
         l: usize,
         cell: [usize; D],
     ) -> [bool; 2] {
-        let traction = |axis: usize, axis_side: usize, s: [f64; 2]| {
+        let traction = |axis: usize, axis_side: usize| {
             matches!(
-                self.ghost_condition(axis, axis_side, s),
+                self.edge_condition(axis, axis_side, &cell),
                 GhostCondition::Traction(_)
             )
         };
         let restricted = self.options.edges == EdgeTreatment::Restricted;
-        let (s_k, s_l) = (
-            self.edge_coordinate(k, &cell),
-            self.edge_coordinate(l, &cell),
-        );
-        let corner =
-            |l_side: usize| restricted && traction(k, side, s_k) && traction(l, l_side, s_l);
+        let corner = |l_side: usize| restricted && traction(k, side) && traction(l, l_side);
         [
             cell[l] == 0 && corner(0),
             cell[l] + 1 == self.grid.cells[l] && corner(1),
@@ -266,68 +265,5 @@ impl<const D: usize> DgmpmSolver<D> {
             velocity: low.velocity - high.velocity,
         };
         normal_flux(&difference.on_face(&e_l), &e_l, &self.elastic)
-    }
-
-    /// `(A⁺Δq` through its low `l`-face, `A⁻Δq` through its high `l`-face) of the ghost
-    /// cell mirroring `cell` through the edge of axis `k` at `side`.
-    pub(crate) fn ghost_cell_fluctuations(
-        &self,
-        k: usize,
-        side: usize,
-        l: usize,
-        cell: [usize; D],
-        fields: Fields<'_, D>,
-    ) -> (Conserved<D>, Conserved<D>) {
-        let outward = unit::<D>(k) * if side == 0 { -1.0 } else { 1.0 };
-        let grid = &self.grid;
-        let ghost_of = |c: [usize; D], high: bool| -> FullState<D> {
-            let s_edge = self.edge_coordinate(k, &c);
-            let inner = fields.side(grid.cell_index(c), l, high);
-            ghost_full(&inner, &outward, self.ghost_condition(k, side, s_edge))
-        };
-        // coordinates of the ghost cell along each edge: along e_l (where edge k's condition
-        // is read) and along e_k, clamped into the edge (where edge l's is read)
-        let s_k = self.edge_coordinate(k, &cell);
-        let s_l = self.edge_coordinate(l, &cell);
-        let me_low = ghost_of(cell, false);
-        let me_high = ghost_of(cell, true);
-        let left = (cell[l] > 0).then(|| {
-            let mut c = cell;
-            c[l] -= 1;
-            ghost_of(c, true)
-        });
-        let right = (cell[l] + 1 < grid.cells[l]).then(|| {
-            let mut c = cell;
-            c[l] += 1;
-            ghost_of(c, false)
-        });
-        // a corner where both edges prescribe a traction: the ghost of the ghost cell (the
-        // diagonal neighbour) is not defined by either condition alone; its face carries no
-        // fluctuation (measured: with it, CTU with free corners is unstable from Courant 0.99)
-        // (edge k's condition at the ghost cell's own position along it: read at s_l, the
-        // position along e_k, the top-left corner of the plate took the impact segment's
-        // condition, since x = h/2 lies in y ∈ [0, 1])
-        let traction_corner = |l_side: usize| {
-            self.options.edges == EdgeTreatment::Restricted
-                && matches!(
-                    self.ghost_condition(k, side, s_k),
-                    GhostCondition::Traction(_)
-                )
-                && matches!(
-                    self.ghost_condition(l, l_side, s_l),
-                    GhostCondition::Traction(_)
-                )
-        };
-        let plus_low = if left.is_none() && traction_corner(0) {
-            Conserved::zeros()
-        } else {
-            self.face_fluctuations(l, left, Some(me_low), s_l).1
-        };
-        let minus_high = if right.is_none() && traction_corner(1) {
-            Conserved::zeros()
-        } else {
-            self.face_fluctuations(l, Some(me_high), right, s_l).0
-        };
-        (plus_low, minus_high)
     }
 }

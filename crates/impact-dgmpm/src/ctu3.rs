@@ -167,7 +167,7 @@ impl<const D: usize> DgmpmSolver<D> {
                 let on_edge = idx[k] == 0 || idx[k] == this.grid.cells[k];
                 if on_edge && restricted {
                     let side = usize::from(idx[k] != 0);
-                    let cond = this.ghost_condition(k, side, this.edge_coordinate(k, &idx));
+                    let cond = this.edge_condition(k, side, &idx);
                     c = constrain_correction(&c, &e_k, cond);
                 }
                 *flux = flux.add_scaled(&c, 1.0);

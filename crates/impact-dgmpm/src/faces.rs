@@ -8,6 +8,9 @@ use impact_core::points::MaterialPoints;
 use impact_core::problem::Boundary;
 use impact_core::{Grid, Patch, Tensor, Vector};
 
+mod edge_table;
+pub(crate) use edge_table::EdgeConditions;
+
 /// Where face states are read from (see [`DgmpmSolver::interface_fluxes`]).
 #[derive(Clone, Copy)]
 pub(crate) struct Fields<'a, const D: usize> {
@@ -296,12 +299,15 @@ impl<const D: usize> DgmpmSolver<D> {
     /// Set the loads' magnitudes to their step averages over `window = (t0, t1)`,
     /// `p ḡ` with `ḡ = (I(t1) - I(t0))/(t1 - t0)` (`impact_core::load`: the step delivers
     /// the load's impulse to round-off; 1 for a step load).
+    /// Then the table of the edges' conditions is filled from them
+    /// ([`Self::fill_edge_conditions`]).
     pub fn set_load_window(&mut self, window: (f64, f64)) {
         for (now, pair) in self.load_now.iter_mut().zip(&self.boundaries) {
             for (value, bc) in now.iter_mut().zip(pair) {
                 *value = bc.load().map_or(0.0, |load| load.mean(window));
             }
         }
+        self.fill_edge_conditions();
     }
 
     /// Both states of a face normal to `e_l`; a missing side (outside the grid) is the ghost
@@ -314,16 +320,36 @@ impl<const D: usize> DgmpmSolver<D> {
         right: Option<FullState<D>>,
         s: [f64; 2],
     ) -> (FullState<D>, FullState<D>) {
+        self.face_pair_with(l, left, right, |side| self.ghost_condition(l, side, s))
+    }
+
+    /// [`Self::face_pair`] with the condition of the edge at the tangential position of the
+    /// face or cell `idx`, from the table ([`Self::edge_condition`]; the same bits).
+    #[inline]
+    pub(crate) fn face_pair_at(
+        &self,
+        l: usize,
+        left: Option<FullState<D>>,
+        right: Option<FullState<D>>,
+        idx: &[usize; D],
+    ) -> (FullState<D>, FullState<D>) {
+        self.face_pair_with(l, left, right, |side| self.edge_condition(l, side, idx))
+    }
+
+    /// Both states of a face normal to `e_l`, a missing side the ghost of the other
+    /// (`ghost_full`) through `condition(side)`, the condition of the edge at that side.
+    #[inline(always)]
+    fn face_pair_with(
+        &self,
+        l: usize,
+        left: Option<FullState<D>>,
+        right: Option<FullState<D>>,
+        condition: impl FnOnce(usize) -> GhostCondition<D>,
+    ) -> (FullState<D>, FullState<D>) {
         match (left, right) {
             (Some(a), Some(b)) => (a, b),
-            (None, Some(b)) => (
-                ghost_full(&b, &(-unit::<D>(l)), self.ghost_condition(l, 0, s)),
-                b,
-            ),
-            (Some(a), None) => (
-                a,
-                ghost_full(&a, &unit::<D>(l), self.ghost_condition(l, 1, s)),
-            ),
+            (None, Some(b)) => (ghost_full(&b, &(-unit::<D>(l)), condition(0)), b),
+            (Some(a), None) => (a, ghost_full(&a, &unit::<D>(l), condition(1))),
             (None, None) => unreachable!("internal: a face has at least one cell"),
         }
     }

@@ -63,7 +63,7 @@ impl<const D: usize> DgmpmSolver<D> {
                 (flux, star)
             }
         };
-        (flux, self.boundary_power(l, (lc, rc), s, &star))
+        (flux, self.boundary_power(l, (lc, rc), &idx, &star))
     }
 
     /// [`Self::face_flux_at`] with the linear-elastic solver: the star state of the face's
@@ -76,18 +76,19 @@ impl<const D: usize> DgmpmSolver<D> {
         fields: Fields<'_, D>,
     ) -> (Conserved<D>, f64) {
         let e = unit::<D>(l);
-        let (lc, rc, s) = self.face_cells(l, idx);
+        let (lc, rc, _) = self.face_cells(l, idx);
         let left = lc.map(|c| fields.side(c, l, true));
         let right = rc.map(|c| fields.side(c, l, false));
-        let (a, b) = self.face_pair(l, left, right, s);
+        let (a, b) = self.face_pair_at(l, left, right, &idx);
         let star = linear_elastic_star(&a.on_face(&e), &b.on_face(&e), &e, self.elastic.z);
         let flux = normal_flux(&star, &e, &self.elastic);
-        (flux, self.boundary_power(l, (lc, rc), s, &star))
+        (flux, self.boundary_power(l, (lc, rc), &idx, &star))
     }
 
     /// Power a boundary face's condition delivers, `|Γ_f| (σ* n_out)·v*` (0 inside): the
     /// traction on the body is `σ* n_out`, `n_out = -e_l` at the low boundary. A
-    /// traction-free face (at tangential coordinate `s`) delivers none: its star traction
+    /// traction-free face (multi-index `idx`; its edge's condition from the table,
+    /// [`Self::edge_condition`]) delivers none: its star traction
     /// is zero up to round-off, which would otherwise add a round-off work (1e-20 J) that a
     /// relative energy error divides by.
     #[inline(always)]
@@ -95,7 +96,7 @@ impl<const D: usize> DgmpmSolver<D> {
         &self,
         l: usize,
         cells: (Option<usize>, Option<usize>),
-        s: [f64; 2],
+        idx: &[usize; D],
         star: &riemann::FaceState<D>,
     ) -> f64 {
         let area = self.grid.cell_volume() / self.grid.spacing[l];
@@ -108,7 +109,7 @@ impl<const D: usize> DgmpmSolver<D> {
         if !self.owns_edge_face(&self.grid.cell_multi_index(cell)) {
             return 0.0;
         }
-        if self.ghost_condition(l, side, s) == GhostCondition::free() {
+        if self.edge_condition(l, side, idx) == GhostCondition::free() {
             return 0.0;
         }
         let sign = if side == 0 { -1.0 } else { 1.0 };
@@ -339,8 +340,7 @@ impl<const D: usize> DgmpmSolver<D> {
         if !self.owns_edge_face(&idx) {
             return Vector::<D>::zeros();
         }
-        let s = self.edge_coordinate(l, &idx);
-        if self.ghost_condition(l, side, s) == GhostCondition::free() {
+        if self.edge_condition(l, side, &idx) == GhostCondition::free() {
             return Vector::<D>::zeros();
         }
         let sign = if side == 0 { -1.0 } else { 1.0 };

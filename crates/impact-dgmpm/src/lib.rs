@@ -251,6 +251,9 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) boundaries: [[Boundary; 2]; D],
     /// The loads' magnitudes averaged over the current step (`set_load_window`).
     pub(crate) load_now: [[f64; 2]; D],
+    /// The edges' ghost conditions at those averages, one per edge cell (filled with them,
+    /// `faces/edge_table.rs`).
+    pub(crate) edge_conditions: faces::EdgeConditions<D>,
     pub(crate) points_per_cell: usize,
     pub(crate) parallel: bool,
     /// The nodal paths' per-cell weights, once per distinct cell layout: the shape values

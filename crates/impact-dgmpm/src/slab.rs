@@ -94,6 +94,8 @@ impl<const D: usize> SlabBuild<D> for Dgmpm<D> {
             owned: std::array::from_fn(|k| rank_box.owned_local(k)),
             owned_cell_runs: rank_box.owned_runs(),
         };
+        // (the edges' conditions at the box's global coordinates)
+        local.solver.fill_edge_conditions();
         // the whole body's wave speed (a box without the loaded edge has a lower one)
         local.solver.wave_speed = problem.max_wave_speed();
         local.state.initial_energy = local.energy();

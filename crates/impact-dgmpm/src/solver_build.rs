@@ -42,6 +42,7 @@ impl<const D: usize> DgmpmSolver<D> {
             material: problem.material,
             boundaries: problem.boundaries,
             load_now: [[0.0; 2]; D],
+            edge_conditions: faces::EdgeConditions::new(&grid),
             points_per_cell: config.points_per_cell,
             layouts: layouts::CellLayouts::default(),
             shape: Vec::new(),
@@ -96,6 +97,8 @@ impl<const D: usize> DgmpmSolver<D> {
             grid,
         };
         solver.form_weights(points)?;
+        // (the loads at zero until the first step's `set_load_window` fills it again)
+        solver.fill_edge_conditions();
         Ok(solver)
     }
 

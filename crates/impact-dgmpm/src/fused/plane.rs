@@ -299,7 +299,9 @@ impl DgmpmSolver<2> {
 
     /// Final fluxes of face row `j` into `out`: its Godunov fluxes plus, under CTU, the
     /// corrections from the x-fluctuations of the cell rows below and above it (formed
-    /// once per row by [`Self::x_godunov_row`], [`XRow`]; `None` behind an edge: ghost cells).
+    /// once per row by [`Self::x_godunov_row`], [`XRow`]; `None` behind an edge: ghost cells,
+    /// whose row of fluctuations is formed once for the face row,
+    /// [`Self::ghost_row_fluctuations`], the values `face_correction` forms per face).
     fn y_final_row<const NODAL: bool>(
         &self,
         j: usize,
@@ -323,9 +325,25 @@ impl DgmpmSolver<2> {
                     *out = godunov[i].add_scaled(&correction, 1.0);
                 }
             }
-            _ => {
+            (below, above) => {
+                // an edge row: the ghost row's fluctuations formed once for the row, in
+                // `out` until each face's final flux replaces its entry
+                let ghost = match (below, above) {
+                    (None, Some(_)) => Some(0),
+                    (Some(_), None) => Some(1),
+                    _ => None,
+                };
+                let ghost = ghost.filter(|_| self.wave_flux[0].is_empty());
+                if let Some(side) = ghost {
+                    let row = [0, j.min(self.grid.cells[1] - 1)];
+                    self.ghost_row_fluctuations(1, side, 0, row, fields, out);
+                }
                 for (i, out) in out.iter_mut().enumerate() {
-                    let sides = [below.map(|r| w(r, i)), above.map(|r| w(r, i))];
+                    let formed = ghost.map(|_| *out);
+                    let sides = [
+                        below.map(|r| w(r, i)).or(formed),
+                        above.map(|r| w(r, i)).or(formed),
+                    ];
                     let correction = self.face_correction(1, [i, j], sides, fields, scale);
                     *out = godunov[i].add_scaled(&correction, 1.0);
                 }

@@ -149,7 +149,7 @@ impl DgmpmSolver<3> {
         let mut c = axis_transverse(axis, below, above, &k.constants);
         if edge && k.restricted {
             let side = usize::from(idx[axis] != 0);
-            let cond = self.ghost_condition(axis, side, self.edge_coordinate(axis, &idx));
+            let cond = self.edge_condition(axis, side, &idx);
             c = constrain_correction(&c, &unit::<3>(axis), cond);
         }
         godunov.add_scaled(&c, 1.0)
