@@ -81,7 +81,9 @@ impl<const D: usize> MpmSolver<D> {
         }
         for change in &self.fold_changes {
             let (v, axis) = (change.node, change.axis);
-            if place.owns_node(v) && empty.holds(v, nodes.mass[v]) {
+            // (an unchanged node, e.g. beyond hats' reach, adds nothing)
+            let changed = change.mass != 0.0 || change.force != 0.0;
+            if changed && empty.holds(v, nodes.mass[v]) {
                 let share = change.wall_impulse(nodes.increment[v][axis], dt);
                 impulse[axis] += share;
                 work += share * nodes.velocity[v][axis];
@@ -190,11 +192,16 @@ pub(crate) struct FoldChange {
 }
 
 impl FoldChange {
-    /// Every component the fold changes, once: the padding nodes and the nodes they mirror.
-    pub(crate) fn of(mirrors: &[crate::edges::MirrorConstraint]) -> Vec<Self> {
+    /// Every component the fold changes, once: the padding nodes and the nodes they mirror
+    /// that this solver owns (`crate::Place`: a slab counts its own nodes).
+    pub(crate) fn of<const D: usize>(
+        mirrors: &[crate::edges::MirrorConstraint],
+        place: &crate::build::Place<D>,
+    ) -> Vec<Self> {
         let mut touched: Vec<(usize, usize)> = mirrors
             .iter()
             .flat_map(|c| [(c.node, c.axis), (c.mirror, c.axis)])
+            .filter(|&(node, _)| place.owns_node(node))
             .collect();
         touched.sort_unstable();
         touched.dedup();

@@ -243,6 +243,8 @@ pub struct MpmSolver<const D: usize> {
     /// Largest wave speed the loads can produce (time step).
     wave_speed: f64,
     loads: Vec<SurfaceLoad<D>>,
+    /// Each load's nodes and shares this step (`loads` module).
+    load_splits: Vec<loads::LoadSplit>,
     /// Prescribed nodal velocity components `(node, axis, value)` (velocity and symmetry
     /// edges), found once.
     node_constraints: Vec<Constraint>,
@@ -325,7 +327,7 @@ impl<const D: usize> MpmSolver<D> {
             state.impulse += load.force * (load.history.mean(t, t + dt) * dt);
         }
         let (work, impulse) = self.grid_update(dt, window);
-        state.work += work + dt * self.load_power(&state.points, window);
+        state.work += work + dt * self.load_power(window);
         state.impulse += impulse;
         let fused = self.fused_gather(&state.points);
         if fused {

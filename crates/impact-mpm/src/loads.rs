@@ -10,28 +10,29 @@ impl<const D: usize> MpmSolver<D> {
     /// step average over `window` (`impact_core::load`): a load is spread over the nodes of
     /// its cell that carry mass ([`Self::load_split`]), so the whole force reaches the body.
     pub(crate) fn external_forces(&mut self, points: &MaterialPoints<D>, window: (f64, f64)) {
-        for load in &self.loads {
-            let Some((node, share, count)) = self.load_split(points, load) else {
-                continue;
-            };
+        for k in 0..self.loads.len() {
+            let load = &self.loads[k];
+            let split = self.load_split(points, load).unwrap_or_default();
             let force = load.force * load.history.mean(window.0, window.1);
-            for (&i, &share) in node[..count].iter().zip(&share[..count]) {
+            for (&i, &share) in split.node[..split.count].iter().zip(&split.share) {
                 self.nodes.force[i] += force * share;
             }
+            // kept for the load's power after the grid update
+            self.load_splits[k] = split;
         }
     }
 
     /// The nodes a surface load acts on and their shares: the nodes of the cell holding
     /// the surface point (its position in the step's frame plus the load's offset) that
     /// carry mass, with the cell's hat functions renormalised over them, `N_a / Σ N_b`
-    /// (`count` entries; `None` where no node of the cell carries mass or the cell reaches
+    /// ([`LoadSplit`]; `None` where no node of the cell carries mass or the cell reaches
     /// past this solver's nodes, `crate::Place`).
     #[inline]
     fn load_split(
         &self,
         points: &MaterialPoints<D>,
         load: &crate::edges::SurfaceLoad<D>,
-    ) -> Option<([usize; MAX_NODES], [f64; MAX_NODES], usize)> {
+    ) -> Option<LoadSplit> {
         let npc = Grid::<D>::NODES_PER_CELL;
         let mut s = [0.0; MAX_NODES];
         let mut g = [Vector::<D>::zeros(); MAX_NODES];
@@ -61,7 +62,7 @@ impl<const D: usize> MpmSolver<D> {
         for share in &mut share[..count] {
             *share /= total;
         }
-        Some((node, share, count))
+        Some(LoadSplit { node, share, count })
     }
 
     /// Power of the surface loads over the step `window` on the nodes they act on (own
@@ -80,21 +81,19 @@ impl<const D: usize> MpmSolver<D> {
     /// B-splines at one point per cell overcount the bar's work by 39 % (the point's
     /// velocity undercounted it by 24 %). Forming `ṽ_a` needs the points of the loaded
     /// nodes' supports after the gather; not done.
-    pub(crate) fn load_power(&self, points: &MaterialPoints<D>, window: (f64, f64)) -> f64 {
+    pub(crate) fn load_power(&self, window: (f64, f64)) -> f64 {
         let nodes = &self.nodes;
         self.loads
             .iter()
-            .filter(|l| self.place.owns(l.point))
-            .filter_map(|load| {
-                let (node, share, count) = self.load_split(points, load)?;
+            .zip(&self.load_splits)
+            .filter(|(load, _)| self.place.owns(load.point))
+            .map(|(load, split)| {
                 let force = load.force * load.history.mean(window.0, window.1);
-                let velocity = node[..count].iter().zip(&share[..count]).fold(
-                    Vector::<D>::zeros(),
-                    |sum, (&i, &share)| {
-                        sum + (nodes.velocity[i] - nodes.increment[i] * 0.5) * share
-                    },
-                );
-                Some(force.dot(&velocity))
+                let nodes_of = split.node[..split.count].iter().zip(&split.share);
+                let velocity = nodes_of.fold(Vector::<D>::zeros(), |sum, (&i, &share)| {
+                    sum + (nodes.velocity[i] - nodes.increment[i] * 0.5) * share
+                });
+                force.dot(&velocity)
             })
             .sum()
     }
@@ -118,4 +117,14 @@ impl<const D: usize> MpmSolver<D> {
         }
         kick
     }
+}
+
+/// The nodes a surface load acts on this step and their shares (`count` entries; none
+/// where the load reaches no node with mass): formed by `external_forces`, read again for
+/// the load's power.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct LoadSplit {
+    node: [usize; MAX_NODES],
+    share: [f64; MAX_NODES],
+    count: usize,
 }
