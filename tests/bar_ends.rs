@@ -231,7 +231,7 @@ fn mpm_counts_the_work_and_impulse_of_its_ends_with_every_shape() {
                     c.points_per_cell = points_per_cell;
                     c.mpm_mut().unwrap().shape = shape;
                 });
-                let mut m = impact::build(&problem, cfg.clone()).unwrap();
+                let mut m = impact::build(&problem, cfg).unwrap();
                 let dt = m.stable_dt();
                 let steps = (first / dt).floor() as usize;
                 for k in 0..steps {
@@ -262,7 +262,7 @@ fn mpm_counts_the_work_and_impulse_of_its_ends_with_every_shape() {
                     .map(|with_reference| {
                         let (rec, _) = impact::run::run_method(
                             &problem,
-                            cfg.clone(),
+                            cfg,
                             with_reference.then_some(&reference),
                             &mut impact::run::Silent,
                         )
