@@ -5,6 +5,8 @@
 # built and cross-checked too; likewise OpenMPI for the `mpi` feature (scripts/mpi_check.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# each phase prints its start (seconds since the run began), so CI logs show where time goes
+phase() { echo "== test.sh: $1 (at ${SECONDS} s)"; }
 
 as_root() {
   if [ "$(id -u)" = 0 ]; then "$@"; elif command -v sudo >/dev/null 2>&1; then sudo -n "$@"; else return 1; fi
@@ -19,10 +21,12 @@ apt_install() {
 if ! cargo fmt --version >/dev/null 2>&1 || ! cargo clippy --version >/dev/null 2>&1; then
   rustup component add rustfmt clippy
 fi
+phase "fmt, clippy, docs"
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets -- -D warnings
 # the API docs build without broken or private links
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
+phase "cargo test --release"
 cargo test --workspace --release
 
 # HDF5 (optional feature): needs Debian's libhdf5-dev, installed here (apt) if missing;
@@ -46,10 +50,12 @@ if ! command -v mpirun >/dev/null 2>&1 || ! command -v mpicc >/dev/null 2>&1 \
   }
 fi
 features=(--features hdf5,mpi)
+phase "hdf5,mpi: clippy and release build"
 cargo clippy --all-targets "${features[@]}" -- -D warnings
 cargo build --release "${features[@]}"
 echo "hdf5: feature linted and built (its files are cross-checked by scripts/crosscheck_*.py below)"
 # DGMPM on bar and plate under mpirun -np 1..4 against the serial run; failing ranks
+phase "mpi_check.sh"
 bash scripts/mpi_check.sh target/release/impact
 
 shopt -s nullglob
@@ -74,6 +80,7 @@ if [ ${#python_tests[@]} -gt 0 ]; then
       exit 1
     }
   fi
+  phase "python cross-checks"
   IMPACT_BIN="$PWD/target/release/impact" IMPACT_HAS_HDF5=1 \
     "$venv/bin/python" -m pytest -q -rs -p no:cacheprovider "${python_tests[@]}"
 
@@ -86,11 +93,14 @@ if [ ${#python_tests[@]} -gt 0 ]; then
       exit 1
     }
   fi
+  phase "impact-py: maturin develop"
   VIRTUAL_ENV="$PWD/$venv" "$venv/bin/python" -m maturin develop --release --quiet \
     -m crates/impact-py/Cargo.toml || {
     echo "impact-py: maturin develop failed; the package's tests cannot run" >&2
     exit 1
   }
+  phase "impact-py tests"
   IMPACT_BIN="$PWD/target/release/impact" \
     "$venv/bin/python" -m pytest -q -rs -p no:cacheprovider crates/impact-py/tests
 fi
+phase "done"

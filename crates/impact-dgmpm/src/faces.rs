@@ -300,7 +300,7 @@ impl<const D: usize> DgmpmSolver<D> {
     /// `p ḡ` with `ḡ = (I(t1) - I(t0))/(t1 - t0)` (`impact_core::load`: the step delivers
     /// the load's impulse to round-off; 1 for a step load).
     /// Then the table of the edges' conditions is filled from them
-    /// ([`Self::fill_edge_conditions`]).
+    /// (`fill_edge_conditions`).
     pub fn set_load_window(&mut self, window: (f64, f64)) {
         for (now, pair) in self.load_now.iter_mut().zip(&self.boundaries) {
             for (value, bc) in now.iter_mut().zip(pair) {

@@ -15,7 +15,7 @@ impl<const D: usize> MpmSolver<D> {
     /// constraints: on every node in the pass, again on each constrained node).
     /// Returns the work done in the step by the velocity constraints, `Δt Σ r · v_d`, and
     /// the impulse of the reaction forces, `Δt Σ r` (over the own nodes), with the wall's
-    /// share of the nodes the padding fold changed ([`FoldChange`]).
+    /// share of the nodes the padding fold changed (`FoldChange`).
     pub fn grid_update(&mut self, dt: f64, window: (f64, f64)) -> (f64, Vector<D>) {
         self.fold_padding(window, true);
         let nodes = &mut self.nodes;
