@@ -1,7 +1,6 @@
 //! Every bad scene value and flag gets an error naming the field, the value and what is
 //! allowed, before anything is allocated or written; never a panic. Valid edge cases run.
-mod common;
-use common::impact;
+use crate::common::impact;
 use impact_core::Scene;
 use std::process::Command;
 

@@ -2,8 +2,7 @@
 //! d'Alembert solution with images (`impact_core::exact::BarExact`, issue 23): DGMPM at
 //! Courant 1 and one point per cell is exact transport in 1D, so it matches the exact
 //! cell averages to round-off; every method's energy is measured by one rule.
-mod common;
-use common::*;
+use crate::common::*;
 use impact_core::method::MethodKind;
 use impact_core::reference::Reference;
 use impact_core::{Problem, Scene};
@@ -204,12 +203,22 @@ fn scenes_without_an_exact_solution_say_why() {
 /// one (`ρ c V² t`, `p² t / (ρ c)`), and the energy errors measured against the counted and
 /// the exact work agree to 2 % (a pressure: 5 % and 5 %, the load's power taken with the
 /// lumped mean nodal velocity; cubic B-splines at one point per cell overcount it by 39 %,
-/// printed and not asserted, 24 % under before). Quadratic B-splines at 4 points per cell
+/// printed and not asserted, 24 % under before). Both frames: in the updated Lagrangian
+/// frame a pressure's power is the loaded point's (B-splines at 4 points per cell and cubic
+/// ones at one miss the exact work by 7 to 20 %: printed, not asserted; `load_power`'s
+/// doc). Quadratic B-splines at 4 points per cell
 /// counted three quarters of the velocity end's work before (energy error +33 %), cubic
 /// ones 77 % of the pressure's (+30 %).
 #[test]
 fn mpm_counts_the_work_and_impulse_of_its_ends_with_every_shape() {
-    use impact_core::method::MpmShape;
+    use impact_core::method::{MpmFrame, MpmShape};
+    // both frames, every shape, 1, 2 and 4 points per cell
+    let frames_shapes_and_points = || {
+        [MpmFrame::TotalLagrangian, MpmFrame::UpdatedLagrangian]
+            .into_iter()
+            .flat_map(|frame| MpmShape::ALL.into_iter().map(move |shape| (frame, shape)))
+            .flat_map(|(frame, shape)| [1, 2, 4].map(|ppc| (frame, shape, ppc)))
+    };
     const C0: f64 = 5063.696835418333; // sqrt(2e11/7800)
     let impedance = 7800.0 * C0;
     let ends = [
@@ -225,11 +234,13 @@ fn mpm_counts_the_work_and_impulse_of_its_ends_with_every_shape() {
             "",
         );
         let first = problem.output_times[0];
-        for shape in MpmShape::ALL {
-            for points_per_cell in [1, 2, 4] {
+        for (frame, shape, points_per_cell) in frames_shapes_and_points() {
+            {
                 let cfg = config(&scene, MethodKind::Mpm, |c| {
                     c.points_per_cell = points_per_cell;
-                    c.mpm_mut().unwrap().shape = shape;
+                    let options = c.mpm_mut().unwrap();
+                    options.shape = shape;
+                    options.frame = frame;
                 });
                 let mut m = impact::build(&problem, cfg).unwrap();
                 let dt = m.stable_dt();
@@ -242,20 +253,31 @@ fn mpm_counts_the_work_and_impulse_of_its_ends_with_every_shape() {
                 let exact_work = power * t;
                 let work = m.external_work();
                 println!(
-                "{kind} {shape} {points_per_cell} ppc: momentum {p:.6e} impulse {j:.6e}, work {work:.6e} (exact {exact_work:.6e})"
+                "{kind} {frame:?} {shape} {points_per_cell} ppc: momentum {p:.6e} impulse {j:.6e}, work {work:.6e} (exact {exact_work:.6e})"
             );
                 if (p - j).abs() > 1e-10 * j.abs() {
                     failures.push(format!(
-                        "{shape} {points_per_cell} ppc: momentum {p} impulse {j}"
+                        "{kind} {frame:?} {shape} {points_per_cell} ppc: momentum {p} impulse {j}"
                     ));
                 }
-                // known gap: a pressure with cubic B-splines at one point per cell (module
-                // doc of `impact_mpm::loads`): printed, not asserted
-                let known_gap =
-                    kind == "pressure" && shape == MpmShape::Bspline3 && points_per_cell == 1;
+                // known gaps (`impact_mpm` `loads::load_power`'s doc): a pressure with cubic
+                // B-splines at one point per cell (total Lagrangian: the nodes' lumped mean
+                // velocity), and with B-splines at 4 points per cell and cubic ones at one
+                // (updated Lagrangian: the loaded point's velocity); printed, not asserted
+                let known_gap = kind == "pressure"
+                    && match frame {
+                        MpmFrame::TotalLagrangian => {
+                            shape == MpmShape::Bspline3 && points_per_cell == 1
+                        }
+                        MpmFrame::UpdatedLagrangian => {
+                            matches!(shape, MpmShape::Bspline2 | MpmShape::Bspline3)
+                                && (points_per_cell == 4
+                                    || shape == MpmShape::Bspline3 && points_per_cell == 1)
+                        }
+                    };
                 if !known_gap && (work / exact_work - 1.0).abs() > work_tolerance {
                     failures.push(format!(
-                        "{shape} {points_per_cell} ppc: work {work} against {exact_work}"
+                        "{kind} {frame:?} {shape} {points_per_cell} ppc: work {work} against {exact_work}"
                     ));
                 }
                 let errors: Vec<f64> = [true, false]
@@ -273,7 +295,7 @@ fn mpm_counts_the_work_and_impulse_of_its_ends_with_every_shape() {
                 println!("  energy error against the exact work, the own: {errors:?}");
                 if !known_gap && (errors[0] - errors[1]).abs() > energy_tolerance {
                     failures.push(format!(
-                        "{shape} {points_per_cell} ppc: energy errors {errors:?}"
+                        "{kind} {frame:?} {shape} {points_per_cell} ppc: energy errors {errors:?}"
                     ));
                 }
             }

@@ -1,6 +1,5 @@
 //! Paper §5.1 (elastic bar) claims and exactness properties, across the three methods.
-mod common;
-use common::*;
+use crate::common::*;
 use impact_core::controller::{self, Guard};
 use impact_core::method::{Integrator, MethodKind, PointUpdate, Samples};
 use impact_core::Method;

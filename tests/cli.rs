@@ -1,6 +1,5 @@
 //! The `impact` binary as a user runs it: outputs, overrides, the CI gate, blow-ups.
-mod common;
-use common::{impact, json, text, tmp, vtu_text};
+use crate::common::{impact, json, text, tmp, vtu_text};
 use std::path::PathBuf;
 
 #[test]
@@ -167,13 +166,13 @@ fn check_prints_the_figures_of_a_smeared_dgmpm() {
         "0.3",
     ]);
     let out = text(&o);
-    let (scene, problem, reference) = common::bar(150, None);
-    let (dg, _) = common::run(
+    let (scene, problem, reference) = crate::common::bar(150, None);
+    let (dg, _) = crate::common::run(
         &problem,
-        common::dgmpm(&scene, 0.3, 4, Integrator::Rk2),
+        crate::common::dgmpm(&scene, 0.3, 4, Integrator::Rk2),
         &reference,
     );
-    let (mpm, _) = common::run(&problem, scene.method_config(MethodKind::Mpm), &reference);
+    let (mpm, _) = crate::common::run(&problem, scene.method_config(MethodKind::Mpm), &reference);
     let rows: Vec<Vec<String>> = out
         .lines()
         .filter(|l| l.trim_start().starts_with("0.") || l.trim_start().starts_with("1."))

@@ -1,7 +1,6 @@
 //! Convergence under refinement (150, 300, 600, 1200 cells) at each method's default
 //! Courant number, at a fixed time (0.395 ms, before the reflection).
-mod common;
-use common::*;
+use crate::common::*;
 use impact_core::method::{Integrator, MethodConfig, MethodKind};
 use impact_core::metrics::observed_orders;
 

@@ -2,8 +2,7 @@
 //! refused before any work (exit 2), or run under `--allow-unstable` and stopped by the
 //! max-norm growth test whatever its boundary conditions (exit 3, the flag recorded);
 //! stable long runs whose energy grows physically are not stopped.
-mod common;
-use common::{impact, json, text, tmp};
+use crate::common::{impact, json, text, tmp};
 
 fn stderr(o: &std::process::Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

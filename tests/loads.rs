@@ -1,8 +1,7 @@
 //! Time-dependent loads (ramp, sine, pulse) against the exact bar solution with the
 //! load's history, and segment coverage (`cover = "centre" | "fraction"`) by the load's
 //! resultant.
-mod common;
-use common::*;
+use crate::common::*;
 use impact_core::method::{LoadShape, MethodKind, SegmentCover};
 use impact_core::metrics::observed_orders;
 use impact_core::reference::Reference;

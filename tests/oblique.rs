@@ -3,8 +3,7 @@
 //! tests check it against the equations of motion by finite differences): the boundaries
 //! never reach the clean interior the errors are measured in, and DGMPM CTU converges at
 //! first order on it (`impact bench convergence --scene oblique-wave`).
-mod common;
-use common::{measured, order, Error};
+use crate::common::{measured, order, Error};
 use impact_core::controller;
 use impact_core::method::{MethodConfig, Samples};
 use impact_core::{Method, Problem, Scene};

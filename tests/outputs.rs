@@ -1,7 +1,6 @@
 //! Researcher-grade outputs (issue 13): `impact figures`, compact VTU, physical output
 //! times under `--cells`, messages on stderr, and the CI gate's JSON and JUnit reports.
-mod common;
-use common::{impact, json, text, tmp};
+use crate::common::{impact, json, text, tmp};
 use std::path::Path;
 use std::process::Command;
 

@@ -1,12 +1,11 @@
 //! Elastoplastic impact (issue 12): J2 with the return map at the points (DGMPM with the
 //! elastic Riemann solver, MPM) and at the Gauss points (FEM), against the exact precursor
 //! and plastic wave of `ep-bar` (rod) and `ep-plate-wave` (uniaxial strain).
+use crate::common::{impact, text, tmp, vtu_text};
 use impact::run::{run_method, Silent};
 use impact_core::method::MethodKind;
 use impact_core::reference::Reference;
 use impact_core::{Method, Problem, Scene};
-mod common;
-use common::{impact, text, tmp, vtu_text};
 
 fn advance<const D: usize>(
     problem: &Problem<D>,

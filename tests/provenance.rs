@@ -2,8 +2,7 @@
 //! what produced it (`provenance.json`, the resolved `scene.toml`), `impact run --from`
 //! repeats a run exactly, and the studies (`bench work-precision`, `bench convergence`,
 //! `stability`) run on scene files a user wrote, with the flags they do not vary.
-mod common;
-use common::{impact, json, text, tmp};
+use crate::common::{impact, json, text, tmp};
 use impact_core::Scene;
 
 /// A bar of another material and length than the paper's, loaded in compression at its

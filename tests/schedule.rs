@@ -1,8 +1,7 @@
 //! The controller's schedule takes no sliver steps (`impact_core::controller`, issue 23):
 //! an output time a hair past a whole number of stable steps gives the result of that
 //! number of steps changed by the order of the hair, not by a sliver step's projection.
-mod common;
-use common::*;
+use crate::common::*;
 use impact_core::controller::{self, Guard};
 use impact_core::method::{Integrator, Method, Samples};
 

@@ -2,8 +2,7 @@
 //! the standing waves of `smooth-bar` and `smooth-plate` against their exact solution. The
 //! expected orders and why some fall below the scheme's formal order are in the module doc
 //! of `impact::convergence`.
-mod common;
-use common::{measured, order, Error};
+use crate::common::{measured, order, Error};
 
 #[test]
 fn smooth_bar_orders() {

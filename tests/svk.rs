@@ -1,12 +1,11 @@
 //! Paper §5.3 (Saint-Venant–Kirchhoff bar) and the SVK plate: exact fan and shock, solver
 //! choice, the hyperbolicity guard, and momentum in 2D.
+use crate::common::{impact, text, tmp, vtu_text};
 use impact::run::{run_method, RunRecord, Silent};
 use impact_core::method::{MethodKind, RiemannSolver};
 use impact_core::reference::Reference;
 use impact_core::{Blowup, Problem, Scene};
 use std::process::Command;
-mod common;
-use common::{impact, text, tmp, vtu_text};
 
 fn svk_bar(pressure: f64) -> (Scene, Problem<1>, Reference) {
     let mut scene = Scene::builtin("svk-bar").unwrap();

@@ -12,8 +12,7 @@ use impact_core::{Method, Problem};
 use impact_dgmpm::slab::SlabDgmpm;
 use impact_dgmpm::Dgmpm;
 
-mod decomposed;
-use decomposed::{check_on, scene};
+use crate::decomposed::{check_on, scene};
 use impact_core::slab_method::box_grids as boxes;
 
 /// The 2D rank grids of the brief: 2×2, 3×1, 1×3, 2×1.

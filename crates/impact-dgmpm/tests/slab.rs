@@ -15,22 +15,21 @@ use impact_dgmpm::slab::SlabDgmpm;
 use impact_dgmpm::Dgmpm;
 use std::sync::Arc;
 
-mod decomposed;
-use decomposed::{runs, scene};
+use crate::decomposed::{runs, scene};
 
 /// `body` on `ranks` thread ranks, its results in rank order.
 fn on_ranks<T: Send>(ranks: usize, body: impl Fn(Arc<dyn Comm>) -> T + Sync) -> Vec<T> {
     ThreadComm::on_ranks(ranks, body)
 }
 
-/// Compare slabs on 1 to 4 ranks with the serial run (`decomposed::check_on`).
+/// Compare slabs on 1 to 4 ranks with the serial run (`crate::decomposed::check_on`).
 fn check<const D: usize>(
     label: &str,
     scene: &Scene,
     edit: impl Fn(&mut MethodConfig),
     exact: bool,
 ) {
-    decomposed::check_on::<D>(label, scene, edit, exact, &slab_grids(4));
+    crate::decomposed::check_on::<D>(label, scene, edit, exact, &slab_grids(4));
 }
 
 #[test]

@@ -14,8 +14,7 @@ use impact_core::{Method, Problem};
 use impact_fem::slab::{describe, SlabFem};
 use impact_fem::Fem;
 
-mod decomposed;
-use decomposed::{check_on, scene, sine_pressure_plate, Path};
+use crate::decomposed::{check_on, scene, sine_pressure_plate, Path};
 
 /// The 2D rank grids of the brief: 2×2, 3×1, 1×3.
 const PLATE_GRIDS: [&[usize]; 3] = [&[2, 2], &[3, 1], &[1, 3]];

@@ -15,8 +15,7 @@ use impact_core::{Method, Problem, Scene};
 use impact_fem::slab::SlabFem;
 use impact_fem::Fem;
 
-mod decomposed;
-use decomposed::{check_on, scene, sine_pressure_plate, Path};
+use crate::decomposed::{check_on, scene, sine_pressure_plate, Path};
 
 /// [`check_on`] on slabs over 1 to 4 ranks.
 fn check<const D: usize>(label: &str, scene: &Scene, path: Path, n: usize) {

@@ -244,7 +244,7 @@ pub struct MpmSolver<const D: usize> {
     wave_speed: f64,
     loads: Vec<SurfaceLoad<D>>,
     /// Each load's nodes and shares this step (`loads` module).
-    load_splits: Vec<loads::LoadSplit>,
+    load_splits: Vec<loads::LoadSplit<D>>,
     /// Prescribed nodal velocity components `(node, axis, value)` (velocity and symmetry
     /// edges), found once.
     node_constraints: Vec<Constraint>,
@@ -327,7 +327,6 @@ impl<const D: usize> MpmSolver<D> {
             state.impulse += load.force * (load.history.mean(t, t + dt) * dt);
         }
         let (work, impulse) = self.grid_update(dt, window);
-        state.work += work + dt * self.load_power(window);
         state.impulse += impulse;
         let fused = self.fused_gather(&state.points);
         if fused {
@@ -335,6 +334,7 @@ impl<const D: usize> MpmSolver<D> {
         } else {
             self.grid_to_particles(&mut state.points, &mut state.affine, dt);
         }
+        state.work += work + dt * self.load_power(&state.points, window);
         state.impulse += self.impose_point_velocities(&mut state.points, window);
         if self.options.stress_update == StressUpdate::Musl {
             self.remap_momentum(&state.points, &state.affine, window);

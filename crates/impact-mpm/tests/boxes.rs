@@ -15,8 +15,7 @@ use impact_mpm::slab::{halo_layers, SlabMpm};
 use impact_mpm::Mpm;
 use std::sync::Arc;
 
-mod decomposed;
-use decomposed::{check, check_scene, options, scene};
+use crate::decomposed::{check, check_scene, options, scene};
 
 /// The 2D rank grids of the brief: 2×2, 3×1, 1×3.
 const PLATE_GRIDS: [&[usize]; 3] = [&[2, 2], &[3, 1], &[1, 3]];

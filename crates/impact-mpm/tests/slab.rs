@@ -15,22 +15,21 @@ use impact_mpm::slab::SlabMpm;
 use impact_mpm::Mpm;
 use std::sync::Arc;
 
-mod decomposed;
-use decomposed::{options, scene, slabs};
+use crate::decomposed::{options, scene, slabs};
 
 /// `body` on `ranks` thread ranks, its results in rank order.
 fn on_ranks<T: Send>(ranks: usize, body: impl Fn(Arc<dyn Comm>) -> T + Sync) -> Vec<T> {
     ThreadComm::on_ranks(ranks, body)
 }
 
-/// Compare slabs on 1 to 4 ranks with the serial run after `n` steps (`decomposed::check`).
+/// Compare slabs on 1 to 4 ranks with the serial run after `n` steps (`crate::decomposed::check`).
 fn check<const D: usize>(label: &str, problem: &Problem<D>, config: MethodConfig, n: usize) {
-    decomposed::check::<D>(label, problem, config, &slabs(), n);
+    crate::decomposed::check::<D>(label, problem, config, &slabs(), n);
 }
 
 /// `scene`'s MPM configuration edited by `edit`, on slabs on 1 to 4 ranks.
 fn check_scene<const D: usize>(label: &str, scene: &Scene, edit: impl Fn(&mut MethodConfig)) {
-    decomposed::check_scene::<D>(label, scene, edit, &slabs());
+    crate::decomposed::check_scene::<D>(label, scene, edit, &slabs());
 }
 
 #[test]
