@@ -63,11 +63,27 @@ impl<const D: usize> Method<D> for Mpm<D> {
         self.state.impulse
     }
     fn check_finite(&self) -> Result<(), BadState<D>> {
-        let ok = |i: usize| self.point_failure(i).is_none();
-        let first = self
-            .owned_point_runs()
-            .iter()
-            .find_map(|own| first_failing(own.len(), |j| ok(own.start + j)).map(|j| own.start + j));
+        let p = &self.state.points;
+        // Total Lagrangian and not Saint-Venant–Kirchhoff: a point fails only by a
+        // non-finite value, tested without a branch per component (DGMPM's test: `x·0` is
+        // ±0 for a finite `x` and NaN for ±∞ or NaN, so the sum is 0 exactly when all are);
+        // otherwise every check of `point_failure`. Its reason is formed for the first
+        // failing point only.
+        let only_values = self.solver.options.frame == MpmFrame::TotalLagrangian
+            && !matches!(self.solver.model, Model::Svk(_));
+        let finite = |i: usize| {
+            let zeros = (p.stress[i] * 0.0).sum() + (p.velocity[i] * 0.0).sum();
+            zeros + (p.position[i] * 0.0).sum() == 0.0
+        };
+        let first_in = |own: &std::ops::Range<usize>| {
+            let failing = if only_values {
+                first_failing(own.len(), |j| finite(own.start + j))
+            } else {
+                first_failing(own.len(), |j| self.point_failure(own.start + j).is_none())
+            };
+            failing.map(|j| own.start + j)
+        };
+        let first = self.owned_point_runs().iter().find_map(first_in);
         first
             .and_then(|i| self.point_failure(i))
             .map_or(Ok(()), Err)
