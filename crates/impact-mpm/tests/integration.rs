@@ -5,6 +5,7 @@
 mod decomposed;
 
 mod boxes;
+mod finite;
 mod fused_gather;
 mod migrate;
 mod reductions;
