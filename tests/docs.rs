@@ -434,3 +434,39 @@ fn docs_cli_names_every_flag_of_every_command() {
         "flags missing from docs/cli.md: {missing:?}"
     );
 }
+
+/// Every test file runs: with `autotests = false` (each crate's integration tests are one
+/// binary, `tests/integration.rs`) a file under a crate's `tests/` that is neither a `mod`
+/// of that binary nor a `[[test]]` target of the crate's Cargo.toml would build and run
+/// nowhere, silently.
+#[test]
+fn every_test_file_is_a_module_or_a_target() {
+    let crates = std::fs::read_dir(root().join("crates")).unwrap();
+    let dirs = std::iter::once(root()).chain(crates.map(|entry| entry.unwrap().path()));
+    let mut missing = Vec::new();
+    for dir in dirs {
+        let tests = dir.join("tests");
+        let Ok(files) = std::fs::read_dir(&tests) else {
+            continue;
+        };
+        let manifest = read(&dir.join("Cargo.toml"));
+        let harness = std::fs::read_to_string(tests.join("integration.rs")).unwrap_or_default();
+        for file in files {
+            let path = file.unwrap().path();
+            if path.extension().is_none_or(|e| e != "rs") {
+                continue;
+            }
+            let stem = path.file_stem().unwrap().to_str().unwrap().to_string();
+            let auto = !manifest.contains("autotests = false");
+            let target = manifest.contains(&format!("path = \"tests/{stem}.rs\""));
+            let module = harness.lines().any(|l| l.trim() == format!("mod {stem};"));
+            if !(auto || target || module) {
+                missing.push(path.display().to_string());
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "test files that run nowhere (add `mod <file>;` to tests/integration.rs): {missing:?}"
+    );
+}

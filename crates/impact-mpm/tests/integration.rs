@@ -1,7 +1,8 @@
 //! The integration tests in one binary: each file under this folder is a module here and
 //! reads as it would alone (`cargo test --test integration <file>::`); one binary compiles and
 //! links the solvers once, where a binary per file did it once per file (CI's build time).
-//! Files that need a process of their own are targets of their own (Cargo.toml `[[test]]`).
+//! A new file is a `mod` line here (autotests are off: a file listed nowhere would not run;
+//! the root's `docs::every_test_file_is_a_module_or_a_target` fails then).
 mod decomposed;
 
 mod boxes;
