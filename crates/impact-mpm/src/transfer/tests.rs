@@ -103,13 +103,9 @@ fn nodal_velocity_and_increment_are_the_grid_update_products() {
     }
 }
 
-/// The FLIP gather interpolates the nodal increments, `v_p += Σ_i N_ip Δv_i` with
-/// `Δv_i = f_i (Δt (1/m_i))` formed per node, where it formed `f_i (N_ip Δt (1/m_i))` per
-/// node-point pair before: the same sum in another rounding, to 1e-13 of the largest
-/// term's size. B-splines at 4 points per cell (the table of rows), after the grid update
-/// of a stepped plate, against that per-pair sum formed here from `f_i` and `m_i`.
-#[test]
-fn flip_gather_of_the_increments_is_the_per_pair_sum() {
+/// The plate at 40 × 30 cells, quadratic B-splines at 4 points per cell (the table of
+/// distinct rows of weights), after 5 steps.
+fn stepped_bspline_plate() -> Mpm<2> {
     let mut scene = Scene::builtin("plate").unwrap();
     scene.domain.cells = vec![40, 30];
     let problem = Problem::<2>::from_scene(&scene).unwrap();
@@ -121,6 +117,18 @@ fn flip_gather_of_the_increments_is_the_per_pair_sum() {
     for n in 0..5 {
         mpm.step(n as f64 * dt, dt);
     }
+    mpm
+}
+
+/// The FLIP gather interpolates the nodal increments, `v_p += Σ_i N_ip Δv_i` with
+/// `Δv_i = f_i (Δt (1/m_i))` formed per node, where it formed `f_i (N_ip Δt (1/m_i))` per
+/// node-point pair before: the same sum in another rounding, to 1e-13 of the largest
+/// term's size. B-splines at 4 points per cell (the table of rows), after the grid update
+/// of a stepped plate, against that per-pair sum formed here from `f_i` and `m_i`.
+#[test]
+fn flip_gather_of_the_increments_is_the_per_pair_sum() {
+    let mut mpm = stepped_bspline_plate();
+    let dt = mpm.stable_dt();
     let (solver, state) = (&mut mpm.solver, &mut mpm.state);
     assert!(solver.weight_rows().1, "the table of distinct rows");
     solver.particles_to_grid(&state.points, &state.affine, true);
@@ -188,17 +196,7 @@ fn kept_mass_sums_are_the_scattered_ones() {
             .unwrap()
     };
     pool(1).install(|| {
-        let mut scene = Scene::builtin("plate").unwrap();
-        scene.domain.cells = vec![40, 30];
-        let problem = Problem::<2>::from_scene(&scene).unwrap();
-        let mut config = scene.method_config(MethodKind::Mpm);
-        config.points_per_cell = 4;
-        config.mpm_mut().unwrap().shape = impact_core::method::MpmShape::Bspline2;
-        let mut mpm = Mpm::<2>::new(&problem, config).unwrap();
-        let dt = mpm.stable_dt();
-        for n in 0..5 {
-            mpm.step(n as f64 * dt, dt);
-        }
+        let mpm = stepped_bspline_plate();
         assert!(mpm.solver.weight_rows().1 && !mpm.solver.parallel);
         same_sums(&mpm);
     });
