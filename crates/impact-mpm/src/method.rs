@@ -63,21 +63,14 @@ impl<const D: usize> Method<D> for Mpm<D> {
         self.state.impulse
     }
     fn check_finite(&self) -> Result<(), BadState<D>> {
-        let p = &self.state.points;
         // Total Lagrangian and not Saint-Venant–Kirchhoff: a point fails only by a
-        // non-finite value, tested without a branch per component (DGMPM's test: `x·0` is
-        // ±0 for a finite `x` and NaN for ±∞ or NaN, so the sum is 0 exactly when all are);
-        // otherwise every check of `point_failure`. Its reason is formed for the first
-        // failing point only.
+        // non-finite value (`values_finite` alone); otherwise every check of
+        // `point_failure`. Its reason is formed for the first failing point only.
         let only_values = self.solver.options.frame == MpmFrame::TotalLagrangian
             && !matches!(self.solver.model, Model::Svk(_));
-        let finite = |i: usize| {
-            let zeros = (p.stress[i] * 0.0).sum() + (p.velocity[i] * 0.0).sum();
-            zeros + (p.position[i] * 0.0).sum() == 0.0
-        };
         let first_in = |own: &std::ops::Range<usize>| {
             let failing = if only_values {
-                first_failing(own.len(), |j| finite(own.start + j))
+                first_failing(own.len(), |j| self.values_finite(own.start + j))
             } else {
                 first_failing(own.len(), |j| self.point_failure(own.start + j).is_none())
             };
@@ -105,14 +98,22 @@ impl<const D: usize> Method<D> for Mpm<D> {
 }
 
 impl<const D: usize> Mpm<D> {
+    /// Whether point `i`'s stress, velocity and position are all finite, without a branch
+    /// per component (DGMPM's test: `x·0` is ±0 for a finite `x` and NaN for ±∞ or NaN, so
+    /// the sum is 0 exactly when all are).
+    #[inline]
+    fn values_finite(&self, i: usize) -> bool {
+        let p = &self.state.points;
+        let zeros = (p.stress[i] * 0.0).sum() + (p.velocity[i] * 0.0).sum();
+        zeros + (p.position[i] * 0.0).sum() == 0.0
+    }
+
     /// What is wrong with point `i`, if anything: a non-finite stress, velocity or
     /// position, an inadmissible deformation (Saint-Venant–Kirchhoff), or (updated frame)
     /// a stencil that left the background grid.
     pub(crate) fn point_failure(&self, i: usize) -> Option<BadState<D>> {
         let p = &self.state.points;
-        let finite = p.stress[i].iter().all(|x| x.is_finite())
-            && p.velocity[i].iter().all(|x| x.is_finite())
-            && p.position[i].iter().all(|x| x.is_finite());
+        let finite = self.values_finite(i);
         let admissible = || match self.solver.model {
             Model::Svk(svk) => svk.admissible(&p.deformation[i], self.solver.wave_speed),
             _ => true,
