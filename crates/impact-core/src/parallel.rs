@@ -237,15 +237,38 @@ const READ_CHUNK: usize = 4096;
 /// by `n` (chunks of 4,096 summed by halves).
 pub fn sum_over(n: usize, term: impl Fn(usize) -> f64 + Sync) -> f64 {
     sum_chunks(worth_parallel(n), 1, ranges(n, READ_CHUNK), |_, r| {
-        r.map(&term).sum()
+        run_sum(r, &term)
     })
+}
+
+/// `Σ_{i ∈ run} term(i)` in order from `-0.0` (`Iterator::sum`'s start), as a plain loop
+/// forced inline: through `Iterator::map` the term was called per item, not inlined
+/// (callgrind: about 70 instructions a point for an energy term of 30).
+#[inline(always)]
+fn run_sum(run: std::ops::Range<usize>, term: &impl Fn(usize) -> f64) -> f64 {
+    let mut sum = -0.0;
+    for i in run {
+        sum += term(i);
+    }
+    sum
+}
+
+/// Whether `ok(i)` holds for every `i ∈ run`, as [`run_sum`] a plain loop forced inline.
+#[inline(always)]
+fn run_all(run: std::ops::Range<usize>, ok: &impl Fn(usize) -> bool) -> bool {
+    for i in run {
+        if !ok(i) {
+            return false;
+        }
+    }
+    true
 }
 
 /// The first `i < n` for which `ok(i)` is false, if any: the check runs on rayon's pool
 /// from [`PARALLEL_ITEMS`] items on; the first failing index is then found in order.
 pub fn first_failing(n: usize, ok: impl Fn(usize) -> bool + Sync) -> Option<usize> {
-    let failing = sum_chunks(worth_parallel(n), 1, ranges(n, READ_CHUNK), |_, mut r| {
-        f64::from(u8::from(!r.all(&ok)))
+    let failing = sum_chunks(worth_parallel(n), 1, ranges(n, READ_CHUNK), |_, r| {
+        f64::from(u8::from(!run_all(r, &ok)))
     });
     if failing > 0.0 {
         (0..n).find(|&i| !ok(i))

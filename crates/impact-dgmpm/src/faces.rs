@@ -23,9 +23,12 @@ pub(crate) struct Fields<'a, const D: usize> {
     /// low `h = 0` or high `h = 1`) instead of its nodes: Heun's second stage at one point
     /// per cell (`fused/heun.rs`; `tensor` and `velocity` empty then).
     sides: Option<&'a [SideState<D>]>,
-    /// The cell whose side states `sides` starts with (0, or a window of rows of them:
-    /// the Heun wavefront, `fused/heun.rs`).
+    /// The cell whose side states `sides` starts with (0, or a ring of rows of them: the
+    /// Heun wavefront, `fused/heun/wavefront.rs`).
     first_cell: usize,
+    /// Side states after which a ring of rows wraps to its start ([`Fields::ring`]);
+    /// `usize::MAX` for one array.
+    wrap: usize,
 }
 
 /// A cell's state on its side normal to `e_l` as far as a face normal to `e_l` reads it:
@@ -52,6 +55,21 @@ impl<const D: usize> SideState<D> {
             velocity: Vector::<D>::zeros(),
         }
     }
+
+    /// The state a face normal to `e_l` reads: the traction as column and row `l` of the
+    /// tensor, the rest zero, and the velocity.
+    #[inline(always)]
+    pub(crate) fn full(&self, l: usize) -> FullState<D> {
+        let mut tensor = Tensor::<D>::zeros();
+        for k in 0..D {
+            tensor[(k, l)] = self.traction[k];
+            tensor[(l, k)] = self.traction[k];
+        }
+        FullState {
+            tensor,
+            velocity: self.velocity,
+        }
+    }
 }
 
 impl<'a, const D: usize> Fields<'a, D> {
@@ -64,6 +82,7 @@ impl<'a, const D: usize> Fields<'a, D> {
             per_cell: true,
             sides: None,
             first_cell: 0,
+            wrap: usize::MAX,
         }
     }
 
@@ -76,6 +95,7 @@ impl<'a, const D: usize> Fields<'a, D> {
             per_cell: false,
             sides: None,
             first_cell: 0,
+            wrap: usize::MAX,
         }
     }
 
@@ -89,7 +109,42 @@ impl<'a, const D: usize> Fields<'a, D> {
             per_cell: false,
             sides: Some(sides),
             first_cell,
+            wrap: usize::MAX,
         }
+    }
+
+    /// Side states ([`Self::sides`]) in a ring of rows of `row_cells` cells each
+    /// (`sides.len()` a whole number of rows): row `r` is stored at row `r mod R` of the
+    /// ring; the fields give the rows from `first_row` on while the ring holds them (the
+    /// Heun wavefront, `fused/heun/wavefront.rs`). A cell's entry is its offset from the
+    /// window's first cell, less the ring's length once past its end: no division.
+    #[inline]
+    pub(crate) fn ring(sides: &'a [SideState<D>], row_cells: usize, first_row: usize) -> Self {
+        let rows = sides.len() / (row_cells * 2 * D);
+        Self {
+            wrap: sides.len(),
+            ..Self::sides(sides, (first_row - first_row % rows) * row_cells)
+        }
+    }
+
+    /// The entry of cell `c`'s first side state in `sides` (module doc of [`Self::ring`]).
+    #[inline(always)]
+    fn side_entry(&self, c: usize) -> usize {
+        let entry = (c - self.first_cell) * 2 * D;
+        if entry >= self.wrap {
+            entry - self.wrap
+        } else {
+            entry
+        }
+    }
+
+    /// The side states of the `count` cells from `first` (`2D` a cell; one row of a
+    /// [`Self::ring`]) where these are side fields ([`Self::sides`]), so that a sweep
+    /// along a row reads them without an index check per cell; `None` for other fields.
+    #[inline(always)]
+    pub(crate) fn side_row(&self, first: usize, count: usize) -> Option<&'a [SideState<D>]> {
+        let start = self.side_entry(first);
+        self.sides.map(|sides| &sides[start..start + count * 2 * D])
     }
 
     /// The tensor field and the velocities (per-cell fields: one entry per cell).
@@ -134,16 +189,7 @@ impl<'a, const D: usize> Fields<'a, D> {
     #[inline(always)]
     fn nodal_side(&self, c: usize, l: usize, high: bool) -> FullState<D> {
         if let Some(sides) = self.sides {
-            let side = &sides[(c - self.first_cell) * 2 * D + 2 * l + usize::from(high)];
-            let mut tensor = Tensor::<D>::zeros();
-            for k in 0..D {
-                tensor[(k, l)] = side.traction[k];
-                tensor[(l, k)] = side.traction[k];
-            }
-            return FullState {
-                tensor,
-                velocity: side.velocity,
-            };
+            return sides[self.side_entry(c) + 2 * l + usize::from(high)].full(l);
         }
         let nodes_per_cell = Grid::<D>::NODES_PER_CELL;
         let mut q = Tensor::<D>::zeros();

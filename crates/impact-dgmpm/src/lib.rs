@@ -138,6 +138,8 @@ pub mod riemann;
 pub mod slab;
 mod solver_build;
 mod step_path;
+#[cfg(test)]
+mod test_scenes;
 pub mod wave_correction;
 pub use step_path::{Fusable, StepPath};
 

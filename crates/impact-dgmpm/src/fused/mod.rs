@@ -71,6 +71,10 @@ pub(crate) struct Band<const D: usize> {
     x_fluctuation: [Vec<Conserved<D>>; 2],
     /// Nodal sweep with CTU: the y-fluctuations `w_y` of row `j`'s cells (`nx`).
     w_y: Vec<Conserved<D>>,
+    /// Under CTU at order 1: per x-edge (low, high), the `A⁺Δq` of the ghost face above
+    /// the last row swept, with the row it serves
+    /// (`DgmpmSolver::ghost_column_fluctuation`); cleared at a band's start.
+    edge_carry: [Option<(usize, Conserved<D>)>; 2],
     /// Power of the boundary conditions on the band's faces.
     power: f64,
     /// Force on the body through the band's loaded boundary faces.
@@ -85,6 +89,7 @@ impl<const D: usize> Default for Band<D> {
             y_final: Default::default(),
             x_fluctuation: Default::default(),
             w_y: Vec::new(),
+            edge_carry: [None, None],
             power: 0.0,
             force: Vector::<D>::zeros(),
         }

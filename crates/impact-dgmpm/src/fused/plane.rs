@@ -4,13 +4,47 @@
 use super::{Band, Next, BAND_ROWS};
 use crate::faces::Fields;
 use crate::riemann::axis::{axis_flux_2d, axis_normal_flux_2d, axis_transverse_2d, AxisConstants};
-use crate::riemann::{Conserved, FullState};
-use crate::DgmpmSolver;
-use impact_core::method::TransverseFlux;
+use crate::riemann::{constrain_correction, Conserved, FullState};
+use crate::{unit, DgmpmSolver};
+use impact_core::method::{EdgeTreatment, TransverseFlux};
 use impact_core::points::MaterialPoints;
 use impact_core::Vector;
 
 mod rows;
+#[cfg(test)]
+mod tests;
+
+/// `for_row_sides!(fields, first, n, L, |i, low, high| body)`: the body with the two
+/// `L`-side states of each cell `first + i` of a row (`i < n`; nodal or side fields), from
+/// the row's slice where the fields are side states ([`Fields::side_row`], Heun's second
+/// stage: no index check per cell), else through [`Fields::at`]; the same states either
+/// way. A macro so that the body is written once and compiled into both loops (as a
+/// closure called from two loops it was not inlined: 78 instructions a cell more,
+/// callgrind).
+macro_rules! for_row_sides {
+    ($fields:expr, $first:expr, $n:expr, $axis:literal, |$i:ident, $low:ident, $high:ident| $body:block) => {
+        match $fields.side_row($first, $n) {
+            Some(sides) => {
+                for ($i, cell) in sides.as_chunks::<4>().0.iter().enumerate() {
+                    let ($low, $high) =
+                        (cell[2 * $axis].full($axis), cell[2 * $axis + 1].full($axis));
+                    $body
+                }
+            }
+            None => {
+                for $i in 0..$n {
+                    let cell = $first + $i;
+                    let ($low, $high) = (
+                        $fields.at::<true>(cell, $axis, false),
+                        $fields.at::<true>(cell, $axis, true),
+                    );
+                    $body
+                }
+            }
+        }
+    };
+}
+use for_row_sides;
 
 /// The constants of one 2D sweep: the axis solvers', whether CTU corrects, and the
 /// corrections' scales (x-faces by the y-fluctuations, `Δt/2Δy`; y-faces by the x ones).
@@ -97,6 +131,7 @@ impl DgmpmSolver<2> {
         let rows = b * BAND_ROWS..((b + 1) * BAND_ROWS).min(ny);
         band.power = 0.0;
         band.force = Vector::<2>::zeros();
+        band.edge_carry = [None, None];
         let j0 = rows.start;
         // prologue: face row j0 (Godunov and final) and the x-fluxes of cell row j0
         let (x_row, x_fluctuation) = (&mut band.x_godunov[0], &mut band.x_fluctuation[0]);
@@ -156,24 +191,20 @@ impl DgmpmSolver<2> {
                     *w = w_flux.add_scaled(&difference_flux::<1>(&low, &high, c), 1.0);
                 }
             }
+            let ghosts = self.x_edge_ghosts(j, fields, ctu, &mut band.edge_carry);
+            let (y_low, y_high) = (&band.y_godunov[0], &band.y_godunov[1]);
             let w_y = |i: usize| match NODAL {
                 true => band.w_y[i],
                 false => y_high[i].add_scaled(&y_low[i], -1.0),
             };
             // the edge faces (ghost cells; their force) out of line, the interior ones in the
             // loop with each cell's y-fluctuation formed once
-            let x_edge = |i: usize, band_force: &mut Vector<2>| -> Conserved<2> {
-                let godunov = band.x_godunov[0][i];
-                let flux = match ctu {
-                    true => {
-                        let w = [(i > 0).then(|| w_y(i - 1)), (i < nx).then(|| w_y(i))];
-                        let correction = self.face_correction(0, [i, j], w, fields, scale[0]);
-                        godunov.add_scaled(&correction, 1.0)
-                    }
-                    false => godunov,
-                };
-                *band_force += self.boundary_face_force(0, [i, j], &flux);
-                flux
+            let x_edge = |i: usize, band_force: &mut Vector<2>| {
+                let w = ctu.then(|| {
+                    let inside = [(i > 0).then(|| w_y(i - 1)), (i < nx).then(|| w_y(i))];
+                    [inside[0].or(ghosts[0]), inside[1].or(ghosts[1])]
+                });
+                self.x_edge_flux([i, j], band.x_godunov[0][i], w, (fields, k), band_force)
             };
             let x_interior = |i: usize, w_left: &Conserved<2>, w_right: &Conserved<2>| {
                 let godunov = band.x_godunov[0][i];
@@ -234,10 +265,12 @@ impl DgmpmSolver<2> {
         let with_fluctuations = !w.is_empty();
         if NODAL {
             // each cell's two x-side states, formed once: its high side is the next face's left
+            let (out, w) = (
+                &mut out[..nx + 1],
+                &mut w[..if with_fluctuations { nx } else { 0 }],
+            );
             let mut previous_high = None;
-            for i in 0..nx {
-                let low = fields.at::<true>(row + i, 0, false);
-                let high = fields.at::<true>(row + i, 0, true);
+            for_row_sides!(fields, row, nx, 0, |i, low, high| {
                 if let Some(left) = &previous_high {
                     out[i] = axis_flux_2d::<0>(left, &low, c);
                 }
@@ -245,7 +278,7 @@ impl DgmpmSolver<2> {
                     w[i] = difference_flux::<0>(&low, &high, c);
                 }
                 previous_high = Some(high);
-            }
+            });
         } else {
             for i in 1..nx {
                 out[i] = axis_flux_2d::<0>(&fields.cell(row + i - 1), &fields.cell(row + i), c);
@@ -289,6 +322,22 @@ impl DgmpmSolver<2> {
             return power;
         }
         let (below, above) = ((j - 1) * nx, j * nx);
+        if NODAL {
+            if let (Some(lower), Some(upper)) =
+                (fields.side_row(below, nx), fields.side_row(above, nx))
+            {
+                // side fields: both rows' slices, no index check per cell
+                let rows = lower
+                    .as_chunks::<4>()
+                    .0
+                    .iter()
+                    .zip(upper.as_chunks::<4>().0);
+                for (out, (lower, upper)) in out.iter_mut().zip(rows) {
+                    *out = axis_flux_2d::<1>(&lower[3].full(1), &upper[2].full(1), c);
+                }
+                return 0.0;
+            }
+        }
         for (i, out) in out.iter_mut().enumerate() {
             let lower = fields.at::<NODAL>(below + i, 1, true);
             let upper = fields.at::<NODAL>(above + i, 1, false);
@@ -344,11 +393,96 @@ impl DgmpmSolver<2> {
                         below.map(|r| w(r, i)).or(formed),
                         above.map(|r| w(r, i)).or(formed),
                     ];
-                    let correction = self.face_correction(1, [i, j], sides, fields, scale);
+                    let correction = match sides {
+                        [Some(low), Some(high)] => {
+                            self.edge_correction::<1>([i, j], [low, high], k)
+                        }
+                        sides => self.face_correction(1, [i, j], sides, fields, scale),
+                    };
                     *out = godunov[i].add_scaled(&correction, 1.0);
                 }
             }
         }
+    }
+}
+
+impl DgmpmSolver<2> {
+    /// Under CTU at order 1, the y-fluctuations of the ghost cells behind the low and high
+    /// x-edges on cell row `j`, down their columns with the rows
+    /// ([`Self::ghost_column_fluctuation`], `carry` per edge); otherwise `None`, and
+    /// `face_correction` forms them per face.
+    #[inline]
+    pub(in crate::fused) fn x_edge_ghosts(
+        &self,
+        j: usize,
+        fields: Fields<'_, 2>,
+        ctu: bool,
+        carry: &mut [Option<(usize, Conserved<2>)>; 2],
+    ) -> [Option<Conserved<2>>; 2] {
+        if !ctu || !self.wave_flux[1].is_empty() {
+            return [None, None];
+        }
+        let last = self.grid.cells[0] - 1;
+        let [low, high] = carry;
+        [(0, low), (1, high)].map(|(side, carry)| {
+            let cell = [side * last, j];
+            Some(self.ghost_column_fluctuation((0, side, 1), cell, fields, carry))
+        })
+    }
+}
+
+impl DgmpmSolver<2> {
+    /// The final flux of the x-edge face `idx` (`i = 0` or `nx`) from its Godunov flux,
+    /// adding its force to `force`: under CTU (`w`, the y-fluctuations of the cells on
+    /// either side, a ghost cell's `None` where the sweep did not form it) corrected by
+    /// [`Self::edge_correction`], or by `face_correction` (which forms the ghost's).
+    #[inline(always)]
+    pub(in crate::fused) fn x_edge_flux(
+        &self,
+        idx: [usize; 2],
+        godunov: Conserved<2>,
+        w: Option<[Option<Conserved<2>>; 2]>,
+        (fields, k): (Fields<'_, 2>, &Sweep2d),
+        force: &mut Vector<2>,
+    ) -> Conserved<2> {
+        let flux = match w {
+            Some([Some(low), Some(high)]) => {
+                godunov.add_scaled(&self.edge_correction::<0>(idx, [low, high], k), 1.0)
+            }
+            Some(w) => {
+                let correction = self.face_correction(0, idx, w, fields, k.scale[0]);
+                godunov.add_scaled(&correction, 1.0)
+            }
+            None => godunov,
+        };
+        *force += self.boundary_face_force(0, idx, &flux);
+        flux
+    }
+
+    /// The CTU correction of the boundary face `idx` normal to `e_K` from the fluctuations
+    /// of the cells below and above it, a ghost cell's formed by the sweep
+    /// ([`Self::x_edge_ghosts`], [`Self::ghost_row_fluctuations`]): `face_correction`'s
+    /// with the axis transverse solver ([`axis_transverse_2d`]), restricted to what the
+    /// edge's condition leaves free (`restricted` edges). The axis solver leaves out only
+    /// products by a zero component of `n = e_K`, which add `±0` in
+    /// `transverse_into_face`: the same values but for the sign of a zero (outputs
+    /// compared bit for bit, `benchmarks/compare/dgmpm_edges.txt`).
+    #[inline]
+    pub(in crate::fused) fn edge_correction<const K: usize>(
+        &self,
+        idx: [usize; 2],
+        [below, above]: [Conserved<2>; 2],
+        k: &Sweep2d,
+    ) -> Conserved<2> {
+        let total = axis_transverse_2d::<K>(&below, &above, &k.constants);
+        let correction = Conserved::zeros().add_scaled(&total, -k.scale[K]);
+        let on_edge = idx[K] == 0 || idx[K] == self.grid.cells[K];
+        if on_edge && self.options.edges == EdgeTreatment::Restricted {
+            let side = usize::from(idx[K] != 0);
+            let condition = self.edge_condition(K, side, &idx);
+            return constrain_correction(&correction, &unit::<2>(K), condition);
+        }
+        correction
     }
 }
 

@@ -16,10 +16,10 @@
 //! forms it, so the result depends neither on the groups nor on the thread count and
 //! equals the two-sweep form's bit for bit.
 //!
-//! The ring: stage 1 writes row `r` to slot `r mod R` (`R` = [`RING_ROWS`]) and, in slots
-//! 0 and 1, also to slots `R` and `R + 1`, so that the rows `j - 1..=j + 1` stage 2 reads
-//! lie in order from slot `(j - 1) mod R` (a row is overwritten `R` rows later, after the
-//! last read of it, two rows later).
+//! The ring: stage 1 writes row `r` to slot `r mod R` (`R` = [`RING_ROWS`]); stage 2 reads
+//! it through [`Fields::ring`], which finds a cell's slot from its offset to the window's
+//! first row, less the ring's length past its end (a row is overwritten `R` rows later,
+//! after the last read of it, two rows later).
 use super::super::plane::Sweep2d;
 use super::super::{Band, FusedBuffers, BAND_ROWS};
 use super::HeunConstants;
@@ -30,15 +30,15 @@ use impact_core::points::MaterialPoints;
 use impact_core::{Tensor, Vector};
 
 /// Cell rows of side states in a ring (module doc; at least 3: stage 2's row `j` reads
-/// rows `j - 1..=j + 1` after stage 1 wrote row `j + 1`); a ring holds two rows more.
-/// Eight: only the rows in slots 0 and 1 are copied (a quarter of the rows; half of them
-/// with four), and the ring of 10 rows still fits a 1 MB L2 cache up to about 800 cells
-/// a row (128 B of side states a cell).
-const RING_ROWS: usize = 8;
+/// rows `j - 1..=j + 1` after stage 1 wrote row `j + 1`). Four: a ring of 512 B a cell of
+/// a row fits a 1 MB L2 cache up to about 2,000 cells a row. (It held two rows more, a copy
+/// of slots 0 and 1 so that the three rows lay in order: about 8 instructions a cell,
+/// callgrind.)
+const RING_ROWS: usize = 4;
 
-/// Side states of one ring for `nx` cells a row: `RING_ROWS + 2` rows.
+/// Side states of one ring for `nx` cells a row: `RING_ROWS` rows.
 pub(crate) fn ring_len(nx: usize) -> usize {
-    (RING_ROWS + 2) * nx * SIDES
+    RING_ROWS * nx * SIDES
 }
 
 /// The rings allocated for `bands` bands of rows: one per thread of rayon's pool, at most
@@ -176,10 +176,6 @@ impl DgmpmSolver<2> {
                     let at = base + (c - row) * SIDES;
                     let sides = &mut ring[at..at + SIDES];
                     let next = self.heun_first(u, c, f, (fields, mass[c]), sides);
-                    if slot < 2 {
-                        let (ring, mirror) = ring.split_at_mut(at + RING_ROWS * row_len);
-                        mirror[..SIDES].copy_from_slice(&ring[at..at + SIDES]);
-                    }
                     if owned {
                         let local = c - own.start * nx;
                         tensor[local] = next.0;
@@ -190,9 +186,8 @@ impl DgmpmSolver<2> {
                 record(b, 0, one, x_power);
             }
             while next < own.end && (next + 1).min(ny - 1) <= r {
-                // rows next - 1..=next + 1 in order from slot (next - 1) mod R
-                let low = next.saturating_sub(1);
-                let sides = Fields::sides(ring, (low - low % RING_ROWS) * nx);
+                // rows next - 1..=next + 1 from the ring
+                let sides = Fields::ring(ring, nx, next.saturating_sub(1));
                 let b = band_of(next);
                 let band = band_rows(b);
                 if next == own.start {

@@ -2,7 +2,7 @@
 //! the start at a cell row and one row, with the power and force of the boundary faces
 //! counted only on the rows a band owns; the Heun wavefront (`fused/heun/wavefront.rs`)
 //! runs its two stages' sweeps row by row through them.
-use super::{difference_flux, Sweep2d};
+use super::{difference_flux, for_row_sides, Sweep2d};
 use crate::faces::Fields;
 use crate::fused::Band;
 use crate::riemann::axis::axis_transverse_2d;
@@ -28,6 +28,7 @@ impl DgmpmSolver<2> {
     ) {
         let nx = self.grid.cells[0];
         let c = &k.constants;
+        band.edge_carry = [None, None];
         let (x_row, x_fluctuation) = (&mut band.x_godunov[0], &mut band.x_fluctuation[0]);
         let power = self.x_godunov_row::<NODAL>(j0, fields, c, x_row, x_fluctuation);
         if own.contains(&j0) {
@@ -99,35 +100,27 @@ impl DgmpmSolver<2> {
         let row = j * nx;
         let (y_low, y_high) = (&band.y_godunov[0], &band.y_godunov[1]);
         if NODAL && ctu {
-            // (the rows zipped: no index checks on the y-fluxes)
-            let rows = band.w_y.iter_mut().zip(y_low.iter().zip(y_high));
-            for (i, (w, (y_low, y_high))) in rows.enumerate() {
-                let (low, high) = (
-                    fields.at::<true>(row + i, 1, false),
-                    fields.at::<true>(row + i, 1, true),
-                );
-                let w_flux = y_high.add_scaled(y_low, -1.0);
-                *w = w_flux.add_scaled(&difference_flux::<1>(&low, &high, c), 1.0);
-            }
+            // (sliced to the row: no index checks on the y-fluxes)
+            let (w_y, y_low, y_high) = (&mut band.w_y[..nx], &y_low[..nx], &y_high[..nx]);
+            for_row_sides!(fields, row, nx, 1, |i, low, high| {
+                let w_flux = y_high[i].add_scaled(&y_low[i], -1.0);
+                w_y[i] = w_flux.add_scaled(&difference_flux::<1>(&low, &high, c), 1.0);
+            });
         }
+        let ghosts = self.x_edge_ghosts(j, fields, ctu, &mut band.edge_carry);
+        let (y_low, y_high) = (&band.y_godunov[0], &band.y_godunov[1]);
         let w_y = |i: usize| match NODAL {
             true => band.w_y[i],
             false => y_high[i].add_scaled(&y_low[i], -1.0),
         };
         // the edge faces (ghost cells; their force) out of line, the interior ones in the
         // loop with each cell's y-fluctuation formed once
-        let x_edge = |i: usize, band_force: &mut Vector<2>| -> Conserved<2> {
-            let godunov = band.x_godunov[0][i];
-            let flux = match ctu {
-                true => {
-                    let w = [(i > 0).then(|| w_y(i - 1)), (i < nx).then(|| w_y(i))];
-                    let correction = self.face_correction(0, [i, j], w, fields, scale[0]);
-                    godunov.add_scaled(&correction, 1.0)
-                }
-                false => godunov,
-            };
-            *band_force += self.boundary_face_force(0, [i, j], &flux);
-            flux
+        let x_edge = |i: usize, band_force: &mut Vector<2>| {
+            let w = ctu.then(|| {
+                let inside = [(i > 0).then(|| w_y(i - 1)), (i < nx).then(|| w_y(i))];
+                [inside[0].or(ghosts[0]), inside[1].or(ghosts[1])]
+            });
+            self.x_edge_flux([i, j], band.x_godunov[0][i], w, (fields, k), band_force)
         };
         let x_interior = |i: usize, w_left: &Conserved<2>, w_right: &Conserved<2>| {
             let godunov = band.x_godunov[0][i];
