@@ -48,10 +48,13 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
                         + p.plastic_work[i]
                 });
             }
-            p.energy_in(run, |i| match self.solver.physics {
-                Physics::Linear => m.energy_density(&p.stress[i]),
-                Physics::Svk { svk, .. } => svk.energy_density(&p.deformation[i]),
-            })
+            // (the physics chosen once per run of points, not per point)
+            match self.solver.physics {
+                Physics::Linear => p.energy_in(run, |i| m.energy_density(&p.stress[i])),
+                Physics::Svk { svk, .. } => {
+                    p.energy_in(run, |i| svk.energy_density(&p.deformation[i]))
+                }
+            }
         };
         runs.fold(energy_in(first), |sum, run| sum + energy_in(run))
     }
@@ -74,20 +77,20 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
         let p = &self.state.points;
         // every component finite, without a branch per component: `x·0` is ±0 for a finite
         // `x` and NaN for ±∞ or NaN, so the sum of the products is 0 exactly when all are
-        let finite = |i: usize| {
-            let (stress, velocity) = (p.stress[i].iter(), p.velocity[i].iter());
-            stress.chain(velocity).fold(0.0, |sum, x| sum + x * 0.0) == 0.0
+        // every component finite (`MaterialPoints::first_non_finite`: without a branch per
+        // component) and, Saint-Venant–Kirchhoff, an admissible deformation
+        let finite = |i: usize| p.first_non_finite(i..i + 1, false).is_none();
+        let first_in = |own: std::ops::Range<usize>| match self.solver.physics {
+            Physics::Linear => p.first_non_finite(own, false),
+            Physics::Svk { svk, .. } => first_failing(own.len(), |j| {
+                let i = own.start + j;
+                finite(i) && svk.admissible(&p.deformation[i], self.solver.wave_speed)
+            }),
         };
-        let admissible = |i: usize| match self.solver.physics {
-            Physics::Svk { svk, .. } => svk.admissible(&p.deformation[i], self.solver.wave_speed),
-            Physics::Linear => true,
-        };
-        let Some(i) = self.owned_point_runs().find_map(|own| {
-            first_failing(own.len(), |j| {
-                finite(own.start + j) && admissible(own.start + j)
-            })
-            .map(|j| own.start + j)
-        }) else {
+        let Some(i) = self
+            .owned_point_runs()
+            .find_map(|own| first_in(own.clone()).map(|j| own.start + j))
+        else {
             return Ok(());
         };
         let reason = match self.solver.physics {

@@ -32,15 +32,13 @@ impl<const D: usize> Method<D> for Mpm<D> {
     fn energy(&self) -> f64 {
         let p = &self.state.points;
         let m = &self.solver.material;
-        let energy_in = |run: std::ops::Range<usize>| {
-            p.energy_in(run, |i| match self.solver.model {
-                Model::LinearElastic => m.energy_density(&p.stress[i]),
-                Model::Svk(svk) => svk.energy_density(&p.deformation[i]),
-                Model::J2(j2) => {
-                    j2.elastic_energy_density(&p.stress[i], p.plastic_strain_zz[i])
-                        + p.plastic_work[i]
-                }
-            })
+        // (the model chosen once per run of points, not per point)
+        let energy_in = |run: std::ops::Range<usize>| match self.solver.model {
+            Model::LinearElastic => p.energy_in(run, |i| m.energy_density(&p.stress[i])),
+            Model::Svk(svk) => p.energy_in(run, |i| svk.energy_density(&p.deformation[i])),
+            Model::J2(j2) => p.energy_in(run, |i| {
+                j2.elastic_energy_density(&p.stress[i], p.plastic_strain_zz[i]) + p.plastic_work[i]
+            }),
         };
         // a run per row of own cells, added in order (one run on one rank)
         let mut runs = self.owned_point_runs().iter().cloned();
@@ -70,7 +68,7 @@ impl<const D: usize> Method<D> for Mpm<D> {
             && !matches!(self.solver.model, Model::Svk(_));
         let first_in = |own: &std::ops::Range<usize>| {
             let failing = if only_values {
-                first_failing(own.len(), |j| self.values_finite(own.start + j))
+                self.state.points.first_non_finite(own.clone(), true)
             } else {
                 first_failing(own.len(), |j| self.point_failure(own.start + j).is_none())
             };
@@ -98,22 +96,12 @@ impl<const D: usize> Method<D> for Mpm<D> {
 }
 
 impl<const D: usize> Mpm<D> {
-    /// Whether point `i`'s stress, velocity and position are all finite, without a branch
-    /// per component (DGMPM's test: `x·0` is ±0 for a finite `x` and NaN for ±∞ or NaN, so
-    /// the sum is 0 exactly when all are).
-    #[inline]
-    fn values_finite(&self, i: usize) -> bool {
-        let p = &self.state.points;
-        let zeros = (p.stress[i] * 0.0).sum() + (p.velocity[i] * 0.0).sum();
-        zeros + (p.position[i] * 0.0).sum() == 0.0
-    }
-
     /// What is wrong with point `i`, if anything: a non-finite stress, velocity or
     /// position, an inadmissible deformation (Saint-Venant–Kirchhoff), or (updated frame)
     /// a stencil that left the background grid.
     pub(crate) fn point_failure(&self, i: usize) -> Option<BadState<D>> {
         let p = &self.state.points;
-        let finite = self.values_finite(i);
+        let finite = p.first_non_finite(i..i + 1, true).is_none();
         let admissible = || match self.solver.model {
             Model::Svk(svk) => svk.admissible(&p.deformation[i], self.solver.wave_speed),
             _ => true,
