@@ -15,10 +15,17 @@
 //! face arrays of the phase-by-phase path (144 B per cell) are not allocated, and the step
 //! reads each point's state once and writes it once (the cell path moves 776-920 B per
 //! cell and step, this one about 130). Interior faces call the axis solvers
-//! ([`crate::riemann::axis`]); boundary faces and the corrections that need ghost cells
-//! call the same functions as the phase path (`DgmpmSolver::linear_face_flux`,
-//! `DgmpmSolver::face_correction`). The new states go to a second buffer, swapped with
-//! the points' at the end, so every face reads the old states (48 B per cell).
+//! ([`crate::riemann::axis`]); boundary faces and the ghost cells' fluctuations call the
+//! same functions as the phase path (`DgmpmSolver::linear_face_flux`,
+//! `DgmpmSolver::ghost_cell_fluctuations`' pieces), each ghost face solved once: along a
+//! y-edge a row at a time (`ghost_row_fluctuations`), behind an x-edge down the column
+//! with the rows (`ghost_column_fluctuation`, a carry per edge in the band). The CTU
+//! correction of a boundary face is then the axis transverse solver's, restricted by the
+//! edge's condition (`edge_correction`: the general `face_correction`'s values, which
+//! differ only by products with a zero component of the normal); at order 2 (wave
+//! corrections of the ghost rows) `face_correction` forms it. The new states go to a
+//! second buffer, swapped with the points' at the end, so every face reads the old states
+//! (48 B per cell).
 //!
 //! Parallel: bands of `BAND_ROWS` (32) cell rows (1D: chunks of cells), each band with its
 //! own rolling rows; a band recomputes the Godunov fluxes of the row below it (one row in
