@@ -236,9 +236,7 @@ const READ_CHUNK: usize = 4096;
 /// `Σ_{i<n} term(i)`, on rayon's pool from [`PARALLEL_ITEMS`] items on, in an order fixed
 /// by `n` (chunks of 4,096 summed by halves).
 pub fn sum_over(n: usize, term: impl Fn(usize) -> f64 + Sync) -> f64 {
-    sum_chunks(worth_parallel(n), 1, ranges(n, READ_CHUNK), |_, r| {
-        run_sum(r, &term)
-    })
+    sum_over_runs(n, |run| run_sum(run, &term))
 }
 
 /// [`sum_over`] with the terms added a run at a time: `run_sum(run)` adds the terms of
@@ -295,14 +293,7 @@ fn run_all(run: std::ops::Range<usize>, ok: &impl Fn(usize) -> bool) -> bool {
 /// The first `i < n` for which `ok(i)` is false, if any: the check runs on rayon's pool
 /// from [`PARALLEL_ITEMS`] items on; the first failing index is then found in order.
 pub fn first_failing(n: usize, ok: impl Fn(usize) -> bool + Sync) -> Option<usize> {
-    let failing = sum_chunks(worth_parallel(n), 1, ranges(n, READ_CHUNK), |_, r| {
-        f64::from(u8::from(!run_all(r, &ok)))
-    });
-    if failing > 0.0 {
-        (0..n).find(|&i| !ok(i))
-    } else {
-        None
-    }
+    first_failing_by_runs(n, |run| run_all(run, &ok), &ok)
 }
 
 #[cfg(test)]

@@ -251,23 +251,22 @@ impl<const D: usize> MaterialPoints<D> {
         })
     }
 
-    /// The first of the points `range` (its offset in the range) whose stress or velocity
-    /// (and, `with_position`, position) has a component that is not finite, without a
-    /// branch per component: `x·0` is `±0` for a finite `x` and NaN for `±∞` or NaN, so the
-    /// sum of the products is 0 exactly when all are finite. A run of points at a time
-    /// over the run's slices ([`crate::parallel::first_failing_by_runs`]).
+    /// Whether point `i`'s stress and velocity (and, `with_position`, its position) are
+    /// all finite: the sum of `x·0` over their components is 0 (`finite_zeros`).
+    #[inline]
+    pub fn values_finite(&self, i: usize, with_position: bool) -> bool {
+        let position = with_position.then(|| &self.position[i]);
+        finite_zeros(&self.stress[i], &self.velocity[i], position) == 0.0
+    }
+
+    /// The first of the points `range` (its offset in the range) that
+    /// [`Self::values_finite`] fails, a run of points at a time over the run's slices
+    /// ([`crate::parallel::first_failing_by_runs`]).
     pub fn first_non_finite(
         &self,
         range: std::ops::Range<usize>,
         with_position: bool,
     ) -> Option<usize> {
-        let zeros = |i: usize| {
-            let sum = (self.stress[i] * 0.0).sum() + (self.velocity[i] * 0.0).sum();
-            match with_position {
-                true => sum + (self.position[i] * 0.0).sum(),
-                false => sum,
-            }
-        };
         let all_finite = |run: std::ops::Range<usize>| {
             let run = range.start + run.start..range.start + run.end;
             let (stress, velocity) = (&self.stress[run.clone()], &self.velocity[run.clone()]);
@@ -275,15 +274,13 @@ impl<const D: usize> MaterialPoints<D> {
             let sum = match with_position {
                 true => values
                     .zip(&self.position[run])
-                    .fold(0.0, |sum, ((s, v), x)| {
-                        sum + (s * 0.0).sum() + (v * 0.0).sum() + (x * 0.0).sum()
-                    }),
-                false => values.fold(0.0, |sum, (s, v)| sum + (s * 0.0).sum() + (v * 0.0).sum()),
+                    .fold(0.0, |sum, ((s, v), x)| sum + finite_zeros(s, v, Some(x))),
+                false => values.fold(0.0, |sum, (s, v)| sum + finite_zeros(s, v, None)),
             };
             sum == 0.0
         };
         crate::parallel::first_failing_by_runs(range.len(), all_finite, |j| {
-            zeros(range.start + j) == 0.0
+            self.values_finite(range.start + j, with_position)
         })
     }
 
@@ -391,6 +388,22 @@ impl<const D: usize> MaterialPoints<D> {
             }
         }
         points
+    }
+}
+
+/// `Σ x·0` over the components of a stress, a velocity and (if given) a position, without a
+/// branch per component: `x·0` is `±0` for a finite `x` and NaN for `±∞` or NaN, so the sum
+/// is 0 exactly when all are finite.
+#[inline(always)]
+fn finite_zeros<const D: usize>(
+    stress: &Tensor<D>,
+    velocity: &Vector<D>,
+    position: Option<&Vector<D>>,
+) -> f64 {
+    let sum = (stress * 0.0).sum() + (velocity * 0.0).sum();
+    match position {
+        Some(x) => sum + (x * 0.0).sum(),
+        None => sum,
     }
 }
 

@@ -75,11 +75,9 @@ impl<const D: usize> Method<D> for Dgmpm<D> {
     }
     fn check_finite(&self) -> Result<(), BadState<D>> {
         let p = &self.state.points;
-        // every component finite, without a branch per component: `x·0` is ±0 for a finite
-        // `x` and NaN for ±∞ or NaN, so the sum of the products is 0 exactly when all are
         // every component finite (`MaterialPoints::first_non_finite`: without a branch per
         // component) and, Saint-Venant–Kirchhoff, an admissible deformation
-        let finite = |i: usize| p.first_non_finite(i..i + 1, false).is_none();
+        let finite = |i: usize| p.values_finite(i, false);
         let first_in = |own: std::ops::Range<usize>| match self.solver.physics {
             Physics::Linear => p.first_non_finite(own, false),
             Physics::Svk { svk, .. } => first_failing(own.len(), |j| {

@@ -62,7 +62,7 @@ impl<const D: usize> Method<D> for Mpm<D> {
     }
     fn check_finite(&self) -> Result<(), BadState<D>> {
         // Total Lagrangian and not Saint-Venant–Kirchhoff: a point fails only by a
-        // non-finite value (`values_finite` alone); otherwise every check of
+        // non-finite value (`MaterialPoints::first_non_finite` alone); otherwise every check of
         // `point_failure`. Its reason is formed for the first failing point only.
         let only_values = self.solver.options.frame == MpmFrame::TotalLagrangian
             && !matches!(self.solver.model, Model::Svk(_));
@@ -101,7 +101,7 @@ impl<const D: usize> Mpm<D> {
     /// a stencil that left the background grid.
     pub(crate) fn point_failure(&self, i: usize) -> Option<BadState<D>> {
         let p = &self.state.points;
-        let finite = p.first_non_finite(i..i + 1, true).is_none();
+        let finite = p.values_finite(i, true);
         let admissible = || match self.solver.model {
             Model::Svk(svk) => svk.admissible(&p.deformation[i], self.solver.wave_speed),
             _ => true,
