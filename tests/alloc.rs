@@ -323,6 +323,7 @@ fn no_allocation_in_the_parallel_step_loop() {
             (TransverseFlux::DonorCell, Integrator::Euler, 1),
             (TransverseFlux::Ctu, Integrator::Rk2, 1),
             (TransverseFlux::DonorCell, Integrator::Euler, 4),
+            (TransverseFlux::Ctu, Integrator::Rk2, 4),
         ] {
             if name == "svk-plate" && flux == TransverseFlux::Ctu {
                 continue; // CTU is linear-elastic only
@@ -340,7 +341,7 @@ fn no_allocation_in_the_parallel_step_loop() {
             cases += 1;
         }
     }
-    assert_eq!(cases, 4 + 4 + 2);
+    assert_eq!(cases, 4 + 5 + 2);
 }
 
 /// A 3D block (an impact on a patch of one face, symmetry and free faces) from a TOML

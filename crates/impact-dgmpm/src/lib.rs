@@ -194,7 +194,8 @@ pub(crate) struct NodalFields<const D: usize> {
     pub tensor: Vec<Tensor<D>>,
     /// Velocity `v_i`.
     pub velocity: Vec<Vector<D>>,
-    /// Tensor field at the start of the step (RK2, increment update; empty otherwise).
+    /// Tensor field at the start of the step (RK2, increment update; empty otherwise, and
+    /// on the fused nodal sweep's RK2 at `2^D` points per cell, `fused/nodal.rs`).
     pub start_tensor: Vec<Tensor<D>>,
     /// Velocity at the start of the step.
     pub start_velocity: Vec<Vector<D>>,
@@ -211,7 +212,8 @@ pub(crate) struct NodalLayout {
     /// Lumped masses (not on the fused sweep's RK2 at one point per cell: `S_i m_p`; not
     /// where the cell layouts hold them).
     mass: bool,
-    /// Start-of-step fields (RK2, the increment update; not where formed from the points).
+    /// Start-of-step fields (RK2, the increment update; not where formed from the points
+    /// or where the points' arrays hold RK2's stage fields).
     start: bool,
     /// Rates (the phase paths; the fused sweep updates without them).
     rates: bool,

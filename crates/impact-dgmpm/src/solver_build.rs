@@ -168,7 +168,10 @@ impl<const D: usize> DgmpmSolver<D> {
         // the start-of-step fields: RK2, and the increment update of the phase paths (the
         // fused sweep's single Euler stage reads its own input instead)
         let increment = self.options.update == PointUpdate::Increment;
-        let keep_start = !single && (rk2 || (increment && !fused_nodal));
+        // (RK2 at 2^D points per cell keeps its stage fields in the points' arrays,
+        // `fused/nodal.rs`: neither start nor next fields)
+        let in_points = self.fused_nodal_in_points();
+        let keep_start = !single && !in_points && (rk2 || (increment && !fused_nodal));
         let wanted = NodalLayout {
             nodes,
             mass: !single && !self.layouts.has_mapping(),
@@ -183,7 +186,7 @@ impl<const D: usize> DgmpmSolver<D> {
             // the next state: one per point on the cell path; per node between RK2's two
             // nodal stages unless the first writes in place (the last writes the points)
             // (the Heun cell sweeps: one per cell, `q_p + ½ Δq(F¹)`)
-            let layout = match (fused_nodal, rk2 && !single) {
+            let layout = match (fused_nodal, rk2 && !single && !in_points) {
                 (false, _) => fused::Layout::cell(ctu),
                 (true, true) => fused::Layout::nodal(Grid::<D>::NODES_PER_CELL, ctu),
                 (true, false) if heun => fused::Layout::heun(ctu),

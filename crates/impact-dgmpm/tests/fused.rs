@@ -237,6 +237,11 @@ fn fused_nodal_bar_matches_the_nodal_paths() {
     check_nodal::<1>("bar, 4 ppc, Euler", &bar, |c| {
         (c.points_per_cell, c.courant) = (4, 0.5)
     });
+    // 2^D points per cell: RK2's stage fields in the points' arrays (`fused/nodal.rs`)
+    check_nodal::<1>("bar, 2 ppc, RK2", &bar, |c| {
+        rk2(c, 0.8);
+        c.points_per_cell = 2;
+    });
     check_nodal::<1>("bar, 2 ppc, RK2, increment", &bar, |c| {
         rk2(c, 0.8);
         c.points_per_cell = 2;
@@ -270,6 +275,18 @@ fn fused_nodal_plate_matches_the_nodal_paths() {
     check_nodal::<2>("plate, 4 ppc, Euler CTU, increment", &scene, |c| {
         (c.points_per_cell, c.courant) = (4, 0.6);
         c.dgmpm_mut().unwrap().update = PointUpdate::Increment;
+    });
+    // 2^D points per cell: RK2's stage fields in the points' arrays (`fused/nodal.rs`)
+    for flux in [TransverseFlux::Ctu, TransverseFlux::DonorCell] {
+        check_nodal::<2>(&format!("plate, 4 ppc, RK2 {flux:?}"), &scene, |c| {
+            rk2(c, 0.7);
+            c.points_per_cell = 4;
+            c.dgmpm_mut().unwrap().flux = flux;
+        });
+    }
+    check_nodal::<2>("plate 80x90, 4 ppc, RK2, parallel", &plate([80, 90]), |c| {
+        rk2(c, 0.7);
+        c.points_per_cell = 4;
     });
     check_nodal::<2>("plate, 4 ppc, RK2 DCU, increment", &scene, |c| {
         rk2(c, 0.9);

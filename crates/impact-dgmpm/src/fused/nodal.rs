@@ -17,7 +17,8 @@
 //! The 2D sweep is the cell path's ([`super`], `plane.rs`) with the nodal face states; the
 //! 1D one walks each chunk of cells. No face array and no rate array is allocated. Between
 //! RK2's stages the new nodal fields go to a second buffer, swapped in after the sweep
-//! (the old ones become the start-of-step fields, so they are never copied).
+//! (the old ones become the start-of-step fields, so they are never copied), or at `2^D`
+//! points per cell into the points' state arrays (below).
 //!
 //! **RK2 at one point per cell.** Phase 1 is the identity there (every node of a cell
 //! carries its point's state, `StepPath::SinglePoint`) and the lumped masses are
@@ -27,22 +28,36 @@
 //! from the point where a stage needs them (the second stage reads a point's state before
 //! it writes it). No nodal mass, start or next buffer is allocated.
 //!
+//! **RK2 at `2^D` points per cell** (the plate at 4, the bar at 2; the update
+//! `PointUpdate::Nodal`). The cell's points' state arrays then hold exactly as many
+//! entries as its nodes, and after phase 1 nothing reads the points' start-of-step state
+//! but phase 1 itself. So the first stage writes `q¹` into the points' stress and
+//! velocity arrays (cell `c`'s nodes at entries `2^D c ..`, read back as nodal fields). The
+//! second reads `q¹` there and each cell's `q⁰` from the nodes (read by that cell alone),
+//! forms `q = ½ q⁰ + ½ (q¹ + Δt q̇¹)` and writes its points' new states (phase 5) over
+//! its `q⁰`, in the nodal buffer; the points' and the nodes' arrays are then swapped. Nodal
+//! storage: one set of fields, as Euler's (no start and no next buffer: 384 B a cell less
+//! at 4 points in 2D), and the bytes moved are the three-buffer stages'. The values are
+//! theirs, bit for bit. The increment update keeps the three buffers (it reads the
+//! points' start-of-step state in phase 5).
+//!
 //! With every point strictly inside its cell, RK2 at one point per cell takes the Heun
 //! cell sweeps instead (`heun.rs`): side states in closed form, no nodal rate and no
 //! nodal field.
 //!
 //! Tested against the phase-by-phase nodal paths to 1e-13.
-use super::{Band, FusedBuffers, CHUNK};
+use super::{Band, FusedBuffers};
 use crate::faces::Fields;
 use crate::integrator::stage_update;
 use crate::mapping::points_of_cell;
-use crate::riemann::axis::{axis_flux_1d, AxisConstants};
 use crate::riemann::Conserved;
 use crate::{DgmpmSolver, StepPath, MAX_NODES};
 use impact_core::method::{Integrator, PointUpdate};
 use impact_core::parallel::{chunks, for_each_chunk};
 use impact_core::points::MaterialPoints;
 use impact_core::{Grid, Tensor, Vector};
+
+mod line;
 
 /// Where one band's stage update goes: the new nodal fields (`2^D` entries per cell), or
 /// in the step's last stage the band's points (phase 5 in the sweep) and their positions,
@@ -84,6 +99,8 @@ pub(super) struct Stage {
     start_weight: f64,
     last: bool,
     single: bool,
+    /// RK2's fields between its stages live in the points' state arrays (module doc).
+    in_points: bool,
 }
 
 impl Stage {
@@ -99,6 +116,15 @@ impl<const D: usize> DgmpmSolver<D> {
     /// at one point per cell; module doc of `fused::nodal`).
     pub(crate) fn fused_nodal_single(&self) -> bool {
         self.points_per_cell == 1 && self.options.integrator == Integrator::Rk2
+    }
+
+    /// Whether the fused nodal path keeps RK2's first-stage fields in the points' state
+    /// arrays (`2^D` points per cell, the nodal update; module doc of `fused::nodal`).
+    pub(crate) fn fused_nodal_in_points(&self) -> bool {
+        self.path == StepPath::FusedNodal
+            && self.options.integrator == Integrator::Rk2
+            && self.points_per_cell == Grid::<D>::NODES_PER_CELL
+            && self.options.update == PointUpdate::Nodal
     }
 
     /// One stage of the fused nodal path (module doc): the new nodal fields replace the
@@ -121,6 +147,7 @@ impl<const D: usize> DgmpmSolver<D> {
             start_weight,
             last,
             single: self.fused_nodal_single(),
+            in_points: self.fused_nodal_in_points(),
         };
         self.by_dimension(
             points,
@@ -132,9 +159,11 @@ impl<const D: usize> DgmpmSolver<D> {
 
     /// Run `sweep(band index, band, face fields, inputs, output)` on every band. A stage
     /// before the last writes the new nodal fields: in place when it reads the points,
+    /// into the points' state arrays when they hold RK2's stage fields (`in_points`),
     /// otherwise to the next buffer, swapped in after (after a first stage, `a = 0`, the
-    /// old fields become the start-of-step fields). The last stage writes the points.
-    /// Returns the bands' power and force, added up.
+    /// old fields become the start-of-step fields). The last stage writes the points (with
+    /// `in_points` their new states into the nodal buffer, then swapped with the points'
+    /// arrays). Returns the bands' power and force, added up.
     fn nodal_bands(
         &mut self,
         points: &mut MaterialPoints<D>,
@@ -156,31 +185,62 @@ impl<const D: usize> DgmpmSolver<D> {
             let nodal_per_band = cells_per_band * Grid::<D>::NODES_PER_CELL;
             let point_per_band = cells_per_band * this.points_per_cell;
             // the positions' chunks match the bands in every stage (moved in the last)
-            let position = (&mut position[..], point_per_band);
+            let position_chunks = (&mut position[..], point_per_band);
+            // what every stage reads (the fields it starts from are set below)
+            let base = NodalIn {
+                volume,
+                tensor: &[],
+                velocity: &[],
+                mass: &nodes.mass,
+                start: (&nodes.start_tensor, &nodes.start_velocity),
+                point_mass: mass,
+                points: None,
+            };
             if stage.reads_points() {
                 // RK2's first stage at one point per cell: the points in, the nodes out
                 let inputs = NodalIn {
-                    volume,
-                    tensor: &[],
-                    velocity: &[],
-                    mass: &[],
-                    start: (&[], &[]),
-                    point_mass: mass,
                     points: Some((stress, velocity)),
+                    ..base
                 };
                 let fields = Fields::per_cell(stress, velocity);
                 let out = (&mut nodes.tensor[..], &mut nodes.velocity[..]);
                 let out = (out, nodal_per_band, false);
-                this.run_bands(bands, fields, inputs, out, position, &sweep);
-            } else {
+                this.run_bands(bands, fields, inputs, out, position_chunks, &sweep);
+            } else if stage.in_points && !stage.last {
+                // RK2's first stage, q¹ into the points' state arrays (module doc)
                 let inputs = NodalIn {
-                    volume,
                     tensor: &nodes.tensor,
                     velocity: &nodes.velocity,
-                    mass: &nodes.mass,
-                    start: (&nodes.start_tensor, &nodes.start_velocity),
-                    point_mass: mass,
-                    points: None,
+                    ..base
+                };
+                let fields = Fields::nodal(&nodes.tensor, &nodes.velocity);
+                let out = ((&mut stress[..], &mut velocity[..]), nodal_per_band, false);
+                this.run_bands(bands, fields, inputs, out, position_chunks, &sweep);
+            } else if stage.in_points {
+                // RK2's second stage: q¹ from the points' arrays, each cell's q⁰ from the
+                // nodes, the cell's new point states over its q⁰; the arrays then swapped
+                assert_eq!(
+                    stress.len(),
+                    nodes.tensor.len(),
+                    "internal: 2^D points a cell"
+                );
+                let inputs = NodalIn {
+                    tensor: stress,
+                    velocity,
+                    start: (&[], &[]),
+                    ..base
+                };
+                let fields = Fields::nodal(stress, velocity);
+                let out = (&mut nodes.tensor[..], &mut nodes.velocity[..]);
+                let out = (out, point_per_band, true);
+                this.run_bands(bands, fields, inputs, out, position_chunks, &sweep);
+                std::mem::swap(stress, &mut nodes.tensor);
+                std::mem::swap(velocity, &mut nodes.velocity);
+            } else {
+                let inputs = NodalIn {
+                    tensor: &nodes.tensor,
+                    velocity: &nodes.velocity,
+                    ..base
                 };
                 let fields = Fields::nodal(&nodes.tensor, &nodes.velocity);
                 let out = match stage.last {
@@ -191,9 +251,9 @@ impl<const D: usize> DgmpmSolver<D> {
                         false,
                     ),
                 };
-                this.run_bands(bands, fields, inputs, out, position, &sweep);
+                this.run_bands(bands, fields, inputs, out, position_chunks, &sweep);
             }
-            if !stage.last && !stage.reads_points() {
+            if !stage.last && !stage.reads_points() && !stage.in_points {
                 if stage.start_weight == 0.0 && !nodes.start_tensor.is_empty() {
                     std::mem::swap(&mut nodes.start_tensor, &mut nodes.tensor);
                     std::mem::swap(&mut nodes.start_velocity, &mut nodes.velocity);
@@ -311,7 +371,10 @@ impl<const D: usize> DgmpmSolver<D> {
         let mut rate_velocity = [Vector::<D>::zeros(); MAX_NODES];
         let rates = (&mut rate_tensor[..], &mut rate_velocity[..]);
         self.rates_of_cell(cell, inputs.volume, (q, v, mass), faces, rates);
-        let starts = (start_weight != 0.0).then(|| match single {
+        // RK2's second stage with its fields in the points' arrays: this cell's q⁰ is in
+        // the output, updated in place below (module doc)
+        let start_in_output = stage.in_points && start_weight != 0.0;
+        let starts = (start_weight != 0.0 && !start_in_output).then(|| match single {
             true => (&point_q[..nodes_per_cell], &point_v[..nodes_per_cell]),
             false => (
                 &inputs.start.0[range.clone()],
@@ -321,6 +384,7 @@ impl<const D: usize> DgmpmSolver<D> {
         let mut new_q = [Tensor::<D>::zeros(); MAX_NODES];
         let mut new_v = [Vector::<D>::zeros(); MAX_NODES];
         match starts {
+            _ if start_in_output => {}
             None => {
                 for a in 0..nodes_per_cell {
                     new_q[a] = stage_update(q[a], rate_tensor[a], dt, None, 0.0);
@@ -347,6 +411,17 @@ impl<const D: usize> DgmpmSolver<D> {
                 position,
             } => {
                 let per_cell = self.points_per_cell;
+                if start_in_output {
+                    // the cell's q⁰, in the entries its points' new states go to
+                    let own = local * per_cell..(local + 1) * per_cell;
+                    let (q0, v0) = (&tensor[own.clone()], &velocity[own]);
+                    for a in 0..nodes_per_cell {
+                        new_q[a] =
+                            stage_update(q[a], rate_tensor[a], dt, Some(q0[a]), start_weight);
+                        new_v[a] =
+                            stage_update(v[a], rate_velocity[a], dt, Some(v0[a]), start_weight);
+                    }
+                }
                 let increment = (self.options.update == PointUpdate::Increment)
                     .then(|| starts.unwrap_or((q, v)));
                 let new = (&new_q[..nodes_per_cell], &new_v[..nodes_per_cell]);
@@ -393,72 +468,6 @@ impl DgmpmSolver<2> {
                 }
             },
         )
-    }
-}
-
-impl DgmpmSolver<1> {
-    /// The 1D nodal sweep: [`Self::walk_1d`] with the nodal update, the face states from
-    /// the nodes (or, read from the points, the cells' states).
-    fn nodal_sweep_1d(&mut self, points: &mut MaterialPoints<1>, stage: Stage) -> (f64, Vector<1>) {
-        let constants = AxisConstants::new(&self.elastic);
-        self.nodal_bands(
-            points,
-            CHUNK,
-            stage,
-            |this, b, band, fields, inputs, out| {
-                let c = &constants;
-                match (stage.reads_points(), stage.single) {
-                    (true, _) => this.walk_1d::<false>(b, band, fields, c, |cell, j, faces| {
-                        this.nodal_cell_update::<true>((cell, j), faces, inputs, stage, out)
-                    }),
-                    (false, true) => this.walk_1d::<true>(b, band, fields, c, |cell, j, faces| {
-                        this.nodal_cell_update::<true>((cell, j), faces, inputs, stage, out)
-                    }),
-                    (false, false) => this.walk_1d::<true>(b, band, fields, c, |cell, j, faces| {
-                        this.nodal_cell_update::<false>((cell, j), faces, inputs, stage, out)
-                    }),
-                }
-            },
-        )
-    }
-
-    /// The 1D sweep of chunk `b` (the 1D nodal sweep's and the Heun sweeps'): it solves
-    /// its low face (`NODAL`: node 1 of the cell below against its node 0, or side
-    /// states; otherwise the two cells' states), then per cell its high face and
-    /// `update(cell, index in the chunk, [[low, high]])`. Boundary faces add their power
-    /// and force to the band's.
-    pub(super) fn walk_1d<const NODAL: bool>(
-        &self,
-        b: usize,
-        band: &mut Band<1>,
-        fields: Fields<'_, 1>,
-        constants: &AxisConstants,
-        mut update: impl FnMut(usize, usize, [[&Conserved<1>; 2]; 1]),
-    ) {
-        let count = self.grid.cells[0];
-        let start = b * CHUNK;
-        let len = CHUNK.min(count - start);
-        band.power = 0.0;
-        band.force = Vector::<1>::zeros();
-        let face = |left: usize| {
-            let l = fields.at::<NODAL>(left, 0, true);
-            let r = fields.at::<NODAL>(left + 1, 0, false);
-            axis_flux_1d(&l, &r, constants)
-        };
-        // the chunk's low face is counted by the chunk below it (or here at the bar's end)
-        let mut low = match start {
-            0 => self.boundary_flux(0, [0], fields, band),
-            _ => face(start - 1),
-        };
-        for j in 0..len {
-            let cell = start + j;
-            let high = match cell + 1 < count {
-                true => face(cell),
-                false => self.boundary_flux(0, [count], fields, band),
-            };
-            update(cell, j, [[&low, &high]]);
-            low = high;
-        }
     }
 }
 
