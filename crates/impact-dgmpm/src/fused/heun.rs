@@ -349,9 +349,8 @@ impl<const D: usize> DgmpmSolver<D> {
             HeunOut::First { sides, next } if FIRST => {
                 let first_side = local * 2 * D;
                 let sides = &mut sides[first_side..first_side + 2 * D];
-                let (q, v) = self.heun_first(u, cell, faces, (fields, mass), sides);
-                next.0[local] = q;
-                next.1[local] = v;
+                let next = Some((&mut next.0[local], &mut next.1[local]));
+                self.heun_first(u, cell, faces, (fields, mass), sides, next);
             }
             HeunOut::Second { next, position } if !FIRST => {
                 let next = (&mut next.0[local], &mut next.1[local]);
@@ -364,7 +363,8 @@ impl<const D: usize> DgmpmSolver<D> {
     /// Stage 1 of cell `cell` from its faces' final fluxes `[low, high]` per axis (module
     /// doc): each side's traction and velocity into `sides` (`2D`),
     /// `σ¹ e_l = σ_p e_l + Δt ρ [λ (v_p · W) e_l + μ (v_p W_l + W v_{p,l}) + Σ K F^σ e_l]`,
-    /// `v¹ = v_p + Δt [σ_p W + Σ K F^p]` (its weights `W`, `K`); returns `q_p + ½ Δq(F¹)`,
+    /// `v¹ = v_p + Δt [σ_p W + Σ K F^p]` (its weights `W`, `K`); writes `q_p + ½ Δq(F¹)` to
+    /// `next` (where given),
     /// `Δq(F) = -Δt (ρV/m_p) Σ_l (F_l,high - F_l,low)/Δx_l`.
     #[inline(always)]
     fn heun_first(
@@ -374,13 +374,18 @@ impl<const D: usize> DgmpmSolver<D> {
         faces: [[&Conserved<D>; 2]; D],
         (fields, mass): (Fields<'_, D>, f64),
         sides: &mut [SideState<D>],
-    ) -> (Tensor<D>, Vector<D>) {
+        next: Option<(&mut Tensor<D>, &mut Vector<D>)>,
+    ) {
         let (dq, dv) = Self::flux_increment(&u.half, faces, mass);
         let FullState {
             tensor: q,
             velocity: v,
         } = fields.cell(cell);
-        let next = (q + dq, v + dv);
+        // (written before the side states: not held in registers across them)
+        if let Some((next_q, next_v)) = next {
+            *next_q = q + dq;
+            *next_v = v + dv;
+        }
         let w = self.heun_weights_of(cell);
         for (side, out) in sides.iter_mut().enumerate() {
             let (l, s) = (side / 2, side % 2);
@@ -408,7 +413,6 @@ impl<const D: usize> DgmpmSolver<D> {
                 velocity: v + (q * g + momentum) * u.dt,
             };
         }
-        next
     }
 
     /// Stage 2 of a cell from its faces' final fluxes (module doc): `next += ½ Δq(F²)`

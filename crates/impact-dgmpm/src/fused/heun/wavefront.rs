@@ -175,12 +175,9 @@ impl DgmpmSolver<2> {
                 self.band_row::<false>(r, &band_rows(b), one, fields, k, &mut |c, _, f| {
                     let at = base + (c - row) * SIDES;
                     let sides = &mut ring[at..at + SIDES];
-                    let next = self.heun_first(u, c, f, (fields, mass[c]), sides);
-                    if owned {
-                        let local = c - own.start * nx;
-                        tensor[local] = next.0;
-                        velocity[local] = next.1;
-                    }
+                    let local = c.wrapping_sub(own.start * nx);
+                    let next = owned.then(|| (&mut tensor[local], &mut velocity[local]));
+                    self.heun_first(u, c, f, (fields, mass[c]), sides, next);
                 });
             if owned && (r + 1 == band_rows(b).end || r + 1 == own.end) {
                 record(b, 0, one, x_power);
@@ -193,10 +190,15 @@ impl DgmpmSolver<2> {
                 if next == own.start {
                     self.band_start::<true>(next, &band, two, sides, k);
                 }
+                // the row's slices, indexed by the cell's place in the row
+                let row = next * nx;
+                let at = row - own.start * nx;
+                let (tensor, velocity) = (&mut tensor[at..at + nx], &mut velocity[at..at + nx]);
+                let (position, mass) = (&mut position[at..at + nx], &mass[row..row + nx]);
                 let x_power = self.band_row::<true>(next, &band, two, sides, k, &mut |c, _, f| {
-                    let local = c - own.start * nx;
-                    let next = (&mut tensor[local], &mut velocity[local]);
-                    Self::heun_second(u, f, mass[c], next, &mut position[local]);
+                    let i = c - row;
+                    let next = (&mut tensor[i], &mut velocity[i]);
+                    Self::heun_second(u, f, mass[i], next, &mut position[i]);
                 });
                 if next + 1 == band.end {
                     record(b, 1, two, x_power);

@@ -138,6 +138,8 @@ impl DgmpmSolver<2> {
         };
         // (rows below `own` are the Heun wavefront's, whose update ignores the index)
         let local = row.wrapping_sub(own.start * nx);
+        // (sliced to the row: no index checks on the final y-fluxes)
+        let (y_below, y_above) = (&band.y_final[0][..nx], &band.y_final[1][..nx]);
         for i in 0..nx {
             let high = match i + 1 < nx {
                 true => {
@@ -151,7 +153,7 @@ impl DgmpmSolver<2> {
                 }
                 false => x_edge(nx, &mut force),
             };
-            let faces = [[&low, &high], [&band.y_final[0][i], &band.y_final[1][i]]];
+            let faces = [[&low, &high], [&y_below[i], &y_above[i]]];
             update(row + i, local.wrapping_add(i), faces);
             low = high;
         }
