@@ -227,7 +227,6 @@ impl<const D: usize> DgmpmSolver<D> {
                 let inputs = NodalIn {
                     tensor: stress,
                     velocity,
-                    start: (&[], &[]),
                     ..base
                 };
                 let fields = Fields::nodal(stress, velocity);
@@ -383,20 +382,13 @@ impl<const D: usize> DgmpmSolver<D> {
         });
         let mut new_q = [Tensor::<D>::zeros(); MAX_NODES];
         let mut new_v = [Vector::<D>::zeros(); MAX_NODES];
-        match starts {
-            _ if start_in_output => {}
-            None => {
-                for a in 0..nodes_per_cell {
-                    new_q[a] = stage_update(q[a], rate_tensor[a], dt, None, 0.0);
-                    new_v[a] = stage_update(v[a], rate_velocity[a], dt, None, 0.0);
-                }
-            }
-            Some((q0, v0)) => {
-                for a in 0..nodes_per_cell {
-                    new_q[a] = stage_update(q[a], rate_tensor[a], dt, Some(q0[a]), start_weight);
-                    new_v[a] = stage_update(v[a], rate_velocity[a], dt, Some(v0[a]), start_weight);
-                }
-            }
+        let rates = (
+            &rate_tensor[..nodes_per_cell],
+            &rate_velocity[..nodes_per_cell],
+        );
+        let new = (&mut new_q[..nodes_per_cell], &mut new_v[..nodes_per_cell]);
+        if !start_in_output {
+            stage_nodes_into((q, v), rates, (dt, starts, start_weight), new);
         }
         match out {
             NodalOut::Nodes { tensor, velocity } => {
@@ -414,13 +406,9 @@ impl<const D: usize> DgmpmSolver<D> {
                 if start_in_output {
                     // the cell's q⁰, in the entries its points' new states go to
                     let own = local * per_cell..(local + 1) * per_cell;
-                    let (q0, v0) = (&tensor[own.clone()], &velocity[own]);
-                    for a in 0..nodes_per_cell {
-                        new_q[a] =
-                            stage_update(q[a], rate_tensor[a], dt, Some(q0[a]), start_weight);
-                        new_v[a] =
-                            stage_update(v[a], rate_velocity[a], dt, Some(v0[a]), start_weight);
-                    }
+                    let starts = Some((&tensor[own.clone()], &velocity[own]));
+                    let new = (&mut new_q[..nodes_per_cell], &mut new_v[..nodes_per_cell]);
+                    stage_nodes_into((q, v), rates, (dt, starts, start_weight), new);
                 }
                 let increment = (self.options.update == PointUpdate::Increment)
                     .then(|| starts.unwrap_or((q, v)));
@@ -437,6 +425,32 @@ impl<const D: usize> DgmpmSolver<D> {
                     2 => points_of_cell::<D, 2>(shapes, new, increment, points, dt),
                     _ => points_of_cell::<D, 0>(shapes, new, increment, points, dt),
                 }
+            }
+        }
+    }
+}
+
+/// Phase 4 at one cell's nodes ([`stage_update`] at each): `new = q + Δt q̇`, or with the
+/// start-of-step fields `starts` and their weight `a`, `a q⁰ + (1 - a)(q + Δt q̇)`.
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn stage_nodes_into<const D: usize>(
+    (q, v): (&[Tensor<D>], &[Vector<D>]),
+    (rate_tensor, rate_velocity): (&[Tensor<D>], &[Vector<D>]),
+    (dt, starts, start_weight): (f64, Option<(&[Tensor<D>], &[Vector<D>])>, f64),
+    (new_q, new_v): (&mut [Tensor<D>], &mut [Vector<D>]),
+) {
+    match starts {
+        None => {
+            for a in 0..new_q.len() {
+                new_q[a] = stage_update(q[a], rate_tensor[a], dt, None, 0.0);
+                new_v[a] = stage_update(v[a], rate_velocity[a], dt, None, 0.0);
+            }
+        }
+        Some((q0, v0)) => {
+            for a in 0..new_q.len() {
+                new_q[a] = stage_update(q[a], rate_tensor[a], dt, Some(q0[a]), start_weight);
+                new_v[a] = stage_update(v[a], rate_velocity[a], dt, Some(v0[a]), start_weight);
             }
         }
     }
