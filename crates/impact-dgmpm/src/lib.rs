@@ -274,9 +274,9 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) shape_gradient: Vec<Vector<D>>,
     /// RK2 at one point per cell strictly inside its cell on the fused nodal path: each
     /// side's state weights `W = Σ_i κ_i G_i` and `K_{m,t}` of its faces (`fused/heun.rs`),
-    /// `2D (2D + 1)` rows of lanes per distinct cell (`W`, `W_l` and each `K` in every
-    /// lane; bit-equal blocks stored once; empty otherwise; the shape functions are then
-    /// dropped).
+    /// `2D (4D - 1)` rows of lanes per distinct cell (each `W_k` and `K` in every lane,
+    /// the columns of the side's volume matrix `M(W)`; bit-equal blocks stored once; empty
+    /// otherwise; the shape functions are then dropped).
     pub(crate) heun_weights: Vec<fused::Lanes<D>>,
     /// Each cell's block of `heun_weights` (empty where one block serves every cell).
     pub(crate) heun_layout: Vec<u32>,

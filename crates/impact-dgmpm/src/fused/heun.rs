@@ -19,8 +19,12 @@
 //! is then `σ¹ = σ_p + Δt ρ [C : sym(v_p ⊗ W) + Σ K_{m,t} F^σ_{m,t}]`,
 //! `v¹ = v_p + Δt [σ_p W + Σ K_{m,t} F^p_{m,t}]`: no division, no nodal field, the point's
 //! interpolation `Σ_i S_i q_p = q_p` not formed. Only what a face normal to `e_l` reads
-//! is formed and stored, the traction `σ¹ e_l` and `v¹` ([`SideState`]:
-//! `(C : sym(v ⊗ W)) e_l = λ (v · W) e_l + μ (v W_l + W v_l)`).
+//! is formed and stored, the traction `σ¹ e_l` and `v¹` ([`SideState`]). The traction's
+//! volume part is linear in `v_p` with a matrix fixed per side, formed with the weights:
+//! `(C : sym(v ⊗ W)) e_l = λ (v · W) e_l + μ (v W_l + W v_l) = M v`,
+//! `M_jk = λ δ_jl W_k + μ (δ_jk W_l + W_j δ_kl)` ([`volume_matrix`]), so a side costs
+//! `2D - 1` face products and `D` columns of `M` and of `σ_p` for each of its two parts,
+//! and one scaling (by `Δt ρ`, `Δt`) each.
 //!
 //! **Stage 2.** With `Σ_i S_i = 1`, `Σ_i ∇S_i = 0` and each face's flux reaching its
 //! `2^{D-1}` nodes with weight `w_m`, `Σ_i S_i q̇_i` is the cell path's update
@@ -65,12 +69,12 @@ const fn per_side(d: usize) -> usize {
     3 * d - 1
 }
 
-/// Rows of [`Lanes`] per side of a cell in [`DgmpmSolver::heun_weights`]: `W`, then
-/// `W_l` in every lane (`l` the side's axis), then each of its `2D - 1` weights `K` in
-/// every lane, so that a product by one weight is a lane-wise product with a row loaded
-/// whole (no broadcast in the sweep); the same products, so the same bits.
+/// Rows of [`Lanes`] per side of a cell in [`DgmpmSolver::heun_weights`]: each `W_k` in
+/// every lane (`D`), the columns of the side's volume matrix `M` (`D`, module doc), then
+/// each of its `2D - 1` weights `K` in every lane, so that a product by one weight is a
+/// lane-wise product with a row loaded whole (no broadcast in the sweep).
 const fn lane_rows(d: usize) -> usize {
-    2 * d + 1
+    4 * d - 1
 }
 
 /// `D` values kept as one aligned row (a SIMD register's worth in 2D): a side's `W` or
@@ -92,14 +96,21 @@ impl<const D: usize> Lanes<D> {
     }
 }
 
-/// The step's constants of the Heun sweeps: the cell update's at `½Δt`, `Δt`, `Δt ρ` and
-/// the Lamé constants of `C : sym(·)` (`λ = 0`, `μ = E/2` in 1D: `C : ε = E ε`).
+/// The step's constants of the Heun sweeps: the cell update's at `½Δt`, `Δt` and `Δt ρ`.
 struct HeunConstants<const D: usize> {
     half: UpdateConstants<D>,
     dt: f64,
     dt_rho: f64,
-    lambda: f64,
-    mu: f64,
+}
+
+/// The volume matrix `M` of a side normal to `e_l` with weight `W` (module doc):
+/// `(C : sym(v ⊗ W)) e_l = λ (v · W) e_l + μ (v W_l + W v_l) = M v`, so
+/// `M_jk = λ δ_jl W_k + μ (δ_jk W_l + W_j δ_kl)`.
+fn volume_matrix<const D: usize>(w: &[f64], l: usize, lambda: f64, mu: f64) -> Tensor<D> {
+    let delta = |a: usize, b: usize| if a == b { 1.0 } else { 0.0 };
+    Tensor::<D>::from_fn(|j, k| {
+        lambda * delta(j, l) * w[k] + mu * (delta(j, k) * w[l] + w[j] * delta(k, l))
+    })
 }
 
 /// What one band of a Heun stage writes: stage 1 its cells' side states (`2D` per cell)
@@ -154,6 +165,7 @@ impl<const D: usize> DgmpmSolver<D> {
             }
         };
         let stride = 2 * D * per_side(D);
+        let (lambda, mu) = self.heun_lame();
         // each distinct cell's weights once (bit-equal blocks: a map from their bits to the
         // block), a block index per cell
         let mut weights = Vec::new();
@@ -208,8 +220,11 @@ impl<const D: usize> DgmpmSolver<D> {
                         .map_err(|_| crate::unsupported("more than 2^32 distinct cells"))?;
                     index.insert(bits.clone(), l);
                     for (side, w) in block.chunks_exact(per_side(D)).enumerate() {
-                        weights.push(Lanes(std::array::from_fn(|k| w[k])));
-                        weights.push(Lanes::splat(w[side / 2]));
+                        weights.extend(w[..D].iter().map(|&w| Lanes::splat(w)));
+                        let volume = volume_matrix::<D>(&w[..D], side / 2, lambda, mu);
+                        let columns =
+                            (0..D).map(|k| Lanes(std::array::from_fn(|j| volume[(j, k)])));
+                        weights.extend(columns);
                         weights.extend(w[D..].iter().map(|&k| Lanes::splat(k)));
                     }
                     l
@@ -241,15 +256,18 @@ impl<const D: usize> DgmpmSolver<D> {
         &self.heun_weights[start..start + stride]
     }
 
+    /// The Lamé constants of `C : sym(·)`: `λ = 0`, `μ = E/2` in 1D (`C : ε = E ε`).
+    fn heun_lame(&self) -> (f64, f64) {
+        let lambda = if D == 1 { 0.0 } else { self.elastic.lambda };
+        (lambda, self.elastic.mu)
+    }
+
     /// The constants of a Heun step of `dt`.
     fn heun_constants(&self, dt: f64) -> HeunConstants<D> {
-        let dt_rho = dt * self.material.density;
         HeunConstants {
             half: self.update_constants(0.5 * dt),
             dt,
-            dt_rho,
-            lambda: if D == 1 { 0.0 } else { self.elastic.lambda },
-            mu: self.elastic.mu,
+            dt_rho: dt * self.material.density,
         }
     }
 
@@ -362,8 +380,9 @@ impl<const D: usize> DgmpmSolver<D> {
 
     /// Stage 1 of cell `cell` from its faces' final fluxes `[low, high]` per axis (module
     /// doc): each side's traction and velocity into `sides` (`2D`),
-    /// `σ¹ e_l = σ_p e_l + Δt ρ [λ (v_p · W) e_l + μ (v_p W_l + W v_{p,l}) + Σ K F^σ e_l]`,
-    /// `v¹ = v_p + Δt [σ_p W + Σ K F^p]` (its weights `W`, `K`); writes `q_p + ½ Δq(F¹)` to
+    /// `σ¹ e_l = σ_p e_l + Δt ρ [Σ K F^σ e_l + Σ_k M_{·k} v_{p,k}]`,
+    /// `v¹ = v_p + Δt [Σ K F^p + Σ_k σ_{p,·k} W_k]` (its weights `W`, `K` and volume matrix
+    /// `M = M(W)`, [`volume_matrix`]); writes `q_p + ½ Δq(F¹)` to
     /// `next` (where given),
     /// `Δq(F) = -Δt (ρV/m_p) Σ_l (F_l,high - F_l,low)/Δx_l`.
     #[inline(always)]
@@ -387,30 +406,36 @@ impl<const D: usize> DgmpmSolver<D> {
             *next_v = v + dv;
         }
         let w = self.heun_weights_of(cell);
+        // `v_k` in every lane, for `M v = Σ_k M_{·k} v_k` on every side
+        let v_lanes: [Vector<D>; D] = std::array::from_fn(|k| Vector::<D>::repeat(v[k]));
         for (side, out) in sides.iter_mut().enumerate() {
             let (l, s) = (side / 2, side % 2);
             let w = &w[side * lane_rows(D)..(side + 1) * lane_rows(D)];
-            let g = w[0].vector();
-            let column = |f: &Conserved<D>| Vector::<D>::from_fn(|k, _| f.tensor[(k, l)]);
+            let (w_lanes, rest) = w.split_at(D);
+            let (volume, k) = rest.split_at(D);
+            let column = |f: &Conserved<D>| Vector::<D>::from_fn(|j, _| f.tensor[(j, l)]);
             // Σ K F (each K in every lane): the own face, then both faces of each other axis
             let own = faces[l][s];
-            let mut traction = column(own).component_mul(&w[2].vector());
-            let mut momentum = own.momentum.component_mul(&w[2].vector());
-            let mut k = 3;
+            let mut traction = column(own).component_mul(&k[0].vector());
+            let mut momentum = own.momentum.component_mul(&k[0].vector());
+            let mut index = 1;
             for m in (0..D).filter(|&m| m != l) {
                 for face in faces[m] {
-                    traction += column(face).component_mul(&w[k].vector());
-                    momentum += face.momentum.component_mul(&w[k].vector());
-                    k += 1;
+                    traction += column(face).component_mul(&k[index].vector());
+                    momentum += face.momentum.component_mul(&k[index].vector());
+                    index += 1;
                 }
             }
-            // (C : sym(v_p ⊗ W)) e_l = λ (v_p · W) e_l + μ (v_p W_l + W v_{p,l}), `W_l` in
-            // every lane
-            let mut volume = (v.component_mul(&w[1].vector()) + g * v[l]) * u.mu;
-            volume[l] += u.lambda * v.dot(&g);
+            // (C : sym(v_p ⊗ W)) e_l = M v_p, and σ_p W = Σ_k σ_{p,·k} W_k
+            for (column_k, v_k) in volume.iter().zip(&v_lanes) {
+                traction += column_k.vector().component_mul(v_k);
+            }
+            for (k, w_k) in w_lanes.iter().enumerate() {
+                momentum += q.column(k).component_mul(&w_k.vector());
+            }
             *out = SideState {
-                traction: Vector::<D>::from_fn(|k, _| q[(k, l)]) + (volume + traction) * u.dt_rho,
-                velocity: v + (q * g + momentum) * u.dt,
+                traction: q.column(l) + traction * u.dt_rho,
+                velocity: v + momentum * u.dt,
             };
         }
     }
