@@ -33,8 +33,8 @@
 //!      the side-state weights one cell's copy on a uniform grid, in cache), in 2D one
 //!      wavefront (`fused/heun/wavefront.rs`): stage 1 reads the point's `T + V` and mass
 //!      (56) and writes the next `T + V` (48) and the cells' four side states (traction
-//!      and velocity, `4·32` = 128) into a ring of 10 rows per thread (1.28 MB at 1000
-//!      cells a row, 768 KB at 600: in L2 or L3, rewritten every 8 rows); stage 2 runs one row behind, so
+//!      and velocity, `4·32` = 128) into a ring of 4 rows per thread (512 KB at 1000
+//!      cells a row, 307 KB at 600: in L2, rewritten every 4 rows); stage 2 runs one row behind, so
 //!      its reads of the side states, of the next `T + V` and of the mass and its update
 //!      of the next `T + V` (swapped into the points after) hit the lines stage 1 has
 //!      just touched; it moves the points (32): 136 B, 184 B with write-allocate, the

@@ -352,8 +352,8 @@ fn valid_edge_cases_run() {
         ),
     ];
     assert!(cases.len() >= 10);
-    let base = std::env::temp_dir().join(format!("impact-edge-{}", std::process::id()));
-    std::fs::create_dir_all(&base).unwrap();
+    let base = crate::common::tmp("edge");
+    std::fs::create_dir_all(&*base).unwrap();
     for (k, (what, scene, extra)) in cases.iter().enumerate() {
         let file = base.join(format!("edge{k}.toml"));
         std::fs::write(&file, scene).unwrap();

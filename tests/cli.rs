@@ -1,6 +1,6 @@
 //! The `impact` binary as a user runs it: outputs, overrides, the CI gate, blow-ups.
 use crate::common::{impact, json, text, tmp, vtu_text};
-use std::path::PathBuf;
+use std::path::Path;
 
 #[test]
 fn run_bar_writes_every_output_and_the_table() {
@@ -448,7 +448,7 @@ fn check_against_all_mpm_prints_every_variant_with_the_run_figures() {
 #[test]
 fn order_two_runs_is_recorded_and_a_limiter_needs_it() {
     let (a, b, c) = (tmp("order2"), tmp("order2-again"), tmp("order1"));
-    let run = |extra: &[&str], out: &PathBuf| {
+    let run = |extra: &[&str], out: &Path| {
         let mut args = vec!["run", "--method", "dgmpm", "--courant", "0.5", "--quiet"];
         args.extend_from_slice(extra);
         args.extend(["--out", out.to_str().unwrap()]);

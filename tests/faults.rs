@@ -3,7 +3,7 @@
 //! name and the next run cleans up; a second run into a folder being written is refused;
 //! a re-run leaves no file of the earlier run. Each folder that exists holds exactly the
 //! files its `manifest.json` lists.
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -11,10 +11,10 @@ fn impact() -> Command {
     Command::new(env!("CARGO_BIN_EXE_impact"))
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("impact-faults-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+/// A fresh folder for test `name`, removed when dropped (kept if the test fails).
+fn scratch(name: &str) -> crate::common::TmpPath {
+    let dir = crate::common::tmp(&format!("faults-{name}"));
+    std::fs::create_dir_all(&*dir).unwrap();
     dir
 }
 

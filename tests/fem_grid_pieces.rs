@@ -22,7 +22,7 @@ use impact_fem::slab::SlabFem;
 use impact_fem::Fem;
 use std::collections::BTreeMap;
 use std::io::Read;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
@@ -253,19 +253,14 @@ fn scene(name: &str) -> Scene {
     Scene::parse_file(&path).unwrap()
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("impact-test-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
-
 /// `scene`'s FEM grid files on `ranks` ranks split as `rank_grid` against one rank's.
 fn pieces_equal_the_serial_files(name: &str, ranks: usize, rank_grid: RankGrid) {
     let scene = scene(name);
     let problem = Problem::<2>::from_scene(&scene).unwrap();
     let config = scene.method_config(MethodKind::Fem);
     let label = format!("{name} on {ranks} ranks, rank grid {:?}", rank_grid.0);
-    let root = tmp(&format!("fem-pieces-{name}-{ranks}-{}", rank_grid.0.len()));
+    // (removed when dropped, kept for inspection if an assertion fails)
+    let root = crate::common::tmp(&format!("fem-pieces-{name}-{ranks}-{}", rank_grid.0.len()));
     let serial = root.join("serial");
     let mut fem = Fem::<2>::new(&problem, config).unwrap();
     write_frames(
@@ -352,7 +347,6 @@ fn pieces_equal_the_serial_files(name: &str, ranks: usize, rank_grid: RankGrid) 
         }
     }
     assert!(moving > 0, "{label}: the wave must move some node");
-    let _ = std::fs::remove_dir_all(&root);
 }
 
 #[test]

@@ -25,8 +25,13 @@ fn plate(edge: &str, from: f64, to: f64, line: Option<&str>) -> Scene {
 }
 
 fn reference(problem: &Problem<2>) -> Reference {
-    let cache = std::env::temp_dir().join(format!("impact-fronts-{}", std::process::id()));
-    // the cache folder is read from the environment; one folder for this test binary
+    // the cache folder is read from the environment; one folder for this test binary, in
+    // Cargo's scratch folder for tests (`target/tmp`), emptied once per run
+    static FRESH: std::sync::Once = std::sync::Once::new();
+    let cache = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("impact-fronts-cache");
+    FRESH.call_once(|| {
+        let _ = std::fs::remove_dir_all(&cache);
+    });
     std::env::set_var("IMPACT_CACHE_DIR", &cache);
     impact::reference_for(problem, &MethodKind::ALL, false)
         .unwrap()

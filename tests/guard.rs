@@ -9,7 +9,7 @@ fn stderr(o: &std::process::Output) -> String {
 }
 
 /// A 6 m steel bar, 150 cells, with the given ends and an optional initial velocity.
-fn bar_file(name: &str, left: &str, right: &str, initial: &str) -> std::path::PathBuf {
+fn bar_file(name: &str, left: &str, right: &str, initial: &str) -> crate::common::TmpPath {
     let text = format!(
         "name = \"{name}\"\ndim = 1\n[domain]\nlength = [6.0]\ncells = [150]\n\
          [material]\nmodel = \"linear-elastic\"\nyoung = 2.0e11\npoisson = 0.3\n\

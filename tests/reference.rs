@@ -7,9 +7,15 @@ use impact_core::method::MethodKind;
 use impact_core::{Problem, Scene};
 use std::process::Command;
 
-/// One cache folder for this test binary (the folder is read from the environment).
+/// One cache folder for this test binary (the folder is read from the environment): in
+/// Cargo's scratch folder for tests (`target/tmp`), emptied once per run, so no run leaves
+/// another behind.
 fn use_test_cache() {
-    let cache = std::env::temp_dir().join(format!("impact-reference-{}", std::process::id()));
+    static FRESH: std::sync::Once = std::sync::Once::new();
+    let cache = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("impact-reference-cache");
+    FRESH.call_once(|| {
+        let _ = std::fs::remove_dir_all(&cache);
+    });
     std::env::set_var("IMPACT_CACHE_DIR", &cache);
 }
 

@@ -75,7 +75,7 @@ fn an_end_time_of_one_step_takes_one_step() {
     let scene = impact_core::Scene::builtin("bar").unwrap();
     let problem = impact_core::Problem::<1>::from_scene(&scene).unwrap();
     let transit = problem.cell_transit_time();
-    let out = std::env::temp_dir().join(format!("impact-one-step-{}", std::process::id()));
+    let out = crate::common::tmp("one-step");
     let t_end = format!("{transit:e}");
     let o = impact(&[
         "run",

@@ -54,11 +54,47 @@ pub fn impact(args: &[&str]) -> std::process::Output {
         .expect("run impact")
 }
 
-/// A fresh (removed if present) temporary path for test `name` of this process.
-pub fn tmp(name: &str) -> std::path::PathBuf {
+/// A fresh (removed if present) temporary path for test `name` of this process, removed
+/// again when the guard is dropped, unless the test is panicking (then kept to inspect).
+pub fn tmp(name: &str) -> TmpPath {
     let dir = std::env::temp_dir().join(format!("impact-test-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    dir
+    let _ = std::fs::remove_file(&dir);
+    TmpPath(dir)
+}
+
+/// A temporary path of [`tmp`] (a folder or a file): what is there is removed when it is
+/// dropped (not while the thread panics).
+pub struct TmpPath(pub std::path::PathBuf);
+
+impl Drop for TmpPath {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = match self.0.is_dir() {
+                true => std::fs::remove_dir_all(&self.0),
+                false => std::fs::remove_file(&self.0),
+            };
+        }
+    }
+}
+
+impl std::ops::Deref for TmpPath {
+    type Target = std::path::Path;
+    fn deref(&self) -> &std::path::Path {
+        &self.0
+    }
+}
+
+impl AsRef<std::path::Path> for TmpPath {
+    fn as_ref(&self) -> &std::path::Path {
+        &self.0
+    }
+}
+
+impl AsRef<std::ffi::OsStr> for TmpPath {
+    fn as_ref(&self) -> &std::ffi::OsStr {
+        self.0.as_os_str()
+    }
 }
 
 /// A run's stdout and stderr, for assertion messages.
