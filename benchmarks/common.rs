@@ -1,5 +1,5 @@
-//! What the in-process benches share (`threads.rs`, `fem_fused.rs`): their arguments, the
-//! median, and rayon pools of a given size.
+//! What the in-process benches share (`threads.rs`, `fem_fused.rs`, `guard.rs`,
+//! `rk2_euler.rs`): their arguments, the median, and rayon pools of a given size.
 
 /// The numbers among the arguments: `NX NY` (default 1000×750, the plate of issue 14),
 /// then the rest.
