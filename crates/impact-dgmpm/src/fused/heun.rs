@@ -483,3 +483,6 @@ impl DgmpmSolver<1> {
         )
     }
 }
+
+#[cfg(test)]
+mod tests;
