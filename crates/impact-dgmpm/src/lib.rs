@@ -274,10 +274,15 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) shape_gradient: Vec<Vector<D>>,
     /// RK2 at one point per cell strictly inside its cell on the fused nodal path: each
     /// side's state weights `W = Σ_i κ_i G_i` and `K_{m,t}` of its faces (`fused/heun.rs`),
-    /// `2D (4D - 1)` rows of lanes per distinct cell (each `W_k` and `K` in every lane,
-    /// the columns of the side's volume matrix `M(W)`; bit-equal blocks stored once; empty
+    /// `2D (3D - 1)` values per distinct cell (bit-equal blocks stored once; empty
     /// otherwise; the shape functions are then dropped).
-    pub(crate) heun_weights: Vec<fused::Lanes<D>>,
+    pub(crate) heun_weights: Vec<f64>,
+    /// The same weights scaled for a step of `heun_scaled_dt`, `2D (6D - 2)` rows of lanes
+    /// per block (`Δt W_k`, the columns of `Δt ρ M(W)`, `Δt ρ K` and `Δt K`, each weight in
+    /// every lane; `fused/heun.rs`).
+    pub(crate) heun_scaled: Vec<fused::Lanes<D>>,
+    /// The `Δt` of `heun_scaled` (NaN before the first step).
+    pub(crate) heun_scaled_dt: f64,
     /// Each cell's block of `heun_weights` (empty where one block serves every cell).
     pub(crate) heun_layout: Vec<u32>,
     /// Whether every `S_iα > 0` (every point strictly inside its cell).

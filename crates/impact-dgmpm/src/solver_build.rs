@@ -48,6 +48,8 @@ impl<const D: usize> DgmpmSolver<D> {
             shape: Vec::new(),
             shape_gradient: Vec::new(),
             heun_weights: Vec::new(),
+            heun_scaled: Vec::new(),
+            heun_scaled_dt: f64::NAN,
             heun_layout: Vec::new(),
             inside,
             nodes: NodalFields::default(),

@@ -22,9 +22,13 @@
 //! is formed and stored, the traction `σ¹ e_l` and `v¹` ([`SideState`]). The traction's
 //! volume part is linear in `v_p` with a matrix fixed per side, formed with the weights:
 //! `(C : sym(v ⊗ W)) e_l = λ (v · W) e_l + μ (v W_l + W v_l) = M v`,
-//! `M_jk = λ δ_jl W_k + μ (δ_jk W_l + W_j δ_kl)` ([`volume_matrix`]), so a side costs
-//! `2D - 1` face products and `D` columns of `M` and of `σ_p` for each of its two parts,
-//! and one scaling (by `Δt ρ`, `Δt`) each.
+//! `M_jk = λ δ_jl W_k + μ (δ_jk W_l + W_j δ_kl)` ([`volume_matrix`]). The weights are
+//! stored once (`W`, `K` per side) and scaled for the step's `Δt` into rows of
+//! `Δt W_k`, `Δt ρ M`, `Δt ρ K` and `Δt K` (`DgmpmSolver::scale_heun_weights`, again only
+//! when `Δt` changes: the last step of an output interval), so a side costs `2D - 1`
+//! face products and `D` column products for each of its two parts and no scaling:
+//! `σ¹ e_l = σ_p e_l + Σ (Δt ρ K) F^σ e_l + Σ_k (Δt ρ M)_{·k} v_{p,k}`,
+//! `v¹ = v_p + Σ (Δt K) F^p + Σ_k σ_{p,·k} (Δt W_k)`.
 //!
 //! **Stage 2.** With `Σ_i S_i = 1`, `Σ_i ∇S_i = 0` and each face's flux reaching its
 //! `2^{D-1}` nodes with weight `w_m`, `Σ_i S_i q̇_i` is the cell path's update
@@ -69,12 +73,13 @@ const fn per_side(d: usize) -> usize {
     3 * d - 1
 }
 
-/// Rows of [`Lanes`] per side of a cell in [`DgmpmSolver::heun_weights`]: each `W_k` in
-/// every lane (`D`), the columns of the side's volume matrix `M` (`D`, module doc), then
-/// each of its `2D - 1` weights `K` in every lane, so that a product by one weight is a
-/// lane-wise product with a row loaded whole (no broadcast in the sweep).
+/// Rows of [`Lanes`] per side of a cell in [`DgmpmSolver::heun_scaled`], scaled for the
+/// step's `Δt` (module doc): each `Δt W_k` in every lane (`D`), the columns of
+/// `Δt ρ M` (`D`), then each of its `2D - 1` weights as `Δt ρ K` and as `Δt K` in every
+/// lane, so that a product by one weight is a lane-wise product with a row loaded whole
+/// (no broadcast in the sweep).
 const fn lane_rows(d: usize) -> usize {
-    4 * d - 1
+    6 * d - 2
 }
 
 /// `D` values kept as one aligned row (a SIMD register's worth in 2D): a side's `W` or
@@ -96,11 +101,11 @@ impl<const D: usize> Lanes<D> {
     }
 }
 
-/// The step's constants of the Heun sweeps: the cell update's at `½Δt`, `Δt` and `Δt ρ`.
+/// The step's constants of the Heun sweeps: the cell update's at `½Δt`, and `Δt` (the
+/// side states' scalings are in the scaled weights).
 struct HeunConstants<const D: usize> {
     half: UpdateConstants<D>,
     dt: f64,
-    dt_rho: f64,
 }
 
 /// The volume matrix `M` of a side normal to `e_l` with weight `W` (module doc):
@@ -147,6 +152,7 @@ impl<const D: usize> DgmpmSolver<D> {
     ) -> Result<(), CoreError> {
         if !self.heun_on_cells() {
             self.heun_weights = Vec::new();
+            self.heun_scaled = Vec::new();
             self.heun_layout = Vec::new();
             return Ok(());
         }
@@ -165,7 +171,6 @@ impl<const D: usize> DgmpmSolver<D> {
             }
         };
         let stride = 2 * D * per_side(D);
-        let (lambda, mu) = self.heun_lame();
         // each distinct cell's weights once (bit-equal blocks: a map from their bits to the
         // block), a block index per cell
         let mut weights = Vec::new();
@@ -219,14 +224,7 @@ impl<const D: usize> DgmpmSolver<D> {
                     let l = u32::try_from(next)
                         .map_err(|_| crate::unsupported("more than 2^32 distinct cells"))?;
                     index.insert(bits.clone(), l);
-                    for (side, w) in block.chunks_exact(per_side(D)).enumerate() {
-                        weights.extend(w[..D].iter().map(|&w| Lanes::splat(w)));
-                        let volume = volume_matrix::<D>(&w[..D], side / 2, lambda, mu);
-                        let columns =
-                            (0..D).map(|k| Lanes(std::array::from_fn(|j| volume[(j, k)])));
-                        weights.extend(columns);
-                        weights.extend(w[D..].iter().map(|&k| Lanes::splat(k)));
-                    }
+                    weights.extend_from_slice(&block);
                     l
                 }
             };
@@ -238,6 +236,10 @@ impl<const D: usize> DgmpmSolver<D> {
         }
         weights.shrink_to_fit();
         layout.shrink_to_fit();
+        // the scaled rows, formed at the first step (`scale_heun_weights`)
+        let scaled = index.len() * 2 * D * lane_rows(D);
+        self.heun_scaled = vec![Lanes([0.0; D]); scaled];
+        self.heun_scaled_dt = f64::NAN;
         self.heun_weights = weights;
         self.heun_layout = layout;
         self.shape = Vec::new();
@@ -245,7 +247,7 @@ impl<const D: usize> DgmpmSolver<D> {
         Ok(())
     }
 
-    /// The weights of cell `cell` (module doc), [`lane_rows`] per side.
+    /// The scaled weights of cell `cell` (module doc), [`lane_rows`] per side.
     #[inline(always)]
     fn heun_weights_of(&self, cell: usize) -> &[Lanes<D>] {
         let stride = 2 * D * lane_rows(D);
@@ -253,7 +255,38 @@ impl<const D: usize> DgmpmSolver<D> {
             true => 0,
             false => self.heun_layout[cell] as usize * stride,
         };
-        &self.heun_weights[start..start + stride]
+        &self.heun_scaled[start..start + stride]
+    }
+
+    /// The rows of [`lane_rows`] for a step of `dt` from the stored weights `W`, `K` of each
+    /// block (module doc), into the buffer formed with them; nothing when they already
+    /// are `dt`'s (a run's steps share `Δt` but for the last of an output interval).
+    fn scale_heun_weights(&mut self, dt: f64) {
+        if dt.to_bits() == self.heun_scaled_dt.to_bits() {
+            return;
+        }
+        let (lambda, mu) = self.heun_lame();
+        let dt_rho = dt * self.material.density;
+        let sides = self.heun_weights.chunks_exact(per_side(D));
+        let rows = self.heun_scaled.chunks_exact_mut(lane_rows(D));
+        for (side, (w, out)) in sides.zip(rows).enumerate() {
+            let (w, k) = w.split_at(D);
+            let (w_rows, rest) = out.split_at_mut(D);
+            let (volume_rows, rest) = rest.split_at_mut(D);
+            let (traction_rows, momentum_rows) = rest.split_at_mut(2 * D - 1);
+            for (row, &w) in w_rows.iter_mut().zip(w) {
+                *row = Lanes::splat(dt * w);
+            }
+            let volume = volume_matrix::<D>(w, side % (2 * D) / 2, lambda, mu) * dt_rho;
+            for (c, row) in volume_rows.iter_mut().enumerate() {
+                *row = Lanes(std::array::from_fn(|j| volume[(j, c)]));
+            }
+            for ((traction, momentum), &k) in traction_rows.iter_mut().zip(momentum_rows).zip(k) {
+                *traction = Lanes::splat(dt_rho * k);
+                *momentum = Lanes::splat(dt * k);
+            }
+        }
+        self.heun_scaled_dt = dt;
     }
 
     /// The Lamé constants of `C : sym(·)`: `λ = 0`, `μ = E/2` in 1D (`C : ε = E ε`).
@@ -267,7 +300,6 @@ impl<const D: usize> DgmpmSolver<D> {
         HeunConstants {
             half: self.update_constants(0.5 * dt),
             dt,
-            dt_rho: dt * self.material.density,
         }
     }
 
@@ -279,6 +311,7 @@ impl<const D: usize> DgmpmSolver<D> {
         points: &mut MaterialPoints<D>,
         dt: f64,
     ) -> [(f64, Vector<D>); 2] {
+        self.scale_heun_weights(dt);
         if D == 2 {
             self.by_dimension(
                 points,
@@ -380,9 +413,10 @@ impl<const D: usize> DgmpmSolver<D> {
 
     /// Stage 1 of cell `cell` from its faces' final fluxes `[low, high]` per axis (module
     /// doc): each side's traction and velocity into `sides` (`2D`),
-    /// `σ¹ e_l = σ_p e_l + Δt ρ [Σ K F^σ e_l + Σ_k M_{·k} v_{p,k}]`,
-    /// `v¹ = v_p + Δt [Σ K F^p + Σ_k σ_{p,·k} W_k]` (its weights `W`, `K` and volume matrix
-    /// `M = M(W)`, [`volume_matrix`]); writes `q_p + ½ Δq(F¹)` to
+    /// `σ¹ e_l = σ_p e_l + Σ (Δt ρ K) F^σ e_l + Σ_k (Δt ρ M)_{·k} v_{p,k}`,
+    /// `v¹ = v_p + Σ (Δt K) F^p + Σ_k σ_{p,·k} (Δt W_k)` (its weights `W`, `K` and volume
+    /// matrix `M = M(W)`, [`volume_matrix`], scaled for the step by
+    /// [`Self::scale_heun_weights`]); writes `q_p + ½ Δq(F¹)` to
     /// `next` (where given),
     /// `Δq(F) = -Δt (ρV/m_p) Σ_l (F_l,high - F_l,low)/Δx_l`.
     #[inline(always)]
@@ -406,27 +440,28 @@ impl<const D: usize> DgmpmSolver<D> {
             *next_v = v + dv;
         }
         let w = self.heun_weights_of(cell);
-        // `v_k` in every lane, for `M v = Σ_k M_{·k} v_k` on every side
+        // `v_k` in every lane, for `Δt ρ M v = Σ_k (Δt ρ M)_{·k} v_k` on every side
         let v_lanes: [Vector<D>; D] = std::array::from_fn(|k| Vector::<D>::repeat(v[k]));
         for (side, out) in sides.iter_mut().enumerate() {
             let (l, s) = (side / 2, side % 2);
             let w = &w[side * lane_rows(D)..(side + 1) * lane_rows(D)];
             let (w_lanes, rest) = w.split_at(D);
-            let (volume, k) = rest.split_at(D);
+            let (volume, rest) = rest.split_at(D);
+            let (k_traction, k_momentum) = rest.split_at(2 * D - 1);
             let column = |f: &Conserved<D>| Vector::<D>::from_fn(|j, _| f.tensor[(j, l)]);
             // Σ K F (each K in every lane): the own face, then both faces of each other axis
             let own = faces[l][s];
-            let mut traction = column(own).component_mul(&k[0].vector());
-            let mut momentum = own.momentum.component_mul(&k[0].vector());
+            let mut traction = q.column(l) + column(own).component_mul(&k_traction[0].vector());
+            let mut momentum = v + own.momentum.component_mul(&k_momentum[0].vector());
             let mut index = 1;
             for m in (0..D).filter(|&m| m != l) {
                 for face in faces[m] {
-                    traction += column(face).component_mul(&k[index].vector());
-                    momentum += face.momentum.component_mul(&k[index].vector());
+                    traction += column(face).component_mul(&k_traction[index].vector());
+                    momentum += face.momentum.component_mul(&k_momentum[index].vector());
                     index += 1;
                 }
             }
-            // (C : sym(v_p ⊗ W)) e_l = M v_p, and σ_p W = Σ_k σ_{p,·k} W_k
+            // Δt ρ (C : sym(v_p ⊗ W)) e_l = Δt ρ M v_p, and Δt σ_p W = Σ_k σ_{p,·k} Δt W_k
             for (column_k, v_k) in volume.iter().zip(&v_lanes) {
                 traction += column_k.vector().component_mul(v_k);
             }
@@ -434,8 +469,8 @@ impl<const D: usize> DgmpmSolver<D> {
                 momentum += q.column(k).component_mul(&w_k.vector());
             }
             *out = SideState {
-                traction: q.column(l) + traction * u.dt_rho,
-                velocity: v + momentum * u.dt,
+                traction,
+                velocity: momentum,
             };
         }
     }
