@@ -1,6 +1,8 @@
 //! Fronts for any geometry (issue 23): the measuring line follows the load, the metrics
 //! are the same for mirror-image impacts on any edge, and a front that cannot be measured
 //! says why instead of giving a number the gate would judge.
+mod common;
+
 use impact::check::{judge, Thresholds, Verdict};
 use impact::run::{run_method, RunRecord, Silent};
 use impact_core::exact::NoFront;
@@ -25,14 +27,8 @@ fn plate(edge: &str, from: f64, to: f64, line: Option<&str>) -> Scene {
 }
 
 fn reference(problem: &Problem<2>) -> Reference {
-    // the cache folder is read from the environment; one folder for this test binary, in
-    // Cargo's scratch folder for tests (`target/tmp`), emptied once per run
-    static FRESH: std::sync::Once = std::sync::Once::new();
-    let cache = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("impact-fronts-cache");
-    FRESH.call_once(|| {
-        let _ = std::fs::remove_dir_all(&cache);
-    });
-    std::env::set_var("IMPACT_CACHE_DIR", &cache);
+    // one cache folder for this test binary
+    common::use_fresh_cache("impact-fronts-cache");
     impact::reference_for(problem, &MethodKind::ALL, false)
         .unwrap()
         .unwrap()

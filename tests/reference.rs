@@ -1,22 +1,17 @@
 //! The converged reference of a scene without an exact solution (issue 26): which method
 //! judges, the spread between two independent references, the cache, and what the outputs
 //! say.
+mod common;
+
 use impact::run::{run_method, RunOptions, Silent};
 use impact::{Overrides, Study};
 use impact_core::method::MethodKind;
 use impact_core::{Problem, Scene};
 use std::process::Command;
 
-/// One cache folder for this test binary (the folder is read from the environment): in
-/// Cargo's scratch folder for tests (`target/tmp`), emptied once per run, so no run leaves
-/// another behind.
+/// One cache folder for this test binary ([`common::use_fresh_cache`]).
 fn use_test_cache() {
-    static FRESH: std::sync::Once = std::sync::Once::new();
-    let cache = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("impact-reference-cache");
-    FRESH.call_once(|| {
-        let _ = std::fs::remove_dir_all(&cache);
-    });
-    std::env::set_var("IMPACT_CACHE_DIR", &cache);
+    common::use_fresh_cache("impact-reference-cache");
 }
 
 /// The paper's plate (33x25) with the reference options `o`.
@@ -94,7 +89,7 @@ fn the_cache_keys_hold_the_reference_method_and_refinement() {
     let setup = impact::reference_setup::resolve(&problem, &MethodKind::ALL).unwrap();
     assert_eq!(setup.judge.method, MethodKind::Dgmpm);
     assert_eq!(setup.spread.method, MethodKind::Fem);
-    let dir = std::env::temp_dir().join(format!("impact-reference-keys-{}", std::process::id()));
+    let dir = common::tmp("reference-keys");
     let mut fine = problem.clone();
     for l in 0..2 {
         fine.grid.cells[l] *= 4;
@@ -115,7 +110,6 @@ fn the_cache_keys_hold_the_reference_method_and_refinement() {
     assert_eq!(dgmpm.load(1, cells), Some(stored));
     assert!(fem.load(1, cells).is_none());
     assert!(other.load(1, cells).is_none());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// `impact run plate --method dgmpm`: FEM judges (DGMPM is compared), DGMPM gives the
@@ -125,9 +119,9 @@ fn the_cache_keys_hold_the_reference_method_and_refinement() {
 fn summary_json_names_the_reference_and_every_error_has_its_spread() {
     use_test_cache();
     let study = plate(Overrides::default());
-    let out = std::env::temp_dir().join(format!("impact-reference-run-{}", std::process::id()));
+    let out = common::tmp("reference-run");
     let options = RunOptions {
-        out: out.clone(),
+        out: out.to_path_buf(),
         quiet: true,
         no_files: true,
         ..Default::default()
@@ -145,7 +139,6 @@ fn summary_json_names_the_reference_and_every_error_has_its_spread() {
         let (l1, spread) = (t["l1_rel"].as_f64().unwrap(), t["l1_spread"].as_f64());
         assert!(l1 > 0.0 && spread.is_some_and(|s| s > 0.0), "{t}");
     }
-    let _ = std::fs::remove_dir_all(&out);
 }
 
 /// Bad reference options are refused, naming the field or flag and what is allowed.

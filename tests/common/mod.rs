@@ -63,6 +63,18 @@ pub fn tmp(name: &str) -> TmpPath {
     TmpPath(dir)
 }
 
+/// Point the reference cache (read from `IMPACT_CACHE_DIR`) at folder `name` in Cargo's
+/// scratch folder for tests (`target/tmp`), emptied at the first call of this test
+/// binary's run, so no run leaves a cache behind in `/tmp` and each run starts empty.
+pub fn use_fresh_cache(name: &str) {
+    static FRESH: std::sync::Once = std::sync::Once::new();
+    let cache = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    FRESH.call_once(|| {
+        let _ = std::fs::remove_dir_all(&cache);
+    });
+    std::env::set_var("IMPACT_CACHE_DIR", &cache);
+}
+
 /// A temporary path of [`tmp`] (a folder or a file): what is there is removed when it is
 /// dropped (not while the thread panics).
 pub struct TmpPath(pub std::path::PathBuf);
