@@ -285,6 +285,11 @@ pub struct DgmpmSolver<const D: usize> {
     pub(crate) heun_scaled_dt: f64,
     /// Each cell's block of `heun_weights` (empty where one block serves every cell).
     pub(crate) heun_layout: Vec<u32>,
+    /// `1/m_p` of each point where the step takes the fused cell sweeps (the cell path
+    /// [`StepPath::Fused`] and the Heun sweeps, one point per cell; empty otherwise): the
+    /// cell update's `Δt ρV/m_p` without a division per cell and stage (the masses are
+    /// fixed; formed with the weights, `DgmpmSolver::form_weights`).
+    pub(crate) inverse_mass: Vec<f64>,
     /// Whether every `S_iα > 0` (every point strictly inside its cell).
     pub(crate) inside: bool,
     pub(crate) nodes: NodalFields<D>,

@@ -51,6 +51,7 @@ impl<const D: usize> DgmpmSolver<D> {
             heun_scaled: Vec::new(),
             heun_scaled_dt: f64::NAN,
             heun_layout: Vec::new(),
+            inverse_mass: Vec::new(),
             inside,
             nodes: NodalFields::default(),
             face_flux: std::array::from_fn(|_| Vec::new()),
@@ -147,6 +148,12 @@ impl<const D: usize> DgmpmSolver<D> {
             (self.shape, self.shape_gradient) = shapes(&self.grid, points)?;
         }
         self.allocate_buffers();
+        // the cell sweeps' inverse masses (at the points' fixed masses)
+        let cell_sweeps = self.path == StepPath::Fused || self.heun_on_cells();
+        self.inverse_mass = match cell_sweeps {
+            true => points.mass.iter().map(|m| 1.0 / m).collect(),
+            false => Vec::new(),
+        };
         self.form_heun_weights(points)
     }
 

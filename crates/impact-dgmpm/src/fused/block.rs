@@ -204,7 +204,7 @@ impl DgmpmSolver<3> {
             points,
             layers * nx * ny,
             slabs,
-            |this, b, slab, fields, mass, next| {
+            |this, b, slab, fields, inverse_mass, next| {
                 let Next {
                     tensor,
                     velocity,
@@ -215,7 +215,7 @@ impl DgmpmSolver<3> {
                 let z0 = b * layers;
                 let mut update = |cell: usize, faces: [[&C3; 2]; 3]| {
                     let state = fields.cell(cell);
-                    let old = (&state.tensor, &state.velocity, mass[cell]);
+                    let old = (&state.tensor, &state.velocity, inverse_mass[cell]);
                     let local = cell - z0 * nx * ny;
                     let out = (
                         &mut tensor[local],

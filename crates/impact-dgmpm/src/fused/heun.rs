@@ -334,7 +334,7 @@ impl<const D: usize> DgmpmSolver<D> {
         })
     }
 
-    /// Run `sweep(band index, band, face fields, point masses, output)` on every band:
+    /// Run `sweep(band index, band, face fields, inverse point masses, output)` on every band:
     /// stage 1 reads the points and writes the side states and the next state; stage 2
     /// reads the side states, updates the next state in place, moves the points and swaps
     /// the next state into them. Returns the bands' power and force.
@@ -354,7 +354,7 @@ impl<const D: usize> DgmpmSolver<D> {
                 ..
             } = buffers;
             let (stress, velocity) = (&mut points.stress, &mut points.velocity);
-            let (position, mass) = (&mut points.position, &points.mass[..]);
+            let (position, inverse_mass) = (&mut points.position, &this.inverse_mass[..]);
             {
                 let next = (
                     chunks(next_tensor, cells_per_band),
@@ -367,14 +367,14 @@ impl<const D: usize> DgmpmSolver<D> {
                     let parts = (bands, next, sides);
                     for_each_chunk(this.parallel, 1, parts, |b, (band, next, sides)| {
                         let out = HeunOut::First { sides, next };
-                        sweep(this, b, &mut band[0], fields, mass, out);
+                        sweep(this, b, &mut band[0], fields, inverse_mass, out);
                     });
                 } else {
                     let fields = Fields::sides(side_states, 0);
                     let parts = (bands, next, chunks(position, cells_per_band));
                     for_each_chunk(this.parallel, 1, parts, |b, (band, next, position)| {
                         let out = HeunOut::Second { next, position };
-                        sweep(this, b, &mut band[0], fields, mass, out);
+                        sweep(this, b, &mut band[0], fields, inverse_mass, out);
                     });
                 }
             }
@@ -393,7 +393,7 @@ impl<const D: usize> DgmpmSolver<D> {
         u: &HeunConstants<D>,
         (cell, local): (usize, usize),
         faces: [[&Conserved<D>; 2]; D],
-        (fields, mass): (Fields<'_, D>, f64),
+        (fields, inverse_mass): (Fields<'_, D>, f64),
         out: &mut HeunOut<'_, D>,
     ) {
         match out {
@@ -401,11 +401,11 @@ impl<const D: usize> DgmpmSolver<D> {
                 let first_side = local * 2 * D;
                 let sides = &mut sides[first_side..first_side + 2 * D];
                 let next = Some((&mut next.0[local], &mut next.1[local]));
-                self.heun_first(u, cell, faces, (fields, mass), sides, next);
+                self.heun_first(u, cell, faces, (fields, inverse_mass), sides, next);
             }
             HeunOut::Second { next, position } if !FIRST => {
                 let next = (&mut next.0[local], &mut next.1[local]);
-                Self::heun_second(u, faces, mass, next, &mut position[local]);
+                Self::heun_second(u, faces, inverse_mass, next, &mut position[local]);
             }
             _ => unreachable!("internal: a Heun stage's output"),
         }
@@ -425,11 +425,11 @@ impl<const D: usize> DgmpmSolver<D> {
         u: &HeunConstants<D>,
         cell: usize,
         faces: [[&Conserved<D>; 2]; D],
-        (fields, mass): (Fields<'_, D>, f64),
+        (fields, inverse_mass): (Fields<'_, D>, f64),
         sides: &mut [SideState<D>],
         next: Option<(&mut Tensor<D>, &mut Vector<D>)>,
     ) {
-        let (dq, dv) = Self::flux_increment(&u.half, faces, mass);
+        let (dq, dv) = Self::flux_increment(&u.half, faces, inverse_mass);
         let FullState {
             tensor: q,
             velocity: v,
@@ -481,11 +481,11 @@ impl<const D: usize> DgmpmSolver<D> {
     fn heun_second(
         u: &HeunConstants<D>,
         faces: [[&Conserved<D>; 2]; D],
-        mass: f64,
+        inverse_mass: f64,
         next: (&mut Tensor<D>, &mut Vector<D>),
         position: &mut Vector<D>,
     ) {
-        let (dq, dv) = Self::flux_increment(&u.half, faces, mass);
+        let (dq, dv) = Self::flux_increment(&u.half, faces, inverse_mass);
         *next.0 += dq;
         *next.1 += dv;
         *position += *next.1 * u.dt;
@@ -507,12 +507,12 @@ impl DgmpmSolver<1> {
             points,
             CHUNK,
             first,
-            |this, b, band, fields, mass, mut out| match first {
+            |this, b, band, fields, inverse_mass, mut out| match first {
                 true => this.walk_1d::<false>(b, band, fields, &constants, |c, l, faces| {
-                    this.heun_cell::<true>(&u, (c, l), faces, (fields, mass[c]), &mut out)
+                    this.heun_cell::<true>(&u, (c, l), faces, (fields, inverse_mass[c]), &mut out)
                 }),
                 false => this.walk_1d::<true>(b, band, fields, &constants, |c, l, faces| {
-                    this.heun_cell::<false>(&u, (c, l), faces, (fields, mass[c]), &mut out)
+                    this.heun_cell::<false>(&u, (c, l), faces, (fields, inverse_mass[c]), &mut out)
                 }),
             },
         )

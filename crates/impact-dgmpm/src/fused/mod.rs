@@ -316,11 +316,10 @@ impl<const D: usize> DgmpmSolver<D> {
                 stress,
                 velocity,
                 position,
-                mass,
                 ..
             } = &mut *points;
             let fields = Fields::per_cell(stress, velocity);
-            let mass: &[f64] = mass;
+            let inverse_mass = &this.inverse_mass[..];
             let parts = (
                 chunks(&mut bands, 1),
                 chunks(&mut buffers.next_tensor, cells_per_band),
@@ -335,7 +334,7 @@ impl<const D: usize> DgmpmSolver<D> {
                     velocity: v,
                     position: x,
                 };
-                sweep(this, b, &mut band[0], fields, mass, next);
+                sweep(this, b, &mut band[0], fields, inverse_mass, next);
             });
         }
         *parts_of(&mut buffers) = bands;
@@ -354,34 +353,36 @@ impl<const D: usize> DgmpmSolver<D> {
     fn update_cell(
         u: &UpdateConstants<D>,
         faces: [[&Conserved<D>; 2]; D],
-        (q, v, mass): (&Tensor<D>, &Vector<D>, f64),
+        (q, v, inverse_mass): (&Tensor<D>, &Vector<D>, f64),
         next: (&mut Tensor<D>, &mut Vector<D>, &mut Vector<D>),
     ) {
-        let (dq, dv) = Self::flux_increment(u, faces, mass);
+        let (dq, dv) = Self::flux_increment(u, faces, inverse_mass);
         *next.0 = q + dq;
         *next.1 = v + dv;
         *next.2 += *next.1 * u.dt;
     }
 
     /// The cell update's increment `-Δt (ρV/m) Σ_l (F_l,high - F_l,low)/Δx_l` (momentum
-    /// part `-Δt (V/m) Σ_l …`) of a cell of mass `mass` from its faces' final fluxes
+    /// part `-Δt (V/m) Σ_l …`) of a cell whose point has mass `m` (`inverse_mass` `1/m`,
+    /// formed once: [`DgmpmSolver::inverse_mass`]) from its faces' final fluxes
     /// `[low, high]` per axis, `Δt` being `u`'s.
     #[inline(always)]
     fn flux_increment(
         u: &UpdateConstants<D>,
         faces: [[&Conserved<D>; 2]; D],
-        mass: f64,
+        inverse_mass: f64,
     ) -> (Tensor<D>, Vector<D>) {
         let mut dq = Tensor::<D>::zeros();
         let mut dm = Vector::<D>::zeros();
+        // (`+= (low - high)`, not `-= (high - low)`: the same values but for the sign of a
+        // zero, without a negation)
         for (l, [low, high]) in faces.iter().enumerate() {
-            dq -= (high.tensor - low.tensor) * u.inv_spacing[l];
-            dm -= (high.momentum - low.momentum) * u.inv_spacing[l];
+            dq += (low.tensor - high.tensor) * u.inv_spacing[l];
+            dm += (low.momentum - high.momentum) * u.inv_spacing[l];
         }
-        let inv_mass = 1.0 / mass;
         (
-            dq * (u.tensor_scale * inv_mass),
-            dm * (u.velocity_scale * inv_mass),
+            dq * (u.tensor_scale * inverse_mass),
+            dm * (u.velocity_scale * inverse_mass),
         )
     }
 

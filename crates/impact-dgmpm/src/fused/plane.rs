@@ -12,6 +12,7 @@ use impact_core::Vector;
 
 mod edges;
 mod rows;
+pub(super) use rows::CellUpdate;
 #[cfg(test)]
 mod tests;
 
@@ -51,7 +52,7 @@ use for_row_sides;
 /// corrections' scales (x-faces by the y-fluctuations, `Δt/2Δy`; y-faces by the x ones).
 pub(super) struct Sweep2d {
     constants: AxisConstants,
-    ctu: bool,
+    pub(super) ctu: bool,
     scale: [f64; 2],
 }
 
@@ -79,7 +80,7 @@ impl DgmpmSolver<2> {
         self.sweep_bands(
             points,
             BAND_ROWS * nx,
-            |this, b, band, fields, mass, next| {
+            |this, b, band, fields, inverse_mass, next| {
                 let Next {
                     tensor,
                     velocity,
@@ -87,7 +88,7 @@ impl DgmpmSolver<2> {
                 } = next;
                 this.band_2d::<false>(b, band, fields, &k, |cell, local, faces| {
                     let state = fields.cell(cell);
-                    let old = (&state.tensor, &state.velocity, mass[cell]);
+                    let old = (&state.tensor, &state.velocity, inverse_mass[cell]);
                     let out = (
                         &mut tensor[local],
                         &mut velocity[local],
@@ -193,22 +194,26 @@ impl DgmpmSolver<2> {
                 }
             }
             let ghosts = self.x_edge_ghosts(j, fields, ctu, &mut band.edge_carry);
-            let (y_low, y_high) = (&band.y_godunov[0], &band.y_godunov[1]);
-            let w_y = |i: usize| match NODAL {
-                true => band.w_y[i],
+            // (sliced to the row and held by `move` closures, the slices' lengths known to
+            // the optimizer: no index checks per cell, as in `band_row`)
+            let (y_low, y_high) = (&band.y_godunov[0][..nx], &band.y_godunov[1][..nx]);
+            let w_row = &band.w_y[..if NODAL && ctu { nx } else { 0 }];
+            let x_godunov = &band.x_godunov[0][..nx + 1];
+            let w_y = move |i: usize| match NODAL {
+                true => w_row[i],
                 false => y_high[i].add_scaled(&y_low[i], -1.0),
             };
             // the edge faces (ghost cells; their force) out of line, the interior ones in the
             // loop with each cell's y-fluctuation formed once
-            let x_edge = |i: usize, band_force: &mut Vector<2>| {
+            let x_edge = move |i: usize, band_force: &mut Vector<2>| {
                 let w = ctu.then(|| {
                     let inside = [(i > 0).then(|| w_y(i - 1)), (i < nx).then(|| w_y(i))];
                     [inside[0].or(ghosts[0]), inside[1].or(ghosts[1])]
                 });
-                self.x_edge_flux([i, j], band.x_godunov[0][i], w, (fields, k), band_force)
+                self.x_edge_flux([i, j], x_godunov[i], w, (fields, k), band_force)
             };
-            let x_interior = |i: usize, w_left: &Conserved<2>, w_right: &Conserved<2>| {
-                let godunov = band.x_godunov[0][i];
+            let x_interior = move |i: usize, w_left: &Conserved<2>, w_right: &Conserved<2>| {
+                let godunov = x_godunov[i];
                 if !ctu {
                     return godunov;
                 }
@@ -222,6 +227,7 @@ impl DgmpmSolver<2> {
                 false => Conserved::zeros(),
             };
             let local = (j - j0) * nx;
+            let (y_below, y_above) = (&band.y_final[0][..nx], &band.y_final[1][..nx]);
             for i in 0..nx {
                 let high = match i + 1 < nx {
                     true => {
@@ -235,7 +241,7 @@ impl DgmpmSolver<2> {
                     }
                     false => x_edge(nx, &mut force),
                 };
-                let faces = [[&low, &high], [&band.y_final[0][i], &band.y_final[1][i]]];
+                let faces = [[&low, &high], [&y_below[i], &y_above[i]]];
                 update(row + i, local + i, faces);
                 low = high;
             }

@@ -20,10 +20,16 @@
 //! it through [`Fields::ring`], which finds a cell's slot from its offset to the window's
 //! first row, less the ring's length past its end (a row is overwritten `R` rows later,
 //! after the last read of it, two rows later).
-use super::super::plane::Sweep2d;
+//!
+//! Each row of a stage is the nodal sweep's row ([`DgmpmSolver::band_row`], CTU a
+//! constant) with the stage's cell update holding the row's slices ([`FirstRow`],
+//! [`SecondRow`]): 888 → 798 instructions a cell-update against closures indexing the
+//! whole arrays (plate-wave 200×150, callgrind), the bounds checks and a call gone.
+use super::super::plane::{CellUpdate, Sweep2d};
 use super::super::{Band, FusedBuffers, BAND_ROWS};
 use super::HeunConstants;
 use crate::faces::{Fields, SideState};
+use crate::riemann::Conserved;
 use crate::DgmpmSolver;
 use impact_core::parallel::{chunks, for_each_chunk, threads};
 use impact_core::points::MaterialPoints;
@@ -52,6 +58,54 @@ pub(crate) type BandTotals = (f64, Vector<2>);
 
 /// Side states per cell in 2D (`2D`).
 const SIDES: usize = 4;
+
+/// Heun's first stage on one cell row of the wavefront ([`DgmpmSolver::heun_first`] per
+/// cell): the row's slices (`nx` each, indexed by the cell's place in the row) of side
+/// states in the ring, inverse point masses and, where the group owns the row, next state.
+/// (A struct, not a closure: [`CellUpdate`].)
+struct FirstRow<'a> {
+    solver: &'a DgmpmSolver<2>,
+    u: &'a HeunConstants<2>,
+    fields: Fields<'a, 2>,
+    row: usize,
+    inverse_mass: &'a [f64],
+    sides: &'a mut [[SideState<2>; SIDES]],
+    next: Option<(&'a mut [Tensor<2>], &'a mut [Vector<2>])>,
+}
+
+impl CellUpdate for FirstRow<'_> {
+    #[inline(always)]
+    fn update(&mut self, cell: usize, _: usize, faces: [[&Conserved<2>; 2]; 2]) {
+        let i = cell - self.row;
+        let next = self.next.as_mut().map(|(t, v)| (&mut t[i], &mut v[i]));
+        let (fields, inverse_mass) = (self.fields, self.inverse_mass[i]);
+        let sides = &mut self.sides[i];
+        self.solver
+            .heun_first(self.u, cell, faces, (fields, inverse_mass), sides, next);
+    }
+}
+
+/// Heun's second stage on one cell row of the wavefront ([`DgmpmSolver::heun_second`] per
+/// cell): the row's slices (`nx` each) of inverse point masses, next state and positions.
+struct SecondRow<'a> {
+    u: &'a HeunConstants<2>,
+    row: usize,
+    inverse_mass: &'a [f64],
+    next: (&'a mut [Tensor<2>], &'a mut [Vector<2>]),
+    position: &'a mut [Vector<2>],
+}
+
+impl CellUpdate for SecondRow<'_> {
+    #[inline(always)]
+    fn update(&mut self, cell: usize, _: usize, faces: [[&Conserved<2>; 2]; 2]) {
+        let i = cell - self.row;
+        let (next, inverse_mass) = (
+            (&mut self.next.0[i], &mut self.next.1[i]),
+            self.inverse_mass[i],
+        );
+        DgmpmSolver::heun_second(self.u, faces, inverse_mass, next, &mut self.position[i]);
+    }
+}
 
 /// One group's part of the step's outputs: the next state and the positions of its rows.
 struct GroupOut<'a> {
@@ -93,11 +147,9 @@ impl DgmpmSolver<2> {
                 stress,
                 velocity,
                 position,
-                mass,
                 ..
             } = &mut *points;
-            let fields = Fields::per_cell(stress, velocity);
-            let mass: &[f64] = mass;
+            let inputs = (Fields::per_cell(stress, velocity), &this.inverse_mass[..]);
             let parts = (
                 (chunks(heun_totals, 2 * per_group), chunks(rolling, 2)),
                 (chunks(next_tensor, cells), chunks(next_velocity, cells)),
@@ -114,7 +166,15 @@ impl DgmpmSolver<2> {
                         position: x,
                     };
                     let first_band = g * per_group;
-                    this.heun_group_2d(first_band, bands, (fields, mass), out, ring, (&k, &u));
+                    let step = (&k, &u);
+                    match k.ctu {
+                        true => {
+                            this.heun_group_2d::<true>(first_band, bands, inputs, out, ring, step)
+                        }
+                        false => {
+                            this.heun_group_2d::<false>(first_band, bands, inputs, out, ring, step)
+                        }
+                    }
                 },
             );
         }
@@ -126,12 +186,12 @@ impl DgmpmSolver<2> {
     /// The wavefront of the group of bands from `first_band` (module doc): stage 1 on its
     /// rows `j0 - 1..=j1` (inside the grid) into the ring, stage 2 on row `j` as soon as
     /// row `min(j + 1, ny - 1)` is formed; at each band's end its power and force go to
-    /// its pair of `totals` (stage 1, stage 2).
-    fn heun_group_2d(
+    /// its pair of `totals` (stage 1, stage 2). `CTU`: `k`'s, a constant of the sweeps.
+    fn heun_group_2d<const CTU: bool>(
         &self,
         first_band: usize,
         (totals, rolling): (&mut [BandTotals], &mut [Band<2>]),
-        (fields, mass): (Fields<'_, 2>, &[f64]),
+        (fields, inverse_mass): (Fields<'_, 2>, &[f64]),
         out: GroupOut<'_>,
         ring: &mut [SideState<2>],
         (k, u): (&Sweep2d, &HeunConstants<2>),
@@ -168,17 +228,30 @@ impl DgmpmSolver<2> {
         for r in rows {
             let owned = own.contains(&r);
             let (slot, b) = (r % RING_ROWS, band_of(r));
-            // the row's first side state in the ring
+            // the row's slices (`nx` each, indexed by the cell's place in the row: no
+            // index checks per cell): its side states in the ring, inverse masses and
+            // (where the group owns the row) next state
             let base = slot * row_len;
             let row = r * nx;
-            let x_power =
-                self.band_row::<false>(r, &band_rows(b), one, fields, k, &mut |c, _, f| {
-                    let at = base + (c - row) * SIDES;
-                    let sides = &mut ring[at..at + SIDES];
-                    let local = c.wrapping_sub(own.start * nx);
-                    let next = owned.then(|| (&mut tensor[local], &mut velocity[local]));
-                    self.heun_first(u, c, f, (fields, mass[c]), sides, next);
-                });
+            let ring_row = &mut ring[base..base + row_len].as_chunks_mut::<SIDES>().0[..nx];
+            let inverse_mass_row = &inverse_mass[row..row + nx];
+            let (tensor_row, velocity_row) = match owned {
+                true => {
+                    let at = row - own.start * nx;
+                    (&mut tensor[at..at + nx], &mut velocity[at..at + nx])
+                }
+                false => (&mut [][..], &mut [][..]),
+            };
+            let mut first = FirstRow {
+                solver: self,
+                u,
+                fields,
+                row,
+                inverse_mass: inverse_mass_row,
+                sides: ring_row,
+                next: owned.then_some((tensor_row, velocity_row)),
+            };
+            let x_power = self.band_row::<false, CTU>(r, &band_rows(b), one, fields, k, &mut first);
             if owned && (r + 1 == band_rows(b).end || r + 1 == own.end) {
                 record(b, 0, one, x_power);
             }
@@ -194,12 +267,16 @@ impl DgmpmSolver<2> {
                 let row = next * nx;
                 let at = row - own.start * nx;
                 let (tensor, velocity) = (&mut tensor[at..at + nx], &mut velocity[at..at + nx]);
-                let (position, mass) = (&mut position[at..at + nx], &mass[row..row + nx]);
-                let x_power = self.band_row::<true>(next, &band, two, sides, k, &mut |c, _, f| {
-                    let i = c - row;
-                    let next = (&mut tensor[i], &mut velocity[i]);
-                    Self::heun_second(u, f, mass[i], next, &mut position[i]);
-                });
+                let position = &mut position[at..at + nx];
+                let inverse_mass = &inverse_mass[row..row + nx];
+                let mut second = SecondRow {
+                    u,
+                    row,
+                    inverse_mass,
+                    next: (tensor, velocity),
+                    position,
+                };
+                let x_power = self.band_row::<true, CTU>(next, &band, two, sides, k, &mut second);
                 if next + 1 == band.end {
                     record(b, 1, two, x_power);
                 }

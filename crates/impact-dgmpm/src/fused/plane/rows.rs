@@ -11,6 +11,23 @@ use crate::DgmpmSolver;
 use impact_core::Vector;
 use std::ops::Range;
 
+/// What a row sweep ([`DgmpmSolver::band_row`]) does with each cell from its faces' final
+/// fluxes: `update(cell, index in the band, [[x low, x high], [y low, y high]])`. A closure
+/// is one; a struct holding a row's slices (Heun's first stage, `heun/wavefront.rs`) is
+/// another, whose method is always inlined and whose slices' lengths the optimizer then
+/// knows (no index checks per cell; a closure holding them was not inlined).
+pub(in crate::fused) trait CellUpdate {
+    /// Update `cell` from its faces' final fluxes.
+    fn update(&mut self, cell: usize, local: usize, faces: [[&Conserved<2>; 2]; 2]);
+}
+
+impl<F: FnMut(usize, usize, [[&Conserved<2>; 2]; 2])> CellUpdate for F {
+    #[inline(always)]
+    fn update(&mut self, cell: usize, local: usize, faces: [[&Conserved<2>; 2]; 2]) {
+        self(cell, local, faces)
+    }
+}
+
 impl DgmpmSolver<2> {
     /// The start of a sweep at cell row `j0` ([`Self::band_2d`]): face row `j0` (its
     /// Godunov fluxes, [`Self::y_godunov_row`], and under CTU the x-fluxes of row `j0 - 1`
@@ -60,18 +77,21 @@ impl DgmpmSolver<2> {
     /// `j - 1`; `update`'s index in the band counts from row `own.start`. The power and
     /// force of its boundary faces count where `own` holds their row; returns the power of
     /// row `j + 1`'s x-faces (counted or not).
+    ///
+    /// `CTU`: whether CTU corrects (`k`'s, a constant here: no test of it per cell).
     #[inline(always)]
-    pub(in crate::fused) fn band_row<const NODAL: bool>(
+    pub(in crate::fused) fn band_row<const NODAL: bool, const CTU: bool>(
         &self,
         j: usize,
         own: &Range<usize>,
         band: &mut Band<2>,
         fields: Fields<'_, 2>,
         k: &Sweep2d,
-        update: &mut impl FnMut(usize, usize, [[&Conserved<2>; 2]; 2]),
+        update: &mut impl CellUpdate,
     ) -> f64 {
         let [nx, ny] = self.grid.cells;
-        let (c, ctu, scale) = (&k.constants, k.ctu, k.scale);
+        debug_assert_eq!(k.ctu, CTU, "internal: the sweep's CTU");
+        let (c, ctu, scale) = (&k.constants, CTU, k.scale);
         let counted = own.contains(&j);
         let mut x_power = 0.0;
         let top = j + 1 == ny;
@@ -108,22 +128,27 @@ impl DgmpmSolver<2> {
             });
         }
         let ghosts = self.x_edge_ghosts(j, fields, ctu, &mut band.edge_carry);
-        let (y_low, y_high) = (&band.y_godunov[0], &band.y_godunov[1]);
-        let w_y = |i: usize| match NODAL {
-            true => band.w_y[i],
+        // (sliced to the row: no index checks per cell)
+        let (y_low, y_high) = (&band.y_godunov[0][..nx], &band.y_godunov[1][..nx]);
+        let w_row = &band.w_y[..if NODAL && ctu { nx } else { 0 }];
+        let x_godunov = &band.x_godunov[0][..nx + 1];
+        // (`move`: the closures hold the slices themselves, whose lengths the optimizer then
+        // knows, rather than references to them: no index checks per cell)
+        let w_y = move |i: usize| match NODAL {
+            true => w_row[i],
             false => y_high[i].add_scaled(&y_low[i], -1.0),
         };
         // the edge faces (ghost cells; their force) out of line, the interior ones in the
         // loop with each cell's y-fluctuation formed once
-        let x_edge = |i: usize, band_force: &mut Vector<2>| {
+        let x_edge = move |i: usize, band_force: &mut Vector<2>| {
             let w = ctu.then(|| {
                 let inside = [(i > 0).then(|| w_y(i - 1)), (i < nx).then(|| w_y(i))];
                 [inside[0].or(ghosts[0]), inside[1].or(ghosts[1])]
             });
-            self.x_edge_flux([i, j], band.x_godunov[0][i], w, (fields, k), band_force)
+            self.x_edge_flux([i, j], x_godunov[i], w, (fields, k), band_force)
         };
-        let x_interior = |i: usize, w_left: &Conserved<2>, w_right: &Conserved<2>| {
-            let godunov = band.x_godunov[0][i];
+        let x_interior = move |i: usize, w_left: &Conserved<2>, w_right: &Conserved<2>| {
+            let godunov = x_godunov[i];
             if !ctu {
                 return godunov;
             }
@@ -154,7 +179,7 @@ impl DgmpmSolver<2> {
                 false => x_edge(nx, &mut force),
             };
             let faces = [[&low, &high], [&y_below[i], &y_above[i]]];
-            update(row + i, local.wrapping_add(i), faces);
+            update.update(row + i, local.wrapping_add(i), faces);
             low = high;
         }
         if counted {
