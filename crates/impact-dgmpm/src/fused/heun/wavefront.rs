@@ -235,13 +235,6 @@ impl DgmpmSolver<2> {
             let row = r * nx;
             let ring_row = &mut ring[base..base + row_len].as_chunks_mut::<SIDES>().0[..nx];
             let inverse_mass_row = &inverse_mass[row..row + nx];
-            let (tensor_row, velocity_row) = match owned {
-                true => {
-                    let at = row - own.start * nx;
-                    (&mut tensor[at..at + nx], &mut velocity[at..at + nx])
-                }
-                false => (&mut [][..], &mut [][..]),
-            };
             let mut first = FirstRow {
                 solver: self,
                 u,
@@ -249,7 +242,10 @@ impl DgmpmSolver<2> {
                 row,
                 inverse_mass: inverse_mass_row,
                 sides: ring_row,
-                next: owned.then_some((tensor_row, velocity_row)),
+                next: owned.then(|| {
+                    let at = row - own.start * nx;
+                    (&mut tensor[at..at + nx], &mut velocity[at..at + nx])
+                }),
             };
             let x_power = self.band_row::<false, CTU>(r, &band_rows(b), one, fields, k, &mut first);
             if owned && (r + 1 == band_rows(b).end || r + 1 == own.end) {
